@@ -1,0 +1,101 @@
+//! The library's one error type: every variant carries the file, field or number at fault.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong in springlab, with enough context to fix it.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The scenario file could not be read from disk.
+    #[error("{file}: cannot read scenario: {source}")]
+    Read {
+        /// The file that failed.
+        file: PathBuf,
+        /// The underlying I/O error.
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML or does not match the scenario format.
+    #[error("{file}{location}: {field}: {message}")]
+    Parse {
+        /// The file that failed.
+        file: PathBuf,
+        /// ` line L, column C` where TOML reports it, else empty.
+        location: String,
+        /// Dotted field path such as `spring[3].between[1]` (or `(document)`).
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A field parsed but its value is impossible (negative mass, missing particle, ...).
+    #[error("{file}: {field}: {message}")]
+    Invalid {
+        /// The file that failed (or `<memory>` for scenes built in code).
+        file: PathBuf,
+        /// Dotted field path such as `spring[3].between[1]`.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// An integrator or backend cannot handle this scene (say, constraints without projection).
+    #[error("{integrator} cannot run scenario '{scenario}': {reason}")]
+    Unsupported {
+        /// Integrator or backend name.
+        integrator: String,
+        /// Scenario name.
+        scenario: String,
+        /// Why not.
+        reason: String,
+    },
+    /// An unknown integrator or backend name was asked for.
+    #[error("unknown integrator '{name}'; known: {known}")]
+    UnknownIntegrator {
+        /// The name given.
+        name: String,
+        /// Comma-separated list of valid names.
+        known: String,
+    },
+    /// A command-line or API option has an impossible value.
+    #[error("{option}: {message}")]
+    BadOption {
+        /// Option name, e.g. `--dt`.
+        option: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Writing an output failed.
+    #[error("{file}: cannot write: {source}")]
+    Write {
+        /// The file being written.
+        file: PathBuf,
+        /// The underlying I/O error.
+        source: std::io::Error,
+    },
+    /// A numerical solve inside a step failed (for example Newton did not converge).
+    #[error("step failed: {0}")]
+    Step(String),
+}
+
+/// Shorthand for results carrying [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// Builds an [`Error::Invalid`] for a field of a file.
+    pub fn invalid(
+        file: impl Into<PathBuf>,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::Invalid {
+            file: file.into(),
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+    /// Builds an [`Error::BadOption`].
+    pub fn option(option: impl Into<String>, message: impl Into<String>) -> Self {
+        Error::BadOption {
+            option: option.into(),
+            message: message.into(),
+        }
+    }
+}

@@ -1,0 +1,39 @@
+//! springlab: how far to trust a particle-spring simulation.
+//!
+//! A scene ([`scenario::Scenario`]) builds a [`model::System`] with only the terms it uses;
+//! [`integrate::Integrator`]s step it; [`run::run`] owns the loop, the energy accounts and
+//! blow-up detection; [`output`] writes what a run produced, atomically.
+//!
+//! ```
+//! use springlab::{integrate, run, scenario::Scenario};
+//! let scene = Scenario::from_toml_str(r#"
+//!     [[particle]]
+//!     position = [0.0, 0.0, 0.0]
+//!     mass = 1.0
+//!     fixed = true
+//!     [[particle]]
+//!     position = [1.0, 0.0, 0.0]
+//!     mass = 1.0
+//!     [[spring]]
+//!     between = [0, 1]
+//!     stiffness = 1.0
+//!     rest_length = 0.5
+//! "#, "osc.toml").unwrap();
+//! let sys = scene.build();
+//! let mut rk4 = integrate::by_name("rk4", &Default::default()).unwrap();
+//! let plan = run::RunPlan::new(0.01, 100);
+//! let out = run::run(&sys, rk4.as_mut(), scene.initial_state(), &plan, &mut run::NoObserver).unwrap();
+//! assert!(out.status.is_ok());
+//! // Energy is conserved to rk4's accuracy.
+//! assert!((out.final_energy.total - out.initial_energy.total).abs() < 1e-9);
+//! ```
+
+pub mod backend;
+pub mod error;
+pub mod integrate;
+pub mod model;
+pub mod output;
+pub mod run;
+pub mod scenario;
+
+pub use error::{Error, Result};

@@ -1,0 +1,13 @@
+//! The mass-spring model: state, force terms, Jacobians and the assembled [`System`].
+
+mod jacobian;
+mod springs;
+mod state;
+mod system;
+mod term;
+
+pub use jacobian::Jacobian;
+pub use springs::Springs;
+pub use state::{State, Vec3};
+pub use system::{DistanceConstraint, Energy, Impulse, System};
+pub use term::{Drag, EnergyKind, ForceTerm, Gravity};

@@ -1,0 +1,197 @@
+//! The simulated system: masses, the active force terms, constraints and impulses.
+
+use super::jacobian::Jacobian;
+use super::springs::Springs;
+use super::state::{State, Vec3};
+use super::term::{EnergyKind, ForceTerm};
+
+/// A rigid distance constraint |x_j - x_i| = length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DistanceConstraint {
+    /// First particle.
+    pub i: usize,
+    /// Second particle.
+    pub j: usize,
+    /// Rod length in m.
+    pub length: f64,
+    /// XPBD compliance in m/N (0: rigid).
+    pub compliance: f64,
+}
+
+/// An instantaneous velocity change of one particle at a given time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impulse {
+    /// Time in s.
+    pub time: f64,
+    /// Particle index.
+    pub particle: usize,
+    /// Velocity change in m/s.
+    pub delta_v: Vec3,
+}
+
+/// Energy terms at one instant (J).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct Energy {
+    /// Translational kinetic energy ½ Σ m |v|².
+    pub kinetic: f64,
+    /// Gravitational potential energy.
+    pub gravity: f64,
+    /// Elastic energy of springs (and penalty contacts).
+    pub elastic: f64,
+}
+
+impl Energy {
+    /// Kinetic + potential energy.
+    pub fn mechanical(&self) -> f64 {
+        self.kinetic + self.gravity + self.elastic
+    }
+}
+
+/// A particle system ready to integrate: only the terms the scene uses are present.
+#[derive(Debug)]
+pub struct System {
+    /// Mass of each particle in kg (as given, also for fixed ones).
+    pub mass: Vec<f64>,
+    /// 1/m for free particles, 0 for fixed ones.
+    pub inv_mass: Vec<f64>,
+    /// `true` for particles that move.
+    pub free: Vec<bool>,
+    /// Collision radius per particle in m.
+    pub radius: Vec<f64>,
+    /// Springs (also present, in `terms`, as a force term when non-empty).
+    pub springs: Springs,
+    /// Uniform gravity, if the scene has it.
+    pub gravity: Option<Vec3>,
+    /// Linear drag coefficient, if the scene has it.
+    pub drag: Option<f64>,
+    /// Rigid distance constraints.
+    pub constraints: Vec<DistanceConstraint>,
+    /// Impulses sorted by time.
+    pub impulses: Vec<Impulse>,
+    /// Active force terms other than the springs (gravity, drag, contacts...).
+    pub terms: Vec<Box<dyn ForceTerm>>,
+}
+
+impl System {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.mass.len()
+    }
+    /// True when the system has no particles.
+    pub fn is_empty(&self) -> bool {
+        self.mass.is_empty()
+    }
+
+    /// Names of the active force terms, in evaluation order (springs first), plus
+    /// "constraints" and "impulses" when present.
+    pub fn active_terms(&self) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        if !self.springs.is_empty() {
+            names.push(self.springs.name());
+        }
+        names.extend(self.terms.iter().map(|t| t.name()));
+        if !self.constraints.is_empty() {
+            names.push("constraints");
+        }
+        if !self.impulses.is_empty() {
+            names.push("impulses");
+        }
+        names
+    }
+
+    /// Writes the total force on every particle into `f`; returns the dissipated power (W).
+    pub fn forces(&self, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) -> f64 {
+        f.iter_mut().for_each(|fi| *fi = Vec3::zeros());
+        let mut power = 0.0;
+        if !self.springs.is_empty() {
+            power += self.springs.add_forces(x, v, f);
+        }
+        for t in &self.terms {
+            power += t.add_forces(x, v, f);
+        }
+        power
+    }
+
+    /// Writes accelerations (0 for fixed particles) into `a`; returns the dissipated power (W).
+    /// This is "one force evaluation" in every cost count.
+    pub fn accelerations(&self, x: &[Vec3], v: &[Vec3], a: &mut [Vec3]) -> f64 {
+        let power = self.forces(x, v, a);
+        for (ai, &w) in a.iter_mut().zip(&self.inv_mass) {
+            *ai *= w;
+        }
+        power
+    }
+
+    /// Kinetic, gravitational and elastic energy of a state.
+    pub fn energy(&self, x: &[Vec3], v: &[Vec3]) -> Energy {
+        let kinetic = 0.5
+            * v.iter()
+                .zip(&self.mass)
+                .zip(&self.free)
+                .filter(|(_, &f)| f)
+                .map(|((vi, &m), _)| m * vi.norm_squared())
+                .sum::<f64>();
+        let mut e = Energy {
+            kinetic,
+            gravity: 0.0,
+            elastic: 0.0,
+        };
+        if !self.springs.is_empty() {
+            e.elastic += self.springs.potential_energy(x);
+        }
+        for t in &self.terms {
+            match t.energy_kind() {
+                EnergyKind::Gravity => e.gravity += t.potential_energy(x),
+                EnergyKind::Elastic => e.elastic += t.potential_energy(x),
+                EnergyKind::None => {}
+            }
+        }
+        e
+    }
+
+    /// Energy of a [`State`].
+    pub fn state_energy(&self, s: &State) -> Energy {
+        self.energy(&s.x, &s.v)
+    }
+
+    /// A zero Jacobian with this system's pair topology.
+    pub fn new_jacobian(&self) -> Jacobian {
+        let pairs = self
+            .springs
+            .i
+            .iter()
+            .zip(&self.springs.j)
+            .map(|(&a, &b)| [a, b])
+            .collect();
+        Jacobian::new(self.len(), pairs)
+    }
+
+    /// Fills `jac` with ∂f/∂x and ∂f/∂v at (x, v).
+    pub fn jacobian(&self, x: &[Vec3], v: &[Vec3], jac: &mut Jacobian) {
+        jac.clear();
+        if !self.springs.is_empty() {
+            self.springs.add_jacobian(x, v, jac);
+        }
+        for t in &self.terms {
+            t.add_jacobian(x, v, jac);
+        }
+    }
+
+    /// Total linear momentum Σ m v of the free particles (kg·m/s).
+    pub fn momentum(&self, v: &[Vec3]) -> Vec3 {
+        v.iter()
+            .zip(&self.mass)
+            .zip(&self.free)
+            .filter(|(_, &f)| f)
+            .map(|((vi, &m), _)| vi * m)
+            .sum()
+    }
+
+    /// Largest |violation| of the distance constraints at `x` (m), 0 without constraints.
+    pub fn constraint_violation(&self, x: &[Vec3]) -> f64 {
+        self.constraints
+            .iter()
+            .map(|c| ((x[c.j] - x[c.i]).norm() - c.length).abs())
+            .fold(0.0, f64::max)
+    }
+}

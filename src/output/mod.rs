@@ -1,0 +1,7 @@
+//! Writing results: atomic files, the per-run CSV writers and the run summary.
+
+mod atomic;
+mod run_files;
+
+pub use atomic::{write_atomic, AtomicFile};
+pub use run_files::{write_run, RunFiles, RunSummary};

@@ -1,0 +1,214 @@
+//! The run loop (argmin's Executor pattern): integrators only step; this owns everything else.
+
+use super::energy::{energy_scale, EnergyRecord};
+use super::observer::Observer;
+use crate::error::{Error, Result};
+use crate::integrate::Integrator;
+use crate::model::{State, System};
+use serde::Serialize;
+use std::time::Instant;
+
+/// How long to run, with which step, and when to call a run unstable.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunPlan {
+    /// Output step in s (impulses inside a step split it; the output grid stays uniform).
+    pub dt: f64,
+    /// Number of steps.
+    pub steps: u64,
+    /// A run is unstable once |kinetic + potential| exceeds this multiple of [`energy_scale`].
+    pub blowup_factor: f64,
+}
+
+/// Default blow-up factor: a thousandfold the largest energy the scene could physically reach.
+pub const DEFAULT_BLOWUP_FACTOR: f64 = 1e3;
+
+impl RunPlan {
+    /// A plan of `steps` steps of `dt` with the default blow-up factor.
+    pub fn new(dt: f64, steps: u64) -> Self {
+        RunPlan {
+            dt,
+            steps,
+            blowup_factor: DEFAULT_BLOWUP_FACTOR,
+        }
+    }
+    /// A plan covering `duration` (rounded to the nearest whole number of steps, at least 1).
+    pub fn for_duration(dt: f64, duration: f64) -> Self {
+        Self::new(dt, ((duration / dt).round() as u64).max(1))
+    }
+    /// Simulated time covered.
+    pub fn duration(&self) -> f64 {
+        self.dt * self.steps as f64
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Status {
+    /// Every step finished with a finite state and bounded energy.
+    Ok,
+    /// The run blew up: at which step and time, and which measure tripped.
+    Unstable {
+        /// First step whose result was rejected.
+        step: u64,
+        /// Its time (s).
+        time: f64,
+        /// Which measure tripped, in words.
+        reason: String,
+    },
+}
+
+impl Status {
+    /// True for [`Status::Ok`].
+    pub fn is_ok(&self) -> bool {
+        matches!(self, Status::Ok)
+    }
+    /// `ok` or `unstable`.
+    pub fn label(&self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Unstable { .. } => "unstable",
+        }
+    }
+}
+
+/// What a run produced besides what its observers saw.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// How it ended.
+    pub status: Status,
+    /// Steps completed with an accepted state.
+    pub steps_done: u64,
+    /// Force evaluations made.
+    pub force_evals: u64,
+    /// Wall time spent inside the integrator's steps (s).
+    pub wall_seconds: f64,
+    /// Energy account at t = 0.
+    pub initial_energy: EnergyRecord,
+    /// Energy account of the last accepted state.
+    pub final_energy: EnergyRecord,
+    /// The last accepted state.
+    pub final_state: State,
+}
+
+struct Loop<'a> {
+    sys: &'a System,
+    integ: &'a mut dyn Integrator,
+    evals: u64,
+    dissipated: f64,
+    wall: f64,
+}
+
+impl Loop<'_> {
+    fn step(&mut self, s: &mut State, h: f64) -> Result<()> {
+        let t0 = Instant::now();
+        let stats = self.integ.step(self.sys, s, h)?;
+        self.wall += t0.elapsed().as_secs_f64();
+        self.evals += stats.force_evals;
+        self.dissipated += stats.dissipated;
+        Ok(())
+    }
+}
+
+/// Runs `integ` on `sys` from `s0` for `plan`, feeding `obs`. A numerical blow-up is a
+/// [`Status::Unstable`] outcome, not an error; errors are only the observers' (I/O).
+pub fn run(
+    sys: &System,
+    integ: &mut dyn Integrator,
+    s0: State,
+    plan: &RunPlan,
+    obs: &mut dyn Observer,
+) -> Result<RunOutcome> {
+    let bound = plan.blowup_factor * energy_scale(sys, &s0, plan.duration());
+    let mut s = s0;
+    let mut prev = s.clone();
+    let mut injected = 0.0;
+    let initial = EnergyRecord::new(sys.state_energy(&s), 0.0, 0.0);
+    let mut last = initial;
+    obs.observe(0, &s, &initial)?;
+    integ.reset();
+    let mut lp = Loop {
+        sys,
+        integ,
+        evals: 0,
+        dissipated: 0.0,
+        wall: 0.0,
+    };
+    let eps = 1e-9 * plan.dt;
+    let mut next_imp = 0;
+    let mut status = Status::Ok;
+    let mut done = 0;
+    for n in 0..plan.steps {
+        prev.clone_from(&s);
+        let t_end = (n + 1) as f64 * plan.dt;
+        let mut failure = None;
+        while next_imp < sys.impulses.len() && sys.impulses[next_imp].time < t_end - eps {
+            let im = sys.impulses[next_imp];
+            if im.time > s.t + eps {
+                let h = im.time - s.t;
+                if let Err(e) = lp.step(&mut s, h) {
+                    failure = Some(e);
+                    break;
+                }
+            }
+            let p = im.particle;
+            let before = s.v[p].norm_squared();
+            s.v[p] += im.delta_v;
+            injected += 0.5 * sys.mass[p] * (s.v[p].norm_squared() - before);
+            lp.integ.reset();
+            next_imp += 1;
+        }
+        if failure.is_none() && t_end - s.t > eps {
+            let h = t_end - s.t;
+            if let Err(e) = lp.step(&mut s, h) {
+                failure = Some(e);
+            }
+        }
+        s.t = t_end;
+        let rec = EnergyRecord::new(sys.state_energy(&s), lp.dissipated, injected);
+        let reason = match failure {
+            Some(Error::Step(why)) => Some(why),
+            Some(other) => return Err(other),
+            None => blowup_reason(&s, &rec, bound, plan.blowup_factor),
+        };
+        if let Some(reason) = reason {
+            status = Status::Unstable {
+                step: n + 1,
+                time: t_end,
+                reason,
+            };
+            std::mem::swap(&mut s, &mut prev);
+            break;
+        }
+        last = rec;
+        done = n + 1;
+        obs.observe(done, &s, &rec)?;
+    }
+    obs.finish(done, &s, &last)?;
+    Ok(RunOutcome {
+        status,
+        steps_done: done,
+        force_evals: lp.evals,
+        wall_seconds: lp.wall,
+        initial_energy: initial,
+        final_energy: last,
+        final_state: s,
+    })
+}
+
+fn blowup_reason(s: &State, e: &EnergyRecord, bound: f64, factor: f64) -> Option<String> {
+    if let Some(p) = s.first_non_finite() {
+        return Some(format!("non-finite position or velocity of particle {p}"));
+    }
+    if !e.is_finite() {
+        return Some("non-finite energy".into());
+    }
+    let mech = e.mechanical().abs();
+    if mech > bound {
+        return Some(format!(
+            "energy {mech:.3e} J exceeds {factor:.0e} × the scene's energy scale ({:.3e} J)",
+            bound / factor
+        ));
+    }
+    None
+}

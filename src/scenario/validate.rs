@@ -1,0 +1,382 @@
+//! Turning a parsed [`ScenarioFile`] into a [`Scenario`], rejecting every impossible value with
+//! the field path that holds it.
+
+use super::file::{ScenarioFile, SpringLaw, Triple};
+use super::generate;
+use super::{Particle, RunSettings, Scenario, SpringDef};
+use crate::error::{Error, Result};
+use crate::model::{DistanceConstraint, Impulse, Vec3};
+use std::collections::HashSet;
+use std::path::Path;
+
+/// Most particles one scene may hold (a 3162×3162 cloth).
+pub const MAX_PARTICLES: usize = 10_000_000;
+/// Most steps one run may take.
+pub const MAX_STEPS: u64 = 10_000_000_000;
+
+struct Checker<'a> {
+    file: &'a Path,
+}
+
+impl Checker<'_> {
+    fn err(&self, field: impl Into<String>, msg: impl Into<String>) -> Error {
+        Error::invalid(self.file, field, msg)
+    }
+    fn finite(&self, field: &str, x: f64) -> Result<f64> {
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be a finite number, got {x}")))
+        }
+    }
+    fn positive(&self, field: &str, x: f64) -> Result<f64> {
+        self.finite(field, x)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be > 0, got {x}")))
+        }
+    }
+    fn non_negative(&self, field: &str, x: f64) -> Result<f64> {
+        self.finite(field, x)?;
+        if x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(field, format!("must be >= 0, got {x}")))
+        }
+    }
+    fn triple(&self, field: &str, t: Triple) -> Result<Vec3> {
+        for (k, c) in t.iter().enumerate() {
+            self.finite(&format!("{field}[{k}]"), *c)?;
+        }
+        Ok(Vec3::from(t))
+    }
+    fn index(&self, field: &str, i: i64, n: usize) -> Result<usize> {
+        if i < 0 || i as u64 >= n as u64 {
+            Err(self.err(
+                field,
+                format!(
+                    "particle index {i} does not exist (the scene has {n} particles, 0..{})",
+                    n.saturating_sub(1)
+                ),
+            ))
+        } else {
+            Ok(i as usize)
+        }
+    }
+    fn pair(&self, field: &str, b: [i64; 2], n: usize) -> Result<(usize, usize)> {
+        let i = self.index(&format!("{field}.between[0]"), b[0], n)?;
+        let j = self.index(&format!("{field}.between[1]"), b[1], n)?;
+        if i == j {
+            return Err(self.err(
+                format!("{field}.between[1]"),
+                format!("joins particle {i} to itself"),
+            ));
+        }
+        Ok((i, j))
+    }
+    fn count(&self, field: &str, c: i64, min: i64) -> Result<usize> {
+        if c < min || c as u64 > MAX_PARTICLES as u64 {
+            Err(self.err(
+                field,
+                format!("must be between {min} and {MAX_PARTICLES}, got {c}"),
+            ))
+        } else {
+            Ok(c as usize)
+        }
+    }
+    fn names(&self, field: &str, given: &[String], allowed: &[&str]) -> Result<()> {
+        for (k, g) in given.iter().enumerate() {
+            if !allowed.contains(&g.as_str()) {
+                return Err(self.err(
+                    format!("{field}[{k}]"),
+                    format!(
+                        "unknown value '{g}'; expected one of: {}",
+                        allowed.join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Validates a parsed file and resolves defaults; `file` labels errors and gives the default name.
+pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
+    let ck = Checker { file };
+    let mut particles = Vec::new();
+    for (k, p) in raw.particle.iter().enumerate() {
+        let f = format!("particle[{k}]");
+        let position = ck.triple(&format!("{f}.position"), p.position)?;
+        let velocity = ck.triple(&format!("{f}.velocity"), p.velocity)?;
+        let mass = if p.fixed {
+            ck.non_negative(&format!("{f}.mass"), p.mass)?
+        } else {
+            ck.positive(&format!("{f}.mass"), p.mass)?
+        };
+        let radius = ck.non_negative(&format!("{f}.radius"), p.radius)?;
+        particles.push(Particle {
+            position,
+            velocity,
+            mass,
+            fixed: p.fixed,
+            radius,
+        });
+    }
+    let mut springs = Vec::new();
+    let mut blocks = Vec::new();
+    for (k, c) in raw.chain.iter().enumerate() {
+        let f = format!("chain[{k}]");
+        ck.triple(&format!("{f}.start"), c.start)?;
+        ck.triple(&format!("{f}.end"), c.end)?;
+        let n = ck.count(&format!("{f}.count"), c.count, 2)?;
+        ck.positive(&format!("{f}.mass"), c.mass)?;
+        ck.non_negative(&format!("{f}.stiffness"), c.stiffness)?;
+        ck.non_negative(&format!("{f}.damping"), c.damping)?;
+        ck.names(&format!("{f}.fix"), &c.fix, &["first", "last"])?;
+        if Vec3::from(c.start) == Vec3::from(c.end) {
+            return Err(ck.err(
+                format!("{f}.end"),
+                "equals start: the chain's springs would have zero rest length",
+            ));
+        }
+        if particles.len() + n > MAX_PARTICLES {
+            return Err(ck.err(
+                format!("{f}.count"),
+                format!("the scene would exceed {MAX_PARTICLES} particles"),
+            ));
+        }
+        blocks.push(generate::chain(c, &mut particles, &mut springs));
+    }
+    for (k, c) in raw.cloth.iter().enumerate() {
+        let f = format!("cloth[{k}]");
+        ck.triple(&format!("{f}.origin"), c.origin)?;
+        ck.positive(&format!("{f}.size[0]"), c.size[0])?;
+        ck.positive(&format!("{f}.size[1]"), c.size[1])?;
+        let nx = ck.count(&format!("{f}.count[0]"), c.count[0], 2)?;
+        let ny = ck.count(&format!("{f}.count[1]"), c.count[1], 2)?;
+        if (nx as u64) * (ny as u64) + particles.len() as u64 > MAX_PARTICLES as u64 {
+            return Err(ck.err(
+                format!("{f}.count"),
+                format!("{nx}×{ny} would exceed {MAX_PARTICLES} particles"),
+            ));
+        }
+        ck.positive(&format!("{f}.mass"), c.mass)?;
+        ck.non_negative(&format!("{f}.stiffness"), c.stiffness)?;
+        ck.non_negative(&format!("{f}.damping"), c.damping)?;
+        ck.non_negative(&format!("{f}.bend_stiffness"), c.bend_stiffness)?;
+        ck.names(
+            &format!("{f}.fix"),
+            &c.fix,
+            &["top_left", "top_right", "bottom_left", "bottom_right"],
+        )?;
+        if let Some(p) = &c.plane {
+            ck.names(
+                &format!("{f}.plane"),
+                std::slice::from_ref(p),
+                &["xy", "xz"],
+            )
+            .map_err(|_| {
+                ck.err(
+                    format!("{f}.plane"),
+                    format!("unknown value '{p}'; expected xy or xz"),
+                )
+            })?;
+        }
+        blocks.push(generate::cloth(c, &mut particles, &mut springs));
+    }
+    let n = particles.len();
+    if n == 0 {
+        return Err(ck.err(
+            "particle",
+            "the scene has no particles: add [[particle]], [[chain]] or [[cloth]]",
+        ));
+    }
+    // Explicit springs come before generated ones in the final list, so indices in errors match the file.
+    let generated = std::mem::take(&mut springs);
+    let mut seen = HashSet::new();
+    for (k, s) in raw.spring.iter().enumerate() {
+        let f = format!("spring[{k}]");
+        let (i, j) = ck.pair(&f, s.between, n)?;
+        let stiffness = ck.non_negative(&format!("{f}.stiffness"), s.stiffness)?;
+        let damping = ck.non_negative(&format!("{f}.damping"), s.damping)?;
+        let rest = match s.rest_length {
+            Some(l) => ck.non_negative(&format!("{f}.rest_length"), l)?,
+            None => (particles[j].position - particles[i].position).norm(),
+        };
+        if s.law == SpringLaw::Strain && rest <= 0.0 {
+            let why = if s.rest_length.is_some() {
+                "is 0"
+            } else {
+                "defaults to the initial distance, which is 0"
+            };
+            return Err(ck.err(
+                format!("{f}.rest_length"),
+                format!("{why}: the strain law divides by the rest length"),
+            ));
+        }
+        if !seen.insert((i.min(j), i.max(j))) {
+            return Err(ck.err(format!("{f}.between"), format!("duplicate spring: particles {i} and {j} are already joined by an earlier spring")));
+        }
+        springs.push(SpringDef {
+            i,
+            j,
+            stiffness,
+            rest_length: Some(rest),
+            damping,
+            law: s.law,
+        });
+    }
+    springs.extend(generated.into_iter().map(|mut s| {
+        s.rest_length = Some((particles[s.j].position - particles[s.i].position).norm());
+        s
+    }));
+    let mut constraints = Vec::new();
+    for (k, c) in raw.constraint.iter().enumerate() {
+        let f = format!("constraint[{k}]");
+        let (i, j) = ck.pair(&f, c.between, n)?;
+        let length = match c.length {
+            Some(l) => ck.positive(&format!("{f}.length"), l)?,
+            None => {
+                let d = (particles[j].position - particles[i].position).norm();
+                if d <= 0.0 {
+                    return Err(ck.err(
+                        format!("{f}.length"),
+                        "defaults to the initial distance, which is 0",
+                    ));
+                }
+                d
+            }
+        };
+        if particles[i].fixed && particles[j].fixed {
+            return Err(ck.err(
+                format!("{f}.between"),
+                "both particles are fixed: the constraint can do nothing",
+            ));
+        }
+        let compliance = ck.non_negative(&format!("{f}.compliance"), c.compliance)?;
+        constraints.push(DistanceConstraint {
+            i,
+            j,
+            length,
+            compliance,
+        });
+    }
+    let mut impulses = Vec::new();
+    for (k, im) in raw.impulse.iter().enumerate() {
+        let f = format!("impulse[{k}]");
+        let time = ck.non_negative(&format!("{f}.time"), im.time)?;
+        let particle = ck.index(&format!("{f}.particle"), im.particle, n)?;
+        if particles[particle].fixed {
+            return Err(ck.err(
+                format!("{f}.particle"),
+                format!("particle {particle} is fixed and cannot be kicked"),
+            ));
+        }
+        let delta_v = ck.triple(&format!("{f}.delta_v"), im.delta_v)?;
+        impulses.push(Impulse {
+            time,
+            particle,
+            delta_v,
+        });
+    }
+    impulses.sort_by(|a, b| a.time.total_cmp(&b.time));
+    let gravity = match raw.world.gravity {
+        Some(g) => Some(ck.triple("world.gravity", g)?),
+        None => None,
+    };
+    let drag = match raw.world.drag {
+        Some(d) => Some(ck.non_negative("world.drag", d)?).filter(|&d| d > 0.0),
+        None => None,
+    };
+    let run = validate_run(&ck, &raw)?;
+    let name = raw.name.clone().unwrap_or_else(|| {
+        file.file_stem()
+            .map_or("scenario".into(), |s| s.to_string_lossy().into_owned())
+    });
+    if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
+        return Err(ck.err(
+            "name",
+            format!("'{name}' cannot be used as a directory name"),
+        ));
+    }
+    Ok(Scenario {
+        name,
+        description: raw.description.clone().unwrap_or_default(),
+        source: file.to_path_buf(),
+        particles,
+        springs,
+        constraints,
+        impulses,
+        gravity,
+        drag,
+        run,
+        blocks,
+        raw,
+    })
+}
+
+fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
+    let Some(r) = &raw.run else {
+        return Ok(RunSettings {
+            dt: None,
+            steps: None,
+            duration: None,
+            integrators: Vec::new(),
+        });
+    };
+    let dt = match r.dt {
+        Some(dt) => Some(ck.positive("run.dt", dt)?),
+        None => None,
+    };
+    let steps = match r.steps {
+        Some(s) if s < 1 || s as u64 > MAX_STEPS => {
+            return Err(ck.err(
+                "run.steps",
+                format!("must be between 1 and {MAX_STEPS}, got {s}"),
+            ))
+        }
+        Some(s) => Some(s as u64),
+        None => None,
+    };
+    let duration = match r.duration {
+        Some(d) => Some(ck.positive("run.duration", d)?),
+        None => None,
+    };
+    match (steps, duration) {
+        (Some(_), Some(_)) => {
+            return Err(ck.err(
+                "run",
+                "give exactly one of `steps` and `duration`, not both",
+            ))
+        }
+        (None, None) => return Err(ck.err("run", "give exactly one of `steps` and `duration`")),
+        _ => {}
+    }
+    if let (Some(dt), Some(d)) = (dt, duration) {
+        if d / dt > MAX_STEPS as f64 {
+            return Err(ck.err(
+                "run.duration",
+                format!("duration / dt = {:.3e} steps exceeds {MAX_STEPS}", d / dt),
+            ));
+        }
+    }
+    let integrators = r.integrators.clone().unwrap_or_default();
+    for (k, name) in integrators.iter().enumerate() {
+        if !crate::integrate::is_known(name) {
+            return Err(ck.err(
+                format!("run.integrators[{k}]"),
+                format!(
+                    "unknown integrator '{name}'; known: {}",
+                    crate::integrate::known_names().join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(RunSettings {
+        dt,
+        steps,
+        duration,
+        integrators,
+    })
+}
