@@ -79,9 +79,11 @@ impl Analytic {
             let (free, anchor) = match (sys.free[i], sys.free[j]) {
                 (true, false) => (i, j),
                 (false, true) => (j, i),
-                (true, true) => return Err(format!(
+                (true, true) => {
+                    return Err(format!(
                     "spring {s} joins two free particles ({i}, {j}): the oscillators are coupled"
-                )),
+                ))
+                }
                 (false, false) => continue,
             };
             if spring_of[free].replace((s, anchor)).is_some() {

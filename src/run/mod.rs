@@ -6,4 +6,4 @@ mod runner;
 
 pub use energy::{energy_scale, EnergyRecord};
 pub use observer::{NoObserver, Observer};
-pub use runner::{run, RunOutcome, RunPlan, Status};
+pub use runner::{run, RunOutcome, RunPlan, Status, DEFAULT_BLOWUP_FACTOR};

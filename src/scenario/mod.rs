@@ -27,6 +27,7 @@ pub mod file;
 mod generate;
 mod parse;
 mod validate;
+pub use validate::{MAX_PARTICLES, MAX_STEPS};
 
 pub use file::{ScenarioFile, SpringLaw};
 pub use generate::Block;

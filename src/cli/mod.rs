@@ -1,0 +1,44 @@
+//! Command-line interface: clap subcommands, one file each, validated into library calls.
+
+mod check;
+mod common;
+mod list;
+mod run;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// How far to trust a particle-spring simulation.
+#[derive(Debug, Parser)]
+#[command(name = "springlab", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run one scenario with one integrator and write its trajectory, energy and summary.
+    Run(run::Args),
+    /// Validate a scenario and print its particles, springs, constraints and active terms.
+    Check(check::Args),
+    /// List the integrators and the shipped scenarios.
+    List(list::Args),
+}
+
+/// Parses the command line, runs the command, and maps errors to a message and exit code 1.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(a) => run::run(a),
+        Command::Check(a) => check::run(a),
+        Command::List(a) => list::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
