@@ -1,9 +1,16 @@
-//! Backends that are not native integrators (physics engines), selectable by the same names.
+//! Every way springlab can step a scene, by name: the native integrators and external
+//! backends (physics engines) behind the same [`Integrator`] trait.
 
-use crate::error::Error;
+use crate::error::{Error, Result};
+use crate::integrate::{Integrator, IntegratorOptions};
 
 /// Names of external backends, accepted wherever an integrator name is.
 pub const EXTERNAL: &[&str] = &[];
+
+/// A fresh integrator or backend by name (aliases accepted).
+pub fn create(name: &str, opts: &IntegratorOptions) -> Result<Box<dyn Integrator>> {
+    crate::integrate::by_name(name, opts)
+}
 
 /// The error for a known external name asked of the native registry.
 pub fn not_native(name: &str) -> Error {

@@ -24,6 +24,9 @@ pub struct StepArgs {
     /// Constraint projection sweeps per step for verlet_constraints.
     #[arg(long, default_value_t = 20)]
     pub iterations: usize,
+    /// Solver substeps per frame for Rapier backends.
+    #[arg(long, default_value_t = 4)]
+    pub substeps: usize,
 }
 
 impl StepArgs {
@@ -55,6 +58,9 @@ impl StepArgs {
         }
         if self.iterations == 0 {
             bail!("--iterations: must be at least 1");
+        }
+        if self.substeps == 0 {
+            bail!("--substeps: must be at least 1");
         }
         let mut plan = if let Some(n) = self.steps {
             RunPlan::new(dt, n)

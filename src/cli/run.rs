@@ -2,7 +2,6 @@
 
 use super::common::{load, StepArgs};
 use anyhow::{bail, Result};
-use springlab::integrate;
 use springlab::output::{write_run, RunFiles, RunSummary};
 use std::path::PathBuf;
 
@@ -31,7 +30,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.every == 0 {
         bail!("--every: must be at least 1");
     }
-    let mut integ = integrate::by_name(&a.integrator, &a.step.options())?;
+    let mut integ = springlab::backend::create(&a.integrator, &a.step.options())?;
     let sys = scene.build();
     if let Err(reason) = integ.check(&sys) {
         return Err(springlab::Error::Unsupported {

@@ -24,6 +24,8 @@ const ALIASES: &[(&str, &str)] = &[("semi_implicit_euler", "symplectic_euler")];
 pub struct IntegratorOptions {
     /// Constraint projection sweeps per step (`verlet_constraints`).
     pub constraint_iterations: usize,
+    /// Solver substeps per frame for physics-engine backends (Rapier's `num_solver_iterations`).
+    pub substeps: usize,
 }
 
 impl Default for IntegratorOptions {
