@@ -32,6 +32,7 @@ impl Default for IntegratorOptions {
     fn default() -> Self {
         IntegratorOptions {
             constraint_iterations: 20,
+            substeps: 4,
         }
     }
 }
