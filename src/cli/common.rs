@@ -86,6 +86,7 @@ impl StepArgs {
     pub fn options(&self) -> IntegratorOptions {
         IntegratorOptions {
             constraint_iterations: self.iterations,
+            substeps: self.substeps,
         }
     }
 }
