@@ -29,6 +29,7 @@
 //! ```
 
 pub mod backend;
+pub mod collide;
 pub mod error;
 pub mod integrate;
 pub mod model;
