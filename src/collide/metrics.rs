@@ -48,7 +48,8 @@ pub struct ContactEvent {
     pub v_in: f64,
     /// Normal velocity when leaving (m/s, positive: separating).
     pub v_out: f64,
-    /// Measured restitution v_out / |v_in| (absent for a grazing contact with v_in ≈ 0).
+    /// Measured restitution v_out / |v_in| (absent for a resting or grazing contact, see
+    /// [`ContactMetrics::grazing_speed`]).
     pub restitution: Option<f64>,
     /// What the response should give (see the module docs).
     pub expected_restitution: f64,
@@ -161,7 +162,7 @@ pub struct ContactReport {
     pub open_contacts: u64,
     /// The first [`MAX_LISTED_EVENTS`] completed events.
     pub events: Vec<ContactEvent>,
-    /// Measured restitution over completed events.
+    /// Measured restitution over completed impact events (resting/grazing ones excluded).
     pub restitution: Stats,
     /// Expected restitution over the same events.
     pub expected_restitution: Stats,
@@ -282,8 +283,16 @@ impl ContactMetrics {
         Some(match damping {
             PenaltyDamping::Coefficient(c) => c / (2.0 * (stiffness * self.mass[p]).sqrt()),
             PenaltyDamping::Restitution(e) => damping_ratio_for_restitution(e),
-            PenaltyDamping::PerObstacle => damping_ratio_for_restitution(self.set.obstacles()[k].restitution),
+            PenaltyDamping::PerObstacle => {
+                damping_ratio_for_restitution(self.set.obstacles()[k].restitution)
+            }
         })
+    }
+
+    /// Approach speed (m/s) below which a contact is resting or grazing and gets no measured
+    /// restitution: max(1 mm/s, 2|g|·dt), the speed gravity adds in two samples.
+    pub fn grazing_speed(&self) -> f64 {
+        (2.0 * self.gravity.norm() * self.dt).max(1e-3)
     }
 
     fn expected_duration(&self, k: usize, p: usize) -> Option<f64> {
@@ -314,8 +323,11 @@ impl ContactMetrics {
         // Tunnelling: the path since the last state entered an obstacle and left it.
         if let Some(pr) = prev {
             if let Some(hit) = self.set.sweep(&pr.x, &x) {
+                // Through, not along: the end is outside, behind the entry face, and nearest to
+                // a face turned away from the entry (a chord sliding over a sphere is not).
                 let behind = (x - hit.point).dot(&hit.normal) < -tol;
-                if behind && self.set.query(hit.obstacle, &x, 0.0).distance > 0.0 {
+                let end = self.set.query(hit.obstacle, &x, 0.0);
+                if behind && end.distance > tol && end.normal.dot(&hit.normal) < 0.0 {
                     self.tunnel_count += 1;
                     if self.tunnels.len() < 100 {
                         self.tunnels.push(Tunnelling {
@@ -381,7 +393,7 @@ impl ContactMetrics {
             };
             let t_out = t_out.clamp(prev_t.max(o.t_in), s.t);
             let e_exp = self.expected_restitution(o.obstacle, p);
-            let restitution = (o.v_in.abs() > 1e-12).then(|| u / o.v_in.abs());
+            let restitution = (o.v_in.abs() > self.grazing_speed()).then(|| u / o.v_in.abs());
             let ev = ContactEvent {
                 particle: p,
                 obstacle: o.obstacle,
@@ -415,7 +427,10 @@ impl ContactMetrics {
                 let a_n = self.gravity.dot(&c.normal);
                 let rising_before = prev.is_some_and(|pr| pr.un > 0.0);
                 let first = prev.is_none();
-                if a_n < 0.0 && !in_contact && ((rising_before && un <= 0.0) || (first && un <= 0.0)) {
+                if a_n < 0.0
+                    && !in_contact
+                    && ((rising_before && un <= 0.0) || (first && un <= 0.0))
+                {
                     let (t0, z0, u0) = match prev {
                         Some(pr) if !first => (pr.t, pr.near.map_or(c.gap, |n| n.gap), pr.un),
                         _ => (s.t, c.gap, un.max(0.0)),
@@ -444,7 +459,12 @@ impl ContactMetrics {
                 }
             }
         }
-        self.tracks[p].prev = Some(Sample { t: s.t, x, near, un });
+        self.tracks[p].prev = Some(Sample {
+            t: s.t,
+            x,
+            near,
+            un,
+        });
     }
 
     /// The measured metrics (call after the run).

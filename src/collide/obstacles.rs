@@ -106,9 +106,10 @@ impl ObstacleSet {
                     SharedShape::halfspace(to_g(&normal.normalize())),
                     Pose::from_translation(to_g(point)),
                 ),
-                ShapeDef::Sphere { center, radius } => {
-                    (SharedShape::ball(*radius), Pose::from_translation(to_g(center)))
-                }
+                ShapeDef::Sphere { center, radius } => (
+                    SharedShape::ball(*radius),
+                    Pose::from_translation(to_g(center)),
+                ),
                 ShapeDef::Box {
                     center,
                     half_extents: h,

@@ -13,9 +13,9 @@ pub fn parse_obj(text: &str) -> Result<(Vec<[f64; 3]>, Vec<[u32; 3]>), String> {
             Some("v") => {
                 let mut c = [0.0; 3];
                 for (k, slot) in c.iter_mut().enumerate() {
-                    let tok = it
-                        .next()
-                        .ok_or(format!("line {line_no}: vertex has {k} coordinates, need 3"))?;
+                    let tok = it.next().ok_or(format!(
+                        "line {line_no}: vertex has {k} coordinates, need 3"
+                    ))?;
                     *slot = tok
                         .parse::<f64>()
                         .ok()

@@ -28,12 +28,20 @@ impl Ck<'_> {
         Error::invalid(self.file, field, msg)
     }
     fn need<T: Copy>(&self, f: &str, key: &str, shape: &str, v: Option<T>) -> Result<T> {
-        v.ok_or_else(|| self.err(format!("{f}.{key}"), format!("missing: a {shape} needs `{key}`")))
+        v.ok_or_else(|| {
+            self.err(
+                format!("{f}.{key}"),
+                format!("missing: a {shape} needs `{key}`"),
+            )
+        })
     }
     fn triple(&self, field: &str, t: Triple) -> Result<Vec3> {
         for (k, c) in t.iter().enumerate() {
             if !c.is_finite() {
-                return Err(self.err(format!("{field}[{k}]"), format!("must be a finite number, got {c}")));
+                return Err(self.err(
+                    format!("{field}[{k}]"),
+                    format!("must be a finite number, got {c}"),
+                ));
             }
         }
         Ok(Vec3::from(t))
@@ -107,24 +115,36 @@ fn obstacle(ck: &Ck, f: &str, o: &ObstacleSpec) -> Result<ObstacleDef> {
         let names: Vec<&str> = SHAPES.iter().map(|(n, _)| *n).collect();
         return Err(ck.err(
             format!("{f}.shape"),
-            format!("unknown shape '{shape}'; expected one of: {}", names.join(", ")),
+            format!(
+                "unknown shape '{shape}'; expected one of: {}",
+                names.join(", ")
+            ),
         ));
     };
     for key in present(o) {
         if !keys.contains(&key) {
             return Err(ck.err(
                 format!("{f}.{key}"),
-                format!("not used by a {shape} (a {shape} takes: {})", keys.join(", ")),
+                format!(
+                    "not used by a {shape} (a {shape} takes: {})",
+                    keys.join(", ")
+                ),
             ));
         }
     }
     let def = match shape {
         "plane" => {
             let point = ck.triple(&format!("{f}.point"), ck.need(f, "point", shape, o.point)?)?;
-            let normal = ck.triple(&format!("{f}.normal"), ck.need(f, "normal", shape, o.normal)?)?;
+            let normal = ck.triple(
+                &format!("{f}.normal"),
+                ck.need(f, "normal", shape, o.normal)?,
+            )?;
             let len = normal.norm();
             if !(len.is_finite() && len > 0.0) {
-                return Err(ck.err(format!("{f}.normal"), "is the zero vector: a plane needs a direction"));
+                return Err(ck.err(
+                    format!("{f}.normal"),
+                    "is the zero vector: a plane needs a direction",
+                ));
             }
             ShapeDef::Plane {
                 point,
@@ -132,11 +152,20 @@ fn obstacle(ck: &Ck, f: &str, o: &ObstacleSpec) -> Result<ObstacleDef> {
             }
         }
         "sphere" => ShapeDef::Sphere {
-            center: ck.triple(&format!("{f}.center"), ck.need(f, "center", shape, o.center)?)?,
-            radius: ck.positive(&format!("{f}.radius"), ck.need(f, "radius", shape, o.radius)?)?,
+            center: ck.triple(
+                &format!("{f}.center"),
+                ck.need(f, "center", shape, o.center)?,
+            )?,
+            radius: ck.positive(
+                &format!("{f}.radius"),
+                ck.need(f, "radius", shape, o.radius)?,
+            )?,
         },
         "box" => {
-            let center = ck.triple(&format!("{f}.center"), ck.need(f, "center", shape, o.center)?)?;
+            let center = ck.triple(
+                &format!("{f}.center"),
+                ck.need(f, "center", shape, o.center)?,
+            )?;
             let he = ck.need(f, "half_extents", shape, o.half_extents)?;
             for (i, h) in he.iter().enumerate() {
                 ck.positive(&format!("{f}.half_extents[{i}]"), *h)?;
@@ -154,7 +183,10 @@ fn obstacle(ck: &Ck, f: &str, o: &ObstacleSpec) -> Result<ObstacleDef> {
         "capsule" => ShapeDef::Capsule {
             a: ck.triple(&format!("{f}.a"), ck.need(f, "a", shape, o.a)?)?,
             b: ck.triple(&format!("{f}.b"), ck.need(f, "b", shape, o.b)?)?,
-            radius: ck.positive(&format!("{f}.radius"), ck.need(f, "radius", shape, o.radius)?)?,
+            radius: ck.positive(
+                &format!("{f}.radius"),
+                ck.need(f, "radius", shape, o.radius)?,
+            )?,
         },
         _ => mesh(ck, f, o)?,
     };
@@ -209,7 +241,10 @@ fn mesh(ck: &Ck, f: &str, o: &ObstacleSpec) -> Result<ShapeDef> {
         verts.push(ck.triple(&format!("{f}.vertices[{i}]"), *v)?);
     }
     if triangles.is_empty() {
-        return Err(ck.err(format!("{f}.triangles"), "is empty: a mesh needs at least one triangle"));
+        return Err(ck.err(
+            format!("{f}.triangles"),
+            "is empty: a mesh needs at least one triangle",
+        ));
     }
     let mut tris = Vec::with_capacity(triangles.len());
     for (j, t) in triangles.iter().enumerate() {
@@ -218,12 +253,20 @@ fn mesh(ck: &Ck, f: &str, o: &ObstacleSpec) -> Result<ShapeDef> {
             if t[c] < 0 || t[c] as u64 >= n as u64 {
                 return Err(ck.err(
                     format!("{f}.triangles[{j}][{c}]"),
-                    format!("vertex index {} does not exist (the mesh has {n} vertices, 0..{})", t[c], n.saturating_sub(1)),
+                    format!(
+                        "vertex index {} does not exist (the mesh has {n} vertices, 0..{})",
+                        t[c],
+                        n.saturating_sub(1)
+                    ),
                 ));
             }
             tri[c] = t[c] as u32;
         }
-        let (a, b, c) = (verts[tri[0] as usize], verts[tri[1] as usize], verts[tri[2] as usize]);
+        let (a, b, c) = (
+            verts[tri[0] as usize],
+            verts[tri[1] as usize],
+            verts[tri[2] as usize],
+        );
         if (b - a).cross(&(c - a)).norm() == 0.0 {
             return Err(ck.err(format!("{f}.triangles[{j}]"), "is degenerate (zero area)"));
         }
@@ -263,7 +306,10 @@ fn response(ck: &Ck, c: Option<&CollisionSpec>) -> Result<Response> {
         }
         "penalty" => {
             let k = c.stiffness.ok_or_else(|| {
-                ck.err("collision.stiffness", "missing: the penalty response needs a contact stiffness (N/m)")
+                ck.err(
+                    "collision.stiffness",
+                    "missing: the penalty response needs a contact stiffness (N/m)",
+                )
             })?;
             let stiffness = ck.positive("collision.stiffness", k)?;
             let damping = match (c.damping, c.restitution) {
@@ -273,8 +319,12 @@ fn response(ck: &Ck, c: Option<&CollisionSpec>) -> Result<Response> {
                         "give either `damping` or `restitution`, not both",
                     ))
                 }
-                (Some(d), None) => PenaltyDamping::Coefficient(ck.non_negative("collision.damping", d)?),
-                (None, Some(e)) => PenaltyDamping::Restitution(ck.unit("collision.restitution", e)?),
+                (Some(d), None) => {
+                    PenaltyDamping::Coefficient(ck.non_negative("collision.damping", d)?)
+                }
+                (None, Some(e)) => {
+                    PenaltyDamping::Restitution(ck.unit("collision.restitution", e)?)
+                }
                 (None, None) => PenaltyDamping::PerObstacle,
             };
             Ok(Response::Penalty { stiffness, damping })
