@@ -17,7 +17,10 @@ fn one(name: &str, steps: usize) -> (f64, f64) {
 }
 
 fn close(got: (f64, f64), want: (f64, f64)) {
-    assert!((got.0 - want.0).abs() < 1e-14 && (got.1 - want.1).abs() < 1e-14, "got {got:?}, want {want:?}");
+    assert!(
+        (got.0 - want.0).abs() < 1e-14 && (got.1 - want.1).abs() < 1e-14,
+        "got {got:?}, want {want:?}"
+    );
 }
 
 #[test]
@@ -41,7 +44,10 @@ fn implicit_euler_solves_backward_step() {
     // v1 = v0 − h·4·u1, u1 = u0 + h v1  ⇒  u1 = u0 / (1 + 4h²) = 0.5/1.04, v1 = −0.4 u1.
     let u1 = 0.5 / 1.04;
     let (u, v) = one("implicit_euler", 1);
-    assert!((u - u1).abs() < 1e-12 && (v + 0.4 * u1).abs() < 1e-11, "{u} {v}");
+    assert!(
+        (u - u1).abs() < 1e-12 && (v + 0.4 * u1).abs() < 1e-11,
+        "{u} {v}"
+    );
 }
 
 #[test]
@@ -100,7 +106,13 @@ fn verlet_constraints_projects_a_rod() {
         "rod.toml",
     )
     .unwrap();
-    let s = step_n(&scene.build(), &scene.initial_state(), "verlet_constraints", 0.1, 1);
+    let s = step_n(
+        &scene.build(),
+        &scene.initial_state(),
+        "verlet_constraints",
+        0.1,
+        1,
+    );
     let r = (1.0f64 + 0.01).sqrt();
     assert!((s.x[1].x - 1.0 / r).abs() < 1e-15 && (s.x[1].y - 0.1 / r).abs() < 1e-15);
     assert!((s.v[1].y - 0.1 / r / 0.1).abs() < 1e-13);

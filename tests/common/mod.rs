@@ -27,7 +27,14 @@ pub fn integ(name: &str) -> Box<dyn Integrator> {
 pub fn run_steps(scene: &Scenario, name: &str, dt: f64, steps: u64) -> RunOutcome {
     let sys = scene.build();
     let mut i = integ(name);
-    run(&sys, i.as_mut(), scene.initial_state(), &RunPlan::new(dt, steps), &mut NoObserver).expect("run")
+    run(
+        &sys,
+        i.as_mut(),
+        scene.initial_state(),
+        &RunPlan::new(dt, steps),
+        &mut NoObserver,
+    )
+    .expect("run")
 }
 
 /// Steps `name` by hand `steps` times (no runner), returning the state.
