@@ -11,13 +11,30 @@ fn momentum_is_conserved_on_two_free_masses() {
     let scene = Scenario::from_file("scenarios/two_body.toml").unwrap();
     let sys = scene.build();
     let p0 = sys.momentum(&scene.initial_state().v);
-    for name in ["explicit_euler", "symplectic_euler", "implicit_euler", "rk2", "rk4", "velocity_verlet", "position_verlet", "verlet_constraints"] {
+    for name in [
+        "explicit_euler",
+        "symplectic_euler",
+        "implicit_euler",
+        "rk2",
+        "rk4",
+        "velocity_verlet",
+        "position_verlet",
+        "verlet_constraints",
+    ] {
         let out = run_steps(&scene, name, 0.01, 500);
         assert!(out.status.is_ok(), "{name}: {:?}", out.status);
         let p = sys.momentum(&out.final_state.v);
         // Implicit Euler's Newton solve is symmetric too, but its CG stops at a tolerance.
-        let tol = if name == "implicit_euler" { 1e-9 } else { 1e-12 }; // round-off over 500 steps of |p| ~ 1
-        assert!((p - p0).norm() < tol, "{name}: momentum drift {:e}", (p - p0).norm());
+        let tol = if name == "implicit_euler" {
+            1e-9
+        } else {
+            1e-12
+        }; // round-off over 500 steps of |p| ~ 1
+        assert!(
+            (p - p0).norm() < tol,
+            "{name}: momentum drift {:e}",
+            (p - p0).norm()
+        );
     }
 }
 
@@ -32,5 +49,8 @@ fn damped_energy_account_balances_to_the_methods_order() {
         (out.final_energy.total - out.initial_energy.total).abs()
     };
     let (e1, e2) = (err(0.01), err(0.005));
-    assert!(e1 / e2 > 12.0 && e1 / e2 < 20.0, "balance errors {e1:e} {e2:e}");
+    assert!(
+        e1 / e2 > 12.0 && e1 / e2 < 20.0,
+        "balance errors {e1:e} {e2:e}"
+    );
 }

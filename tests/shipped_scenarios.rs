@@ -7,9 +7,16 @@ use springlab::scenario::Scenario;
 
 #[test]
 fn every_shipped_scenario_runs_with_every_applicable_integrator() {
-    let mut files: Vec<_> = std::fs::read_dir("scenarios").unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|x| x == "toml")).collect();
+    let mut files: Vec<_> = std::fs::read_dir("scenarios")
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
     files.sort();
-    assert!(files.len() >= 8, "expected the shipped scenarios, found {files:?}");
+    assert!(
+        files.len() >= 8,
+        "expected the shipped scenarios, found {files:?}"
+    );
     for f in files {
         let scene = Scenario::from_file(&f).unwrap_or_else(|e| panic!("{e}"));
         let sys = scene.build();
@@ -22,7 +29,14 @@ fn every_shipped_scenario_runs_with_every_applicable_integrator() {
                 continue;
             }
             let plan = springlab::run::RunPlan::new(dt, 20);
-            let out = springlab::run::run(&sys, i.as_mut(), scene.initial_state(), &plan, &mut springlab::run::NoObserver).unwrap();
+            let out = springlab::run::run(
+                &sys,
+                i.as_mut(),
+                scene.initial_state(),
+                &plan,
+                &mut springlab::run::NoObserver,
+            )
+            .unwrap();
             assert!(out.final_energy.is_finite(), "{} {name}", scene.name);
             assert!(out.final_state.first_non_finite().is_none());
             ran += 1;
@@ -33,11 +47,17 @@ fn every_shipped_scenario_runs_with_every_applicable_integrator() {
 
 #[test]
 fn only_the_terms_a_scene_uses_are_built() {
-    let osc = Scenario::from_file("scenarios/anchored_spring.toml").unwrap().build();
+    let osc = Scenario::from_file("scenarios/anchored_spring.toml")
+        .unwrap()
+        .build();
     assert_eq!(osc.active_terms(), vec!["springs"]);
-    let chain = Scenario::from_file("scenarios/hanging_chain.toml").unwrap().build();
+    let chain = Scenario::from_file("scenarios/hanging_chain.toml")
+        .unwrap()
+        .build();
     assert_eq!(chain.active_terms(), vec!["springs+dampers", "gravity"]);
-    let rod = Scenario::from_file("scenarios/pendulum_rod.toml").unwrap().build();
+    let rod = Scenario::from_file("scenarios/pendulum_rod.toml")
+        .unwrap()
+        .build();
     assert_eq!(rod.active_terms(), vec!["gravity", "constraints"]);
 }
 
