@@ -81,8 +81,7 @@ impl Cg {
         h: f64,
         b: &[Vec3],
         x: &mut [Vec3],
-        tol: f64,
-        max_it: usize,
+        set: &ImplicitSettings,
     ) -> CgOutcome {
         let n = b.len();
         for buf in [&mut self.r, &mut self.z, &mut self.p, &mut self.ap] {
@@ -104,7 +103,7 @@ impl Cg {
         if rz0 == 0.0 {
             return CgOutcome::Converged(0);
         }
-        for it in 0..max_it {
+        for it in 0..set.max_cg {
             jac.newton_matvec(&sys.mass, &sys.free, h, &self.p, &mut self.ap);
             for i in 0..n {
                 if !sys.free[i] {
@@ -122,7 +121,7 @@ impl Cg {
                 self.z[i] = self.diag_inv[i] * self.r[i];
             }
             let rz_new: f64 = self.r.iter().zip(&self.z).map(|(a, b)| a.dot(b)).sum();
-            if rz_new <= tol * tol * rz0 {
+            if rz_new <= set.cg_tol * set.cg_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
             }
             let beta = rz_new / rz;
@@ -204,15 +203,10 @@ impl Integrator for ImplicitEuler {
             loop {
                 jac.definite = definite;
                 sys.jacobian(&self.xn, &self.vn, &mut jac);
-                match self.cg.solve(
-                    &jac,
-                    sys,
-                    h,
-                    &self.r,
-                    &mut self.dv,
-                    self.settings.cg_tol,
-                    self.settings.max_cg,
-                ) {
+                match self
+                    .cg
+                    .solve(&jac, sys, h, &self.r, &mut self.dv, &self.settings)
+                {
                     CgOutcome::Converged(it) => {
                         self.cg_iterations += it as u64;
                         break;
