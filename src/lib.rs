@@ -28,6 +28,8 @@
 //! assert!((out.final_energy.total - out.initial_energy.total).abs() < 1e-9);
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod backend;
 pub mod collide;
 pub mod error;
