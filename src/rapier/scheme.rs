@@ -1,0 +1,1 @@
+pub fn scheme_prediction() {} pub struct Prediction;
