@@ -1,7 +1,7 @@
 //! The Rapier backends as [`Integrator`]s: build lazily, step the pipeline, read back.
 
 use super::convert::{to_glam, to_na};
-use super::world::{build, set_step, Built, Mode};
+use super::world::{align_axial, build, set_step, Built, Mode};
 use crate::error::Result;
 use crate::integrate::{Integrator, StepStats};
 use crate::model::{State, System, Vec3};
@@ -131,7 +131,18 @@ impl Integrator for RapierBackend {
         self.prepare(sys, s, h);
         let p0 = damping_power(sys, &s.x, &s.v);
         let b = self.built.as_mut().expect("built in prepare");
-        b.world.step();
+        if b.axial.is_empty() {
+            b.world.step();
+        } else {
+            // Loop-closing joints between multibody links must follow the particle axis, which
+            // Rapier only lets us set between frames: run `substeps` frames of h/N with one
+            // solver iteration each (for impulse joints this is the same scheme as N substeps).
+            set_step(&mut b.world, 1, h / self.substeps as f64);
+            for _ in 0..self.substeps {
+                align_axial(b);
+                b.world.step();
+            }
+        }
         for (p, &hnd) in b.bodies.iter().enumerate() {
             if sys.free[p] {
                 let rb = &b.world.bodies[hnd];

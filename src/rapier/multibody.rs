@@ -1,6 +1,6 @@
 //! Tree edges as Rapier multibody joints (reduced coordinates).
 //!
-//! Rigid constraint a→b: a spherical joint (linear axes locked) whose anchor on b sits at a's
+//! Compliant constraints are springs (see `joints::spring_params`). Rigid constraint a→b: a spherical joint (linear axes locked) whose anchor on b sits at a's
 //! centre: b swings on a rod of length |x_b − x_a|, exactly rigid (no drift).
 //!
 //! Spring a→b: a multibody joint translates *before* it rotates (body_to_parent =
@@ -14,9 +14,13 @@
 //! places a child from its joint coordinates, so anchors that do not match would move it), the
 //! default joint damping (0.1 on every free angular DOF) is zeroed, and the generalized
 //! velocities are set from the particle velocities (insertion starts them at zero).
+//!
+//! Edges left out of the trees are impulse joints between links, but not the coupled-axes
+//! joints of the impulse backend: see `joints::axial_joint`.
 
 use super::convert::to_glam;
-use super::topology::{Edge, EdgeKind};
+use super::joints::spring_params;
+use super::topology::Edge;
 use crate::model::{State, System, Vec3};
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::prelude::*;
@@ -53,8 +57,8 @@ pub fn insert_edge(
 ) -> Inserted {
     let (ha, hb) = (bodies[e.a], bodies[e.b]);
     let d = s.x[e.b] - s.x[e.a];
-    match e.kind {
-        EdgeKind::Constraint(_) => {
+    match spring_params(sys, e.kind) {
+        None => {
             let data = GenericJointBuilder::new(JointAxesMask::LOCKED_SPHERICAL_AXES)
                 .local_frame1(Pose::IDENTITY)
                 .local_frame2(Pose::from_translation(to_glam(&(-d))))
@@ -65,7 +69,7 @@ pub fn insert_edge(
                 .expect("tree edge joins two trees");
             Inserted::Rod { edge: e }
         }
-        EdgeKind::Spring(_) => {
+        Some(_) => {
             let len0 = d.norm();
             let n = if len0 > 0.0 { d / len0 } else { Vec3::x() };
             let pivot = world.insert_body(super::bodies::pivot_body(
@@ -130,9 +134,7 @@ pub fn configure(
                 set_joint_velocity(mbs, bodies[edge.b], &[w.x, w.y, w.z]);
             }
             Inserted::Spring { edge, pivot, len0 } => {
-                let EdgeKind::Spring(k) = edge.kind else {
-                    unreachable!("spring insert")
-                };
+                let (k, l0, c) = spring_params(sys, edge.kind).expect("spring edge");
                 let d = s.x[edge.b] - s.x[edge.a];
                 let n = if len0 > 0.0 { d / len0 } else { Vec3::x() };
                 let vrel = s.v[edge.b] - s.v[edge.a];
@@ -140,13 +142,12 @@ pub fn configure(
                 set_joint_velocity(mbs, pivot, &[w.x, w.y, w.z]);
                 set_joint_velocity(mbs, bodies[edge.b], &[n.dot(&vrel)]);
                 let (mb, link) = mbs.get_mut(MultibodyJointHandle(bodies[edge.b].0)).expect("slider");
-                let sp = &sys.springs;
                 mb.link_mut(link)
                     .expect("slider link")
                     .joint
-                    .set_spring(0, sp.k[k], sp.l0[k] - len0);
+                    .set_spring(0, k, l0 - len0);
                 let idx = mb.link(link).expect("slider link").assembly_id();
-                mb.damping_mut()[idx] = sp.c[k];
+                mb.damping_mut()[idx] = c;
             }
         }
     }

@@ -2,9 +2,9 @@
 
 use super::bodies::{particle_body, particle_collider};
 use super::convert::to_glam;
-use super::joints::{constraint_joint, spring_joint};
+use super::joints::{align_frames, axial_joint, edge_joint};
 use super::multibody::{configure, insert_edge};
-use super::topology::{Edge, EdgeKind, Topology, MAX_TREE_PARTICLES};
+use super::topology::{Edge, Topology, MAX_TREE_PARTICLES};
 use crate::model::{State, System};
 use rapier3d_f64::math::Vector;
 use rapier3d_f64::prelude::*;
@@ -26,6 +26,8 @@ pub struct Built {
     pub bodies: Vec<RigidBodyHandle>,
     /// The multibody topology (multibody mode only).
     pub topology: Option<Topology>,
+    /// Fallback joints between multibody links whose frames follow the particle axis.
+    pub axial: Vec<(ImpulseJointHandle, Edge)>,
 }
 
 /// A Rapier world for `sys` at state `s`. Gravity is the scene's or zero (Rapier's
@@ -38,14 +40,12 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
         .map(|p| world.insert(particle_body(sys, s, p), particle_collider(sys, p)).0)
         .collect();
     let impulse = |world: &mut PhysicsWorld, e: Edge| {
-        let data = match e.kind {
-            EdgeKind::Spring(k) => spring_joint(sys, k),
-            EdgeKind::Constraint(c) => constraint_joint(sys, c),
-        };
+        let data = edge_joint(sys, e.kind);
         world
             .impulse_joints
             .insert(bodies[e.a], bodies[e.b], data, true);
     };
+    let mut axial = Vec::new();
     let topology = match mode {
         Mode::Impulse => {
             let all = Topology::of(sys, 0);
@@ -63,7 +63,13 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
                 .collect();
             configure(&mut world, sys, s, &bodies, &inserted);
             for &(e, _) in &topo.fallback {
-                impulse(&mut world, e);
+                let h = world.impulse_joints.insert(
+                    bodies[e.a],
+                    bodies[e.b],
+                    axial_joint(sys, e.kind),
+                    true,
+                );
+                axial.push((h, e));
             }
             Some(topo)
         }
@@ -72,11 +78,27 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
         world,
         bodies,
         topology,
+        axial,
     }
 }
 
-/// Frame step `h` and `substeps` solver iterations (Rapier's substeps).
+/// Before a frame: points every axial fallback joint along its particles' current axis.
+pub fn align_axial(b: &mut Built) {
+    for &(h, e) in &b.axial {
+        let (ra, rb) = (&b.world.bodies[b.bodies[e.a]], &b.world.bodies[b.bodies[e.b]]);
+        let d = rb.translation() - ra.translation();
+        let n = if d.length() > 0.0 { d / d.length() } else { Vector::X };
+        let (r1, r2) = (*ra.rotation(), *rb.rotation());
+        if let Some(j) = b.world.impulse_joints.get_mut(h, false) {
+            align_frames(&mut j.data, n, r1, r2);
+        }
+    }
+}
+
+/// Frame step `h`, `substeps` solver iterations (Rapier's substeps), no speed cap.
 pub fn set_step(world: &mut PhysicsWorld, substeps: usize, h: f64) {
     world.integration_parameters.dt = h;
     world.integration_parameters.num_solver_iterations = substeps;
+    // Rapier caps body speed at 400 m/s by default; a particle model has no such cap.
+    world.integration_parameters.normalized_max_linear_velocity = f64::MAX;
 }
