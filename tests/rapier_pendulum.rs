@@ -28,6 +28,9 @@ fn pendulum_rod_period_matches_elliptic_formula() {
         eprintln!("{name}: T = {measured:.6} s vs {period:.6} s (rel {rel:.2e})");
         // h = 1 ms resolves T to ~1e-4 by interpolation; a first-order scheme's phase error is
         // O(h) ~ 1e-3 relative at most here.
-        assert!(rel < 2e-3, "{name}: period {measured} vs {period}, rel {rel}");
+        assert!(
+            rel < 2e-3,
+            "{name}: period {measured} vs {period}, rel {rel}"
+        );
     }
 }

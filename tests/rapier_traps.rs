@@ -15,7 +15,10 @@ fn spring_motor_is_force_based() {
     let default = GenericJointBuilder::new(JointAxesMask::empty())
         .motor_position(JointAxis::LinX, 1.0, 1.0, 0.0)
         .build();
-    assert_eq!(default.motor_model(JointAxis::LinX), Some(MotorModel::AccelerationBased));
+    assert_eq!(
+        default.motor_model(JointAxis::LinX),
+        Some(MotorModel::AccelerationBased)
+    );
     let scene = Scenario::from_toml_str(
         "[[particle]]\nposition=[0.0,0.0,0.0]\nmass=1.0\nfixed=true\n\
          [[particle]]\nposition=[1.2,0.0,0.0]\nmass=4.0\n\
@@ -23,7 +26,10 @@ fn spring_motor_is_force_based() {
         "heavy.toml",
     )
     .unwrap();
-    assert_eq!(spring_joint(&scene.build(), 0).motor_model(JointAxis::LinX), Some(MotorModel::ForceBased));
+    assert_eq!(
+        spring_joint(&scene.build(), 0).motor_model(JointAxis::LinX),
+        Some(MotorModel::ForceBased)
+    );
     let period = 2.0 * std::f64::consts::PI * 4.0_f64.sqrt();
     for name in BACKENDS {
         let h = 1e-2;
@@ -32,25 +38,37 @@ fn spring_motor_is_force_based() {
         let u: Vec<f64> = rec.x.iter().map(|x| x[1].x - 1.0).collect();
         let c = upward_crossings(&t, &u);
         let measured = c[c.len() - 1] - c[c.len() - 2];
-        assert!((measured - period).abs() < 1e-3 * period, "{name}: T = {measured} vs {period}");
+        assert!(
+            (measured - period).abs() < 1e-3 * period,
+            "{name}: T = {measured} vs {period}"
+        );
     }
 }
 
 /// Trap: multibody joints get a default damping of 0.1 on free angular DOFs. Oracle: an
-/// undamped pendulum conserves energy; with the default damping the multibody pendulum loses
-/// ~1% of its swing energy per second. We require 1e-4 of |E| over 2 s.
+/// undamped pendulum conserves energy. With the default damping the 60° pendulum would lose
+/// ≈ 0.1·⟨ω²⟩·2 s ≈ 1 J over 2 s (⟨ω²⟩ ≈ 5 rad²/s²); the measured first-order integration
+/// fluctuation at h = 1 ms is 5e-3 J. We require 2e-3·|E| ≈ 0.01 J, 100× below the trap.
 #[test]
 fn multibody_default_damping_is_zeroed() {
     let scene = Scenario::from_file("scenarios/pendulum_rod.toml").unwrap();
     let sys = scene.build();
     let b = build(&sys, &scene.initial_state(), Mode::Multibody, 4, 1e-3);
     for mb in b.world.multibody_joints.multibodies() {
-        assert!(mb.damping().iter().all(|&d| d == 0.0), "damping {:?}", mb.damping());
+        assert!(
+            mb.damping().iter().all(|&d| d == 0.0),
+            "damping {:?}",
+            mb.damping()
+        );
     }
     let (rec, _) = record(&scene, "rapier_multibody", 1e-3, 4, 2000);
     let e0 = rec.energy[0].1;
-    let worst = rec.energy.iter().map(|e| (e.1 - e0).abs()).fold(0.0, f64::max);
-    assert!(worst < 1e-4 * e0.abs(), "energy drift {worst}");
+    let worst = rec
+        .energy
+        .iter()
+        .map(|e| (e.1 - e0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 2e-3 * e0.abs(), "energy drift {worst}");
 }
 
 /// Trap: bodies fall asleep once slow for ~2 s and freeze a stretched spring. Oracle: a weak
@@ -66,9 +84,18 @@ fn sleeping_never_freezes_a_spring() {
         let want = 0.1 * (0.1_f64 * 6.0).cos();
         assert!((u - want).abs() < 1e-4, "{name}: u(6 s) = {u}, want {want}");
     }
-    let b = build(&scene.build(), &scene.initial_state(), Mode::Impulse, 4, 1.0 / 60.0);
+    let b = build(
+        &scene.build(),
+        &scene.initial_state(),
+        Mode::Impulse,
+        4,
+        1.0 / 60.0,
+    );
     for (_, rb) in b.world.bodies.iter() {
-        assert!(rb.activation().normalized_linear_threshold < 0.0, "body can sleep");
+        assert!(
+            rb.activation().normalized_linear_threshold < 0.0,
+            "body can sleep"
+        );
     }
 }
 
@@ -77,7 +104,11 @@ fn sleeping_never_freezes_a_spring() {
 /// state put it (any mismatch would show as a jump of the anchor offset, ~0.1–1 m here).
 #[test]
 fn multibody_insertion_keeps_positions() {
-    for file in ["scenarios/hanging_chain.toml", "scenarios/pendulum_rod.toml", "scenarios/two_body.toml"] {
+    for file in [
+        "scenarios/hanging_chain.toml",
+        "scenarios/pendulum_rod.toml",
+        "scenarios/two_body.toml",
+    ] {
         let scene = Scenario::from_file(file).unwrap();
         let (rec, _) = record(&scene, "rapier_multibody", 1e-9, 1, 1);
         for (a, b) in rec.x[0].iter().zip(&rec.x[1]) {
@@ -91,7 +122,12 @@ fn multibody_insertion_keeps_positions() {
 /// ours is Max, so the obstacle's coefficient acts as given.
 #[test]
 fn restitution_rule_is_not_average() {
-    assert_eq!(ColliderBuilder::ball(0.1).build().restitution_combine_rule(), CoefficientCombineRule::Average);
+    assert_eq!(
+        ColliderBuilder::ball(0.1)
+            .build()
+            .restitution_combine_rule(),
+        CoefficientCombineRule::Average
+    );
     let sys = common::oscillator(1.0, 0.0, 0.1, 0.0).build();
     let c = particle_collider(&sys, 1);
     assert_eq!(c.restitution_combine_rule(), CoefficientCombineRule::Max);
@@ -112,7 +148,10 @@ fn no_default_gravity_no_speed_cap_and_rapier_confined() {
     for name in BACKENDS {
         let (rec, _) = record(&scene, name, 0.01, 4, 10);
         let x = rec.x.last().unwrap()[0];
-        assert!((x - springlab::model::Vec3::new(100.0, 0.0, 0.0)).norm() < 1e-9, "{name}: {x}");
+        assert!(
+            (x - springlab::model::Vec3::new(100.0, 0.0, 0.0)).norm() < 1e-9,
+            "{name}: {x}"
+        );
     }
     let mut stack = vec![std::path::PathBuf::from("src")];
     while let Some(dir) = stack.pop() {
@@ -124,7 +163,11 @@ fn no_default_gravity_no_speed_cap_and_rapier_confined() {
                 }
             } else if p.extension().is_some_and(|e| e == "rs") {
                 let text = std::fs::read_to_string(&p).unwrap();
-                assert!(!text.contains("rapier3d_f64"), "{} imports Rapier outside src/rapier/", p.display());
+                assert!(
+                    !text.contains("rapier3d_f64"),
+                    "{} imports Rapier outside src/rapier/",
+                    p.display()
+                );
             }
         }
     }

@@ -51,14 +51,21 @@ fn impulse_energy_follows_the_predicted_scheme() {
     for (h, n) in [(1.0 / 60.0, 4), (1.0 / 600.0, 1), (0.01, 2)] {
         let steps = 120;
         let (rec, _) = record(&scene, "rapier_impulse", h, n, steps);
-        let p = scheme_prediction("rapier_impulse", &sys, &scene.initial_state(), h, n, steps).unwrap();
+        let p =
+            scheme_prediction("rapier_impulse", &sys, &scene.initial_state(), h, n, steps).unwrap();
         assert_eq!(p.curve.len(), rec.energy.len());
         let e0 = p.curve[0].1;
         let lost = e0 - p.curve.last().unwrap().1;
         assert!(lost > 0.0, "the scheme dissipates");
         for (m, q) in rec.energy.iter().zip(&p.curve) {
             assert!((m.0 - q.0).abs() < 1e-12);
-            assert!((m.1 - q.1).abs() < 1e-9 * e0, "h {h} n {n} t {}: {} vs {}", m.0, m.1, q.1);
+            assert!(
+                (m.1 - q.1).abs() < 1e-9 * e0,
+                "h {h} n {n} t {}: {} vs {}",
+                m.0,
+                m.1,
+                q.1
+            );
         }
     }
 }

@@ -43,18 +43,13 @@ impl RapierBackend {
         match self.mode {
             Mode::Impulse => None,
             Mode::Multibody => Some(
-                super::topology::Topology::of(sys, super::topology::MAX_TREE_PARTICLES)
-                    .describe(),
+                super::topology::Topology::of(sys, super::topology::MAX_TREE_PARTICLES).describe(),
             ),
         }
     }
 
     fn prepare(&mut self, sys: &System, s: &State, h: f64) {
-        let rebuild = match (&self.built, self.dirty, self.mode) {
-            (None, _, _) => true,
-            (Some(_), true, Mode::Multibody) => true,
-            _ => false,
-        };
+        let rebuild = self.built.is_none() || (self.dirty && self.mode == Mode::Multibody);
         if rebuild {
             self.built = Some(build(sys, s, self.mode, self.substeps, h));
         } else if let Some(b) = &mut self.built {

@@ -49,7 +49,11 @@ pub fn pivot_body(x: Vector, eps: f64, r: f64) -> RigidBody {
     let r = r.max(MIN_INERTIA_RADIUS);
     RigidBodyBuilder::dynamic()
         .translation(x)
-        .additional_mass_properties(MassProperties::new(Vector::ZERO, eps, Vector::splat(eps * r * r)))
+        .additional_mass_properties(MassProperties::new(
+            Vector::ZERO,
+            eps,
+            Vector::splat(eps * r * r),
+        ))
         .gravity_scale(0.0)
         .can_sleep(false)
         .build()

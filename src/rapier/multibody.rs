@@ -91,7 +91,11 @@ pub fn insert_edge(
                 .multibody_joints
                 .insert(pivot, hb, slider, true)
                 .expect("slider joins the pivot");
-            Inserted::Spring { edge: e, pivot, len0 }
+            Inserted::Spring {
+                edge: e,
+                pivot,
+                len0,
+            }
         }
     }
 }
@@ -138,10 +142,16 @@ pub fn configure(
                 let d = s.x[edge.b] - s.x[edge.a];
                 let n = if len0 > 0.0 { d / len0 } else { Vec3::x() };
                 let vrel = s.v[edge.b] - s.v[edge.a];
-                let w = if len0 > 0.0 { n.cross(&vrel) / len0 } else { Vec3::zeros() };
+                let w = if len0 > 0.0 {
+                    n.cross(&vrel) / len0
+                } else {
+                    Vec3::zeros()
+                };
                 set_joint_velocity(mbs, pivot, &[w.x, w.y, w.z]);
                 set_joint_velocity(mbs, bodies[edge.b], &[n.dot(&vrel)]);
-                let (mb, link) = mbs.get_mut(MultibodyJointHandle(bodies[edge.b].0)).expect("slider");
+                let (mb, link) = mbs
+                    .get_mut(MultibodyJointHandle(bodies[edge.b].0))
+                    .expect("slider");
                 mb.link_mut(link)
                     .expect("slider link")
                     .joint
@@ -154,7 +164,9 @@ pub fn configure(
 }
 
 fn set_joint_velocity(mbs: &mut MultibodyJointSet, child: RigidBodyHandle, vel: &[f64]) {
-    let (mb, link) = mbs.get_mut(MultibodyJointHandle(child.0)).expect("joint of child");
+    let (mb, link) = mbs
+        .get_mut(MultibodyJointHandle(child.0))
+        .expect("joint of child");
     let idx = mb.link(link).expect("link").assembly_id();
     let mut gv = mb.generalized_velocity_mut();
     for (k, &v) in vel.iter().enumerate() {

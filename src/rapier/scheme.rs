@@ -77,10 +77,8 @@ pub fn scheme_prediction(
 
 /// One substep: gravity kick, backward-Euler spring impulses, drift.
 fn substep(sys: &System, x: &mut [Vec3], v: &mut [Vec3], g: Vec3, hs: f64) {
-    for p in 0..x.len() {
-        if sys.free[p] {
-            v[p] += g * hs;
-        }
+    for (vp, _) in v.iter_mut().zip(&sys.free).filter(|(_, &f)| f) {
+        *vp += g * hs;
     }
     let sp = &sys.springs;
     for s in 0..sp.len() {
@@ -102,9 +100,12 @@ fn substep(sys: &System, x: &mut [Vec3], v: &mut [Vec3], g: Vec3, hs: f64) {
         v[a] -= nrm * (lambda * wa);
         v[b] += nrm * (lambda * wb);
     }
-    for p in 0..x.len() {
-        if sys.free[p] {
-            x[p] += v[p] * hs;
-        }
+    for ((xp, vp), _) in x
+        .iter_mut()
+        .zip(v.iter())
+        .zip(&sys.free)
+        .filter(|(_, &f)| f)
+    {
+        *xp += *vp * hs;
     }
 }

@@ -59,10 +59,18 @@ impl Topology {
         let mut edges = Vec::new();
         for s in 0..sys.springs.len() {
             let (a, b) = (sys.springs.i[s] as usize, sys.springs.j[s] as usize);
-            edges.push(Edge { a, b, kind: EdgeKind::Spring(s) });
+            edges.push(Edge {
+                a,
+                b,
+                kind: EdgeKind::Spring(s),
+            });
         }
         for (c, dc) in sys.constraints.iter().enumerate() {
-            edges.push(Edge { a: dc.i, b: dc.j, kind: EdgeKind::Constraint(c) });
+            edges.push(Edge {
+                a: dc.i,
+                b: dc.j,
+                kind: EdgeKind::Constraint(c),
+            });
         }
         edges.retain(|e| sys.free[e.a] || sys.free[e.b]);
         let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n];
@@ -74,7 +82,9 @@ impl Topology {
         let mut capped = vec![false; edges.len()];
         let mut visited = vec![false; n];
         let mut topo = Topology::default();
-        let roots = (0..n).filter(|&p| !sys.free[p]).chain((0..n).filter(|&p| sys.free[p]));
+        let roots = (0..n)
+            .filter(|&p| !sys.free[p])
+            .chain((0..n).filter(|&p| sys.free[p]));
         for root in roots {
             if visited[root] {
                 continue;
@@ -104,7 +114,11 @@ impl Topology {
                     used[k] = true;
                     size += 1;
                     joints += 1;
-                    topo.tree.push(Edge { a: p, b: q, kind: e.kind });
+                    topo.tree.push(Edge {
+                        a: p,
+                        b: q,
+                        kind: e.kind,
+                    });
                     queue.push_back(q);
                 }
             }
@@ -114,7 +128,11 @@ impl Topology {
         }
         for (k, e) in edges.iter().enumerate() {
             if !used[k] {
-                let why = if capped[k] { FallbackReason::SizeCap } else { FallbackReason::Loop };
+                let why = if capped[k] {
+                    FallbackReason::SizeCap
+                } else {
+                    FallbackReason::Loop
+                };
                 topo.fallback.push((*e, why));
             }
         }
@@ -123,10 +141,18 @@ impl Topology {
 
     /// A one-line account for users: how many edges are multibody joints and how many fell back.
     pub fn describe(&self) -> String {
-        let loops = self.fallback.iter().filter(|(_, r)| *r == FallbackReason::Loop).count();
+        let loops = self
+            .fallback
+            .iter()
+            .filter(|(_, r)| *r == FallbackReason::Loop)
+            .count();
         let cap = self.fallback.len() - loops;
         if self.fallback.is_empty() {
-            format!("multibody: {} joint(s) in {} tree(s), no fallback", self.tree.len(), self.trees)
+            format!(
+                "multibody: {} joint(s) in {} tree(s), no fallback",
+                self.tree.len(),
+                self.trees
+            )
         } else {
             format!(
                 "multibody: {} joint(s) in {} tree(s); {} edge(s) fell back to impulse joints ({} closing loops, {} past the {}-particle tree cap)",
@@ -172,14 +198,20 @@ mod tests {
     fn chain_is_a_tree_until_capped() {
         let mut t = String::new();
         for p in 0..5 {
-            t += &format!("[[particle]]\nposition=[{p}.0,0.0,0.0]\nmass=1.0\nfixed={}\n", p == 0);
+            t += &format!(
+                "[[particle]]\nposition=[{p}.0,0.0,0.0]\nmass=1.0\nfixed={}\n",
+                p == 0
+            );
         }
         for a in 0..4 {
             t += &format!("[[spring]]\nbetween=[{a},{}]\nstiffness=1.0\n", a + 1);
         }
         let sys = scene(&t);
         let topo = Topology::of(&sys, 32);
-        assert_eq!((topo.tree.len(), topo.fallback.len(), topo.trees), (4, 0, 1));
+        assert_eq!(
+            (topo.tree.len(), topo.fallback.len(), topo.trees),
+            (4, 0, 1)
+        );
         assert_eq!(topo.tree[0].a, 0);
         let capped = Topology::of(&sys, 3);
         assert_eq!(capped.tree.len(), 3);

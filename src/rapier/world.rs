@@ -37,7 +37,11 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
     world.gravity = sys.gravity.as_ref().map(to_glam).unwrap_or(Vector::ZERO);
     set_step(&mut world, substeps, h);
     let bodies: Vec<RigidBodyHandle> = (0..sys.len())
-        .map(|p| world.insert(particle_body(sys, s, p), particle_collider(sys, p)).0)
+        .map(|p| {
+            world
+                .insert(particle_body(sys, s, p), particle_collider(sys, p))
+                .0
+        })
         .collect();
     let impulse = |world: &mut PhysicsWorld, e: Edge| {
         let data = edge_joint(sys, e.kind);
@@ -85,9 +89,16 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
 /// Before a frame: points every axial fallback joint along its particles' current axis.
 pub fn align_axial(b: &mut Built) {
     for &(h, e) in &b.axial {
-        let (ra, rb) = (&b.world.bodies[b.bodies[e.a]], &b.world.bodies[b.bodies[e.b]]);
+        let (ra, rb) = (
+            &b.world.bodies[b.bodies[e.a]],
+            &b.world.bodies[b.bodies[e.b]],
+        );
         let d = rb.translation() - ra.translation();
-        let n = if d.length() > 0.0 { d / d.length() } else { Vector::X };
+        let n = if d.length() > 0.0 {
+            d / d.length()
+        } else {
+            Vector::X
+        };
         let (r1, r2) = (*ra.rotation(), *rb.rotation());
         if let Some(j) = b.world.impulse_joints.get_mut(h, false) {
             align_frames(&mut j.data, n, r1, r2);

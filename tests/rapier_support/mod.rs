@@ -27,7 +27,13 @@ impl Observer for Record {
 }
 
 /// Runs backend `name` with `substeps` on `scene` for `steps` frames of `h`, recording.
-pub fn record(scene: &Scenario, name: &str, h: f64, substeps: usize, steps: u64) -> (Record, RunOutcome) {
+pub fn record(
+    scene: &Scenario,
+    name: &str,
+    h: f64,
+    substeps: usize,
+    steps: u64,
+) -> (Record, RunOutcome) {
     let sys = scene.build();
     let opts = IntegratorOptions {
         substeps,
@@ -36,7 +42,14 @@ pub fn record(scene: &Scenario, name: &str, h: f64, substeps: usize, steps: u64)
     let mut i = springlab::backend::create(name, &opts).expect("backend");
     i.check(&sys).expect("backend accepts the scene");
     let mut rec = Record::default();
-    let out = run(&sys, i.as_mut(), scene.initial_state(), &RunPlan::new(h, steps), &mut rec).expect("run");
+    let out = run(
+        &sys,
+        i.as_mut(),
+        scene.initial_state(),
+        &RunPlan::new(h, steps),
+        &mut rec,
+    )
+    .expect("run");
     (rec, out)
 }
 
