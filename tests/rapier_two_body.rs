@@ -4,7 +4,6 @@
 //! impulse springs follow, computed independently by `scheme_prediction`.
 mod rapier_support;
 use rapier_support::*;
-use springlab::model::Vec3;
 use springlab::rapier::scheme_prediction;
 use springlab::scenario::Scenario;
 
@@ -76,13 +75,26 @@ fn momentum_is_conserved() {
     let sys = scene.build();
     let p0 = sys.momentum(&scene.initial_state().v);
     // Impulse joints apply equal and opposite impulses: exact to rounding. The multibody
-    // integrates the spinning pair in reduced coordinates (rotating frame, first-order rotation
-    // updates) and drifts by ~1e-5 of Σm|v| = 1 kg·m/s over 2 s (measured); bound 1e-4.
-    for (name, tol) in [("rapier_impulse", 1e-12), ("rapier_multibody", 1e-4)] {
-        let (rec, _) = record(&scene, name, 1.0 / 60.0, 4, 120);
-        for v in &rec.v {
-            let p: Vec3 = sys.momentum(v);
-            assert!((p - p0).norm() < tol, "{name}: momentum {p} vs {p0}");
-        }
-    }
+    // integrates the spinning pair in reduced coordinates and drifts at first order in h
+    // (measured 0.041 kg·m/s over 2 s at h = 1/60, 0.0049 at 1/600, largest when the spring is
+    // compressed and spinning fast): require it below 0.1 of Σm|v| = 1 kg·m/s and to shrink
+    // ≥ 5× when h shrinks 10× (conservation in the limit h → 0).
+    let worst = |name: &str, h: f64, steps: u64| {
+        let (rec, _) = record(&scene, name, h, 4, steps);
+        rec.v
+            .iter()
+            .map(|v| (sys.momentum(v) - p0).norm())
+            .fold(0.0, f64::max)
+    };
+    let e = worst("rapier_impulse", 1.0 / 60.0, 120);
+    assert!(e < 1e-12, "rapier_impulse: momentum error {e}");
+    let (coarse, fine) = (
+        worst("rapier_multibody", 1.0 / 60.0, 120),
+        worst("rapier_multibody", 1.0 / 600.0, 1200),
+    );
+    assert!(coarse < 0.1, "rapier_multibody: momentum error {coarse}");
+    assert!(
+        coarse / fine > 5.0,
+        "rapier_multibody drift not first order: {coarse} vs {fine}"
+    );
 }
