@@ -172,3 +172,16 @@ fn no_default_gravity_no_speed_cap_and_rapier_confined() {
         }
     }
 }
+
+/// Reproducibility: Rapier is built without its `parallel` feature, so a run is a pure
+/// function of its input. Oracle: two runs of the same scene give the same bits.
+#[test]
+fn runs_are_bitwise_reproducible() {
+    let scene = Scenario::from_file("scenarios/hanging_chain.toml").unwrap();
+    for name in BACKENDS {
+        let (a, _) = record(&scene, name, 1.0 / 240.0, 4, 40);
+        let (b, _) = record(&scene, name, 1.0 / 240.0, 4, 40);
+        assert_eq!(a.x, b.x, "{name}");
+        assert_eq!(a.v, b.v, "{name}");
+    }
+}
