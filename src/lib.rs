@@ -31,6 +31,7 @@
 pub mod backend;
 pub mod error;
 pub mod integrate;
+pub mod measure;
 pub mod model;
 pub mod output;
 pub mod run;
