@@ -1,3 +1,7 @@
 //! Measuring the speed–accuracy trade: references, metrics, convergence, stability, advice.
 
+pub mod case;
 pub mod dop853;
+pub mod grid;
+pub mod metrics;
+pub mod reference;
