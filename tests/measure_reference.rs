@@ -10,7 +10,10 @@ fn max_gap(path: &str) -> (f64, f64, f64) {
     let scene = Scenario::from_file(path).unwrap();
     let sys = scene.build();
     let s0 = scene.initial_state();
-    let grids = [TimeGrid::new(0.01, 500, 1000), TimeGrid::new(0.0123, 300, 100)];
+    let grids = [
+        TimeGrid::new(0.01, 500, 1000),
+        TimeGrid::new(0.0123, 300, 100),
+    ];
     let exact = Reference::compute(&sys, &s0, &grids, 5.0).unwrap();
     assert_eq!(exact.info.kind, "analytic");
     let dop = Reference::compute_with(&sys, &s0, &grids, 5.0, ReferenceMethod::Adaptive).unwrap();

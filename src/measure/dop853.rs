@@ -278,7 +278,9 @@ impl Dop853 {
         } else {
             (0.01 / d1.max(d2)).powf(1.0 / 8.0)
         };
-        self.h = (100.0 * h0).min(h1).min((t_bound - t0).abs().max(f64::MIN_POSITIVE));
+        self.h = (100.0 * h0)
+            .min(h1)
+            .min((t_bound - t0).abs().max(f64::MIN_POSITIVE));
     }
 
     /// Replaces the current solution (after a projection) keeping the step size.
@@ -501,7 +503,9 @@ mod tests {
             for k in 1..10 {
                 let t = h * k as f64 / 10.0;
                 s.dense(t, &mut out);
-                w = w.max((out[0] - t.cos()).abs()).max((out[1] + t.sin()).abs());
+                w = w
+                    .max((out[0] - t.cos()).abs())
+                    .max((out[1] + t.sin()).abs());
             }
             w
         };

@@ -63,7 +63,11 @@ mod tests {
     use super::*;
     #[test]
     fn samples_cover_first_strided_and_last() {
-        let g = TimeGrid { dt: 0.1, steps: 10, stride: 4 };
+        let g = TimeGrid {
+            dt: 0.1,
+            steps: 10,
+            stride: 4,
+        };
         let s: Vec<u64> = g.sample_steps().collect();
         assert_eq!(s, vec![0, 4, 8, 10]);
         assert_eq!(g.sample_count(), 4);

@@ -264,12 +264,11 @@ impl Observer for MetricsObserver<'_> {
         self.m.injected = e.injected;
         let mut err_now = None;
         if let Some(xr) = self.reference.positions(self.grid, step) {
-            let err = s
-                .x
-                .iter()
-                .zip(xr)
-                .map(|(a, b)| (a - b).norm())
-                .fold(0.0, f64::max);
+            let err =
+                s.x.iter()
+                    .zip(xr)
+                    .map(|(a, b)| (a - b).norm())
+                    .fold(0.0, f64::max);
             self.m.error_max = self.m.error_max.max(err);
             self.err_sq += err * err;
             self.m.compared_steps += 1;
@@ -324,14 +323,14 @@ mod tests {
 
     #[test]
     fn linear_fit_recovers_a_line_and_ptp_of_a_sine() {
-        // Oracle: y = 2 + 3t exactly; then y + 0.5 sin adds peak-to-peak ≈ 1 about the line.
+        // Oracle: y = 2 + 3t exactly; then y + 0.5 cos(2πt) (orthogonal to t over whole periods) adds peak-to-peak ≈ 1 about the line.
         let t: Vec<f64> = (0..1001).map(|i| i as f64 * 0.01).collect();
         let y: Vec<f64> = t.iter().map(|t| 2.0 + 3.0 * t).collect();
         let (a, b) = linear_fit(&t, &y);
         assert!((a - 2.0).abs() < 1e-12 && (b - 3.0).abs() < 1e-12);
         let y2: Vec<f64> = t
             .iter()
-            .map(|t| 2.0 + 3.0 * t + 0.5 * (2.0 * std::f64::consts::PI * t).sin())
+            .map(|t| 2.0 + 3.0 * t + 0.5 * (2.0 * std::f64::consts::PI * t).cos())
             .collect();
         let (a, b) = linear_fit(&t, &y2);
         assert!((b - 3.0).abs() < 0.05);
@@ -342,7 +341,7 @@ mod tests {
     #[test]
     fn hermite_root_finds_the_minimum_of_a_cosine() {
         // x = cos t has v = -sin t crossing zero upwards at t = π.
-        let (t0, h) = (3.0, 0.3);
+        let (t0, h) = (3.0f64, 0.3f64);
         let s = hermite_upward_root(t0.cos(), -t0.sin(), (t0 + h).cos(), -(t0 + h).sin(), h);
         let tc = t0 + s * h;
         assert!((tc - std::f64::consts::PI).abs() < 1e-4, "{tc}");

@@ -2,6 +2,9 @@
 
 pub mod case;
 pub mod dop853;
+pub mod fit;
 pub mod grid;
 pub mod metrics;
+pub mod progress;
 pub mod reference;
+pub mod sweep;

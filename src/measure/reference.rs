@@ -91,7 +91,13 @@ pub fn tracked_component(sys: &System, s0: &State) -> Option<Tracked> {
     let mut dy = vec![0.0; 6 * n];
     st.eval(0.0, &y, &mut dy);
     let a: Vec<Vec3> = (0..n)
-        .map(|p| Vec3::new(dy[3 * n + 3 * p], dy[3 * n + 3 * p + 1], dy[3 * n + 3 * p + 2]))
+        .map(|p| {
+            Vec3::new(
+                dy[3 * n + 3 * p],
+                dy[3 * n + 3 * p + 1],
+                dy[3 * n + 3 * p + 2],
+            )
+        })
         .collect();
     let g_axis = sys
         .gravity
@@ -155,9 +161,7 @@ impl Reference {
         horizon: f64,
         method: ReferenceMethod,
     ) -> Result<Self> {
-        let horizon = entries(grids)
-            .last()
-            .map_or(horizon, |e| e.t.max(horizon));
+        let horizon = entries(grids).last().map_or(horizon, |e| e.t.max(horizon));
         let tracked = tracked_component(sys, s0);
         let samples = grids
             .iter()
@@ -198,6 +202,24 @@ impl Reference {
         self.samples[g].get(i).map(|v| v.as_slice())
     }
 
+    /// Largest displacement of any particle from its initial position over the samples (m),
+    /// or 1 when nothing moves: the scale errors are judged against.
+    pub fn motion_scale(&self, s0: &State) -> f64 {
+        let mut m: f64 = 0.0;
+        for g in &self.samples {
+            for x in g {
+                for (a, b) in x.iter().zip(&s0.x) {
+                    m = m.max((a - b).norm());
+                }
+            }
+        }
+        if m > 0.0 {
+            m
+        } else {
+            1.0
+        }
+    }
+
     /// Period of the tracked component from its crossings (None with fewer than two).
     pub fn period(&self) -> Option<f64> {
         period_of(&self.crossings)
@@ -217,7 +239,8 @@ impl Reference {
             let mut s = start.clone();
             if t > start.t {
                 let mut a = Analytic::default();
-                a.step(sys, &mut s, t - start.t).map_err(|e| e.to_string())?;
+                a.step(sys, &mut s, t - start.t)
+                    .map_err(|e| e.to_string())?;
             }
             s.t = t;
             Ok(s)
@@ -236,7 +259,10 @@ impl Reference {
         ends.push(horizon);
         for e in entries(&self.grids) {
             // Impulse at τ acts on times > τ (the runner samples the pre-impulse state at τ).
-            let seg = ends.iter().position(|&end| e.t <= end).unwrap_or(ends.len() - 1);
+            let seg = ends
+                .iter()
+                .position(|&end| e.t <= end)
+                .unwrap_or(ends.len() - 1);
             let s = eval(&starts[seg], e.t)?;
             self.samples[e.grid][e.idx] = s.x;
         }
@@ -289,7 +315,11 @@ impl Reference {
         let mut rhs = |t: f64, y: &[f64], dy: &mut [f64]| rhs_state.eval(t, y, dy);
         let rhs: &mut Rhs<'_> = &mut rhs;
         let mut t0 = 0.0;
-        let mut imp = sys.impulses.iter().filter(|im| im.time < horizon).peekable();
+        let mut imp = sys
+            .impulses
+            .iter()
+            .filter(|im| im.time < horizon)
+            .peekable();
         let tracked = self.tracked;
         let vel_index = |tr: Tracked| 3 * n + 3 * tr.particle + tr.axis;
         loop {
@@ -376,10 +406,7 @@ pub fn period_of(c: &[f64]) -> Option<f64> {
 }
 
 fn pack(x: &[Vec3], v: &[Vec3]) -> Vec<f64> {
-    x.iter()
-        .chain(v)
-        .flat_map(|p| [p.x, p.y, p.z])
-        .collect()
+    x.iter().chain(v).flat_map(|p| [p.x, p.y, p.z]).collect()
 }
 
 fn unpack_x(y: &[f64], n: usize) -> Vec<Vec3> {
