@@ -5,6 +5,8 @@ pub mod dop853;
 pub mod fit;
 pub mod grid;
 pub mod metrics;
+pub mod modes;
 pub mod progress;
 pub mod reference;
+pub mod stability;
 pub mod sweep;
