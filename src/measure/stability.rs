@@ -29,7 +29,7 @@ pub const RHO_TOL: f64 = 1e-12;
 /// Smallest hω tried by the theory scan.
 pub const SCAN_MIN: f64 = 1e-2;
 /// Largest hω tried by the theory scan: stable up to here means unconditionally stable.
-pub const SCAN_MAX: f64 = 1e4;
+pub const SCAN_MAX: f64 = 1e3;
 
 /// An isotropic linear force f = −k x − c v on every particle: one linearised mode.
 #[derive(Debug, Clone, Copy)]
