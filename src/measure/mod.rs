@@ -1,6 +1,8 @@
 //! Measuring the speed–accuracy trade: references, metrics, convergence, stability, advice.
 
+pub mod advise;
 pub mod case;
+pub mod compare;
 pub mod dop853;
 pub mod fit;
 pub mod grid;
