@@ -49,6 +49,13 @@ pub fn run(a: Args) -> Result<()> {
     );
     for e in &res.entries {
         match &e.result {
+            Some(r) if !r.ok() => println!(
+                "{:<20} unstable at t = {} s: {} ({} evals)",
+                e.integrator,
+                fmt_opt(r.unstable_time),
+                r.unstable_reason.as_deref().unwrap_or(""),
+                r.force_evals
+            ),
             Some(r) => println!(
                 "{:<20} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
                 e.integrator,

@@ -165,14 +165,27 @@ pub fn mode_limit(name: &str, opts: &IntegratorOptions, m: Mode) -> (Verdict, Op
     let hs: Vec<f64> = (0..n)
         .map(|i| SCAN_MIN * (SCAN_MAX / SCAN_MIN).powf(i as f64 / (n - 1) as f64) / w)
         .collect();
-    let stable = |h: f64| rho(name, opts, m, h) <= 1.0 + RHO_TOL;
-    if !stable(hs[0]) {
-        if hs.iter().all(|&h| !stable(h)) {
-            return (Verdict::UnstableForAllDt, None);
-        }
-        return (Verdict::UnstableForAllDt, None);
+    // A step the method cannot take (say, Newton fails at enormous hω) ends the scan: it
+    // says nothing about stability, so the verdict rests on the steps that ran.
+    let state =
+        |h: f64| one_step_map(name, opts, m, h).map(|mm| spectral_radius(mm) <= 1.0 + RHO_TOL);
+    let stable = |h: f64| state(h).unwrap_or(false);
+    match state(hs[0]) {
+        Some(true) => {}
+        _ => return (Verdict::UnstableForAllDt, None),
     }
-    let Some(first_bad) = hs.iter().position(|&h| !stable(h)) else {
+    let mut first_bad = None;
+    for (i, &h) in hs.iter().enumerate() {
+        match state(h) {
+            Some(true) => {}
+            Some(false) => {
+                first_bad = Some(i);
+                break;
+            }
+            None => break,
+        }
+    }
+    let Some(first_bad) = first_bad else {
         return (Verdict::UnconditionallyStable, None);
     };
     let (mut lo, mut hi) = (hs[first_bad - 1], hs[first_bad]);
