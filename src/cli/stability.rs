@@ -50,9 +50,14 @@ pub fn run(a: Args) -> Result<()> {
             a.blowup_factor
         );
     }
-    for v in a.damping_scales.iter().chain(&a.stiffness_scales) {
-        if !(v.is_finite() && *v > 0.0) && !(a.damping_scales.contains(v) && *v == 0.0) {
-            bail!("--stiffness-scales/--damping-scales: values must be finite and > 0 (damping may be 0), got {v}");
+    for v in &a.stiffness_scales {
+        if !(v.is_finite() && *v > 0.0) {
+            bail!("--stiffness-scales: values must be finite and > 0, got {v}");
+        }
+    }
+    for v in &a.damping_scales {
+        if !(v.is_finite() && *v >= 0.0) {
+            bail!("--damping-scales: values must be finite and ≥ 0, got {v}");
         }
     }
     let cfg = StabilityConfig {

@@ -174,10 +174,11 @@ pub struct Advice {
 }
 
 fn error_of(c: &CaseResult, m: AdviseMetric) -> Option<f64> {
-    c.ok().then(|| match m {
+    let e = match m {
         AdviseMetric::Position => c.metrics.error_max,
         AdviseMetric::Energy => c.metrics.energy_error_max,
-    })
+    };
+    c.ok().then_some(e)
 }
 
 fn run_grids(
@@ -227,7 +228,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             format!("must be a finite number > 0, got {}", cfg.tolerance),
         ));
     }
-    if !(cfg.safety >= 1.0) {
+    if cfg.safety.is_nan() || cfg.safety < 1.0 {
         return Err(Error::option(
             "--safety",
             format!("must be ≥ 1, got {}", cfg.safety),

@@ -6,6 +6,9 @@
 //! estimates as in DOP853; step control uses the 1/8 exponent, safety 0.9 and factors in
 //! [0.2, 10]. Dense output uses three extra stages (a degree-7 interpolant).
 
+// Coefficients are typed as published (30 digits); f64 rounds them once, correctly.
+#![allow(clippy::excessive_precision)]
+
 /// One right-hand side evaluation y' = f(t, y).
 pub type Rhs<'a> = dyn FnMut(f64, &[f64], &mut [f64]) + 'a;
 
@@ -297,7 +300,7 @@ impl Dop853 {
         let n = self.y.len();
         self.k[0].copy_from_slice(&self.f);
         let mut row = 0;
-        for s in 1..=N_STAGES {
+        for (s, &cs) in C.iter().enumerate().take(N_STAGES + 1).skip(1) {
             self.tmp.copy_from_slice(&self.y);
             while row < A.len() && A[row].0 == s {
                 let (_, j, a) = A[row];
@@ -308,7 +311,7 @@ impl Dop853 {
                 row += 1;
             }
             if s < N_STAGES {
-                self.eval(rhs, self.t + C[s] * h, s);
+                self.eval(rhs, self.t + cs * h, s);
             } else {
                 // Stage 12 is the 8th-order solution; its derivative is K[12].
                 self.y_new.copy_from_slice(&self.tmp);
@@ -406,14 +409,14 @@ impl Dop853 {
         }
         let n = self.y.len();
         let h = self.t - self.t_old;
-        for s in 13..N_EXT {
+        for (s, &cs) in C.iter().enumerate().skip(13) {
             self.tmp.copy_from_slice(&self.y_old);
             for &(_, j, a) in A.iter().filter(|e| e.0 == s) {
                 for i in 0..n {
                     self.tmp[i] += h * a * self.k[j][i];
                 }
             }
-            rhs(self.t_old + C[s] * h, &self.tmp, &mut self.k[s]);
+            rhs(self.t_old + cs * h, &self.tmp, &mut self.k[s]);
             self.stats.evals += 1;
         }
         for i in 0..n {
@@ -423,9 +426,9 @@ impl Dop853 {
             self.dense[0][i] = dy;
             self.dense[1][i] = h * f_old - dy;
             self.dense[2][i] = 2.0 * dy - h * (f_new + f_old);
-            for r in 0..4 {
+            for (r, drow) in D.iter().enumerate() {
                 let mut acc = 0.0;
-                for (j, &d) in D[r].iter().enumerate() {
+                for (j, &d) in drow.iter().enumerate() {
                     if d != 0.0 {
                         acc += d * self.k[j][i];
                     }

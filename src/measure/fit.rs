@@ -81,7 +81,7 @@ pub fn fit_order(points: &[(f64, f64, bool, f64)], saturation: f64) -> OrderFit 
     for &(dt, e, ok, floor) in points {
         if !ok {
             f.excluded_unstable += 1;
-        } else if !(e > floor) {
+        } else if e.is_nan() || e <= floor {
             f.excluded_floor += 1;
         } else if e > saturation {
             f.excluded_saturated += 1;

@@ -155,6 +155,9 @@ pub enum Verdict {
     UnstableForAllDt,
 }
 
+/// A verdict with its step limit (s) when `stable_below`.
+pub type Limit = (Verdict, Option<f64>);
+
 /// Largest stable step on one mode: (verdict, limit).
 pub fn mode_limit(name: &str, opts: &IntegratorOptions, m: Mode) -> (Verdict, Option<f64>) {
     let w = m.omega2.sqrt().max(m.damping);
@@ -209,10 +212,8 @@ pub fn theory_limit(name: &str, opts: &IntegratorOptions, ms: &Modes) -> (Verdic
     for &m in &ms.modes {
         match mode_limit(name, opts, m) {
             (Verdict::UnstableForAllDt, _) => return (Verdict::UnstableForAllDt, None),
-            (Verdict::StableBelow, Some(h)) => {
-                if best.1.is_none_or(|b| h < b) {
-                    best = (Verdict::StableBelow, Some(h));
-                }
+            (Verdict::StableBelow, Some(h)) if best.1.is_none_or(|b| h < b) => {
+                best = (Verdict::StableBelow, Some(h));
             }
             _ => {}
         }
@@ -622,7 +623,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             pairs.push((ks, cs, modes(&sc.build(), &s0)));
         }
     }
-    let theory: Vec<Vec<Option<(Verdict, Option<f64>)>>> = names
+    let theory: Vec<Vec<Option<Limit>>> = names
         .par_iter()
         .map(|n| {
             pairs
