@@ -34,6 +34,7 @@ pub mod backend;
 pub mod collide;
 pub mod error;
 pub mod integrate;
+pub mod measure;
 pub mod model;
 pub mod output;
 pub mod rapier;

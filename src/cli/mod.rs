@@ -1,9 +1,15 @@
 //! Command-line interface: clap subcommands, one file each, validated into library calls.
 
+mod advise;
 mod check;
 mod common;
+mod compare;
 mod list;
+mod measure_common;
+mod merge;
 mod run;
+mod stability;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -24,6 +30,16 @@ enum Command {
     Check(check::Args),
     /// List the integrators and the shipped scenarios.
     List(list::Args),
+    /// Run every integrator over a log grid of steps against the reference: sweep.csv, orders.
+    Sweep(sweep::Args),
+    /// Largest stable step per integrator (spectral radius and empirical bisection).
+    Stability(stability::Args),
+    /// Cheapest verified integrator and step for an error tolerance.
+    Advise(advise::Args),
+    /// Every applicable backend at one step against the reference, side by side.
+    Compare(compare::Args),
+    /// Join the shard directories of one sweep.
+    Merge(merge::Args),
 }
 
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
@@ -33,6 +49,11 @@ pub fn main() -> ExitCode {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Stability(a) => stability::run(a),
+        Command::Advise(a) => advise::run(a),
+        Command::Compare(a) => compare::run(a),
+        Command::Merge(a) => merge::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
