@@ -77,6 +77,7 @@ fn mode_system(m: Mode) -> System {
         drag: None,
         constraints: vec![],
         impulses: vec![],
+        contacts: None,
         terms: vec![Box::new(LinearMode {
             k: m.omega2,
             c: m.damping,
