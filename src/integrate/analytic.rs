@@ -64,6 +64,9 @@ impl Analytic {
         if !sys.constraints.is_empty() {
             return Err("the scene has rigid constraints".into());
         }
+        if sys.contacts.is_some() {
+            return Err("the scene has obstacles: contacts have no closed form here".into());
+        }
         if sys
             .terms
             .iter()

@@ -52,10 +52,11 @@ impl EnergyRecord {
     }
 }
 
-/// An upper estimate of the energy a physical run of `duration` could reach (J), used to
-/// call a run unstable when its energy exceeds a stated multiple of it:
-/// |E₀ terms| + Σ m (|g|·(D + ½|g|T²) + ½ (|v₀| + Σ|Δv|)²), D the initial bounding-box diagonal.
-pub fn energy_scale(sys: &System, s0: &State, duration: f64) -> f64 {
+/// The scene's energy scale (J): |E₀ terms| + Σ m (|g|·D + ½ (|v₀| + Σ|Δv|)²), D the initial
+/// bounding-box diagonal. A physical run never gains mechanical energy beyond what impulses
+/// inject, so a gain of many times this scale is a numerical blow-up. Floored at 1e-12 J per
+/// kg of free mass, so a scene at rest does not call round-off a blow-up.
+pub fn energy_scale(sys: &System, s0: &State) -> f64 {
     let e = sys.state_energy(s0);
     let mut scale = e.kinetic.abs() + e.gravity.abs() + e.elastic.abs();
     let (mut lo, mut hi) = (
@@ -76,7 +77,8 @@ pub fn energy_scale(sys: &System, s0: &State, duration: f64) -> f64 {
             .map(|im| im.delta_v.norm())
             .sum();
         let speed = s0.v[p].norm() + kicks;
-        scale += sys.mass[p] * (g * (diam + 0.5 * g * duration * duration) + 0.5 * speed * speed);
+        scale += sys.mass[p] * (g * diam + 0.5 * speed * speed);
     }
-    scale
+    let free_mass: f64 = (0..sys.len()).filter(|&p| sys.free[p]).map(|p| sys.mass[p]).sum();
+    scale.max(1e-12 * free_mass)
 }
