@@ -57,6 +57,9 @@ pub struct ContactEvent {
     pub restitution: Option<f64>,
     /// What the response should give (see the module docs).
     pub expected_restitution: f64,
+    /// Penalty only: |g·n| / (ω |v_in|), the weight of gravity against the contact spring;
+    /// the formula for e ignores gravity, so it holds when this is ≪ 1.
+    pub gravity_share: Option<f64>,
     /// Largest penetration seen at an accepted state during the contact (m, ≥ 0).
     pub max_penetration: f64,
 }
@@ -301,6 +304,14 @@ impl ContactMetrics {
         (2.0 * self.gravity.norm() * self.dt).max(1e-3)
     }
 
+    /// Penalty only: the contact spring's natural frequency √(k/m) for particle `p`.
+    fn omega(&self, p: usize) -> Option<f64> {
+        match self.response {
+            Response::Penalty { stiffness, .. } => Some((stiffness / self.mass[p]).sqrt()),
+            _ => None,
+        }
+    }
+
     fn expected_duration(&self, k: usize, p: usize) -> Option<f64> {
         let Response::Penalty { stiffness, .. } = self.response else {
             return None;
@@ -435,6 +446,10 @@ impl ContactMetrics {
                 v_out: u,
                 restitution,
                 expected_restitution: e_exp,
+                gravity_share: self.omega(p).map(|w| {
+                    let g = near.map_or(0.0, |c| self.gravity.dot(&c.normal).abs());
+                    g / (w * o.v_in.abs().max(f64::MIN_POSITIVE))
+                }),
                 max_penetration: o.max_pen,
             };
             self.events_total += 1;
