@@ -163,6 +163,10 @@ pub struct ContactReport {
     pub obstacles: Vec<ObstacleInfo>,
     /// Penalty only: contact stiffness (N/m).
     pub penalty_stiffness: Option<f64>,
+    /// Penalty only: steps per contact, π/(ω dt) with ω = √(k/m) of the lightest free particle;
+    /// below about 10 the contact is not resolved and the measured restitution is an artefact
+    /// (explicit methods need ω dt < 2 to stay stable on the contact spring at all).
+    pub penalty_steps_per_contact: Option<f64>,
     /// Completed contact events (touch and leave), all of them.
     pub events_total: u64,
     /// Contacts still open at the end of the run (resting contacts).
@@ -547,6 +551,11 @@ impl ContactMetrics {
                 })
                 .collect(),
             penalty_stiffness: stiff,
+            penalty_steps_per_contact: (0..self.mass.len())
+                .filter(|&p| self.free[p])
+                .filter_map(|p| self.omega(p))
+                .fold(None, |w: Option<f64>, x| Some(w.map_or(x, |w| w.max(x))))
+                .map(|w| std::f64::consts::PI / (w * self.dt)),
             events_total: self.events_total,
             open_contacts: open.len() as u64,
             events: self.events.clone(),
