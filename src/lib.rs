@@ -36,6 +36,7 @@ pub mod error;
 pub mod integrate;
 pub mod model;
 pub mod output;
+pub mod rapier;
 pub mod run;
 pub mod scenario;
 
