@@ -170,3 +170,38 @@ fn parry_contact_trap_regression() {
         ball_first.dist
     );
 }
+
+#[test]
+fn broad_phase_prunes_and_agrees_with_brute_force() {
+    // Oracle: brute force over every obstacle. 10×10 spheres of radius 0.2 on a 1 m grid.
+    let defs: Vec<ObstacleDef> = (0..100)
+        .map(|k| ObstacleDef {
+            shape: ShapeDef::Sphere {
+                center: Vec3::new((k % 10) as f64, 0.0, (k / 10) as f64),
+                radius: 0.2,
+            },
+            restitution: 0.0,
+            friction: 0.0,
+        })
+        .collect();
+    let s = ObstacleSet::build(&defs);
+    for i in 0..200 {
+        let p = Vec3::new(
+            (i as f64 * 0.37) % 9.5,
+            0.1 * ((i % 5) as f64 - 2.0),
+            (i as f64 * 0.61) % 9.5,
+        );
+        let q0 = springlab::collide::query_count();
+        let mut near = Vec::new();
+        s.for_each_near(&p, 0.05, 0.1, |c| near.push(c.obstacle));
+        let used = springlab::collide::query_count() - q0;
+        assert!(
+            used <= 4,
+            "{used} narrow queries for one particle among 100 spheres"
+        );
+        let brute: Vec<usize> = (0..100)
+            .filter(|&k| s.query(k, &p, 0.05).gap < 0.1)
+            .collect();
+        assert_eq!(near, brute, "at {p:?}");
+    }
+}

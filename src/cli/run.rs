@@ -65,7 +65,13 @@ pub fn run(a: Args) -> Result<()> {
     };
     files.commit()?;
     if let Some(m) = &metrics {
-        springlab::collide::metrics::write_report(&dir, &m.report())?;
+        let r = m.report();
+        springlab::collide::metrics::write_report(&dir, &r)?;
+        println!(
+            "contacts ({}): {} events ({} open), restitution {:.4} measured vs {:.4} expected (mean of {} impacts), max penetration {:.3e} m, {} tunnelling",
+            r.response, r.events_total, r.open_contacts, r.restitution.mean, r.expected_restitution.mean,
+            r.restitution.count, r.penetration.max, r.tunnelling_count
+        );
     }
     let summary = RunSummary::new(&scene.name, &name, plan.dt, plan.steps, &out);
     write_run(&dir, &summary)?;

@@ -57,6 +57,9 @@ pub struct ContactEvent {
     pub restitution: Option<f64>,
     /// What the response should give (see the module docs).
     pub expected_restitution: f64,
+    /// Penalty only: |g·n| / (ω |v_in|), the weight of gravity against the contact spring;
+    /// the formula for e ignores gravity, so it holds when this is ≪ 1.
+    pub gravity_share: Option<f64>,
     /// Largest penetration seen at an accepted state during the contact (m, ≥ 0).
     pub max_penetration: f64,
 }
@@ -160,6 +163,10 @@ pub struct ContactReport {
     pub obstacles: Vec<ObstacleInfo>,
     /// Penalty only: contact stiffness (N/m).
     pub penalty_stiffness: Option<f64>,
+    /// Penalty only: steps per contact, π/(ω dt) with ω = √(k/m) of the lightest free particle;
+    /// below about 10 the contact is not resolved and the measured restitution is an artefact
+    /// (explicit methods need ω dt < 2 to stay stable on the contact spring at all).
+    pub penalty_steps_per_contact: Option<f64>,
     /// Completed contact events (touch and leave), all of them.
     pub events_total: u64,
     /// Contacts still open at the end of the run (resting contacts).
@@ -301,6 +308,14 @@ impl ContactMetrics {
         (2.0 * self.gravity.norm() * self.dt).max(1e-3)
     }
 
+    /// Penalty only: the contact spring's natural frequency √(k/m) for particle `p`.
+    fn omega(&self, p: usize) -> Option<f64> {
+        match self.response {
+            Response::Penalty { stiffness, .. } => Some((stiffness / self.mass[p]).sqrt()),
+            _ => None,
+        }
+    }
+
     fn expected_duration(&self, k: usize, p: usize) -> Option<f64> {
         let Response::Penalty { stiffness, .. } = self.response else {
             return None;
@@ -435,6 +450,10 @@ impl ContactMetrics {
                 v_out: u,
                 restitution,
                 expected_restitution: e_exp,
+                gravity_share: self.omega(p).map(|w| {
+                    let g = near.map_or(0.0, |c| self.gravity.dot(&c.normal).abs());
+                    g / (w * o.v_in.abs().max(f64::MIN_POSITIVE))
+                }),
                 max_penetration: o.max_pen,
             };
             self.events_total += 1;
@@ -532,6 +551,11 @@ impl ContactMetrics {
                 })
                 .collect(),
             penalty_stiffness: stiff,
+            penalty_steps_per_contact: (0..self.mass.len())
+                .filter(|&p| self.free[p])
+                .filter_map(|p| self.omega(p))
+                .fold(None, |w: Option<f64>, x| Some(w.map_or(x, |w| w.max(x))))
+                .map(|w| std::f64::consts::PI / (w * self.dt)),
             events_total: self.events_total,
             open_contacts: open.len() as u64,
             events: self.events.clone(),

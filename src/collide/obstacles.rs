@@ -97,6 +97,9 @@ const ON_SURFACE: f64 = 1e-12;
 
 impl ObstacleSet {
     /// Builds parry shapes and the broad phase for `defs` (validated definitions).
+    ///
+    /// # Panics
+    /// On a mesh without triangles (validation rejects it).
     pub fn build(defs: &[ObstacleDef]) -> Self {
         count_build();
         let mut obstacles = Vec::with_capacity(defs.len());
@@ -352,14 +355,28 @@ impl ObstacleSet {
             let a = to_g(p0);
             let b = to_g(p1);
             let aabb = Aabb::new(a.min(b), a.max(b));
-            let mut cand: Vec<usize> = self
-                .bvh
-                .intersect_aabb(&aabb)
-                .map(|l| self.bounded[l as usize])
-                .collect();
-            cand.sort_unstable();
-            for k in cand {
-                test(k, &mut best);
+            // No allocation in the common case: up to 16 candidates on the stack, in obstacle
+            // order; more fall back to an ordered scan of every bounded obstacle.
+            let mut cand = [usize::MAX; 16];
+            let mut n = 0;
+            let mut overflow = false;
+            for leaf in self.bvh.intersect_aabb(&aabb) {
+                if n == cand.len() {
+                    overflow = true;
+                    break;
+                }
+                cand[n] = self.bounded[leaf as usize];
+                n += 1;
+            }
+            if overflow {
+                for &k in &self.bounded {
+                    test(k, &mut best);
+                }
+            } else {
+                cand[..n].sort_unstable();
+                for &k in &cand[..n] {
+                    test(k, &mut best);
+                }
             }
         }
         best
