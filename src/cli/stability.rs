@@ -19,8 +19,8 @@ pub struct Args {
     /// Horizon of each empirical trial run (s; default 100 periods of the highest mode).
     #[arg(long)]
     pub horizon: Option<f64>,
-    /// Empirical criterion: unstable once the energy exceeds this multiple of the scene's scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR)]
+    /// Empirical criterion: unstable once the energy gain exceeds this multiple of the scene's scale.
+    #[arg(long, default_value_t = springlab::measure::stability::EMPIRICAL_BLOWUP_FACTOR)]
     pub blowup_factor: f64,
     /// Skip the empirical bisection.
     #[arg(long)]

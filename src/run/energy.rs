@@ -79,6 +79,9 @@ pub fn energy_scale(sys: &System, s0: &State) -> f64 {
         let speed = s0.v[p].norm() + kicks;
         scale += sys.mass[p] * (g * diam + 0.5 * speed * speed);
     }
-    let free_mass: f64 = (0..sys.len()).filter(|&p| sys.free[p]).map(|p| sys.mass[p]).sum();
+    let free_mass: f64 = (0..sys.len())
+        .filter(|&p| sys.free[p])
+        .map(|p| sys.mass[p])
+        .sum();
     scale.max(1e-12 * free_mass)
 }
