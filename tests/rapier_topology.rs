@@ -46,6 +46,18 @@ fn cloth_loops_fall_back_and_are_reported() {
 }
 
 #[test]
+fn shipped_cloth_reports_its_fallback() {
+    let scene = Scenario::from_file("scenarios/cloth.toml").unwrap();
+    let sys = scene.build();
+    let topo = Topology::of(&sys, MAX_TREE_PARTICLES);
+    let note = topo.describe();
+    eprintln!("cloth.toml: {note}");
+    // Every spring is either a multibody joint or a fallback joint, none lost.
+    assert_eq!(topo.tree.len() + topo.fallback.len(), sys.springs.len());
+    assert!(note.contains("fell back"), "{note}");
+}
+
+#[test]
 fn chain_is_one_tree_without_fallback() {
     let scene = Scenario::from_file("scenarios/hanging_chain.toml").unwrap();
     let sys = scene.build();
