@@ -42,9 +42,9 @@ impl RapierBackend {
     pub fn topology_note(&self, sys: &System) -> Option<String> {
         match self.mode {
             Mode::Impulse => None,
-            Mode::Multibody => Some(
-                super::topology::Topology::of(sys, super::topology::MAX_TREE_PARTICLES).describe(),
-            ),
+            Mode::Multibody => {
+                Some(super::topology::Topology::of(sys, super::topology::tree_cap(sys)).describe())
+            }
         }
     }
 

@@ -18,13 +18,16 @@ mod world;
 pub use backend::{RapierBackend, IMPULSE, MULTIBODY};
 pub use bodies::RESTITUTION_RULE;
 pub use scheme::{scheme_prediction, Prediction};
-pub use topology::{Edge, EdgeKind, FallbackReason, Topology, MAX_TREE_PARTICLES};
+pub use topology::{
+    tree_cap, Edge, EdgeKind, FallbackReason, Topology, MAX_TREE_PARTICLES,
+    MAX_TREE_PARTICLES_WITH_LOOPS,
+};
 pub use world::Mode;
 
 /// The multibody topology note for backend `name` on `sys` (trees, fallback edges), `None` for
 /// other backends: what `compare` and `run` print next to a `rapier_multibody` row.
 pub fn topology_note(name: &str, sys: &crate::model::System) -> Option<String> {
-    (name == MULTIBODY).then(|| Topology::of(sys, MAX_TREE_PARTICLES).describe())
+    (name == MULTIBODY).then(|| Topology::of(sys, tree_cap(sys)).describe())
 }
 
 /// Internals exposed for the trap regression tests (not a stable API).

@@ -4,7 +4,7 @@ use super::bodies::{particle_body, particle_collider};
 use super::convert::to_glam;
 use super::joints::{align_frames, axial_joint, edge_joint};
 use super::multibody::{configure, insert_edge};
-use super::topology::{Edge, Topology, MAX_TREE_PARTICLES};
+use super::topology::{tree_cap, Edge, Topology};
 use crate::model::{State, System};
 use rapier3d_f64::math::Vector;
 use rapier3d_f64::prelude::*;
@@ -59,7 +59,7 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
             None
         }
         Mode::Multibody => {
-            let topo = Topology::of(sys, MAX_TREE_PARTICLES);
+            let topo = Topology::of(sys, tree_cap(sys));
             let inserted: Vec<_> = topo
                 .tree
                 .iter()
