@@ -14,7 +14,8 @@ use std::path::{Path, PathBuf};
 /// What to compare.
 #[derive(Debug, Clone)]
 pub struct CompareConfig {
-    /// Integrators (empty: the scene's `[run].integrators`, else every applicable one).
+    /// Integrators (empty: every native method and external backend; those that cannot run
+    /// the scene are listed as skipped with the reason).
     pub integrators: Vec<String>,
     /// Step (default: the scene's).
     pub dt: Option<f64>,
@@ -106,12 +107,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
             )
         })?;
     let steps = ((duration / dt).round() as u64).max(1);
-    let asked = if cfg.integrators.is_empty() {
-        scene.run.integrators.clone()
-    } else {
-        cfg.integrators.clone()
-    };
-    let (names, skipped) = applicable(&sys, &asked, &cfg.options)?;
+    let (names, skipped) = applicable(&sys, &cfg.integrators, &cfg.options)?;
     let grid = TimeGrid::new(
         dt,
         steps,

@@ -426,7 +426,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
     pb.finish_and_clear();
     let cases: Vec<CaseResult> = cases.into_iter().collect::<Result<_>>()?;
     let rows = cases.iter().map(SweepRow::from_case).collect();
-    let scale = reference.motion_scale(&s0);
+    let scale = reference.motion_scale();
     let floors = plan
         .steps
         .iter()

@@ -1,0 +1,153 @@
+//! The measuring subcommands end to end: file names, headers, skipped backends, shard + merge.
+//! Oracles: the required CSV headers and JSON fields; merge equality is exact.
+
+use std::path::Path;
+use std::process::Command;
+
+fn springlab(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap()
+}
+
+#[test]
+fn compare_lists_skipped_backends_with_the_reason() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().to_str().unwrap();
+    springlab(&[
+        "compare",
+        "scenarios/pendulum_rod.toml",
+        "--duration",
+        "0.5",
+        "--out",
+        out,
+    ]);
+    let csv = read(&d.path().join("compare.csv"));
+    let mut lines = csv.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("integrator,status,skip_reason,"));
+    let rows: Vec<&str> = lines.collect();
+    assert!(rows.iter().any(|r| r.starts_with("verlet_constraints,ok,")));
+    assert!(rows
+        .iter()
+        .any(|r| r.starts_with("rk4,skipped,") && r.contains("constraint")));
+    assert!(rows.iter().all(|r| r.ends_with("dop853_constrained")));
+    let json: serde_json::Value =
+        serde_json::from_str(&read(&d.path().join("summary.json"))).unwrap();
+    assert_eq!(json["reference"]["kind"], "dop853_constrained");
+}
+
+#[test]
+fn sweep_shards_merge_and_stability_advise_files() {
+    let d = tempfile::tempdir().unwrap();
+    let p = |s: &str| d.path().join(s).to_str().unwrap().to_string();
+    let common = [
+        "sweep",
+        "scenarios/anchored_spring.toml",
+        "--integrators",
+        "rk4,symplectic_euler",
+        "--dt-min",
+        "1e-3",
+        "--dt-max",
+        "1e-1",
+        "--points",
+        "4",
+        "--duration",
+        "2",
+    ];
+    let mut full = common.to_vec();
+    let fo = p("full");
+    full.extend(["--out", &fo]);
+    springlab(&full);
+    let (s0, s1) = (p("s0"), p("s1"));
+    for (i, o) in [("0/2", &s0), ("1/2", &s1)] {
+        let mut a = common.to_vec();
+        a.extend(["--shard", i, "--out", o]);
+        springlab(&a);
+    }
+    let mo = p("merged");
+    springlab(&["merge", &s1, &s0, "--out", &mo]);
+    let strip = |s: String| {
+        s.lines()
+            .map(|l| {
+                l.split(',')
+                    .enumerate()
+                    .filter(|(i, _)| *i != 4)
+                    .map(|(_, f)| f)
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect::<Vec<_>>()
+    };
+    let full_csv = read(&Path::new(&fo).join("sweep.csv"));
+    assert!(full_csv.starts_with("integrator,dt,steps,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,status\n"));
+    assert_eq!(
+        strip(full_csv),
+        strip(read(&Path::new(&mo).join("sweep.csv")))
+    );
+    assert_eq!(
+        read(&Path::new(&fo).join("summary.json")),
+        read(&Path::new(&mo).join("summary.json"))
+    );
+    let sum: serde_json::Value =
+        serde_json::from_str(&read(&Path::new(&fo).join("summary.json"))).unwrap();
+    assert!(sum["integrators"][0]["observed_order"].is_number());
+
+    let so = p("stab");
+    springlab(&[
+        "stability",
+        "scenarios/anchored_spring.toml",
+        "--integrators",
+        "rk4",
+        "--map",
+        "--stiffness-scales",
+        "1,4",
+        "--out",
+        &so,
+    ]);
+    let st: serde_json::Value =
+        serde_json::from_str(&read(&Path::new(&so).join("stability.json"))).unwrap();
+    assert_eq!(st["integrators"][0]["verdict"], "stable_below");
+    assert!(st["omega_max"].is_number() && st["integrators"][0]["max_stable_dt"].is_number());
+    let map = read(&Path::new(&so).join("stability_map.csv"));
+    assert_eq!(map.lines().count(), 1 + 2 * 16);
+
+    let ao = p("adv");
+    springlab(&[
+        "advise",
+        "scenarios/anchored_spring.toml",
+        "--tolerance",
+        "1e-3",
+        "--points",
+        "4",
+        "--integrators",
+        "rk4,velocity_verlet",
+        "--out",
+        &ao,
+    ]);
+    let adv: serde_json::Value =
+        serde_json::from_str(&read(&Path::new(&ao).join("advice.json"))).unwrap();
+    for k in [
+        "integrator",
+        "dt",
+        "predicted_error",
+        "verified_error",
+        "cost_per_second",
+        "alternatives",
+    ] {
+        assert!(!adv[k].is_null(), "advice.json lacks {k}");
+    }
+}
