@@ -107,7 +107,14 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
             )
         })?;
     let steps = ((duration / dt).round() as u64).max(1);
-    let (names, skipped) = applicable(&sys, &cfg.integrators, &cfg.options)?;
+    // Default: the scene's own [run].integrators next to both Rapier backends, else everything.
+    let asked: Vec<String> = if cfg.integrators.is_empty() && !scene.run.integrators.is_empty() {
+        let ext = crate::backend::EXTERNAL.iter().map(|s| s.to_string());
+        scene.run.integrators.iter().cloned().chain(ext).collect()
+    } else {
+        cfg.integrators.clone()
+    };
+    let (names, skipped) = applicable(&sys, &asked, &cfg.options)?;
     let grid = TimeGrid::new(
         dt,
         steps,

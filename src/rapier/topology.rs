@@ -67,6 +67,8 @@ pub struct Topology {
     pub fallback: Vec<(Edge, FallbackReason)>,
     /// Number of trees (multibodies) with at least one joint.
     pub trees: usize,
+    /// The tree size cap this forest was built with.
+    pub cap: usize,
 }
 
 impl Topology {
@@ -100,7 +102,10 @@ impl Topology {
         let mut used = vec![false; edges.len()];
         let mut capped = vec![false; edges.len()];
         let mut visited = vec![false; n];
-        let mut topo = Topology::default();
+        let mut topo = Topology {
+            cap: max_tree,
+            ..Topology::default()
+        };
         let roots = (0..n)
             .filter(|&p| !sys.free[p])
             .chain((0..n).filter(|&p| sys.free[p]));
@@ -180,7 +185,7 @@ impl Topology {
                 self.fallback.len(),
                 loops,
                 cap,
-                MAX_TREE_PARTICLES
+                self.cap
             )
         }
     }
