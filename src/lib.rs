@@ -35,6 +35,7 @@ pub mod error;
 pub mod integrate;
 pub mod model;
 pub mod output;
+pub mod perf;
 pub mod run;
 pub mod scenario;
 

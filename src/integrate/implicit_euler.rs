@@ -54,8 +54,13 @@ pub struct ImplicitEuler {
     vn: Vec<Vec3>,
     r: Vec<Vec3>,
     dv: Vec<Vec3>,
+    floor: Vec<f64>,
     cg: Cg,
 }
+
+/// Rounding floor of the Newton residual, as a multiple of ε·h/m·Σ k(|x_i| + |x_j| + l0): a
+/// residual below it is the rounding error of the force evaluation itself and cannot shrink.
+const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
 
 #[derive(Debug, Default)]
 struct Cg {
@@ -156,6 +161,7 @@ impl Integrator for ImplicitEuler {
         ] {
             ensure_len(buf, n);
         }
+        ensure_len(&mut self.floor, n);
         let mut jac = match self.jac.take() {
             Some(j) if j.diag_x.len() == n && j.pairs.len() == sys.springs.len() => j,
             _ => sys.new_jacobian(),
@@ -173,13 +179,17 @@ impl Integrator for ImplicitEuler {
             }
             let power = sys.forces(&self.xn, &self.vn, &mut self.f);
             evals += 1;
-            // G(v') = M (v' - v) - h f(x + h v', v'); scaled residual M⁻¹G has units of velocity.
+            self.floor.iter_mut().for_each(|r| *r = 0.0);
+            sys.springs.add_rounding_scale(&self.xn, &mut self.floor);
+            // G(v') = M (v' - v) - h f(x + h v', v'); scaled residual M⁻¹G has units of velocity,
+            // counted only above the rounding floor of the force evaluation at that particle.
             let mut res = 0.0f64;
             let mut scale = v_scale0.max(max_abs(&self.vn));
             for p in 0..n {
                 if sys.free[p] {
                     self.r[p] = (self.vn[p] - s.v[p]) * sys.mass[p] - self.f[p] * h;
-                    res = res.max((self.r[p] * sys.inv_mass[p]).amax());
+                    let noise = ROUNDING_FLOOR * h * sys.inv_mass[p] * self.floor[p];
+                    res = res.max((self.r[p] * sys.inv_mass[p]).amax() - noise);
                     scale = scale.max((self.f[p] * (h * sys.inv_mass[p])).amax());
                 } else {
                     self.r[p] = Vec3::zeros();

@@ -78,6 +78,18 @@ impl Springs {
             .filter(|inc| inc.particles == n && inc.springs == self.len())
     }
 
+    /// Adds to `out[p]`, for every spring at particle `p`, `k (|x_i|∞ + |x_j|∞ + l0)`: the size
+    /// of the quantities whose rounding (relative error ε each) makes up the rounding error of
+    /// the force on `p`. Implicit solvers use it as the floor below which a residual is noise.
+    pub fn add_rounding_scale(&self, x: &[Vec3], out: &mut [f64]) {
+        for s in 0..self.len() {
+            let (a, b) = (self.i[s] as usize, self.j[s] as usize);
+            let r = self.k[s] * (x[a].amax() + x[b].amax() + self.l0[s]);
+            out[a] += r;
+            out[b] += r;
+        }
+    }
+
     /// Force of spring `s` on its first particle and the power its damper dissipates.
     #[inline(always)]
     fn force<const DAMPED: bool>(&self, s: usize, x: &[Vec3], v: &[Vec3]) -> (Vec3, f64) {
