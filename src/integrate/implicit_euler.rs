@@ -169,10 +169,8 @@ impl Integrator for ImplicitEuler {
         self.vn.copy_from_slice(&s.v);
         let mut evals = 0u64;
         let v_scale0 = max_abs(&s.v);
-        let mut result = Err(Error::Step(format!(
-            "implicit_euler: Newton did not converge in {} iterations",
-            self.settings.max_newton
-        )));
+        // Errors are built only on failure: a step must not allocate.
+        let mut result: std::result::Result<f64, bool> = Err(false); // Err(true): non-finite
         for _ in 0..=self.settings.max_newton {
             for p in 0..n {
                 self.xn[p] = s.x[p] + self.vn[p] * h;
@@ -196,9 +194,7 @@ impl Integrator for ImplicitEuler {
                 }
             }
             if !res.is_finite() {
-                result = Err(Error::Step(
-                    "implicit_euler: non-finite residual in Newton iteration".into(),
-                ));
+                result = Err(true);
                 break;
             }
             if res <= self.settings.newton_tol * scale || scale == 0.0 {
@@ -236,7 +232,16 @@ impl Integrator for ImplicitEuler {
             }
         }
         self.jac = Some(jac);
-        let power = result?;
+        let power = result.map_err(|non_finite| {
+            Error::Step(if non_finite {
+                "implicit_euler: non-finite residual in Newton iteration".into()
+            } else {
+                format!(
+                    "implicit_euler: Newton did not converge in {} iterations",
+                    self.settings.max_newton
+                )
+            })
+        })?;
         s.v.copy_from_slice(&self.vn);
         s.x.copy_from_slice(&self.xn);
         s.t += h;
