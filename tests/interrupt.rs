@@ -92,9 +92,15 @@ fn killed_run_leaves_the_previous_outputs_intact() {
     assert_eq!(summary["integrator"], "symplectic_euler");
     assert_eq!(summary["steps_done"], 50);
     let mut rdr = csv::Reader::from_path(out.join("energy.csv")).unwrap();
-    assert_eq!(rdr.records().map(|r| r.unwrap()).count(), 51);
+    assert_eq!(
+        rdr.records().collect::<Result<Vec<_>, _>>().unwrap().len(),
+        51
+    );
     let mut rdr = csv::Reader::from_path(out.join("trajectory.csv")).unwrap();
-    assert_eq!(rdr.records().map(|r| r.unwrap()).count(), 51 * 256);
+    assert_eq!(
+        rdr.records().collect::<Result<Vec<_>, _>>().unwrap().len(),
+        51 * 256
+    );
     // ...and anything else in the directory is a hidden temporary of the killed run.
     for e in std::fs::read_dir(&out).unwrap() {
         let name = e.unwrap().file_name().to_string_lossy().into_owned();
