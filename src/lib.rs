@@ -31,6 +31,7 @@
 #![warn(missing_docs)]
 
 pub mod backend;
+pub mod collide;
 pub mod error;
 pub mod integrate;
 pub mod model;

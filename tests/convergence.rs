@@ -23,6 +23,7 @@ fn order(name: &str, hs: &[f64]) -> f64 {
 
 fn assert_order(name: &str, expected: f64, hs: &[f64]) {
     let p = order(name, hs);
+    eprintln!("{name}: observed order {p:.3} (theory {expected})");
     assert!(
         (p - expected).abs() <= 0.15,
         "{name}: observed order {p:.3}, theory {expected}"
