@@ -1,5 +1,6 @@
 //! Command-line interface: clap subcommands, one file each, validated into library calls.
 
+mod bench_scaling;
 mod check;
 mod common;
 mod list;
@@ -24,6 +25,8 @@ enum Command {
     Check(check::Args),
     /// List the integrators and the shipped scenarios.
     List(list::Args),
+    /// Time every backend on n×n cloths: cost per step against particle count (CSV + log-log SVG).
+    BenchScaling(bench_scaling::Args),
 }
 
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
@@ -33,6 +36,7 @@ pub fn main() -> ExitCode {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
+        Command::BenchScaling(a) => bench_scaling::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
