@@ -34,9 +34,11 @@ pub mod backend;
 pub mod collide;
 pub mod error;
 pub mod integrate;
+pub mod measure;
 pub mod model;
 pub mod output;
 pub mod perf;
+pub mod rapier;
 pub mod run;
 pub mod scenario;
 

@@ -1,10 +1,16 @@
 //! Command-line interface: clap subcommands, one file each, validated into library calls.
 
+mod advise;
 mod bench_scaling;
 mod check;
 mod common;
+mod compare;
 mod list;
+mod measure_common;
+mod merge;
 mod run;
+mod stability;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -27,6 +33,16 @@ enum Command {
     List(list::Args),
     /// Time every backend on n×n cloths: cost per step against particle count (CSV + log-log SVG).
     BenchScaling(bench_scaling::Args),
+    /// Run every integrator over a log grid of steps against the reference: sweep.csv, orders.
+    Sweep(sweep::Args),
+    /// Largest stable step per integrator (spectral radius and empirical bisection).
+    Stability(stability::Args),
+    /// Cheapest verified integrator and step for an error tolerance.
+    Advise(advise::Args),
+    /// Every applicable backend at one step against the reference, side by side.
+    Compare(compare::Args),
+    /// Join the shard directories of one sweep.
+    Merge(merge::Args),
 }
 
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
@@ -37,6 +53,11 @@ pub fn main() -> ExitCode {
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
         Command::BenchScaling(a) => bench_scaling::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Stability(a) => stability::run(a),
+        Command::Advise(a) => advise::run(a),
+        Command::Compare(a) => compare::run(a),
+        Command::Merge(a) => merge::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
