@@ -125,7 +125,7 @@ fn steps(c: &mut Criterion) {
         let s0 = scene.initial_state();
         g.throughput(Throughput::Elements(sys.springs.len() as u64));
         // Rapier (`rapier_impulse`) appears here once registered in `springlab::backend`.
-        for name in backends_for(&scene) {
+        for name in backends_for(&scene).into_iter().filter(|n| selected(n)) {
             let dt = bench_dt(name);
             let mut integ =
                 springlab::backend::create(name, &IntegratorOptions::default()).unwrap();
@@ -137,8 +137,16 @@ fn steps(c: &mut Criterion) {
     g.finish();
 }
 
+/// Backends to time: all, or the comma-separated list in `SPRINGLAB_BENCH_BACKENDS`.
+fn selected(name: &str) -> bool {
+    std::env::var("SPRINGLAB_BENCH_BACKENDS").map_or(true, |l| l.split(',').any(|n| n == name))
+}
+
 /// Implicit Euler solver statistics at dt = 1/60 (printed, not timed by criterion).
 fn implicit_stats(_c: &mut Criterion) {
+    if !selected("implicit_euler") {
+        return;
+    }
     for n in SIZES {
         let scene = cloth(n);
         let sys = scene.build();
