@@ -1,1 +1,202 @@
-fn main() {}
+//! Cost of one force evaluation and one step of every backend on cloths of 32², 100² and 316²
+//! particles, in ns per spring (criterion `Throughput::Elements(springs)`), against a plain
+//! hand-written loop, plus the 1→2 thread speedup on the 316² cloth.
+//!
+//! Run: `cargo bench --bench step` (release). External backends (Rapier) are picked up from
+//! `springlab::backend` automatically once they are registered there.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use springlab::integrate::{ImplicitEuler, Integrator, IntegratorOptions};
+use springlab::model::{State, System, Vec3};
+use springlab::perf::{backends_for, bench_dt, cloth};
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+const SIZES: [usize; 3] = [32, 100, 316];
+
+/// Steps timed from one initial state before restarting from it (outside the timing), so
+/// conditionally stable methods never time a blown-up state.
+const RESTART_EVERY: u64 = 200;
+
+fn config<'a>(
+    c: &'a mut Criterion,
+    name: &str,
+) -> criterion::BenchmarkGroup<'a, criterion::measurement::WallTime> {
+    let mut g = c.benchmark_group(name);
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(2));
+    g
+}
+
+/// Steps `integ` `iters` times, restarting from `s0` every [`RESTART_EVERY`] steps.
+fn timed_steps(
+    sys: &System,
+    s0: &State,
+    integ: &mut dyn Integrator,
+    dt: f64,
+    iters: u64,
+) -> Duration {
+    let mut total = Duration::ZERO;
+    let mut s = s0.clone();
+    let mut done = 0;
+    while done < iters {
+        s.clone_from(s0);
+        integ.reset();
+        let batch = RESTART_EVERY.min(iters - done);
+        let t0 = Instant::now();
+        for _ in 0..batch {
+            integ.step(sys, &mut s, dt).expect("step");
+        }
+        total += t0.elapsed();
+        black_box(&s);
+        done += batch;
+    }
+    total
+}
+
+/// The baseline: one symplectic Euler step of the same springs, dampers and gravity written
+/// as one plain loop over the same arrays (scatter, then kick-drift).
+fn hand_step(sys: &System, g: Vec3, x: &mut [Vec3], v: &mut [Vec3], f: &mut [Vec3], h: f64) {
+    let sp = &sys.springs;
+    for p in 0..f.len() {
+        f[p] = if sys.free[p] {
+            g * sys.mass[p]
+        } else {
+            Vec3::zeros()
+        };
+    }
+    for s in 0..sp.i.len() {
+        let (a, b) = (sp.i[s] as usize, sp.j[s] as usize);
+        let d = x[b] - x[a];
+        let len = d.norm();
+        let n = d / len;
+        let vrel = (v[b] - v[a]).dot(&n);
+        let fs = n * (sp.k[s] * (len - sp.l0[s]) + sp.c[s] * vrel);
+        f[a] += fs;
+        f[b] -= fs;
+    }
+    for p in 0..x.len() {
+        v[p] += f[p] * (sys.inv_mass[p] * h);
+        x[p] += v[p] * h;
+    }
+}
+
+fn force_and_hand(c: &mut Criterion) {
+    let mut g = config(c, "force");
+    for n in SIZES {
+        let scene = cloth(n);
+        let sys = scene.build();
+        let s0 = scene.initial_state();
+        g.throughput(Throughput::Elements(sys.springs.len() as u64));
+        let mut a = vec![Vec3::zeros(); sys.len()];
+        g.bench_function(BenchmarkId::new("accelerations", n), |b| {
+            b.iter(|| black_box(sys.accelerations(&s0.x, &s0.v, &mut a)))
+        });
+        let gvec = sys.gravity.unwrap();
+        g.bench_function(BenchmarkId::new("hand_loop_step", n), |b| {
+            b.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                let mut f = vec![Vec3::zeros(); sys.len()];
+                let mut done = 0;
+                while done < iters {
+                    let (mut x, mut v) = (s0.x.clone(), s0.v.clone());
+                    let batch = RESTART_EVERY.min(iters - done);
+                    let t0 = Instant::now();
+                    for _ in 0..batch {
+                        hand_step(&sys, gvec, &mut x, &mut v, &mut f, 1e-3);
+                    }
+                    total += t0.elapsed();
+                    black_box(&x);
+                    done += batch;
+                }
+                total
+            })
+        });
+    }
+    g.finish();
+}
+
+fn steps(c: &mut Criterion) {
+    let mut g = config(c, "step");
+    for n in SIZES {
+        let scene = cloth(n);
+        let sys = scene.build();
+        let s0 = scene.initial_state();
+        g.throughput(Throughput::Elements(sys.springs.len() as u64));
+        // Rapier (`rapier_impulse`) appears here once registered in `springlab::backend`.
+        for name in backends_for(&scene).into_iter().filter(|n| selected(n)) {
+            let dt = bench_dt(name);
+            let mut integ =
+                springlab::backend::create(name, &IntegratorOptions::default()).unwrap();
+            g.bench_function(BenchmarkId::new(name, n), |b| {
+                b.iter_custom(|iters| timed_steps(&sys, &s0, integ.as_mut(), dt, iters))
+            });
+        }
+    }
+    g.finish();
+}
+
+/// Backends to time: all, or the comma-separated list in `SPRINGLAB_BENCH_BACKENDS`.
+fn selected(name: &str) -> bool {
+    std::env::var("SPRINGLAB_BENCH_BACKENDS").map_or(true, |l| l.split(',').any(|n| n == name))
+}
+
+/// Implicit Euler solver statistics at dt = 1/60 (printed, not timed by criterion).
+fn implicit_stats(_c: &mut Criterion) {
+    if !selected("implicit_euler") {
+        return;
+    }
+    for n in SIZES {
+        let scene = cloth(n);
+        let sys = scene.build();
+        let mut s = scene.initial_state();
+        let mut ie = ImplicitEuler::default();
+        let steps = 10;
+        let t0 = Instant::now();
+        for k in 0..steps {
+            if let Err(e) = ie.step(&sys, &mut s, 1.0 / 60.0) {
+                eprintln!("implicit_euler {n}x{n} dt=1/60: step {k} failed: {e}");
+                break;
+            }
+        }
+        let per_step = t0.elapsed().as_secs_f64() / steps as f64;
+        eprintln!(
+            "implicit_euler {n}x{n} dt=1/60: {:.2} Newton iterations/step, {:.1} CG iterations/Newton iteration, {:.3} ms/step ({:.1} ns/spring)",
+            ie.newton_iterations as f64 / steps as f64,
+            ie.cg_iterations as f64 / ie.newton_iterations.max(1) as f64,
+            per_step * 1e3,
+            per_step * 1e9 / sys.springs.len() as f64
+        );
+    }
+}
+
+fn threads(c: &mut Criterion) {
+    let mut g = config(c, "threads");
+    let n = 316;
+    let scene = cloth(n);
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    g.throughput(Throughput::Elements(sys.springs.len() as u64));
+    for t in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .unwrap();
+        let mut a = vec![Vec3::zeros(); sys.len()];
+        g.bench_function(BenchmarkId::new("accelerations", t), |b| {
+            b.iter(|| pool.install(|| black_box(sys.accelerations(&s0.x, &s0.v, &mut a))))
+        });
+        let mut integ =
+            springlab::backend::create("symplectic_euler", &IntegratorOptions::default()).unwrap();
+        g.bench_function(BenchmarkId::new("symplectic_euler", t), |b| {
+            b.iter_custom(|iters| {
+                pool.install(|| timed_steps(&sys, &s0, integ.as_mut(), 1e-3, iters))
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, force_and_hand, steps, implicit_stats, threads);
+criterion_main!(benches);

@@ -37,6 +37,7 @@ pub mod integrate;
 pub mod measure;
 pub mod model;
 pub mod output;
+pub mod perf;
 pub mod rapier;
 pub mod run;
 pub mod scenario;

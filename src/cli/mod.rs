@@ -1,6 +1,7 @@
 //! Command-line interface: clap subcommands, one file each, validated into library calls.
 
 mod advise;
+mod bench_scaling;
 mod check;
 mod common;
 mod compare;
@@ -30,6 +31,8 @@ enum Command {
     Check(check::Args),
     /// List the integrators and the shipped scenarios.
     List(list::Args),
+    /// Time every backend on n×n cloths: cost per step against particle count (CSV + log-log SVG).
+    BenchScaling(bench_scaling::Args),
     /// Run every integrator over a log grid of steps against the reference: sweep.csv, orders.
     Sweep(sweep::Args),
     /// Largest stable step per integrator (spectral radius and empirical bisection).
@@ -49,6 +52,7 @@ pub fn main() -> ExitCode {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
+        Command::BenchScaling(a) => bench_scaling::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Advise(a) => advise::run(a),

@@ -55,8 +55,13 @@ pub struct ImplicitEuler {
     vn: Vec<Vec3>,
     r: Vec<Vec3>,
     dv: Vec<Vec3>,
+    floor: Vec<f64>,
     cg: Cg,
 }
+
+/// Rounding floor of the Newton residual, as a multiple of ε·h/m·Σ k(|x_i| + |x_j| + l0): a
+/// residual below it is the rounding error of the force evaluation itself and cannot shrink.
+const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
 
 #[derive(Debug, Default)]
 struct Cg {
@@ -156,6 +161,7 @@ impl Integrator for ImplicitEuler {
         ] {
             ensure_len(buf, n);
         }
+        ensure_len(&mut self.floor, n);
         let mut jac = match self.jac.take() {
             Some(j) if j.diag_x.len() == n && j.pairs.len() == sys.springs.len() => j,
             _ => sys.new_jacobian(),
@@ -163,11 +169,9 @@ impl Integrator for ImplicitEuler {
         self.vn.copy_from_slice(&s.v);
         let mut evals = 0u64;
         let v_scale0 = max_abs(&s.v);
-        let mut result = Err(Error::Step(format!(
-            "implicit_euler: Newton did not converge in {} iterations",
-            self.settings.max_newton
-        )));
-        // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
+        // Errors are built only on failure: a step must not allocate.
+        let mut result: std::result::Result<f64, bool> = Err(false); // Err(true): non-finite
+                                                                     // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
         let x_floor = 16.0 * f64::EPSILON * max_abs(&s.x) / h;
         let mut small_update = false;
         for iter in 0..=self.settings.max_newton {
@@ -176,22 +180,24 @@ impl Integrator for ImplicitEuler {
             }
             let power = sys.forces(&self.xn, &self.vn, &mut self.f);
             evals += 1;
-            // G(v') = M (v' - v) - h f(x + h v', v'); scaled residual M⁻¹G has units of velocity.
+            self.floor.iter_mut().for_each(|r| *r = 0.0);
+            sys.springs.add_rounding_scale(&self.xn, &mut self.floor);
+            // G(v') = M (v' - v) - h f(x + h v', v'); scaled residual M⁻¹G has units of velocity,
+            // counted only above the rounding floor of the force evaluation at that particle.
             let mut res = 0.0f64;
             let mut scale = v_scale0.max(max_abs(&self.vn));
             for p in 0..n {
                 if sys.free[p] {
                     self.r[p] = (self.vn[p] - s.v[p]) * sys.mass[p] - self.f[p] * h;
-                    res = res.max((self.r[p] * sys.inv_mass[p]).amax());
+                    let noise = ROUNDING_FLOOR * h * sys.inv_mass[p] * self.floor[p];
+                    res = res.max((self.r[p] * sys.inv_mass[p]).amax() - noise);
                     scale = scale.max((self.f[p] * (h * sys.inv_mass[p])).amax());
                 } else {
                     self.r[p] = Vec3::zeros();
                 }
             }
             if !res.is_finite() {
-                result = Err(Error::Step(
-                    "implicit_euler: non-finite residual in Newton iteration".into(),
-                ));
+                result = Err(true);
                 break;
             }
             if res <= self.settings.newton_tol * scale || scale == 0.0 || small_update {
@@ -237,7 +243,16 @@ impl Integrator for ImplicitEuler {
                 <= self.settings.newton_tol * v_scale0.max(max_abs(&self.vn)) + x_floor;
         }
         self.jac = Some(jac);
-        let power = result?;
+        let power = result.map_err(|non_finite| {
+            Error::Step(if non_finite {
+                "implicit_euler: non-finite residual in Newton iteration".into()
+            } else {
+                format!(
+                    "implicit_euler: Newton did not converge in {} iterations",
+                    self.settings.max_newton
+                )
+            })
+        })?;
         s.v.copy_from_slice(&self.vn);
         s.x.copy_from_slice(&self.xn);
         s.t += h;

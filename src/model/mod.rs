@@ -1,6 +1,7 @@
 //! The mass-spring model: state, force terms, Jacobians and the assembled [`System`].
 
 mod jacobian;
+pub mod parallel;
 mod springs;
 mod state;
 mod system;

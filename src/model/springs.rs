@@ -2,16 +2,27 @@
 //!
 //! The force law of every spring is `f = k_eff (|d| - l0)` along `d = x_j - x_i`, where
 //! `k_eff` is `k` for Hooke springs and `k / l0` for strain springs (precomputed at build).
-//! Coincident endpoints (`|d| = 0`): the direction is undefined; the elastic force is taken as
-//! `k_eff (d - l0 d/|d|)` with the second part dropped, i.e. zero, and the damper is skipped,
-//! so no NaN can arise. That is the documented fallback.
+//!
+//! Coincident endpoints (`|d| = 0`, documented fallback): the direction is undefined, so the
+//! force is taken as `k_eff d`, which is the zero vector there; the damper is skipped and the
+//! Jacobian block is `k_eff I` (isotropic). No NaN can arise from a zero-length spring, and a
+//! zero rest length (`l0 = 0`) is the well-defined linear spring `f = k_eff d` everywhere.
+//!
+//! Large spring sets (at least [`PARALLEL_MIN_SPRINGS`]) are evaluated in parallel by
+//! [`super::parallel`]; the result is bit-identical to the serial loop whatever the thread count.
 
 use super::jacobian::Jacobian;
+use super::parallel::{sum_partials, Incidence, ScratchPool, PARALLEL_MIN_SPRINGS, SPRING_CHUNK};
 use super::state::Vec3;
 use super::term::{EnergyKind, ForceTerm};
 use nalgebra::Matrix3;
+use rayon::prelude::*;
+use std::sync::OnceLock;
 
 /// All springs of a system, one entry per spring in each array.
+///
+/// After the first large evaluation the springs cache their particle incidence list; change
+/// the arrays only through [`Springs::push`] (which drops the cache), or build a new `Springs`.
 #[derive(Debug, Clone, Default)]
 pub struct Springs {
     /// First particle of each spring.
@@ -26,6 +37,8 @@ pub struct Springs {
     pub c: Vec<f64>,
     /// True when any spring has damping (so the damper loop is worth running).
     pub any_damping: bool,
+    incidence: OnceLock<Option<Incidence>>,
+    scratch: ScratchPool,
 }
 
 impl Springs {
@@ -45,6 +58,157 @@ impl Springs {
         self.l0.push(l0);
         self.c.push(c);
         self.any_damping |= c > 0.0;
+        self.incidence = OnceLock::new();
+    }
+
+    /// True when evaluations over `n` particles take the parallel path (a property of the
+    /// scene's size only).
+    pub fn is_parallel(&self, n: usize) -> bool {
+        self.incidence(n).is_some()
+    }
+
+    /// The incidence list for `n` particles when the parallel path applies.
+    fn incidence(&self, n: usize) -> Option<&Incidence> {
+        if self.len() < PARALLEL_MIN_SPRINGS {
+            return None;
+        }
+        self.incidence
+            .get_or_init(|| Incidence::build(&self.i, &self.j, n))
+            .as_ref()
+            .filter(|inc| inc.particles == n && inc.springs == self.len())
+    }
+
+    /// Adds to `out[p]`, for every spring at particle `p`, `k (|x_i|∞ + |x_j|∞ + l0)`: the size
+    /// of the quantities whose rounding (relative error ε each) makes up the rounding error of
+    /// the force on `p`. Implicit solvers use it as the floor below which a residual is noise.
+    pub fn add_rounding_scale(&self, x: &[Vec3], out: &mut [f64]) {
+        for s in 0..self.len() {
+            let (a, b) = (self.i[s] as usize, self.j[s] as usize);
+            let r = self.k[s] * (x[a].amax() + x[b].amax() + self.l0[s]);
+            out[a] += r;
+            out[b] += r;
+        }
+    }
+
+    /// Force of spring `s` on its first particle and the power its damper dissipates.
+    #[inline(always)]
+    fn force<const DAMPED: bool>(&self, s: usize, x: &[Vec3], v: &[Vec3]) -> (Vec3, f64) {
+        let (a, b) = (self.i[s] as usize, self.j[s] as usize);
+        let d = x[b] - x[a];
+        let len = d.norm();
+        let mut fs = d * elastic_coeff(self.k[s], self.l0[s], len);
+        let mut power = 0.0;
+        if DAMPED && self.c[s] > 0.0 && len > 0.0 {
+            let n = d / len;
+            let vrel = (v[b] - v[a]).dot(&n);
+            fs += n * (self.c[s] * vrel);
+            power = self.c[s] * vrel * vrel;
+        }
+        (fs, power)
+    }
+
+    /// Serial scatter; power summed per [`SPRING_CHUNK`] and then across chunks.
+    pub(crate) fn add_forces_serial<const DAMPED: bool>(
+        &self,
+        x: &[Vec3],
+        v: &[Vec3],
+        f: &mut [Vec3],
+    ) -> f64 {
+        let m = self.len();
+        let mut power = 0.0;
+        let mut lo = 0;
+        while lo < m {
+            let hi = (lo + SPRING_CHUNK).min(m);
+            let mut part = 0.0;
+            for s in lo..hi {
+                let (fs, p) = self.force::<DAMPED>(s, x, v);
+                if DAMPED {
+                    part += p;
+                }
+                f[self.i[s] as usize] += fs;
+                f[self.j[s] as usize] -= fs;
+            }
+            power += part;
+            lo = hi;
+        }
+        power
+    }
+
+    /// Parallel compute-then-gather (see [`super::parallel`]).
+    fn add_forces_parallel<const DAMPED: bool>(
+        &self,
+        inc: &Incidence,
+        x: &[Vec3],
+        v: &[Vec3],
+        f: &mut [Vec3],
+    ) -> f64 {
+        let mut scratch = self.scratch.take();
+        scratch.fit(self.len());
+        scratch
+            .forces
+            .par_chunks_mut(SPRING_CHUNK)
+            .zip(scratch.partials.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (buf, part))| {
+                let base = c * SPRING_CHUNK;
+                let mut sum = 0.0;
+                for (k, out) in buf.iter_mut().enumerate() {
+                    let (fs, p) = self.force::<DAMPED>(base + k, x, v);
+                    if DAMPED {
+                        sum += p;
+                    }
+                    *out = fs;
+                }
+                *part = sum;
+            });
+        inc.gather(&scratch.forces, f);
+        let power = if DAMPED {
+            sum_partials(&scratch.partials)
+        } else {
+            0.0
+        };
+        self.scratch.give(scratch);
+        power
+    }
+
+    /// Elastic energy of springs `lo..hi`, summed in spring order.
+    pub(crate) fn energy_range(&self, x: &[Vec3], lo: usize, hi: usize) -> f64 {
+        let mut e = 0.0;
+        for s in lo..hi {
+            let len = (x[self.j[s] as usize] - x[self.i[s] as usize]).norm();
+            let ext = len - self.l0[s];
+            e += 0.5 * self.k[s] * ext * ext;
+        }
+        e
+    }
+
+    /// Jacobian blocks (∂f_i/∂x_j, ∂f_i/∂v_j) of spring `s`.
+    #[inline(always)]
+    fn jacobian_blocks(
+        &self,
+        s: usize,
+        x: &[Vec3],
+        definite: bool,
+    ) -> (Matrix3<f64>, Matrix3<f64>) {
+        let (a, b) = (self.i[s] as usize, self.j[s] as usize);
+        let d = x[b] - x[a];
+        let len = d.norm();
+        let k = self.k[s];
+        if len > 0.0 {
+            let n = d / len;
+            let nn = n * n.transpose();
+            let r = self.l0[s] / len;
+            // k(1 - r)(I - nnᵀ) + k nnᵀ; the transverse part is negative when compressed.
+            let transverse = if definite {
+                (1.0 - r).max(0.0)
+            } else {
+                1.0 - r
+            };
+            let kx = (Matrix3::identity() - nn) * (k * transverse) + nn * k;
+            (kx, nn * self.c[s])
+        } else {
+            (Matrix3::identity() * k, Matrix3::zeros())
+        }
     }
 }
 
@@ -72,32 +236,40 @@ impl ForceTerm for Springs {
     }
 
     fn add_forces(&self, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) -> f64 {
-        let mut power = 0.0;
-        for s in 0..self.i.len() {
-            let (a, b) = (self.i[s] as usize, self.j[s] as usize);
-            let d = x[b] - x[a];
-            let len = d.norm();
-            let mut fs = d * elastic_coeff(self.k[s], self.l0[s], len);
-            if self.any_damping && self.c[s] > 0.0 && len > 0.0 {
-                let n = d / len;
-                let vrel = (v[b] - v[a]).dot(&n);
-                fs += n * (self.c[s] * vrel);
-                power += self.c[s] * vrel * vrel;
-            }
-            f[a] += fs;
-            f[b] -= fs;
+        match (self.incidence(f.len()), self.any_damping) {
+            (Some(inc), true) => self.add_forces_parallel::<true>(inc, x, v, f),
+            (Some(inc), false) => self.add_forces_parallel::<false>(inc, x, v, f),
+            (None, true) => self.add_forces_serial::<true>(x, v, f),
+            (None, false) => self.add_forces_serial::<false>(x, v, f),
         }
-        power
     }
 
     fn potential_energy(&self, x: &[Vec3]) -> f64 {
-        let mut e = 0.0;
-        for s in 0..self.i.len() {
-            let len = (x[self.j[s] as usize] - x[self.i[s] as usize]).norm();
-            let ext = len - self.l0[s];
-            e += 0.5 * self.k[s] * ext * ext;
+        let m = self.len();
+        if self.incidence(x.len()).is_some() {
+            let mut scratch = self.scratch.take();
+            scratch.fit(m);
+            scratch
+                .partials
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(c, part)| {
+                    let lo = c * SPRING_CHUNK;
+                    *part = self.energy_range(x, lo, (lo + SPRING_CHUNK).min(m));
+                });
+            let e = sum_partials(&scratch.partials);
+            self.scratch.give(scratch);
+            e
+        } else {
+            let mut e = 0.0;
+            let mut lo = 0;
+            while lo < m {
+                let hi = (lo + SPRING_CHUNK).min(m);
+                e += self.energy_range(x, lo, hi);
+                lo = hi;
+            }
+            e
         }
-        e
     }
 
     fn add_jacobian(&self, x: &[Vec3], _v: &[Vec3], jac: &mut Jacobian) {
@@ -105,28 +277,25 @@ impl ForceTerm for Springs {
         // ∂f_i/∂x_j = k[(1 - l0/L) I + (l0/L) n nᵀ] + damper geometric terms (dropped: they are
         // O(c·|v_rel|/L) and vanish at rest; Newton still converges to the same root),
         // ∂f_i/∂v_j = c n nᵀ. The blocks for (i,i) are the negatives.
-        for s in 0..self.i.len() {
-            let (a, b) = (self.i[s] as usize, self.j[s] as usize);
-            let d = x[b] - x[a];
-            let len = d.norm();
-            let k = self.k[s];
-            let (kx, kv) = if len > 0.0 {
-                let n = d / len;
-                let nn = n * n.transpose();
-                let r = self.l0[s] / len;
-                // k(1 - r)(I - nnᵀ) + k nnᵀ; the transverse part is negative when compressed.
-                let transverse = if jac.definite {
-                    (1.0 - r).max(0.0)
-                } else {
-                    1.0 - r
-                };
-                let kx = (Matrix3::identity() - nn) * (k * transverse) + nn * k;
-                let kv = nn * self.c[s];
-                (kx, kv)
-            } else {
-                (Matrix3::identity() * k, Matrix3::zeros())
-            };
-            jac.set_pair(s, kx, kv);
+        // Each block depends on its spring only, so the parallel fill is trivially deterministic.
+        let definite = jac.definite;
+        if self.incidence(x.len()).is_some() {
+            let m = self.len();
+            jac.kx[..m]
+                .par_chunks_mut(SPRING_CHUNK)
+                .zip(jac.kv[..m].par_chunks_mut(SPRING_CHUNK))
+                .enumerate()
+                .for_each(|(c, (kx, kv))| {
+                    let base = c * SPRING_CHUNK;
+                    for k in 0..kx.len() {
+                        (kx[k], kv[k]) = self.jacobian_blocks(base + k, x, definite);
+                    }
+                });
+        } else {
+            for s in 0..self.len() {
+                let (kx, kv) = self.jacobian_blocks(s, x, definite);
+                jac.set_pair(s, kx, kv);
+            }
         }
     }
 }

@@ -1,0 +1,71 @@
+//! Scenes and timing helpers shared by the criterion benches and `springlab bench-scaling`.
+
+use crate::error::Result;
+use crate::integrate::{Integrator, IntegratorOptions};
+use crate::scenario::Scenario;
+use std::time::Instant;
+
+/// A horizontal `n`×`n` cloth (1 m², 1 g per particle, k = 200 N/m, light axial damping,
+/// gravity, two top corners pinned) with structural and shear springs only: about 4n² springs,
+/// the benchmark scene of issue 7 (100×100 gives 39 402 springs).
+pub fn cloth(n: usize) -> Scenario {
+    let toml = format!(
+        "name = \"cloth_{n}x{n}\"\n[world]\ngravity = [0.0, -9.81, 0.0]\n[[cloth]]\n\
+         origin = [0.0, 0.0, 0.0]\nsize = [1.0, 1.0]\ncount = [{n}, {n}]\nmass = 0.001\n\
+         stiffness = 200.0\ndamping = 0.002\nplane = \"xz\"\nfix = [\"top_left\", \"top_right\"]\n"
+    );
+    Scenario::from_toml_str(&toml, format!("cloth_{n}x{n}.toml")).expect("generated cloth is valid")
+}
+
+/// Time step each backend is timed at: `implicit_euler` and physics engines at a frame
+/// (1/60 s), explicit methods at 1 ms (the cloth's stable step; cost per step does not depend
+/// on it, stability over the timed steps does).
+pub fn bench_dt(name: &str) -> f64 {
+    if name == "implicit_euler" || crate::backend::EXTERNAL.contains(&name) {
+        1.0 / 60.0
+    } else {
+        1e-3
+    }
+}
+
+/// Every backend that can step `scene`: native integrators and external backends whose
+/// `check` accepts it (`analytic` refuses cloths). `rapier_multibody` is left out: a cloth is
+/// not a tree, and its step took 57 ms on an 8×8 cloth (2026-11-25), too slow to scale.
+pub fn backends_for(scene: &Scenario) -> Vec<&'static str> {
+    let sys = scene.build();
+    crate::integrate::known_names()
+        .into_iter()
+        .filter(|n| *n != "rapier_multibody")
+        .filter(|n| {
+            crate::backend::create(n, &IntegratorOptions::default())
+                .map(|i| i.check(&sys).is_ok())
+                .unwrap_or(false)
+        })
+        .collect()
+}
+
+/// Wall time of one step (s): the minimum over `reps` repetitions of `steps` steps each, every
+/// repetition starting from the scene's initial state (so runs that grow unstable restart).
+pub fn time_per_step(
+    scene: &Scenario,
+    integ: &mut dyn Integrator,
+    dt: f64,
+    steps: usize,
+    reps: usize,
+) -> Result<f64> {
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let mut best = f64::INFINITY;
+    let mut s = s0.clone();
+    integ.step(&sys, &mut s, dt)?; // warm-up: scratch buffers, caches
+    for _ in 0..reps.max(1) {
+        s.clone_from(&s0);
+        integ.reset();
+        let t0 = Instant::now();
+        for _ in 0..steps.max(1) {
+            integ.step(&sys, &mut s, dt)?;
+        }
+        best = best.min(t0.elapsed().as_secs_f64() / steps.max(1) as f64);
+    }
+    Ok(best)
+}

@@ -1,0 +1,93 @@
+//! No allocation inside a step: a counting global allocator (this test binary only) counts
+//! every allocation made by any thread while every native integrator steps, after a warm-up
+//! step that sizes its scratch buffers. Covers the serial spring loop (small scenes), the
+//! parallel path (a cloth above `PARALLEL_MIN_SPRINGS`), gravity, drag and dampers.
+
+mod common;
+
+use springlab::integrate::NATIVE;
+use springlab::model::parallel::PARALLEL_MIN_SPRINGS;
+use springlab::scenario::Scenario;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+struct Counting;
+
+static COUNTING: AtomicBool = AtomicBool::new(false);
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        if COUNTING.load(Ordering::SeqCst) {
+            ALLOCS.fetch_add(1, Ordering::SeqCst);
+        }
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        if COUNTING.load(Ordering::SeqCst) {
+            ALLOCS.fetch_add(1, Ordering::SeqCst);
+        }
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by `steps` steps of `name` on `scene` after one warm-up step.
+fn allocations(scene: &Scenario, name: &str, h: f64, steps: usize) -> Option<usize> {
+    let sys = scene.build();
+    let mut integ = common::integ(name);
+    if integ.check(&sys).is_err() {
+        return None;
+    }
+    let mut s = scene.initial_state();
+    integ.step(&sys, &mut s, h).expect("warm-up step");
+    integ.step(&sys, &mut s, h).expect("warm-up step");
+    ALLOCS.store(0, Ordering::SeqCst);
+    COUNTING.store(true, Ordering::SeqCst);
+    for _ in 0..steps {
+        integ.step(&sys, &mut s, h).expect("step");
+    }
+    COUNTING.store(false, Ordering::SeqCst);
+    assert!(s.first_non_finite().is_none(), "{name}");
+    Some(ALLOCS.load(Ordering::SeqCst))
+}
+
+// One test function: the counter is global, and tests in one binary run concurrently.
+#[test]
+fn no_integrator_allocates_inside_a_step() {
+    let damped_cloth = |n: usize| {
+        Scenario::from_toml_str(
+            &format!(
+                "[world]\ngravity=[0.0,-9.81,0.0]\ndrag=0.01\n[[cloth]]\norigin=[0.0,0.0,0.0]\n\
+                 size=[1.0,1.0]\ncount=[{n},{n}]\nmass=0.001\nstiffness=200.0\ndamping=0.002\n\
+                 bend_stiffness=20.0\nfix=[\"top_left\",\"top_right\"]\n"
+            ),
+            "cloth.toml",
+        )
+        .unwrap()
+    };
+    let small = damped_cloth(8);
+    let large = springlab::perf::cloth(100);
+    assert!(large.build().springs.len() >= PARALLEL_MIN_SPRINGS);
+    let osc = common::oscillator(4.0, 0.3, 0.1, 0.0);
+    let mut checked = 0;
+    for name in NATIVE {
+        for (label, scene, steps) in [
+            ("oscillator", &osc, 50),
+            ("cloth 8x8", &small, 20),
+            ("cloth 100x100", &large, 3),
+        ] {
+            if let Some(n) = allocations(scene, name, 1e-3, steps) {
+                assert_eq!(n, 0, "{name} on {label}: {n} allocations in {steps} steps");
+                checked += 1;
+            }
+        }
+    }
+    // analytic runs the oscillator only; every other method runs all three scenes.
+    assert_eq!(checked, 3 * (NATIVE.len() - 1) + 1);
+}
