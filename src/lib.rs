@@ -33,6 +33,7 @@ pub mod error;
 pub mod integrate;
 pub mod model;
 pub mod output;
+pub mod report;
 pub mod run;
 pub mod scenario;
 
