@@ -3,6 +3,7 @@
 mod check;
 mod common;
 mod list;
+mod report;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -24,6 +25,8 @@ enum Command {
     Check(check::Args),
     /// List the integrators and the shipped scenarios.
     List(list::Args),
+    /// Run every scene through every backend and write plots, pages and summary.json.
+    Report(report::Args),
 }
 
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
@@ -33,6 +36,7 @@ pub fn main() -> ExitCode {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
+        Command::Report(a) => report::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
