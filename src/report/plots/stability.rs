@@ -109,7 +109,7 @@ pub fn stability(data: &StabilityData) -> Result<String> {
         chart
             .draw_series(std::iter::empty::<Circle<(f64, SegmentValue<usize>), i32>>())
             .map_err(draw_err)?
-            .label("blew up / energy doubled")
+            .label("blew up / gained > energy scale")
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 16, y + 5)], red.filled()));
         let mut bars = Vec::new();
         let mut notes = Vec::new();
