@@ -423,8 +423,51 @@ pub fn omega_bound(sys: &System) -> Option<f64> {
     (w2 > 0.0 && w2.is_finite()).then(|| w2.sqrt())
 }
 
-/// Runs every integrator at steps h = θ/ω over a θ grid; a cell is stable when the run did not
-/// blow up and its total energy account gained less than the scene's energy scale.
+/// Fewest steps of a stability-scan run (enough to tell growth from oscillation).
+pub const MIN_SCAN_STEPS: u64 = 30;
+
+/// Watches the energy gain E(t) − E(0) in the first and last thirds of a run: a bounded
+/// method's gain oscillates with a steady amplitude or decays (numerical damping is a loss,
+/// not a gain); an unstable one's grows.
+struct Growth {
+    n: u64,
+    e0: Option<f64>,
+    first: f64,
+    last: f64,
+}
+
+impl Growth {
+    fn new(n: u64) -> Self {
+        Growth {
+            n,
+            e0: None,
+            first: 0.0,
+            last: 0.0,
+        }
+    }
+    /// True when the largest gain of the last third is more than twice that of the first
+    /// third and above round-off (10⁻⁹ of the energy scale).
+    fn grows(&self, scale: f64) -> bool {
+        self.last > 2.0 * self.first && self.last > 1e-9 * scale
+    }
+}
+
+impl crate::run::Observer for Growth {
+    fn observe(&mut self, step: u64, _s: &State, e: &crate::run::EnergyRecord) -> Result<()> {
+        let e0 = *self.e0.get_or_insert(e.total);
+        let gain = e.total - e0;
+        if 3 * step <= self.n {
+            self.first = self.first.max(gain);
+        } else if 3 * step >= 2 * self.n {
+            self.last = self.last.max(gain);
+        }
+        Ok(())
+    }
+}
+
+/// Runs every integrator at steps h = θ/ω over a θ grid (at least [`MIN_SCAN_STEPS`] steps,
+/// else the scene's duration, capped by the budget); a cell is stable when the run did not
+/// blow up and its energy gain did not grow (see `Growth`).
 fn scan(
     sys: &System,
     s0: &State,
@@ -450,20 +493,13 @@ fn scan(
         .par_iter()
         .map(|&(i, k)| {
             let h = thetas[k] / omega;
-            let n = ((duration / h).round() as u64).clamp(1, max_steps);
+            let n = ((duration / h).round() as u64).clamp(MIN_SCAN_STEPS, max_steps);
             let plan = RunPlan::new(h, n);
             let mut integ = make(&names[i], iopts)?;
-            let out = run(
-                sys,
-                integ.as_mut(),
-                s0.clone(),
-                &plan,
-                &mut crate::run::NoObserver,
-            )?;
+            let mut growth = Growth::new(n);
+            let out = run(sys, integ.as_mut(), s0.clone(), &plan, &mut growth)?;
             let scale = energy_scale(sys, s0, plan.duration());
-            // Growth, not loss: numerical damping (implicit Euler) is stable.
-            let gain = out.final_energy.total - out.initial_energy.total;
-            Ok((thetas[k], h, out.status.is_ok() && gain <= scale))
+            Ok((thetas[k], h, out.status.is_ok() && !growth.grows(scale)))
         })
         .collect();
     let mut cells = cells.into_iter();

@@ -59,6 +59,7 @@ pub fn collision(data: &CollisionData) -> Result<String> {
             guides: &[],
             dots: false,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },
         Panel {
             title: "Restitution per bounce".into(),
@@ -68,6 +69,7 @@ pub fn collision(data: &CollisionData) -> Result<String> {
             guides: &specified,
             dots: true,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },
         Panel {
             title: "Penetration per contact".into(),
@@ -77,6 +79,7 @@ pub fn collision(data: &CollisionData) -> Result<String> {
             guides: &[],
             dots: true,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },
     ];
     svg_grid((1600, 520), 3, &panels)

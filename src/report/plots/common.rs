@@ -55,6 +55,8 @@ pub struct Panel<'a> {
     pub dots: bool,
     /// Keep x and y at the same scale (trajectories in a plane).
     pub equal_aspect: bool,
+    /// Where the legend goes (away from the data).
+    pub legend: SeriesLabelPosition,
 }
 
 /// A colour per backend that stays the same across every chart of the report.
@@ -298,7 +300,7 @@ where
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(p.legend.clone())
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(150, 150, 150))
         .label_font((FONT, 12))

@@ -29,6 +29,7 @@ pub fn convergence(data: &ConvergenceData) -> Result<String> {
             guides: &data.guides,
             dots: true,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::LowerRight,
         },
     )
 }

@@ -15,6 +15,7 @@ pub fn energy(data: &EnergyData) -> Result<String> {
         guides: &[],
         dots: false,
         equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
     }];
     if !data.terms.is_empty() {
         panels.push(Panel {
@@ -25,6 +26,7 @@ pub fn energy(data: &EnergyData) -> Result<String> {
             guides: &[],
             dots: false,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         });
     }
     let w = 900 * panels.len() as u32;

@@ -16,6 +16,7 @@ pub fn energy_error(data: &EnergyErrorData) -> Result<String> {
             guides: &[],
             dots: false,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },
     )
 }

@@ -16,6 +16,7 @@ pub fn paths(data: &PathData) -> Result<String> {
             guides: &[],
             dots: false,
             equal_aspect: true,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },
     )
 }

@@ -16,6 +16,7 @@ pub fn position_error(data: &PositionErrorData) -> Result<String> {
             guides: &[],
             dots: false,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },
     )
 }

@@ -71,7 +71,7 @@ pub fn stability(data: &StabilityData) -> Result<String> {
             .margin(12)
             .x_label_area_size(46)
             .y_label_area_size(130)
-            .build_cartesian_2d((x0..x1).log_scale(), (0..n).into_segmented())
+            .build_cartesian_2d((x0..x1).log_scale(), (0..n - 1).into_segmented())
             .map_err(draw_err)?;
         chart
             .configure_mesh()
@@ -109,7 +109,7 @@ pub fn stability(data: &StabilityData) -> Result<String> {
         chart
             .draw_series(std::iter::empty::<Circle<(f64, SegmentValue<usize>), i32>>())
             .map_err(draw_err)?
-            .label("blew up / gained > energy scale")
+            .label("blew up / energy gain grew")
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 16, y + 5)], red.filled()));
         let mut bars = Vec::new();
         let mut notes = Vec::new();

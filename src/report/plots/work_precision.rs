@@ -28,6 +28,7 @@ pub fn work_precision(data: &WorkPrecisionData) -> Result<String> {
             guides: &[],
             dots: true,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::LowerRight,
         },
         Panel {
             title: "Error against force evaluations".into(),
@@ -37,6 +38,7 @@ pub fn work_precision(data: &WorkPrecisionData) -> Result<String> {
             guides: &[],
             dots: true,
             equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::LowerRight,
         },
     ];
     svg_grid((1500, 560), 2, &panels)
