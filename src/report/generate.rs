@@ -98,7 +98,7 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
     if let Some(s) = charts::stability(r) {
         write_chart(&dir, "stability", plots::stability(&s), &s)?;
         let max = r.scan.as_ref().map_or(0, |s| s.max_steps);
-        fig("stability", "Stability map", format!("Each cell is one run at h = θ/ω for the scene's duration (at least 30, at most {max} steps): green when it did not blow up and its energy gain E(t) − E(0) did not grow (the largest gain of the last third of the run is not more than twice that of the first third; losses from numerical damping count as stable), red otherwise. Black bars: the textbook limit for an undamped linear oscillator (damping and nonlinearity shift it)."));
+        fig("stability", "Stability map", format!("Each cell is one run at h = θ/ω for the scene's duration (at least 30, at most {max} steps): green when it did not blow up and its energy gain E(t) − E(0) did not grow (unstable: the largest gain in the last third of the run is more than twice that of the first third and more than 1% of the scene's energy scale; losses from numerical damping count as stable), red otherwise. Black bars: the textbook limit for an undamped linear oscillator (damping and nonlinearity shift it)."));
     }
     let p = charts::paths(r);
     write_chart(&dir, "paths", plots::paths(&p), &p)?;
