@@ -51,7 +51,9 @@ pub fn run(a: Args) -> Result<()> {
         failed: Vec::new(),
     };
     for f in &files {
-        let name = f.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let name = f
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
         match &bar {
             Some(b) => b.set_message(name.clone()),
             None => eprintln!("report: {name} …"),
@@ -60,7 +62,11 @@ pub fn run(a: Args) -> Result<()> {
         let res = Scenario::from_file(f).and_then(|scene| report_scene(&scene, &opts));
         match res {
             Ok(s) => {
-                let line = format!("report: {} done in {:.1} s", s.scene, t0.elapsed().as_secs_f64());
+                let line = format!(
+                    "report: {} done in {:.1} s",
+                    s.scene,
+                    t0.elapsed().as_secs_f64()
+                );
                 match &bar {
                     Some(b) => b.println(line),
                     None => eprintln!("{line}"),

@@ -27,7 +27,11 @@ fn time_series(run: &RunRecord, f: impl Fn(&super::results::Sample) -> Option<f6
 
 /// Energy over time: totals per backend, and (when `terms`) the terms of the first backend.
 pub fn energy(r: &SceneResults, terms: bool) -> EnergyData {
-    let totals = r.runs.iter().map(|run| time_series(run, |s| Some(s.energy.total))).collect();
+    let totals = r
+        .runs
+        .iter()
+        .map(|run| time_series(run, |s| Some(s.energy.total)))
+        .collect();
     let mut term_series = Vec::new();
     if terms {
         let pick = ["analytic", "rk4", "velocity_verlet", "verlet_constraints"]
@@ -97,10 +101,19 @@ pub fn convergence(r: &SceneResults) -> Option<ConvergenceData> {
         let points: Vec<[f64; 2]> = l
             .points
             .iter()
-            .filter_map(|p| p.error.filter(|e| e.is_finite() && *e > 0.0).map(|e| [p.dt, e]))
+            .filter_map(|p| {
+                p.error
+                    .filter(|e| e.is_finite() && *e > 0.0)
+                    .map(|e| [p.dt, e])
+            })
             .collect();
         // Coarsest unstable step, marked at the top of the line.
-        let unstable = l.points.iter().filter(|p| p.blowup_time.is_some()).map(|p| p.dt).reduce(f64::max);
+        let unstable = l
+            .points
+            .iter()
+            .filter(|p| p.blowup_time.is_some())
+            .map(|p| p.dt)
+            .reduce(f64::max);
         let top = points.iter().map(|p| p[1]).reduce(f64::max).unwrap_or(1.0);
         let mut series = Series::new(l.integrator.clone(), points);
         series.blowup = unstable.map(|dt| BlowUp { x: dt, y: top });
@@ -123,8 +136,16 @@ pub fn convergence(r: &SceneResults) -> Option<ConvergenceData> {
                 .filter(|q| q[1] > super::summary::ROUNDOFF_FLOOR)
                 .min_by(|a, b| a[0].total_cmp(&b[0]))?;
             let (dt0, dt1) = (
-                sweep.lines.iter().flat_map(|l| l.points.iter().map(|p| p.dt)).fold(f64::INFINITY, f64::min),
-                sweep.lines.iter().flat_map(|l| l.points.iter().map(|p| p.dt)).fold(0.0, f64::max),
+                sweep
+                    .lines
+                    .iter()
+                    .flat_map(|l| l.points.iter().map(|p| p.dt))
+                    .fold(f64::INFINITY, f64::min),
+                sweep
+                    .lines
+                    .iter()
+                    .flat_map(|l| l.points.iter().map(|p| p.dt))
+                    .fold(0.0, f64::max),
             );
             let c = anchor[1] * 0.5 / anchor[0].powi(p as i32);
             Some(Guide {
@@ -140,9 +161,16 @@ pub fn convergence(r: &SceneResults) -> Option<ConvergenceData> {
     })
 }
 
-/// Work-precision lines from the sweep's stable points.
+/// Work-precision lines from the sweep's stable points; `None` when no sweep run was stable.
 pub fn work_precision(r: &SceneResults) -> Option<WorkPrecisionData> {
     let sweep = r.sweep.as_ref()?;
+    if !sweep.lines.iter().any(|l| {
+        l.points
+            .iter()
+            .any(|p| p.error.is_some_and(|e| e.is_finite() && e > 0.0))
+    }) {
+        return None;
+    }
     Some(WorkPrecisionData {
         lines: sweep
             .lines
@@ -153,12 +181,14 @@ pub fn work_precision(r: &SceneResults) -> Option<WorkPrecisionData> {
                     .points
                     .iter()
                     .filter_map(|p| {
-                        p.error.filter(|e| e.is_finite() && *e > 0.0).map(|e| WorkPoint {
-                            dt: p.dt,
-                            error: e,
-                            wall_seconds: p.wall_seconds,
-                            force_evals: p.force_evals,
-                        })
+                        p.error
+                            .filter(|e| e.is_finite() && *e > 0.0)
+                            .map(|e| WorkPoint {
+                                dt: p.dt,
+                                error: e,
+                                wall_seconds: p.wall_seconds,
+                                force_evals: p.force_evals,
+                            })
                     })
                     .collect(),
             })
@@ -180,7 +210,11 @@ pub fn stability(r: &SceneResults) -> Option<StabilityData> {
                 cells: row
                     .cells
                     .iter()
-                    .map(|&(h_omega, dt, stable)| StabilityCell { h_omega, dt, stable })
+                    .map(|&(h_omega, dt, stable)| StabilityCell {
+                        h_omega,
+                        dt,
+                        stable,
+                    })
                     .collect(),
                 theory: row.theory,
             })
@@ -219,7 +253,11 @@ pub fn paths(r: &SceneResults) -> PathData {
 }
 
 /// Polylines of a chain or cloth block (cloth rows and columns, at most 9 of each).
-fn block_lines(block: &crate::scenario::Block, x: &[[f64; 3]], plane: [usize; 2]) -> Vec<Vec<[f64; 2]>> {
+fn block_lines(
+    block: &crate::scenario::Block,
+    x: &[[f64; 3]],
+    plane: [usize; 2],
+) -> Vec<Vec<[f64; 2]>> {
     let [nx, ny] = block.shape;
     let at = |ix: usize, iy: usize| {
         let p = x[block.first + iy * nx + ix];
@@ -260,7 +298,11 @@ pub fn snapshots(r: &SceneResults) -> Option<SnapshotData> {
                 .iter()
                 .map(|(t, x)| Snapshot {
                     t: *t,
-                    lines: r.blocks.iter().flat_map(|b| block_lines(b, x, r.plane)).collect(),
+                    lines: r
+                        .blocks
+                        .iter()
+                        .flat_map(|b| block_lines(b, x, r.plane))
+                        .collect(),
                 })
                 .collect(),
             blowup_time: match &run.status {

@@ -129,23 +129,28 @@ fn make(name: &str, opts: &IntegratorOptions) -> Result<Box<dyn Integrator>> {
     crate::backend::create(name, opts)
 }
 
-/// The reference method for a scene: analytic when it applies (exact at any step), else rk4,
-/// else verlet_constraints, run `REFERENCE_REFINEMENT`× finer.
-fn reference_method(sys: &System, opts: &IntegratorOptions) -> Result<(String, u64)> {
+/// Reference methods for a scene in order of preference, with their refinement: analytic
+/// when it applies (exact at any step), then rk4, then verlet_constraints run
+/// `REFERENCE_REFINEMENT`× finer. The first whose run completes is used.
+fn reference_candidates(sys: &System, opts: &IntegratorOptions) -> Result<Vec<(String, u64)>> {
+    let mut out = Vec::new();
     for (name, sub) in [
         ("analytic", 1),
         ("rk4", REFERENCE_REFINEMENT),
         ("verlet_constraints", REFERENCE_REFINEMENT),
     ] {
         if make(name, opts)?.check(sys).is_ok() {
-            return Ok((name.to_string(), sub));
+            out.push((name.to_string(), sub));
         }
     }
-    Err(Error::Unsupported {
-        integrator: "reference".into(),
-        scenario: "?".into(),
-        reason: "no reference method applies".into(),
-    })
+    if out.is_empty() {
+        return Err(Error::Unsupported {
+            integrator: "reference".into(),
+            scenario: "?".into(),
+            reason: "no reference method applies".into(),
+        });
+    }
+    Ok(out)
 }
 
 fn reference_label(name: &str, sub: u64, what: &str) -> String {
@@ -157,7 +162,7 @@ fn reference_label(name: &str, sub: u64, what: &str) -> String {
 }
 
 /// Positions of every particle on a grid of `stride` steps of `dt`, from `name` run `sub`×
-/// finer; `None` where the reference itself blew up.
+/// finer, and whether the run completed (samples stop where it blew up).
 #[allow(clippy::too_many_arguments)]
 fn reference_samples(
     sys: &System,
@@ -169,13 +174,13 @@ fn reference_samples(
     stride: u64,
     blowup_factor: f64,
     opts: &IntegratorOptions,
-) -> Result<Vec<Vec<Vec3>>> {
+) -> Result<(Vec<Vec<Vec3>>, bool)> {
     let mut integ = make(name, opts)?;
     let mut plan = RunPlan::new(dt / sub as f64, steps * sub);
     plan.blowup_factor = blowup_factor;
     let mut obs = Sampler::new(stride * sub, plan.dt, None, &sys.free, &[], &[], true);
-    run(sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?;
-    Ok(obs.all)
+    let out = run(sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?;
+    Ok((obs.all, out.status.is_ok()))
 }
 
 /// The two coordinate axes along which the reference moves most (kept in x, y, z order).
@@ -229,23 +234,31 @@ pub fn collect_scene(
     let s0 = scene.initial_state();
     let plan = RunPlan::new(dt, steps);
     let (names, skipped) = applicable(scene, &sys, &iopts);
-    let (ref_name, mut sub) = reference_method(&sys, &iopts)?;
-    // Refine less on big scenes: the largest power of two within the reference budget.
-    while sub > 2 && (sub * steps) as f64 * sys.len() as f64 > opts.reference_budget() {
-        sub /= 2;
-    }
+    let candidates = reference_candidates(&sys, &iopts)?;
     let stride = (steps / opts.samples()).max(1);
-    let refs = reference_samples(
-        &sys,
-        &s0,
-        &ref_name,
-        sub,
-        dt,
-        steps,
-        stride,
-        plan.blowup_factor,
-        &iopts,
-    )?;
+    let mut chosen = None;
+    for (name, mut sub) in candidates.iter().cloned() {
+        // Refine less on big scenes: the largest power of two within the reference budget.
+        while sub > 2 && (sub * steps) as f64 * sys.len() as f64 > opts.reference_budget() {
+            sub /= 2;
+        }
+        let (samples, ok) = reference_samples(
+            &sys,
+            &s0,
+            &name,
+            sub,
+            dt,
+            steps,
+            stride,
+            plan.blowup_factor,
+            &iopts,
+        )?;
+        chosen = Some((name, sub, samples));
+        if ok {
+            break;
+        }
+    }
+    let (ref_name, sub, refs) = chosen.expect("at least one reference candidate");
     let plane = main_plane(&refs);
     let tracked = tracked(&refs, &sys.free, !scene.blocks.is_empty());
     let snapshot_steps: Vec<u64> = if scene.blocks.is_empty() {
@@ -291,8 +304,7 @@ pub fn collect_scene(
             dt,
             steps,
             &sweep_names,
-            &ref_name,
-            sub,
+            &candidates,
             opts,
             &iopts,
         )?)
@@ -324,8 +336,7 @@ fn sweep(
     dt: f64,
     steps: u64,
     names: &[String],
-    ref_name: &str,
-    sub: u64,
+    candidates: &[(String, u64)],
     opts: &CollectOptions,
     iopts: &IntegratorOptions,
 ) -> Result<Sweep> {
@@ -336,20 +347,28 @@ fn sweep(
     let wanted = (steps as f64 * dt).min(opts.sweep_budget() / n_part * fine);
     let n_coarse = ((wanted / coarse).round() as u64).max(1);
     let duration = n_coarse as f64 * coarse;
-    // The reference: exact, or the reference method `sub`× finer than the finest sweep step.
-    let ref_sub = if sub == 1 { 1 } else { sub.min(4) };
+    // The reference: exact, or the reference method 4× finer than the finest sweep step;
+    // the first candidate whose run completes.
     let ref_steps = (duration / fine).round() as u64;
-    let mut integ = make(ref_name, iopts)?;
-    let rplan = RunPlan::new(fine / ref_sub as f64, ref_steps * ref_sub);
-    let rout = run(
-        sys,
-        integ.as_mut(),
-        s0.clone(),
-        &rplan,
-        &mut crate::run::NoObserver,
-    )?;
-    let xref = rout.final_state.x;
-    let ref_ok = rout.status.is_ok();
+    let mut chosen = None;
+    for (name, sub) in candidates {
+        let ref_sub = (*sub).min(4);
+        let mut integ = make(name, iopts)?;
+        let rplan = RunPlan::new(fine / ref_sub as f64, ref_steps * ref_sub);
+        let rout = run(
+            sys,
+            integ.as_mut(),
+            s0.clone(),
+            &rplan,
+            &mut crate::run::NoObserver,
+        )?;
+        let ok = rout.status.is_ok();
+        chosen = Some((name.as_str(), ref_sub, rout.final_state.x, ok));
+        if ok {
+            break;
+        }
+    }
+    let (ref_name, ref_sub, xref, ref_ok) = chosen.expect("at least one reference candidate");
     let jobs: Vec<(usize, usize)> = (0..names.len())
         .flat_map(|i| (0..factors.len()).map(move |k| (i, k)))
         .collect();
@@ -489,7 +508,8 @@ fn scan(
     }
     let thetas = opts.scan_thetas(sys.len());
     let duration = dt * steps as f64;
-    let max_steps = (opts.scan_budget() / sys.len().max(1) as u64).max(if opts.quick { 40 } else { 100 });
+    let max_steps =
+        (opts.scan_budget() / sys.len().max(1) as u64).max(if opts.quick { 40 } else { 100 });
     let jobs: Vec<(usize, usize)> = (0..names.len())
         .flat_map(|i| (0..thetas.len()).map(move |k| (i, k)))
         .collect();

@@ -263,7 +263,7 @@ fn series_rows<'a>(group: &'a str, s: &'a Series) -> impl Iterator<Item = Vec<St
 /// data (they are filtered at construction), but would be written as empty cells.
 fn num(v: f64) -> String {
     if v.is_finite() {
-        format!("{v:e}")
+        format!("{v:.9e}")
     } else {
         String::new()
     }

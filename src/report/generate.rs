@@ -45,7 +45,11 @@ pub fn scenario_files(dir: &Path) -> Result<Vec<PathBuf>> {
 /// The comparison step and length of a scene: its `[run]` table, shortened for `--quick`.
 pub fn scene_plan(scene: &Scenario, quick: bool) -> Result<(f64, u64)> {
     let dt = scene.run.dt.ok_or_else(|| {
-        Error::invalid(&scene.source, "run.dt", "the report needs a time step: set [run].dt")
+        Error::invalid(
+            &scene.source,
+            "run.dt",
+            "the report needs a time step: set [run].dt",
+        )
     })?;
     let steps = match (scene.run.steps, scene.run.duration) {
         (Some(n), _) => n,
@@ -58,7 +62,14 @@ pub fn scene_plan(scene: &Scenario, quick: bool) -> Result<(f64, u64)> {
             ))
         }
     };
-    Ok((dt, if quick { steps.min(QUICK_MAX_STEPS) } else { steps }))
+    Ok((
+        dt,
+        if quick {
+            steps.min(QUICK_MAX_STEPS)
+        } else {
+            steps
+        },
+    ))
 }
 
 fn write_chart(dir: &Path, stem: &str, svg: Result<String>, data: &dyn ChartCsv) -> Result<()> {
@@ -83,17 +94,34 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
     fig("energy", "Energy over time", "The total energy account per backend; flat is right. A run that blew up stops at its × marker.".into());
     let ee = charts::energy_error(r);
     write_chart(&dir, "energy_error", plots::energy_error(&ee), &ee)?;
-    fig("energy_error", "Relative energy error", format!("|E(t) − E(0)| / E_scale on a log scale, with {}.", ee.scale_note));
+    fig(
+        "energy_error",
+        "Relative energy error",
+        format!(
+            "|E(t) − E(0)| / E_scale on a log scale, with {}.",
+            ee.scale_note
+        ),
+    );
     let pe = charts::position_error(r);
     write_chart(&dir, "position_error", plots::position_error(&pe), &pe)?;
-    fig("position_error", "Position error against the reference", format!("RMS distance of the free particles from the reference ({}), log scale.", r.reference));
+    fig(
+        "position_error",
+        "Position error against the reference",
+        format!(
+            "RMS distance of the free particles from the reference ({}), log scale.",
+            r.reference
+        ),
+    );
     if let Some(c) = charts::convergence(r) {
         write_chart(&dir, "convergence", plots::convergence(&c), &c)?;
         fig("convergence", "Convergence", format!("End-point error against the step over {} s, log-log; the legend gives each line's least-squares slope over its three finest stable points, dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step.", super::finite::cell(r.sweep.as_ref().map(|s| s.duration), 3)));
     }
+    let mut notes = Vec::new();
     if let Some(w) = charts::work_precision(r) {
         write_chart(&dir, "work_precision", plots::work_precision(&w), &w)?;
         fig("work_precision", "Work against precision", "The same sweep as cost: lower-left is better. Wall time varies between machines and runs; force evaluations do not.".into());
+    } else if r.sweep.is_some() {
+        notes.push("Work against precision: no run of the step-size sweep stayed stable, so there is nothing to plot.".to_string());
     }
     if let Some(s) = charts::stability(r) {
         write_chart(&dir, "stability", plots::stability(&s), &s)?;
@@ -109,14 +137,15 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
     }
     let mut sum = scene_summary(r);
     sum.verdict = super::verdict::verdict(&sum, r);
-    let mut notes = vec![
-        "Collision validation (height envelope, restitution per bounce, penetration): this scene has no obstacles, and obstacle support has not reached this build yet.".to_string(),
-    ];
+    notes.push("Collision validation (height envelope, restitution per bounce, penetration): this scene has no obstacles, and obstacle support has not reached this build yet.".to_string());
     if let Some(s) = &r.sweep {
         notes.push(format!("Sweep reference: {}.", s.reference));
     }
     notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit.".into());
-    write_atomic(dir.join("index.html"), scene_page(&sum, &figs, &notes).as_bytes())?;
+    write_atomic(
+        dir.join("index.html"),
+        scene_page(&sum, &figs, &notes).as_bytes(),
+    )?;
     write_atomic(
         dir.join("results.json"),
         serde_json::to_string_pretty(&sum)
@@ -139,7 +168,10 @@ pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<SceneSumma
 /// Writes `index.html`, `README.md` and `summary.json` (last, after every scene page).
 pub fn write_overview(sum: &Summary, out: &Path) -> Result<()> {
     write_atomic(out.join("index.html"), index_page(sum).as_bytes())?;
-    write_atomic(out.join("README.md"), super::markdown::readme(sum).as_bytes())?;
+    write_atomic(
+        out.join("README.md"),
+        super::markdown::readme(sum).as_bytes(),
+    )?;
     let json = serde_json::to_string_pretty(sum).map_err(|e| Error::Write {
         file: out.join("summary.json"),
         source: std::io::Error::other(e),

@@ -2,7 +2,7 @@
 //! [`SceneResults`]: one row per backend and scene.
 
 use super::finite::finite;
-use super::results::{SceneResults, Scan, Sweep};
+use super::results::{Scan, SceneResults, Sweep};
 use crate::run::Status;
 use serde::Serialize;
 
@@ -155,7 +155,11 @@ pub fn scene_summary(r: &SceneResults) -> SceneSummary {
                 .filter_map(|s| s.pos_error.and_then(finite))
                 .collect();
             let max_err = errs.iter().copied().reduce(f64::max);
-            let final_err = run.samples.iter().rev().find_map(|s| s.pos_error.and_then(finite));
+            let final_err = run
+                .samples
+                .iter()
+                .rev()
+                .find_map(|s| s.pos_error.and_then(finite));
             let (blowup_time, blowup_reason) = match &run.status {
                 Status::Unstable { time, reason, .. } => (Some(*time), Some(reason.clone())),
                 Status::Ok => (None, None),
@@ -192,7 +196,11 @@ pub fn scene_summary(r: &SceneResults) -> SceneSummary {
         sweep_reference: r.sweep.as_ref().map(|s| s.reference.clone()),
         omega: r.scan.as_ref().map(|s| s.omega),
         backends,
-        skipped: r.skipped.iter().map(|s| (s.backend.clone(), s.reason.clone())).collect(),
+        skipped: r
+            .skipped
+            .iter()
+            .map(|s| (s.backend.clone(), s.reason.clone()))
+            .collect(),
         verdict: String::new(),
         page: format!("{}/index.html", r.scene),
     }
@@ -205,7 +213,10 @@ mod tests {
     #[test]
     fn slope_of_an_exact_power_law() {
         // y = 3 x^4 has log-log slope 4 exactly.
-        let pts: Vec<(f64, f64)> = [0.1, 0.05, 0.025].iter().map(|&x| (x, 3.0 * x.powi(4))).collect();
+        let pts: Vec<(f64, f64)> = [0.1, 0.05, 0.025]
+            .iter()
+            .map(|&x| (x, 3.0 * x.powi(4)))
+            .collect();
         assert!((loglog_slope(&pts).unwrap() - 4.0).abs() < 1e-12);
         assert_eq!(loglog_slope(&pts[..1]), None);
     }

@@ -51,7 +51,11 @@ fn work_sentence(r: &SceneResults) -> Option<String> {
             let mut p: Vec<(f64, f64)> = l
                 .points
                 .iter()
-                .filter_map(|p| p.error.filter(|e| e.is_finite() && *e > 0.0).map(|e| (p.force_evals as f64, e)))
+                .filter_map(|p| {
+                    p.error
+                        .filter(|e| e.is_finite() && *e > 0.0)
+                        .map(|e| (p.force_evals as f64, e))
+                })
                 .collect();
             p.sort_by(|a, b| a.0.total_cmp(&b.0));
             (l.integrator.clone(), p)
@@ -61,7 +65,12 @@ fn work_sentence(r: &SceneResults) -> Option<String> {
     // The smallest decade of error at least two integrators reach.
     let mut target = None;
     for k in (-14..=1).map(|k| 10f64.powi(k)) {
-        if lines.iter().filter(|(_, p)| evals_for(p, k).is_some()).count() >= 2 {
+        if lines
+            .iter()
+            .filter(|(_, p)| evals_for(p, k).is_some())
+            .count()
+            >= 2
+        {
             target = Some(k);
             break;
         }
@@ -97,18 +106,36 @@ pub fn verdict(s: &SceneSummary, r: &SceneResults) -> String {
         .filter(|b| !is_reference(s, b) && b.status == "ok")
         .filter_map(|b| b.max_energy_drift.map(|d| (b, d)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
-    let mut first = format!("At dt = {} over {} s", dt_words(s.dt), cell(Some(s.duration), 3));
+    let mut first = format!(
+        "At dt = {} over {} s",
+        dt_words(s.dt),
+        cell(Some(s.duration), 3)
+    );
     match (worst, steadiest) {
-        (Some((w, c)), Some((b, d))) if w.backend != b.backend => first += &format!(
-            ", {} {} {} of the energy scale{}; {} stays within {}.",
-            w.backend,
-            if c >= 0.0 { "gains" } else { "loses" },
-            pct(c.abs()),
-            w.blowup_time.map_or(String::new(), |t| format!(" before it blows up at t = {} s", cell(Some(t), 3))),
-            b.backend,
-            pct(d)
-        ),
-        (_, Some((b, d))) => first += &format!(", every backend keeps its energy account within {} ({} best).", pct(bs.iter().filter_map(|b| b.max_energy_drift).fold(d, f64::max)), b.backend),
+        (Some((w, c)), Some((b, d))) if w.backend != b.backend => {
+            first += &format!(
+                ", {} {} {} of the energy scale{}; {} stays within {}.",
+                w.backend,
+                if c >= 0.0 { "gains" } else { "loses" },
+                pct(c.abs()),
+                w.blowup_time.map_or(String::new(), |t| format!(
+                    " before it blows up at t = {} s",
+                    cell(Some(t), 3)
+                )),
+                b.backend,
+                pct(d)
+            )
+        }
+        (_, Some((b, d))) => {
+            first += &format!(
+                ", every backend keeps its energy account within {} ({} best).",
+                pct(bs
+                    .iter()
+                    .filter_map(|b| b.max_energy_drift)
+                    .fold(d, f64::max)),
+                b.backend
+            )
+        }
         _ => first += ", no backend ran to completion.",
     }
     out.push(first);
@@ -135,7 +162,12 @@ pub fn verdict(s: &SceneSummary, r: &SceneResults) -> String {
                 s.reference, best.0, cell(Some(best.1), 2), worst.0, cell(Some(worst.1), 2)
             ));
         } else {
-            out.push(format!("Against {}, {}'s position error stays below {} m.", s.reference, best.0, cell(Some(best.1), 2)));
+            out.push(format!(
+                "Against {}, {}'s position error stays below {} m.",
+                s.reference,
+                best.0,
+                cell(Some(best.1), 2)
+            ));
         }
     }
     if let Some(w) = work_sentence(r) {

@@ -15,7 +15,7 @@ pub fn energy(data: &EnergyData) -> Result<String> {
         guides: &[],
         dots: false,
         equal_aspect: false,
-            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
+        legend: plotters::prelude::SeriesLabelPosition::UpperRight,
     }];
     if !data.terms.is_empty() {
         panels.push(Panel {
