@@ -55,7 +55,7 @@ impl CollectOptions {
     }
     /// The h·ω grid: geometric, finer for small scenes where runs are cheap.
     fn scan_thetas(&self, particles: usize) -> Vec<f64> {
-        let (n, lo, hi) = if self.quick {
+        let (n, lo, hi): (usize, f64, f64) = if self.quick {
             (7, 0.1, 10.0)
         } else if particles < 100 {
             (29, 0.05, 20.0)
@@ -63,7 +63,7 @@ impl CollectOptions {
             (13, 0.05, 20.0)
         };
         (0..n)
-            .map(|k| lo * (hi / lo as f64).powf(k as f64 / (n - 1) as f64))
+            .map(|k| lo * (hi / lo).powf(k as f64 / (n - 1) as f64))
             .collect()
     }
     /// Particle-steps allowed per stability-scan run.

@@ -215,7 +215,7 @@ mod tests {
         // y = 3 x^4 has log-log slope 4 exactly.
         let pts: Vec<(f64, f64)> = [0.1, 0.05, 0.025]
             .iter()
-            .map(|&x| (x, 3.0 * x.powi(4)))
+            .map(|&x: &f64| (x, 3.0 * x.powi(4)))
             .collect();
         assert!((loglog_slope(&pts).unwrap() - 4.0).abs() < 1e-12);
         assert_eq!(loglog_slope(&pts[..1]), None);

@@ -182,7 +182,7 @@ pub fn verdict(s: &SceneSummary, r: &SceneResults) -> String {
                 let theory = super::collect::theory_limit(&b.backend);
                 let th = match theory {
                     Some(l) if l.is_infinite() => " (theory: any)".to_string(),
-                    Some(l) if l == 0.0 => " (theory: none)".to_string(),
+                    Some(0.0) => " (theory: none)".to_string(),
                     Some(l) => format!(" (theory {})", cell(Some(l), 3)),
                     None => String::new(),
                 };

@@ -13,6 +13,9 @@ fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> E
     }
 }
 
+/// A snapshot's time and its polylines, ready to draw.
+type TimedLines = (f64, Vec<Vec<(f64, f64)>>);
+
 /// Shade for the k-th of `n` snapshots: light (early) to dark (late).
 fn shade(k: usize, n: usize) -> RGBColor {
     let f = if n > 1 {
@@ -27,7 +30,7 @@ fn shade(k: usize, n: usize) -> RGBColor {
 /// SVG with one panel per backend showing the chain or cloth at a few instants.
 pub fn snapshots(data: &SnapshotData) -> Result<String> {
     // Every polyline through the finite gate; one shared range so panels compare directly.
-    let panels: Vec<Vec<(f64, Vec<Vec<(f64, f64)>>)>> = data
+    let panels: Vec<Vec<TimedLines>> = data
         .panels
         .iter()
         .map(|p| {
