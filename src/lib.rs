@@ -28,7 +28,10 @@
 //! assert!((out.final_energy.total - out.initial_energy.total).abs() < 1e-9);
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod backend;
+pub mod collide;
 pub mod error;
 pub mod integrate;
 pub mod model;

@@ -10,16 +10,16 @@ use std::path::PathBuf;
 #[derive(Debug, Clone, clap::Args)]
 pub struct StepArgs {
     /// Time step in seconds (overrides [run].dt).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f64>,
     /// Number of steps (overrides [run].steps / duration).
     #[arg(long, conflicts_with = "duration")]
     pub steps: Option<u64>,
     /// Simulated time in seconds (overrides [run].steps / duration).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR)]
+    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
     pub blowup_factor: f64,
     /// Constraint projection sweeps per step for verlet_constraints.
     #[arg(long, default_value_t = 20)]

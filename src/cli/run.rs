@@ -45,14 +45,28 @@ pub fn run(a: Args) -> Result<()> {
         .out
         .unwrap_or_else(|| PathBuf::from("out").join(&scene.name).join(&name));
     let mut files = RunFiles::create(&dir, a.every, plan.dt)?;
-    let out = springlab::run::run(
-        &sys,
-        integ.as_mut(),
-        scene.initial_state(),
-        &plan,
-        &mut files,
-    )?;
+    // Collision metrics only when the scene has obstacles (contacts.json).
+    let mut metrics = springlab::collide::ContactMetrics::new(&sys, plan.dt);
+    let out = match metrics.as_mut() {
+        Some(m) => springlab::run::run(
+            &sys,
+            integ.as_mut(),
+            scene.initial_state(),
+            &plan,
+            &mut (&mut files, m),
+        )?,
+        None => springlab::run::run(
+            &sys,
+            integ.as_mut(),
+            scene.initial_state(),
+            &plan,
+            &mut files,
+        )?,
+    };
     files.commit()?;
+    if let Some(m) = &metrics {
+        springlab::collide::metrics::write_report(&dir, &m.report())?;
+    }
     let summary = RunSummary::new(&scene.name, &name, plan.dt, plan.steps, &out);
     write_run(&dir, &summary)?;
     println!(

@@ -139,7 +139,7 @@ impl Analytic {
             along.extend(
                 sys.impulses
                     .iter()
-                    .filter(|im| im.particle == p && im.time >= s.t)
+                    .filter(|im| im.particle == p && im.time > s.t + 1e-12 * (1.0 + s.t.abs()))
                     .map(|im| im.delta_v),
             );
             if along.iter().any(|w| !parallel(*w, axis)) {
@@ -147,15 +147,27 @@ impl Analytic {
             }
             let s_eq = l0 + m * g.dot(&axis) / k;
             if l0 > 0.0 {
-                let amp = ((d.norm() - s_eq).powi(2) + s.v[p].norm_squared() * m / k).sqrt();
-                let kicks: f64 = sys
+                // Walk the exact solution through this particle's impulses: in each segment the
+                // amplitude about equilibrium is at most √(u² + v²/ω₀²) (energy never grows).
+                let (mut u, mut v, mut t) = (d.norm() - s_eq, s.v[p].dot(&axis), s.t);
+                let kicks = sys
                     .impulses
                     .iter()
-                    .filter(|im| im.particle == p && im.time >= s.t)
-                    .map(|im| im.delta_v.norm())
-                    .sum();
-                if s_eq - amp - kicks * (m / k).sqrt() <= 0.0 {
-                    return Err(format!("particle {p} may pass through its anchor, where the spring law is not linear"));
+                    .filter(|im| im.particle == p && im.time > s.t + 1e-12 * (1.0 + s.t.abs()));
+                for dv in kicks
+                    .map(|im| Some((im.time, im.delta_v.dot(&axis))))
+                    .chain([None])
+                {
+                    if s_eq - (u * u + v * v / o.w2).sqrt() <= 0.0 {
+                        return Err(format!("particle {p} may pass through its anchor, where the spring law is not linear"));
+                    }
+                    let Some((ti, dvi)) = dv else { break };
+                    let (ec, es) = propagators(o.gamma, o.w2, ti - t);
+                    (u, v) = (
+                        u * ec + (v + u * o.gamma) * es,
+                        v * ec - (v * o.gamma + u * o.w2) * es + dvi,
+                    );
+                    t = ti;
                 }
             }
             o.eq = a + axis * s_eq;

@@ -20,7 +20,8 @@ use nalgebra::Matrix3;
 pub struct ImplicitSettings {
     /// Newton iterations before giving up.
     pub max_newton: usize,
-    /// Newton stops when max |M⁻¹ G| ≤ `newton_tol` × the velocity scale.
+    /// Newton stops when max |M⁻¹ G| ≤ `newton_tol` × the velocity scale, or when an update
+    /// is below `newton_tol` × |v| plus the round-off floor 16ε·max|x|/h.
     pub newton_tol: f64,
     /// CG stops at this relative residual (preconditioned norm).
     pub cg_tol: f64,
@@ -33,7 +34,7 @@ impl Default for ImplicitSettings {
         ImplicitSettings {
             max_newton: 50,
             newton_tol: 1e-10,
-            cg_tol: 1e-12,
+            cg_tol: 1e-8,
             max_cg: 2000,
         }
     }
@@ -78,18 +79,16 @@ impl Cg {
         &mut self,
         jac: &Jacobian,
         sys: &System,
-        h: f64,
         b: &[Vec3],
         x: &mut [Vec3],
-        tol: f64,
-        max_it: usize,
+        set: &ImplicitSettings,
     ) -> CgOutcome {
         let n = b.len();
         for buf in [&mut self.r, &mut self.z, &mut self.p, &mut self.ap] {
             ensure_len(buf, n);
         }
         ensure_len(&mut self.diag_inv, n);
-        jac.newton_diagonal(&sys.mass, &sys.free, h, &mut self.diag_inv);
+        jac.newton_diagonal(&sys.free, &mut self.diag_inv);
         for d in self.diag_inv.iter_mut() {
             *d = d.try_inverse().unwrap_or_else(Matrix3::identity);
         }
@@ -104,8 +103,8 @@ impl Cg {
         if rz0 == 0.0 {
             return CgOutcome::Converged(0);
         }
-        for it in 0..max_it {
-            jac.newton_matvec(&sys.mass, &sys.free, h, &self.p, &mut self.ap);
+        for it in 0..set.max_cg {
+            jac.newton_matvec(&sys.free, &self.p, &mut self.ap);
             for i in 0..n {
                 if !sys.free[i] {
                     self.ap[i] = Vec3::zeros();
@@ -122,7 +121,7 @@ impl Cg {
                 self.z[i] = self.diag_inv[i] * self.r[i];
             }
             let rz_new: f64 = self.r.iter().zip(&self.z).map(|(a, b)| a.dot(b)).sum();
-            if rz_new <= tol * tol * rz0 {
+            if rz_new <= set.cg_tol * set.cg_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
             }
             let beta = rz_new / rz;
@@ -168,7 +167,10 @@ impl Integrator for ImplicitEuler {
             "implicit_euler: Newton did not converge in {} iterations",
             self.settings.max_newton
         )));
-        for _ in 0..=self.settings.max_newton {
+        // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
+        let x_floor = 16.0 * f64::EPSILON * max_abs(&s.x) / h;
+        let mut small_update = false;
+        for iter in 0..=self.settings.max_newton {
             for p in 0..n {
                 self.xn[p] = s.x[p] + self.vn[p] * h;
             }
@@ -192,8 +194,11 @@ impl Integrator for ImplicitEuler {
                 ));
                 break;
             }
-            if res <= self.settings.newton_tol * scale || scale == 0.0 {
+            if res <= self.settings.newton_tol * scale || scale == 0.0 || small_update {
                 result = Ok(power);
+                break;
+            }
+            if iter == self.settings.max_newton {
                 break;
             }
             self.newton_iterations += 1;
@@ -204,15 +209,11 @@ impl Integrator for ImplicitEuler {
             loop {
                 jac.definite = definite;
                 sys.jacobian(&self.xn, &self.vn, &mut jac);
-                match self.cg.solve(
-                    &jac,
-                    sys,
-                    h,
-                    &self.r,
-                    &mut self.dv,
-                    self.settings.cg_tol,
-                    self.settings.max_cg,
-                ) {
+                jac.prepare_newton(&sys.mass, &sys.free, h);
+                match self
+                    .cg
+                    .solve(&jac, sys, &self.r, &mut self.dv, &self.settings)
+                {
                     CgOutcome::Converged(it) => {
                         self.cg_iterations += it as u64;
                         break;
@@ -230,6 +231,10 @@ impl Integrator for ImplicitEuler {
             for p in 0..n {
                 self.vn[p] += self.dv[p];
             }
+            // Converged when the update is below the tolerance or the round-off floor; one more
+            // force evaluation at the final iterate follows (for the dissipated power).
+            small_update = max_abs(&self.dv)
+                <= self.settings.newton_tol * v_scale0.max(max_abs(&self.vn)) + x_floor;
         }
         self.jac = Some(jac);
         let power = result?;

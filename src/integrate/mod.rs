@@ -4,20 +4,18 @@
 //! it exactly like the built-in ones (see `examples/custom_integrator.rs`).
 
 mod analytic;
-mod explicit_euler;
+mod euler;
 mod implicit_euler;
 mod registry;
 mod rk;
-mod symplectic_euler;
 mod verlet;
 mod verlet_constraints;
 
 pub use analytic::Analytic;
-pub use explicit_euler::ExplicitEuler;
+pub use euler::{ExplicitEuler, SymplecticEuler};
 pub use implicit_euler::ImplicitEuler;
 pub use registry::{by_name, canonical_name, is_known, known_names, IntegratorOptions, NATIVE};
 pub use rk::{RungeKutta, Tableau};
-pub use symplectic_euler::SymplecticEuler;
 pub use verlet::{PositionVerlet, VelocityVerlet};
 pub use verlet_constraints::VerletConstraints;
 

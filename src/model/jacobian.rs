@@ -23,6 +23,10 @@ pub struct Jacobian {
     /// When set, terms must fill positive semi-definite stiffness blocks (dropping the
     /// indefinite geometric part of compressed springs), so the Newton matrix is SPD.
     pub definite: bool,
+    /// Per-pair Newton blocks h·kv + h²·kx, filled by [`Jacobian::prepare_newton`].
+    newton_pair: Vec<Matrix3<f64>>,
+    /// Per-particle Newton blocks m I − h·diag_v − h²·diag_x (identity for fixed particles).
+    newton_self: Vec<Matrix3<f64>>,
 }
 
 impl Jacobian {
@@ -36,6 +40,8 @@ impl Jacobian {
             diag_x: vec![Matrix3::zeros(); n],
             diag_v: vec![Matrix3::zeros(); n],
             definite: false,
+            newton_pair: vec![Matrix3::zeros(); m],
+            newton_self: vec![Matrix3::zeros(); n],
         }
     }
     /// Resets every block to zero, keeping the topology and storage.
@@ -54,20 +60,30 @@ impl Jacobian {
         self.kx[s] = kx;
         self.kv[s] = kv;
     }
-    /// y = (M - h ∂f/∂v - h² ∂f/∂x) p: the backward-Euler Newton matrix applied to `p`.
-    /// Entries of fixed particles (`free[i] == false`) are left as `m p` and never coupled.
-    pub fn newton_matvec(&self, mass: &[f64], free: &[bool], h: f64, p: &[Vec3], y: &mut [Vec3]) {
-        for i in 0..p.len() {
-            y[i] = if free[i] {
-                p[i] * mass[i] - (self.diag_v[i] * h + self.diag_x[i] * (h * h)) * p[i]
+    /// Precomputes the blocks of the backward-Euler Newton matrix M − h ∂f/∂v − h² ∂f/∂x for
+    /// step `h`, so that each matrix-vector product costs one 3×3 product per pair and particle.
+    pub fn prepare_newton(&mut self, mass: &[f64], free: &[bool], h: f64) {
+        for s in 0..self.pairs.len() {
+            self.newton_pair[s] = self.kv[s] * h + self.kx[s] * (h * h);
+        }
+        for i in 0..mass.len() {
+            self.newton_self[i] = if free[i] {
+                Matrix3::identity() * mass[i] - self.diag_v[i] * h - self.diag_x[i] * (h * h)
             } else {
-                p[i]
+                Matrix3::identity()
             };
+        }
+    }
+
+    /// y = A p for the Newton matrix A prepared by [`Jacobian::prepare_newton`]. Rows of fixed
+    /// particles are left as p and never coupled.
+    pub fn newton_matvec(&self, free: &[bool], p: &[Vec3], y: &mut [Vec3]) {
+        for i in 0..p.len() {
+            y[i] = self.newton_self[i] * p[i];
         }
         for (s, pr) in self.pairs.iter().enumerate() {
             let (a, b) = (pr[0] as usize, pr[1] as usize);
-            let blk = self.kv[s] * h + self.kx[s] * (h * h);
-            let q = blk * (p[b] - p[a]);
+            let q = self.newton_pair[s] * (p[b] - p[a]);
             if free[a] {
                 y[a] -= q;
             }
@@ -76,20 +92,14 @@ impl Jacobian {
             }
         }
     }
-    /// The 3×3 diagonal blocks of the Newton matrix, for a block-Jacobi preconditioner.
-    pub fn newton_diagonal(&self, mass: &[f64], free: &[bool], h: f64, out: &mut [Matrix3<f64>]) {
-        for i in 0..out.len() {
-            out[i] = if free[i] {
-                Matrix3::identity() * mass[i] - self.diag_v[i] * h - self.diag_x[i] * (h * h)
-            } else {
-                Matrix3::identity()
-            };
-        }
+
+    /// The 3×3 diagonal blocks of the prepared Newton matrix, for a block-Jacobi preconditioner.
+    pub fn newton_diagonal(&self, free: &[bool], out: &mut [Matrix3<f64>]) {
+        out.copy_from_slice(&self.newton_self);
         for (s, pr) in self.pairs.iter().enumerate() {
-            let blk = self.kv[s] * h + self.kx[s] * (h * h);
             for &q in pr {
                 if free[q as usize] {
-                    out[q as usize] += blk;
+                    out[q as usize] += self.newton_pair[s];
                 }
             }
         }

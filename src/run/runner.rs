@@ -97,12 +97,27 @@ struct Loop<'a> {
     evals: u64,
     dissipated: f64,
     wall: f64,
+    /// Positions before the step, kept only when the scene has a contact stage.
+    x0: Vec<crate::model::Vec3>,
 }
 
 impl Loop<'_> {
     fn step(&mut self, s: &mut State, h: f64) -> Result<()> {
         let t0 = Instant::now();
+        if self.sys.contacts.is_some() {
+            self.x0.clone_from(&s.x);
+        }
         let stats = self.integ.step(self.sys, s, h)?;
+        // Contact stage (obstacles only): resolve contacts after the accepted step, before the
+        // energy account; what it removes joins `dissipated`, and a changed state resets the
+        // integrator's history.
+        if let Some(c) = &self.sys.contacts {
+            let cs = c.apply(self.sys, &self.x0, s, h);
+            self.dissipated += cs.dissipated;
+            if cs.changed {
+                self.integ.reset();
+            }
+        }
         self.wall += t0.elapsed().as_secs_f64();
         self.evals += stats.force_evals;
         self.dissipated += stats.dissipated;
@@ -133,6 +148,7 @@ pub fn run(
         evals: 0,
         dissipated: 0.0,
         wall: 0.0,
+        x0: Vec::new(),
     };
     let eps = 1e-9 * plan.dt;
     let mut next_imp = 0;

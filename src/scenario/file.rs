@@ -38,6 +38,11 @@ pub struct ScenarioFile {
     pub cloth: Vec<ClothSpec>,
     /// Run settings (step, length, default integrators).
     pub run: Option<RunSpec>,
+    /// Static obstacles (issue 5).
+    #[serde(default)]
+    pub obstacle: Vec<super::obstacle_file::ObstacleSpec>,
+    /// How contacts with obstacles are resolved (default: impulse).
+    pub collision: Option<super::obstacle_file::CollisionSpec>,
 }
 
 /// `[world]`: gravity and drag; absent values mean the term does not exist.

@@ -25,6 +25,9 @@
 
 pub mod file;
 mod generate;
+mod obj;
+pub mod obstacle_file;
+mod obstacle_validate;
 mod parse;
 mod validate;
 pub use validate::{MAX_PARTICLES, MAX_STEPS};
@@ -122,6 +125,8 @@ pub struct Scenario {
     pub run: RunSettings,
     /// Generated blocks (chains, cloths) for plots.
     pub blocks: Vec<Block>,
+    /// Obstacles and contact response; `None` when the scene has no obstacles.
+    pub collision: Option<crate::collide::CollisionSetup>,
     /// The raw file, for later stages that read more tables.
     pub raw: ScenarioFile,
 }
@@ -182,6 +187,21 @@ impl Scenario {
         if let Some(c) = self.drag {
             terms.push(Box::new(Drag { c }));
         }
+        // Obstacles (issue 5): parry shapes and the broad phase are built only when they exist.
+        let contacts = self.collision.as_ref().map(|c| {
+            let set = std::sync::Arc::new(crate::collide::ObstacleSet::build(&c.obstacles));
+            if let crate::collide::Response::Penalty { stiffness, damping } = c.response {
+                terms.push(Box::new(crate::collide::Penalty::new(
+                    set.clone(),
+                    stiffness,
+                    damping,
+                    self.particles.iter().map(|p| p.mass).collect(),
+                    self.particles.iter().map(|p| p.radius).collect(),
+                    self.particles.iter().map(|p| !p.fixed).collect(),
+                )));
+            }
+            crate::collide::Contacts::new(set, c.response)
+        });
         System {
             mass,
             inv_mass,
@@ -193,6 +213,7 @@ impl Scenario {
             constraints: self.constraints.clone(),
             impulses: self.impulses.clone(),
             terms,
+            contacts,
         }
     }
 

@@ -290,6 +290,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
         None => None,
     };
     let run = validate_run(&ck, &raw)?;
+    let collision = super::obstacle_validate::validate_collision(&raw, file)?;
     let name = raw.name.clone().unwrap_or_else(|| {
         file.file_stem()
             .map_or("scenario".into(), |s| s.to_string_lossy().into_owned())
@@ -312,6 +313,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
         drag,
         run,
         blocks,
+        collision,
         raw,
     })
 }

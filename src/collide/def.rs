@@ -1,0 +1,141 @@
+//! Validated obstacle and collision settings: what the scene file asked for, in model units,
+//! before any parry shape is built (the Rapier backend reads the same definitions).
+
+use crate::model::Vec3;
+
+/// The geometry of one obstacle, in world coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ShapeDef {
+    /// The half-space behind a plane through `point` with unit outward `normal`.
+    Plane {
+        /// A point on the plane (m).
+        point: Vec3,
+        /// Unit outward normal.
+        normal: Vec3,
+    },
+    /// A solid sphere.
+    Sphere {
+        /// Centre (m).
+        center: Vec3,
+        /// Radius (m, > 0).
+        radius: f64,
+    },
+    /// A solid box.
+    Box {
+        /// Centre (m).
+        center: Vec3,
+        /// Half side lengths along the box's own axes (m, each > 0).
+        half_extents: Vec3,
+        /// Orientation as an axis-angle vector (axis × angle in rad; zero: axis-aligned).
+        rotation: Vec3,
+    },
+    /// A solid capsule: all points within `radius` of the segment `a`–`b`.
+    Capsule {
+        /// First end of the axis (m).
+        a: Vec3,
+        /// Second end of the axis (m).
+        b: Vec3,
+        /// Radius (m, > 0).
+        radius: f64,
+    },
+    /// A triangle mesh with counter-clockwise (outward) triangles, in world coordinates.
+    Mesh {
+        /// Vertex positions (m).
+        vertices: Vec<Vec3>,
+        /// Triangles as vertex indices, wound counter-clockwise seen from outside.
+        triangles: Vec<[u32; 3]>,
+    },
+}
+
+impl ShapeDef {
+    /// The shape's name as written in scene files.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ShapeDef::Plane { .. } => "plane",
+            ShapeDef::Sphere { .. } => "sphere",
+            ShapeDef::Box { .. } => "box",
+            ShapeDef::Capsule { .. } => "capsule",
+            ShapeDef::Mesh { .. } => "mesh",
+        }
+    }
+}
+
+/// One static obstacle with its contact coefficients.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObstacleDef {
+    /// Geometry.
+    pub shape: ShapeDef,
+    /// Coefficient of restitution in [0, 1] (default 0).
+    pub restitution: f64,
+    /// Coulomb friction coefficient ≥ 0 (default 0).
+    pub friction: f64,
+}
+
+/// Where the penalty dashpot's damping comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PenaltyDamping {
+    /// A fixed dashpot coefficient c (N·s/m) for every contact.
+    Coefficient(f64),
+    /// One restitution for every contact: ζ = −ln e / √(π² + ln² e), c = 2ζ√(k m).
+    Restitution(f64),
+    /// Each obstacle's own `restitution`, converted as in [`PenaltyDamping::Restitution`].
+    PerObstacle,
+}
+
+/// How contacts are resolved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Response {
+    /// After each step: reflect the normal velocity with restitution, Coulomb friction on the
+    /// tangential part, and put the particle back on the surface.
+    Impulse,
+    /// A spring-dashpot force on the penetration depth (a force term every integrator sees).
+    Penalty {
+        /// Contact spring stiffness k (N/m).
+        stiffness: f64,
+        /// Dashpot setting.
+        damping: PenaltyDamping,
+    },
+    /// After each step: project positions out and set the implied velocity (position-based
+    /// dynamics, for `verlet_constraints`), restitution and friction through that velocity.
+    Projection,
+}
+
+impl Response {
+    /// The response's name as written in scene files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Response::Impulse => "impulse",
+            Response::Penalty { .. } => "penalty",
+            Response::Projection => "projection",
+        }
+    }
+}
+
+/// A scene's obstacles and how contacts with them are resolved (present only with obstacles).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CollisionSetup {
+    /// The obstacles, in file order.
+    pub obstacles: Vec<ObstacleDef>,
+    /// The contact response.
+    pub response: Response,
+}
+
+/// Damping ratio of a linear spring-dashpot contact that gives restitution `e` (contact ends
+/// when the penetration returns to zero): ζ = −ln e / √(π² + ln² e); 1 (critical) for e = 0.
+pub fn damping_ratio_for_restitution(e: f64) -> f64 {
+    if e <= 0.0 {
+        return 1.0;
+    }
+    let l = e.ln();
+    -l / (std::f64::consts::PI.powi(2) + l * l).sqrt()
+}
+
+/// Restitution of a linear spring-dashpot contact with damping ratio ζ (contact ends when the
+/// penetration returns to zero): e = exp(−ζπ/√(1−ζ²)) for ζ < 1, 0 otherwise.
+pub fn restitution_for_damping_ratio(zeta: f64) -> f64 {
+    if zeta >= 1.0 {
+        0.0
+    } else {
+        (-zeta * std::f64::consts::PI / (1.0 - zeta * zeta).sqrt()).exp()
+    }
+}

@@ -1,0 +1,552 @@
+//! Collision validation metrics, measured by an [`Observer`] from the accepted states alone
+//! (so they measure what a response really did, whatever it is):
+//!
+//! - per contact event: normal velocity in and out, measured restitution next to the expected
+//!   one (the obstacle's e for impulse/projection; e = exp(−ζπ/√(1−ζ²)) for penalty), contact
+//!   duration (and π/ω_d for penalty), maximum penetration;
+//! - per tracked particle: apex heights after each bounce against h0·e^(2n), energy lost per
+//!   bounce against 1 − e², and the height over time;
+//! - per run: penetration statistics and tunnelling events (a path between two accepted states
+//!   that enters an obstacle and ends outside it behind the entry face).
+//!
+//! Sampled velocities are carried to the moment of touching the surface with the ballistic
+//! relation u² = u₀² − 2 a_n z₀ (a_n = g·n): exact in free flight, so a step of dt does not bias
+//! the in/out speeds by g·dt. Apexes use the same relation from the last rising sample.
+
+use super::def::{damping_ratio_for_restitution, restitution_for_damping_ratio};
+use super::def::{PenaltyDamping, Response};
+use super::obstacles::{Contact, ObstacleSet};
+use crate::error::Result;
+use crate::model::{State, System, Vec3};
+use crate::run::{EnergyRecord, Observer};
+use serde::Serialize;
+use std::sync::Arc;
+
+/// Particles whose apex heights and height-over-time series are recorded (the first free ones).
+pub const TRACKED_PARTICLES: usize = 8;
+/// Most contact events listed one by one (all are counted and enter the statistics).
+pub const MAX_LISTED_EVENTS: usize = 10_000;
+/// Most points of each height-over-time series (evenly decimated at the end).
+pub const MAX_SERIES_POINTS: usize = 4_000;
+
+/// One contact between a particle and an obstacle, from touching to leaving.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ContactEvent {
+    /// Particle index.
+    pub particle: usize,
+    /// Obstacle index.
+    pub obstacle: usize,
+    /// Estimated time of touching (s).
+    pub t_in: f64,
+    /// Estimated time of leaving (s).
+    pub t_out: f64,
+    /// t_out − t_in (s).
+    pub duration: f64,
+    /// Penalty only: the spring-dashpot's half period π/ω_d (s).
+    pub expected_duration: Option<f64>,
+    /// Normal velocity when touching (m/s, negative: approaching).
+    pub v_in: f64,
+    /// Normal velocity when leaving (m/s, positive: separating).
+    pub v_out: f64,
+    /// Measured restitution v_out / |v_in| (absent for a resting or grazing contact, see
+    /// [`ContactMetrics::grazing_speed`]).
+    pub restitution: Option<f64>,
+    /// What the response should give (see the module docs).
+    pub expected_restitution: f64,
+    /// Largest penetration seen at an accepted state during the contact (m, ≥ 0).
+    pub max_penetration: f64,
+}
+
+/// One apex between bounces of a tracked particle.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Apex {
+    /// Bounces before this apex (0: the release height).
+    pub bounce: u32,
+    /// Time of the apex (s).
+    pub t: f64,
+    /// Height of the particle's surface above the obstacle (m).
+    pub height: f64,
+    /// h0 · e^(2n) with the expected restitution e.
+    pub predicted: f64,
+    /// height / previous apex height (absent for the first).
+    pub ratio: Option<f64>,
+    /// e² with the expected restitution of the bounce before this apex.
+    pub expected_ratio: Option<f64>,
+    /// Fraction of the mechanical energy lost in the bounce: 1 − ratio.
+    pub energy_lost: Option<f64>,
+    /// 1 − e².
+    pub expected_energy_lost: Option<f64>,
+}
+
+/// Bounce record of one tracked particle.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ParticleBounces {
+    /// Particle index.
+    pub particle: usize,
+    /// Apexes, the release height first.
+    pub apexes: Vec<Apex>,
+    /// Height over time: `[t, gap]` pairs (gap < 0: penetration), decimated.
+    pub heights: Vec<[f64; 2]>,
+}
+
+/// Summary statistics of a set of values.
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct Stats {
+    /// How many values.
+    pub count: u64,
+    /// Mean (0 when empty).
+    pub mean: f64,
+    /// Smallest (0 when empty).
+    pub min: f64,
+    /// Largest (0 when empty).
+    pub max: f64,
+}
+
+impl Stats {
+    fn of(values: impl Iterator<Item = f64>) -> Self {
+        let (mut count, mut sum, mut min, mut max) = (0u64, 0.0, f64::INFINITY, f64::NEG_INFINITY);
+        for v in values {
+            count += 1;
+            sum += v;
+            min = min.min(v);
+            max = max.max(v);
+        }
+        if count == 0 {
+            return Stats::default();
+        }
+        Stats {
+            count,
+            mean: sum / count as f64,
+            min,
+            max,
+        }
+    }
+}
+
+/// One path through an obstacle between two accepted states.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Tunnelling {
+    /// Particle index.
+    pub particle: usize,
+    /// Obstacle passed through.
+    pub obstacle: usize,
+    /// Time of the state after the crossing (s).
+    pub t: f64,
+}
+
+/// An obstacle as the report lists it.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ObstacleInfo {
+    /// Shape name.
+    pub shape: &'static str,
+    /// Coefficient of restitution.
+    pub restitution: f64,
+    /// Friction coefficient.
+    pub friction: f64,
+}
+
+/// `contacts.json`: everything the collision metrics measured in one run.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ContactReport {
+    /// `impulse`, `penalty` or `projection`.
+    pub response: &'static str,
+    /// Output step (s).
+    pub dt: f64,
+    /// Obstacles in file order.
+    pub obstacles: Vec<ObstacleInfo>,
+    /// Penalty only: contact stiffness (N/m).
+    pub penalty_stiffness: Option<f64>,
+    /// Completed contact events (touch and leave), all of them.
+    pub events_total: u64,
+    /// Contacts still open at the end of the run (resting contacts).
+    pub open_contacts: u64,
+    /// The first [`MAX_LISTED_EVENTS`] completed events.
+    pub events: Vec<ContactEvent>,
+    /// Measured restitution over completed impact events (resting/grazing ones excluded).
+    pub restitution: Stats,
+    /// Expected restitution over the same events.
+    pub expected_restitution: Stats,
+    /// Per-event maximum penetration (m), over completed and open events.
+    pub penetration: Stats,
+    /// Penetration (m) over every accepted state of every particle in contact.
+    pub penetration_samples: Stats,
+    /// Number of tunnelling events.
+    pub tunnelling_count: u64,
+    /// The first 100 tunnelling events.
+    pub tunnelling: Vec<Tunnelling>,
+    /// Apexes and heights of the tracked particles.
+    pub bounces: Vec<ParticleBounces>,
+    /// Parry narrow-phase queries made on this thread during the run (responses and metrics).
+    pub parry_queries: u64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Sample {
+    t: f64,
+    x: Vec3,
+    near: Option<Contact>,
+    un: f64,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Open {
+    obstacle: usize,
+    t_in: f64,
+    v_in: f64,
+    max_pen: f64,
+}
+
+#[derive(Debug, Default)]
+struct Track {
+    prev: Option<Sample>,
+    open: Option<Open>,
+    bounces: u32,
+    last_e: Option<f64>,
+    apexes: Vec<Apex>,
+    heights: Vec<[f64; 2]>,
+}
+
+/// The metrics observer; attach it to a run of a system with obstacles and call
+/// [`ContactMetrics::report`] afterwards.
+#[derive(Debug)]
+pub struct ContactMetrics {
+    set: Arc<ObstacleSet>,
+    response: Response,
+    gravity: Vec3,
+    mass: Vec<f64>,
+    radius: Vec<f64>,
+    free: Vec<bool>,
+    dt: f64,
+    tracks: Vec<Track>,
+    tracked: Vec<usize>,
+    events: Vec<ContactEvent>,
+    events_total: u64,
+    restitution: Vec<f64>,
+    expected: Vec<f64>,
+    event_pen: Vec<f64>,
+    pen_sum: f64,
+    pen_count: u64,
+    pen_max: f64,
+    pen_min: f64,
+    tunnels: Vec<Tunnelling>,
+    tunnel_count: u64,
+    q0: u64,
+    q1: u64,
+}
+
+impl ContactMetrics {
+    /// Metrics for `sys` sampled every `dt`; `None` when the system has no obstacles.
+    pub fn new(sys: &System, dt: f64) -> Option<Self> {
+        let c = sys.contacts.as_ref()?;
+        let tracked: Vec<usize> = (0..sys.len())
+            .filter(|&p| sys.free[p])
+            .take(TRACKED_PARTICLES)
+            .collect();
+        Some(ContactMetrics {
+            set: c.set.clone(),
+            response: c.response,
+            gravity: sys.gravity.unwrap_or_else(Vec3::zeros),
+            mass: sys.mass.clone(),
+            radius: sys.radius.clone(),
+            free: sys.free.clone(),
+            dt,
+            tracks: (0..sys.len()).map(|_| Track::default()).collect(),
+            tracked,
+            events: Vec::new(),
+            events_total: 0,
+            restitution: Vec::new(),
+            expected: Vec::new(),
+            event_pen: Vec::new(),
+            pen_sum: 0.0,
+            pen_count: 0,
+            pen_max: f64::NEG_INFINITY,
+            pen_min: f64::INFINITY,
+            tunnels: Vec::new(),
+            tunnel_count: 0,
+            q0: super::counter::query_count(),
+            q1: 0,
+        })
+    }
+
+    /// Expected restitution of particle `p` against obstacle `k` under this response.
+    pub fn expected_restitution(&self, k: usize, p: usize) -> f64 {
+        match self.zeta(k, p) {
+            Some(z) => restitution_for_damping_ratio(z),
+            None => self.set.obstacles()[k].restitution,
+        }
+    }
+
+    fn zeta(&self, k: usize, p: usize) -> Option<f64> {
+        let Response::Penalty { stiffness, damping } = self.response else {
+            return None;
+        };
+        Some(match damping {
+            PenaltyDamping::Coefficient(c) => c / (2.0 * (stiffness * self.mass[p]).sqrt()),
+            PenaltyDamping::Restitution(e) => damping_ratio_for_restitution(e),
+            PenaltyDamping::PerObstacle => {
+                damping_ratio_for_restitution(self.set.obstacles()[k].restitution)
+            }
+        })
+    }
+
+    /// Approach speed (m/s) below which a contact is resting or grazing and gets no measured
+    /// restitution: max(1 mm/s, 2|g|·dt), the speed gravity adds in two samples.
+    pub fn grazing_speed(&self) -> f64 {
+        (2.0 * self.gravity.norm() * self.dt).max(1e-3)
+    }
+
+    fn expected_duration(&self, k: usize, p: usize) -> Option<f64> {
+        let Response::Penalty { stiffness, .. } = self.response else {
+            return None;
+        };
+        let z = self.zeta(k, p)?;
+        (z < 1.0).then(|| {
+            std::f64::consts::PI / ((stiffness / self.mass[p]).sqrt() * (1.0 - z * z).sqrt())
+        })
+    }
+
+    fn sample(&mut self, p: usize, s: &State) {
+        let x = s.x[p];
+        let v = s.v[p];
+        let r = self.radius[p];
+        let is_tracked = self.tracked.contains(&p);
+        let margin = if is_tracked {
+            f64::INFINITY
+        } else {
+            2.0 * v.norm() * self.dt + 1e-3
+        };
+        let near = self.set.nearest(&x, r, margin);
+        let un = near.map_or(0.0, |c| v.dot(&c.normal));
+        let tol = 1e-9 * (1.0 + x.norm());
+        let in_contact = near.is_some_and(|c| c.gap < tol);
+        let prev = self.tracks[p].prev;
+        // Tunnelling: the path since the last state entered an obstacle and left it.
+        if let Some(pr) = prev {
+            if let Some(hit) = self.set.sweep(&pr.x, &x) {
+                // Through, not along: the end is outside, behind the entry face, and nearest to
+                // a face turned away from the entry (a chord sliding over a sphere is not).
+                let behind = (x - hit.point).dot(&hit.normal) < -tol;
+                let end = self.set.query(hit.obstacle, &x, 0.0);
+                if behind && end.distance > tol && end.normal.dot(&hit.normal) < 0.0 {
+                    self.tunnel_count += 1;
+                    if self.tunnels.len() < 100 {
+                        self.tunnels.push(Tunnelling {
+                            particle: p,
+                            obstacle: hit.obstacle,
+                            t: s.t,
+                        });
+                    }
+                }
+            }
+        }
+        if in_contact {
+            let c = near.expect("in contact");
+            let pen = (-c.gap).max(0.0);
+            self.pen_sum += pen;
+            self.pen_count += 1;
+            self.pen_max = self.pen_max.max(pen);
+            self.pen_min = self.pen_min.min(pen);
+            let a_n = self.gravity.dot(&c.normal);
+            let track = &mut self.tracks[p];
+            match &mut track.open {
+                Some(o) => o.max_pen = o.max_pen.max(pen),
+                None => {
+                    // Touching: carry the last free-flight sample to the surface.
+                    let (t_in, v_in) = match prev.and_then(|pr| pr.near.map(|pc| (pr, pc))) {
+                        Some((pr, pc)) if pc.obstacle == c.obstacle && pc.gap >= 0.0 => {
+                            let u0 = pr.un;
+                            let u2 = u0 * u0 - 2.0 * a_n * pc.gap;
+                            let u = -u2.max(0.0).sqrt();
+                            let t = if a_n != 0.0 {
+                                pr.t + (u - u0) / a_n
+                            } else if u0 < 0.0 {
+                                pr.t + pc.gap / -u0
+                            } else {
+                                pr.t
+                            };
+                            (t.clamp(pr.t, s.t), u)
+                        }
+                        _ => (s.t, un.min(0.0)),
+                    };
+                    track.open = Some(Open {
+                        obstacle: c.obstacle,
+                        t_in,
+                        v_in,
+                        max_pen: pen,
+                    });
+                }
+            }
+        } else if let Some(o) = self.tracks[p].open.take() {
+            // Leaving: carry this sample back to the surface.
+            let (u1, z1, a_n) = match near {
+                Some(c) => (un, c.gap.max(0.0), self.gravity.dot(&c.normal)),
+                None => (un, 0.0, 0.0),
+            };
+            let u = (u1 * u1 - 2.0 * a_n * z1).max(0.0).sqrt();
+            let prev_t = prev.map_or(s.t, |pr| pr.t);
+            let t_out = if a_n != 0.0 {
+                s.t - (u1 - u) / a_n
+            } else if u1 > 0.0 {
+                s.t - z1 / u1
+            } else {
+                s.t
+            };
+            let t_out = t_out.clamp(prev_t.max(o.t_in), s.t);
+            let e_exp = self.expected_restitution(o.obstacle, p);
+            let restitution = (o.v_in.abs() > self.grazing_speed()).then(|| u / o.v_in.abs());
+            let ev = ContactEvent {
+                particle: p,
+                obstacle: o.obstacle,
+                t_in: o.t_in,
+                t_out,
+                duration: t_out - o.t_in,
+                expected_duration: self.expected_duration(o.obstacle, p),
+                v_in: o.v_in,
+                v_out: u,
+                restitution,
+                expected_restitution: e_exp,
+                max_penetration: o.max_pen,
+            };
+            self.events_total += 1;
+            if let Some(e) = restitution {
+                self.restitution.push(e);
+                self.expected.push(e_exp);
+            }
+            self.event_pen.push(o.max_pen);
+            if self.events.len() < MAX_LISTED_EVENTS {
+                self.events.push(ev);
+            }
+            let track = &mut self.tracks[p];
+            track.bounces += 1;
+            track.last_e = Some(e_exp);
+        }
+        if is_tracked {
+            let track = &mut self.tracks[p];
+            if let Some(c) = near {
+                track.heights.push([s.t, c.gap]);
+                let a_n = self.gravity.dot(&c.normal);
+                let rising_before = prev.is_some_and(|pr| pr.un > 0.0);
+                let first = prev.is_none();
+                if a_n < 0.0
+                    && !in_contact
+                    && ((rising_before && un <= 0.0) || (first && un <= 0.0))
+                {
+                    let (t0, z0, u0) = match prev {
+                        Some(pr) if !first => (pr.t, pr.near.map_or(c.gap, |n| n.gap), pr.un),
+                        _ => (s.t, c.gap, un.max(0.0)),
+                    };
+                    let height = z0 + u0 * u0 / (-2.0 * a_n);
+                    let t = t0 + u0 / -a_n;
+                    let h0 = track.apexes.first().map_or(height, |a| a.height);
+                    let bounce = track.bounces;
+                    let prev_h = track.apexes.last().map(|a| a.height);
+                    let e = track.last_e;
+                    let ratio = prev_h.filter(|h| *h > 0.0).map(|h| height / h);
+                    let predicted = match e {
+                        Some(e) => h0 * e.powi(2 * bounce as i32),
+                        None => h0,
+                    };
+                    track.apexes.push(Apex {
+                        bounce,
+                        t,
+                        height,
+                        predicted,
+                        ratio,
+                        expected_ratio: prev_h.and(e.map(|e| e * e)),
+                        energy_lost: ratio.map(|r| 1.0 - r),
+                        expected_energy_lost: prev_h.and(e.map(|e| 1.0 - e * e)),
+                    });
+                }
+            }
+        }
+        self.tracks[p].prev = Some(Sample {
+            t: s.t,
+            x,
+            near,
+            un,
+        });
+    }
+
+    /// The measured metrics (call after the run).
+    pub fn report(&self) -> ContactReport {
+        let open: Vec<f64> = self
+            .tracks
+            .iter()
+            .filter_map(|t| t.open.map(|o| o.max_pen))
+            .collect();
+        let bounces = self
+            .tracked
+            .iter()
+            .map(|&p| {
+                let t = &self.tracks[p];
+                let stride = t.heights.len().div_ceil(MAX_SERIES_POINTS).max(1);
+                ParticleBounces {
+                    particle: p,
+                    apexes: t.apexes.clone(),
+                    heights: t.heights.iter().step_by(stride).copied().collect(),
+                }
+            })
+            .collect();
+        let (stiff, name) = match self.response {
+            Response::Penalty { stiffness, .. } => (Some(stiffness), "penalty"),
+            r => (None, r.name()),
+        };
+        ContactReport {
+            response: name,
+            dt: self.dt,
+            obstacles: self
+                .set
+                .obstacles()
+                .iter()
+                .map(|o| ObstacleInfo {
+                    shape: o.kind,
+                    restitution: o.restitution,
+                    friction: o.friction,
+                })
+                .collect(),
+            penalty_stiffness: stiff,
+            events_total: self.events_total,
+            open_contacts: open.len() as u64,
+            events: self.events.clone(),
+            restitution: Stats::of(self.restitution.iter().copied()),
+            expected_restitution: Stats::of(self.expected.iter().copied()),
+            penetration: Stats::of(self.event_pen.iter().chain(&open).copied()),
+            penetration_samples: if self.pen_count == 0 {
+                Stats::default()
+            } else {
+                Stats {
+                    count: self.pen_count,
+                    mean: self.pen_sum / self.pen_count as f64,
+                    min: self.pen_min,
+                    max: self.pen_max,
+                }
+            },
+            tunnelling_count: self.tunnel_count,
+            tunnelling: self.tunnels.clone(),
+            bounces,
+            parry_queries: self.q1.saturating_sub(self.q0),
+        }
+    }
+}
+
+impl Observer for ContactMetrics {
+    fn observe(&mut self, _step: u64, s: &State, _e: &EnergyRecord) -> Result<()> {
+        for p in 0..s.len() {
+            if self.free[p] {
+                self.sample(p, s);
+            }
+        }
+        self.q1 = super::counter::query_count();
+        Ok(())
+    }
+    fn finish(&mut self, _step: u64, _s: &State, _e: &EnergyRecord) -> Result<()> {
+        self.q1 = super::counter::query_count();
+        Ok(())
+    }
+}
+
+/// Writes `contacts.json` into `dir` atomically.
+pub fn write_report(dir: &std::path::Path, report: &ContactReport) -> Result<std::path::PathBuf> {
+    let json = serde_json::to_vec_pretty(report).expect("contact report serialises");
+    crate::output::write_atomic(dir.join("contacts.json"), &json)
+}

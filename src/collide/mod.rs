@@ -1,0 +1,21 @@
+//! Static obstacles through parry3d-f64 (issue 5): shapes at poses with a broad phase,
+//! per-particle signed-distance queries, the three contact responses (penalty force term,
+//! post-step impulse, post-step projection) and validation metrics. Nothing here is built or
+//! queried for a scene without obstacles ([`query_count`], [`build_count`] show it).
+
+mod contacts;
+mod counter;
+mod def;
+pub mod metrics;
+mod obstacles;
+mod penalty;
+
+pub use contacts::{ContactStep, Contacts};
+pub use counter::{build_count, query_count};
+pub use def::{
+    damping_ratio_for_restitution, restitution_for_damping_ratio, CollisionSetup, ObstacleDef,
+    PenaltyDamping, Response, ShapeDef,
+};
+pub use metrics::{ContactMetrics, ContactReport};
+pub use obstacles::{Contact, Obstacle, ObstacleSet, SweepHit};
+pub use penalty::{Penalty, FRICTION_REGULARISATION};

@@ -1,0 +1,364 @@
+//! Obstacles as parry shapes at their poses, a broad phase over them, and the per-particle
+//! queries every response uses: signed distance, outward normal and contact point by point
+//! projection, and swept (ray) tests between steps.
+//!
+//! Why point projection: in parry 0.31, `query::contact` with a ball first and a half-space
+//! second returns wrong distances (see `tests/collide_shapes.rs`); projecting the particle
+//! centre and subtracting its radius is exact for every shape and needs no ball shape at all.
+
+use super::counter::{count_build, count_query};
+use super::def::{ObstacleDef, ShapeDef};
+use crate::model::Vec3;
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::{Pose, Vector};
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
+use parry3d_f64::query::Ray;
+use parry3d_f64::shape::{SharedShape, TriMeshFlags};
+
+/// nalgebra → glam.
+pub(crate) fn to_g(v: &Vec3) -> Vector {
+    Vector::new(v.x, v.y, v.z)
+}
+/// glam → nalgebra.
+pub(crate) fn from_g(v: Vector) -> Vec3 {
+    Vec3::new(v.x, v.y, v.z)
+}
+
+/// One obstacle as parry sees it.
+#[derive(Clone)]
+pub struct Obstacle {
+    /// The parry shape in its local frame.
+    pub shape: SharedShape,
+    /// Its pose in the world.
+    pub pose: Pose,
+    /// Coefficient of restitution.
+    pub restitution: f64,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// Shape name (`plane`, `sphere`, ...).
+    pub kind: &'static str,
+}
+
+impl std::fmt::Debug for Obstacle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Obstacle")
+            .field("kind", &self.kind)
+            .field("pose", &self.pose)
+            .field("restitution", &self.restitution)
+            .field("friction", &self.friction)
+            .finish()
+    }
+}
+
+/// A particle's relation to one obstacle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    /// Obstacle index (file order).
+    pub obstacle: usize,
+    /// Signed distance of the particle centre to the surface (m, negative inside).
+    pub distance: f64,
+    /// `distance − radius`: the gap between the particle's surface and the obstacle
+    /// (negative: penetration depth).
+    pub gap: f64,
+    /// Unit outward surface normal at the contact point.
+    pub normal: Vec3,
+    /// Closest point on the obstacle's surface.
+    pub point: Vec3,
+}
+
+/// Where a straight path first enters an obstacle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SweepHit {
+    /// Obstacle index.
+    pub obstacle: usize,
+    /// Fraction of the path travelled at the hit, in (0, 1].
+    pub toi: f64,
+    /// Hit point on the surface.
+    pub point: Vec3,
+    /// Unit outward normal there (facing the path's start).
+    pub normal: Vec3,
+}
+
+/// Static obstacles with a broad phase built once: a parry [`Bvh`] over the bounded
+/// obstacles' AABBs; unbounded ones (planes) are always tested.
+#[derive(Debug)]
+pub struct ObstacleSet {
+    obstacles: Vec<Obstacle>,
+    /// Indices of unbounded obstacles (half-spaces).
+    unbounded: Vec<usize>,
+    /// BVH over bounded obstacles; leaf data = index into `bounded`.
+    bvh: Bvh,
+    bounded: Vec<usize>,
+}
+
+/// Relative size below which a projection's offset is treated as zero (the point is on the
+/// surface) and the normal is taken from the surface feature instead.
+const ON_SURFACE: f64 = 1e-12;
+
+impl ObstacleSet {
+    /// Builds parry shapes and the broad phase for `defs` (validated definitions).
+    pub fn build(defs: &[ObstacleDef]) -> Self {
+        count_build();
+        let mut obstacles = Vec::with_capacity(defs.len());
+        for d in defs {
+            let (shape, pose) = match &d.shape {
+                ShapeDef::Plane { point, normal } => (
+                    SharedShape::halfspace(to_g(&normal.normalize())),
+                    Pose::from_translation(to_g(point)),
+                ),
+                ShapeDef::Sphere { center, radius } => (
+                    SharedShape::ball(*radius),
+                    Pose::from_translation(to_g(center)),
+                ),
+                ShapeDef::Box {
+                    center,
+                    half_extents: h,
+                    rotation,
+                } => (
+                    SharedShape::cuboid(h.x, h.y, h.z),
+                    Pose::new(to_g(center), to_g(rotation)),
+                ),
+                ShapeDef::Capsule { a, b, radius } => (
+                    SharedShape::capsule(to_g(a), to_g(b), *radius),
+                    Pose::IDENTITY,
+                ),
+                ShapeDef::Mesh {
+                    vertices,
+                    triangles,
+                } => {
+                    // ORIENTED: pseudo-normals make inside tests (and so signed distances) valid.
+                    let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
+                    let shape = SharedShape::trimesh_with_flags(
+                        vertices.iter().map(to_g).collect(),
+                        triangles.clone(),
+                        flags,
+                    )
+                    .expect("validated mesh has triangles");
+                    (shape, Pose::IDENTITY)
+                }
+            };
+            obstacles.push(Obstacle {
+                shape,
+                pose,
+                restitution: d.restitution,
+                friction: d.friction,
+                kind: d.shape.kind(),
+            });
+        }
+        let mut unbounded = Vec::new();
+        let mut bounded = Vec::new();
+        let mut aabbs = Vec::new();
+        for (k, o) in obstacles.iter().enumerate() {
+            let aabb = o.shape.compute_aabb(&o.pose);
+            if aabb.mins.is_finite() && aabb.maxs.is_finite() {
+                bounded.push(k);
+                aabbs.push(aabb);
+            } else {
+                unbounded.push(k);
+            }
+        }
+        let bvh = if aabbs.is_empty() {
+            Bvh::new()
+        } else {
+            Bvh::from_leaves(BvhBuildStrategy::Binned, &aabbs)
+        };
+        ObstacleSet {
+            obstacles,
+            unbounded,
+            bvh,
+            bounded,
+        }
+    }
+
+    /// The obstacles, in file order.
+    pub fn obstacles(&self) -> &[Obstacle] {
+        &self.obstacles
+    }
+
+    /// Number of obstacles.
+    pub fn len(&self) -> usize {
+        self.obstacles.len()
+    }
+
+    /// True without obstacles.
+    pub fn is_empty(&self) -> bool {
+        self.obstacles.is_empty()
+    }
+
+    /// Signed distance, normal and closest point of point `p` to obstacle `k` (one query).
+    pub fn query(&self, k: usize, p: &Vec3, radius: f64) -> Contact {
+        count_query();
+        let o = &self.obstacles[k];
+        let pg = to_g(p);
+        let proj = o.shape.project_point(&o.pose, pg, false);
+        let point = from_g(proj.point);
+        let off = p - point;
+        let dist = off.norm();
+        let scale = 1.0 + p.norm();
+        let (distance, normal) = if dist > ON_SURFACE * scale {
+            if proj.is_inside {
+                (-dist, -off / dist)
+            } else {
+                (dist, off / dist)
+            }
+        } else {
+            (0.0, self.surface_normal(k, p))
+        };
+        Contact {
+            obstacle: k,
+            distance,
+            gap: distance - radius,
+            normal,
+            point,
+        }
+    }
+
+    /// Outward normal at a point lying on obstacle `k`'s surface (from the surface feature).
+    fn surface_normal(&self, k: usize, p: &Vec3) -> Vec3 {
+        let o = &self.obstacles[k];
+        let local = o.pose.inverse_transform_point(to_g(p));
+        let (proj, feature) = o.shape.project_local_point_and_get_feature(local);
+        let n = o
+            .shape
+            .feature_normal_at_point(proj.subshape, feature, proj.point)
+            .map(|n| o.pose.rotation * n);
+        match n {
+            Some(n) if n.length() > 0.0 => from_g(n.normalize()),
+            // No feature normal: point away from the obstacle's bounding-box centre.
+            _ => {
+                let c = from_g(o.shape.compute_aabb(&o.pose).center());
+                let d = p - c;
+                if d.norm() > 0.0 {
+                    d.normalize()
+                } else {
+                    Vec3::y()
+                }
+            }
+        }
+    }
+
+    /// Calls `f` for every obstacle whose gap to the particle (centre `p`, `radius`) is below
+    /// `margin` (m), in obstacle order. The broad phase limits the narrow queries.
+    pub fn for_each_near(&self, p: &Vec3, radius: f64, margin: f64, mut f: impl FnMut(Contact)) {
+        let reach = radius + margin.max(0.0);
+        for &k in &self.unbounded {
+            let c = self.query(k, p, radius);
+            if c.gap < margin {
+                f(c);
+            }
+        }
+        if self.bounded.is_empty() {
+            return;
+        }
+        let pg = to_g(p);
+        let r = Vector::splat(reach);
+        let aabb = Aabb::new(pg - r, pg + r);
+        // Candidate order from the BVH is fixed for a given tree; sort for obstacle order.
+        let mut hits = [usize::MAX; 16];
+        let mut n = 0;
+        let mut overflow = false;
+        for leaf in self.bvh.intersect_aabb(&aabb) {
+            if n < hits.len() {
+                hits[n] = self.bounded[leaf as usize];
+                n += 1;
+            } else {
+                overflow = true;
+                break;
+            }
+        }
+        if overflow {
+            // Many candidates: fall back to a plain ordered scan of the bounded ones.
+            for &k in &self.bounded {
+                let c = self.query(k, p, radius);
+                if c.gap < margin {
+                    f(c);
+                }
+            }
+            return;
+        }
+        hits[..n].sort_unstable();
+        for &k in &hits[..n] {
+            let c = self.query(k, p, radius);
+            if c.gap < margin {
+                f(c);
+            }
+        }
+    }
+
+    /// The obstacle nearest to the particle within `max_gap` (m), if any.
+    pub fn nearest(&self, p: &Vec3, radius: f64, max_gap: f64) -> Option<Contact> {
+        let mut best: Option<Contact> = None;
+        let mut take = |c: Contact| {
+            if best.is_none_or(|b| c.gap < b.gap) {
+                best = Some(c);
+            }
+        };
+        if max_gap.is_finite() {
+            self.for_each_near(p, radius, max_gap, &mut take);
+        } else {
+            for k in 0..self.obstacles.len() {
+                take(self.query(k, p, radius));
+            }
+        }
+        best
+    }
+
+    /// The first obstacle surface the straight path `p0 → p1` enters from outside, if any:
+    /// parry ray casts (solid) against obstacles whose AABB meets the path's. An obstacle the
+    /// path starts inside of is skipped (point projection handles it).
+    pub fn sweep(&self, p0: &Vec3, p1: &Vec3) -> Option<SweepHit> {
+        let d = p1 - p0;
+        if d.norm_squared() == 0.0 {
+            return None;
+        }
+        let ray = Ray::new(to_g(p0), to_g(&d));
+        let mut best: Option<SweepHit> = None;
+        let test = |k: usize, best: &mut Option<SweepHit>| {
+            let o = &self.obstacles[k];
+            count_query();
+            let Some(hit) = o.shape.cast_ray_and_get_normal(&o.pose, &ray, 1.0, true) else {
+                return;
+            };
+            let toi = hit.time_of_impact;
+            if toi <= 0.0 || best.is_some_and(|b| b.toi <= toi) {
+                return;
+            }
+            // Entering only: the start must be outside this obstacle.
+            if self.query(k, p0, 0.0).distance < 0.0 {
+                return;
+            }
+            let mut n = from_g(hit.normal);
+            if n.dot(&d) > 0.0 {
+                n = -n;
+            }
+            let nn = n.norm();
+            if nn == 0.0 {
+                return;
+            }
+            *best = Some(SweepHit {
+                obstacle: k,
+                toi,
+                point: p0 + d * toi,
+                normal: n / nn,
+            });
+        };
+        for &k in &self.unbounded {
+            test(k, &mut best);
+        }
+        if !self.bounded.is_empty() {
+            let a = to_g(p0);
+            let b = to_g(p1);
+            let aabb = Aabb::new(a.min(b), a.max(b));
+            let mut cand: Vec<usize> = self
+                .bvh
+                .intersect_aabb(&aabb)
+                .map(|l| self.bounded[l as usize])
+                .collect();
+            cand.sort_unstable();
+            for k in cand {
+                test(k, &mut best);
+            }
+        }
+        best
+    }
+}

@@ -1,0 +1,261 @@
+//! Every class of bad input gives a non-zero exit, an error naming the file and the field, and
+//! no panic. Runs the real binary on files written to a temporary directory.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const GOOD: &str = "[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\nfixed = true\n\
+[[particle]]\nposition = [1.0, 0.0, 0.0]\nmass = 1.0\n\
+[[spring]]\nbetween = [0, 1]\nstiffness = 2.0\nrest_length = 0.5\n\
+[run]\ndt = 0.01\nsteps = 10\n";
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_springlab"))
+}
+
+fn write(dir: &Path, name: &str, text: &[u8]) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Runs `springlab check FILE` and asserts a clean failure mentioning every `needles`.
+fn rejects(text: &[u8], needles: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "scene.toml", text);
+    let out = bin().arg("check").arg(&f).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "accepted:\n{}",
+        String::from_utf8_lossy(text)
+    );
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert!(err.contains("scene.toml"), "no file name in: {err}");
+    for n in needles {
+        assert!(err.contains(n), "missing '{n}' in: {err}");
+    }
+}
+
+fn good_with(from: &str, to: &str) -> Vec<u8> {
+    assert!(GOOD.contains(from), "{from}");
+    GOOD.replacen(from, to, 1).into_bytes()
+}
+
+#[test]
+fn the_good_scene_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "scene.toml", GOOD.as_bytes());
+    assert!(bin()
+        .arg("check")
+        .arg(&f)
+        .output()
+        .unwrap()
+        .status
+        .success());
+}
+
+#[test]
+fn unknown_key() {
+    rejects(
+        &good_with("stiffness = 2.0", "stiffnes = 2.0"),
+        &["spring[0]", "stiffnes"],
+    );
+}
+
+#[test]
+fn wrong_type() {
+    rejects(
+        &good_with("mass = 1.0\n[[spring]]", "mass = \"heavy\"\n[[spring]]"),
+        &["particle[1].mass", "line"],
+    );
+}
+
+#[test]
+fn missing_required_field() {
+    rejects(
+        &good_with("stiffness = 2.0\n", ""),
+        &["spring[0]", "stiffness"],
+    );
+}
+
+#[test]
+fn zero_and_negative_mass_on_free_particle() {
+    rejects(
+        &good_with("mass = 1.0\n[[spring]]", "mass = 0.0\n[[spring]]"),
+        &["particle[1].mass", "> 0"],
+    );
+    rejects(
+        &good_with("mass = 1.0\n[[spring]]", "mass = -2.0\n[[spring]]"),
+        &["particle[1].mass"],
+    );
+}
+
+#[test]
+fn non_finite_numbers() {
+    rejects(
+        &good_with("position = [1.0, 0.0, 0.0]", "position = [1.0, nan, 0.0]"),
+        &["particle[1].position[1]", "finite"],
+    );
+    rejects(
+        &good_with("stiffness = 2.0", "stiffness = inf"),
+        &["spring[0].stiffness", "finite"],
+    );
+}
+
+#[test]
+fn spring_to_missing_particle() {
+    rejects(
+        &good_with("between = [0, 1]", "between = [0, 7]"),
+        &["spring[0].between[1]", "7"],
+    );
+    rejects(
+        &good_with("between = [0, 1]", "between = [-1, 1]"),
+        &["spring[0].between[0]"],
+    );
+}
+
+#[test]
+fn spring_to_itself() {
+    rejects(
+        &good_with("between = [0, 1]", "between = [1, 1]"),
+        &["spring[0].between[1]", "itself"],
+    );
+}
+
+#[test]
+fn duplicate_spring() {
+    let text = format!("{GOOD}[[spring]]\nbetween = [1, 0]\nstiffness = 3.0\n");
+    rejects(text.as_bytes(), &["spring[1].between", "duplicate"]);
+}
+
+#[test]
+fn zero_rest_length_on_strain_law() {
+    rejects(
+        &good_with("rest_length = 0.5", "rest_length = 0.0\nlaw = \"strain\""),
+        &["spring[0].rest_length", "strain"],
+    );
+}
+
+#[test]
+fn unknown_law() {
+    rejects(
+        &good_with("rest_length = 0.5", "rest_length = 0.5\nlaw = \"cubic\""),
+        &["spring[0].law", "cubic"],
+    );
+}
+
+#[test]
+fn non_positive_dt() {
+    rejects(&good_with("dt = 0.01", "dt = 0.0"), &["run.dt", "> 0"]);
+    rejects(&good_with("dt = 0.01", "dt = -1.0"), &["run.dt"]);
+}
+
+#[test]
+fn both_or_neither_of_steps_and_duration() {
+    rejects(
+        &good_with("steps = 10", "steps = 10\nduration = 1.0"),
+        &["run", "exactly one"],
+    );
+    rejects(&good_with("steps = 10\n", ""), &["run", "exactly one"]);
+}
+
+#[test]
+fn huge_values() {
+    rejects(
+        &good_with("steps = 10", "steps = 100000000000000"),
+        &["run.steps"],
+    );
+    rejects(b"[[cloth]]\norigin=[0.0,0.0,0.0]\nsize=[1.0,1.0]\ncount=[100000,100000]\nmass=1.0\nstiffness=1.0\n", &["cloth[0].count"]);
+}
+
+#[test]
+fn unknown_integrator_in_run_table() {
+    rejects(
+        &good_with("steps = 10", "steps = 10\nintegrators = [\"leapfrog9\"]"),
+        &["run.integrators[0]", "leapfrog9"],
+    );
+}
+
+#[test]
+fn truncated_toml() {
+    rejects(
+        &GOOD.as_bytes()[..GOOD.find("stiffness").unwrap() + 6],
+        &["line"],
+    );
+}
+
+#[test]
+fn empty_file() {
+    rejects(b"", &["particle", "no particles"]);
+}
+
+#[test]
+fn binary_garbage() {
+    let junk: Vec<u8> = (0..512u32)
+        .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+        .collect();
+    rejects(&junk, &["UTF-8"]);
+}
+
+#[test]
+fn missing_file() {
+    let out = bin()
+        .args(["check", "no/such/scene.toml"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("no/such/scene.toml") && !err.contains("panicked"),
+        "{err}"
+    );
+}
+
+fn flag_rejected(args: &[&str], needle: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "scene.toml", GOOD.as_bytes());
+    let out = bin()
+        .arg("run")
+        .arg(&f)
+        .args(args)
+        .arg("--out")
+        .arg(dir.path().join("o"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "accepted {args:?}");
+    assert!(
+        !err.contains("panicked") && err.contains(needle),
+        "{args:?}: {err}"
+    );
+}
+
+#[test]
+fn bad_flags() {
+    flag_rejected(&["-i", "rk4", "--dt", "-0.1"], "--dt");
+    flag_rejected(&["-i", "rk4", "--dt", "abc"], "--dt");
+    flag_rejected(&["-i", "rk9"], "unknown integrator 'rk9'");
+    flag_rejected(&["-i", "rk4", "--steps", "0"], "--steps");
+    flag_rejected(&["-i", "rk4", "--every", "0"], "--every");
+    flag_rejected(&["-i", "rk4", "--wobble"], "--wobble");
+    flag_rejected(&["-i", "rk4", "--duration", "nan"], "--duration");
+}
+
+#[test]
+fn integrator_that_cannot_honour_constraints_says_why() {
+    let out = bin()
+        .args([
+            "run",
+            "scenarios/pendulum_rod.toml",
+            "-i",
+            "rk4",
+            "--steps",
+            "3",
+            "--out",
+        ])
+        .arg(tempfile::tempdir().unwrap().path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("constraint"), "{err}");
+}
