@@ -144,6 +144,7 @@ fn axis_labels(stem: &str) -> &'static [&'static str] {
         ],
         "stability" => &["dimensionless step h·ω (1)", "integrator"],
         "paths" | "snapshots" => &["(m)"],
+        "collision" => &["time t (s)", "height (m)", "bounce n"],
         other => panic!("unexpected chart {other}"),
     }
 }
@@ -201,7 +202,9 @@ fn every_svg_is_well_formed_with_axes_and_legend() {
 
 fn expected_header(stem: &str) -> &'static str {
     match stem {
-        "energy" | "energy_error" | "position_error" | "paths" => "group,series,x,y,kind",
+        "energy" | "energy_error" | "position_error" | "paths" | "collision" => {
+            "group,series,x,y,kind"
+        }
         "convergence" => "group,series,dt,error,kind,order,fitted_slope",
         "work_precision" => "integrator,dt,error,wall_seconds,force_evals",
         "stability" => "integrator,h_omega,dt,stable,theory_limit",

@@ -316,3 +316,56 @@ pub fn snapshots(r: &SceneResults) -> Option<SnapshotData> {
         panels,
     })
 }
+
+/// Height over time, the h₀·e^(2n) envelope and per-bounce restitution and penetration, for
+/// scenes with obstacles (the first tracked particle of each backend's contact metrics).
+pub fn collision(r: &SceneResults) -> Option<CollisionData> {
+    let with: Vec<(&RunRecord, &crate::collide::ContactReport)> = r
+        .runs
+        .iter()
+        .filter_map(|run| run.contacts.as_ref().map(|c| (run, c)))
+        .collect();
+    if with.is_empty() {
+        return None;
+    }
+    let mut heights = Vec::new();
+    let mut bounces = Vec::new();
+    let mut envelope = None;
+    for (run, c) in &with {
+        let Some(pb) = c.bounces.first() else {
+            continue;
+        };
+        let mut s = Series::new(run.backend.clone(), pb.heights.clone());
+        s.blowup = blowup_at(run, s.points.last().copied());
+        heights.push(s);
+        if envelope.is_none() && pb.apexes.len() > 1 {
+            envelope = Some(Series::new(
+                format!("particle {}", pb.particle),
+                pb.apexes.iter().map(|a| [a.t, a.predicted]).collect(),
+            ));
+        }
+        let list: Vec<Bounce> = c
+            .events
+            .iter()
+            .filter(|e| e.particle == pb.particle)
+            .enumerate()
+            .filter_map(|(k, e)| {
+                e.restitution.map(|m| Bounce {
+                    n: k as u32 + 1,
+                    measured: m,
+                    specified: e.expected_restitution,
+                    penetration: e.max_penetration,
+                })
+            })
+            .collect();
+        bounces.push((run.backend.clone(), list));
+    }
+    if heights.is_empty() {
+        return None;
+    }
+    Some(CollisionData {
+        heights,
+        envelope: envelope.unwrap_or_else(|| Series::new("no apex", Vec::new())),
+        bounces,
+    })
+}

@@ -279,7 +279,11 @@ pub fn collect_scene(
                 &snapshot_steps,
                 false,
             );
-            let out = run(&sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?;
+            let mut metrics = crate::collide::ContactMetrics::new(&sys, dt);
+            let out = match metrics.as_mut() {
+                Some(m) => run(&sys, integ.as_mut(), s0.clone(), &plan, &mut (&mut obs, m))?,
+                None => run(&sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?,
+            };
             Ok(RunRecord {
                 backend: integ.name().to_string(),
                 order: integ.order(),
@@ -290,6 +294,7 @@ pub fn collect_scene(
                 samples: obs.samples,
                 paths: obs.paths,
                 snapshots: obs.snapshots,
+                contacts: metrics.map(|m| m.report()),
             })
         })
         .collect();

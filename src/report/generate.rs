@@ -137,7 +137,12 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
     }
     let mut sum = scene_summary(r);
     sum.verdict = super::verdict::verdict(&sum, r);
-    notes.push("Collision validation (height envelope, restitution per bounce, penetration): this scene has no obstacles, and obstacle support has not reached this build yet.".to_string());
+    if let Some(c) = charts::collision(r) {
+        write_chart(&dir, "collision", plots::collision(&c), &c)?;
+        fig("collision", "Collision", "Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact (zero-penetration contacts do not appear on the log axis).".into());
+    } else {
+        notes.push("Collision validation: this scene has no obstacles.".to_string());
+    }
     if let Some(s) = &r.sweep {
         notes.push(format!("Sweep reference: {}.", s.reference));
     }

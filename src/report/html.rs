@@ -112,6 +112,20 @@ pub fn scene_page(s: &SceneSummary, figures: &[Figure], notes: &[String]) -> Str
         esc(&s.reference),
         backend_rows(s, None)
     );
+    if s.backends.iter().any(|b| b.tunnelling.is_some()) {
+        body += "<h2>Contacts</h2>\n<table>\n<tr><th class=\"l\">backend</th><th>mean measured restitution</th><th>mean specified restitution</th><th>deepest penetration (m)</th><th>tunnelling paths</th></tr>\n";
+        for b in &s.backends {
+            body += &format!(
+                "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                esc(&b.backend),
+                cell(b.restitution_measured, 3),
+                cell(b.restitution_expected, 3),
+                cell(b.max_penetration, 2),
+                b.tunnelling.map_or("—".into(), |t| t.to_string())
+            );
+        }
+        body += "</table>\n";
+    }
     if !s.skipped.is_empty() {
         body += "<p class=\"note\">Not run on this scene:</p>\n<ul class=\"note\">\n";
         for (n, why) in &s.skipped {

@@ -37,6 +37,8 @@ pub struct RunRecord {
     pub paths: Vec<Vec<[f64; 3]>>,
     /// Full snapshots (time, all positions) for chains and cloths.
     pub snapshots: Vec<(f64, Vec<[f64; 3]>)>,
+    /// Collision metrics (contact events, bounces, penetration), for scenes with obstacles.
+    pub contacts: Option<crate::collide::ContactReport>,
 }
 
 /// A backend the scene could not use, and why.

@@ -38,6 +38,14 @@ pub struct BackendSummary {
     pub unstable_at_every_scanned_step: bool,
     /// Least-squares convergence slope from the sweep.
     pub convergence_slope: Option<f64>,
+    /// Mean measured restitution over impact events (scenes with obstacles).
+    pub restitution_measured: Option<f64>,
+    /// Mean specified restitution over the same events.
+    pub restitution_expected: Option<f64>,
+    /// Deepest penetration of any contact (m).
+    pub max_penetration: Option<f64>,
+    /// Paths that passed through an obstacle between two accepted states.
+    pub tunnelling: Option<u64>,
     /// Force evaluations of the comparison run.
     pub force_evals: u64,
     /// Wall time in the integrator (s); varies from run to run.
@@ -182,6 +190,22 @@ pub fn scene_summary(r: &SceneResults) -> SceneSummary {
                 stable_dt,
                 unstable_at_every_scanned_step: never,
                 convergence_slope: r.sweep.as_ref().and_then(|s| sweep_slope(s, &run.backend)),
+                restitution_measured: run
+                    .contacts
+                    .as_ref()
+                    .filter(|c| c.restitution.count > 0)
+                    .and_then(|c| finite(c.restitution.mean)),
+                restitution_expected: run
+                    .contacts
+                    .as_ref()
+                    .filter(|c| c.expected_restitution.count > 0)
+                    .and_then(|c| finite(c.expected_restitution.mean)),
+                max_penetration: run
+                    .contacts
+                    .as_ref()
+                    .filter(|c| c.penetration.count > 0)
+                    .and_then(|c| finite(c.penetration.max)),
+                tunnelling: run.contacts.as_ref().map(|c| c.tunnelling_count),
                 force_evals: run.force_evals,
                 wall_seconds: run.wall_seconds,
             }

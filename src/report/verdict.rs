@@ -201,6 +201,29 @@ pub fn verdict(s: &SceneSummary, r: &SceneResults) -> String {
             ));
         }
     }
+    let contacts: Vec<String> = bs
+        .iter()
+        .filter_map(|b| match (b.restitution_measured, b.restitution_expected) {
+            (Some(m), Some(e)) => Some(format!(
+                "{} {} (specified {})",
+                b.backend,
+                cell(Some(m), 3),
+                cell(Some(e), 3)
+            )),
+            _ => None,
+        })
+        .collect();
+    if !contacts.is_empty() {
+        out.push(format!("Measured restitution: {}.", contacts.join("; ")));
+    }
+    let tunnel: Vec<String> = bs
+        .iter()
+        .filter(|b| b.tunnelling.is_some_and(|t| t > 0))
+        .map(|b| format!("{} ({})", b.backend, b.tunnelling.unwrap_or(0)))
+        .collect();
+    if !tunnel.is_empty() {
+        out.push(format!("Paths through an obstacle: {}.", tunnel.join(", ")));
+    }
     if !s.skipped.is_empty() {
         let names: Vec<&str> = s.skipped.iter().map(|(n, _)| n.as_str()).collect();
         out.push(format!("Not applicable here: {}.", names.join(", ")));
