@@ -27,7 +27,7 @@ impl CollectOptions {
         if self.quick {
             120
         } else {
-            400
+            250
         }
     }
     /// Particle-steps allowed for the finest run of a sweep (bounds the cost of big scenes).
@@ -183,8 +183,10 @@ fn reference_samples(
     Ok((obs.all, out.status.is_ok()))
 }
 
-/// The two coordinate axes along which the reference moves most (kept in x, y, z order).
-fn main_plane(samples: &[Vec<Vec3>]) -> [usize; 2] {
+/// The plane trajectories are drawn in, as [horizontal, vertical] axis indices: with gravity,
+/// the vertical is the axis gravity points along and the horizontal the other axis the
+/// reference spreads over most; without, the two axes of largest spread in x, y, z order.
+fn main_plane(samples: &[Vec<Vec3>], gravity: Option<Vec3>) -> [usize; 2] {
     let mut var = [0.0f64; 3];
     for (a, v) in var.iter_mut().enumerate() {
         let vals = samples.iter().flatten().map(|x| x[a]);
@@ -194,6 +196,14 @@ fn main_plane(samples: &[Vec<Vec3>]) -> [usize; 2] {
             hi = hi.max(x);
         }
         *v = if hi >= lo { hi - lo } else { 0.0 };
+    }
+    if let Some(g) = gravity.filter(|g| g.norm() > 0.0) {
+        let v = g.iamax();
+        let h = (0..3)
+            .filter(|&a| a != v)
+            .max_by(|&a, &b| var[a].total_cmp(&var[b]).then(b.cmp(&a)))
+            .unwrap_or(0);
+        return [h, v];
     }
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&a, &b| var[b].total_cmp(&var[a]).then(a.cmp(&b)));
@@ -259,7 +269,7 @@ pub fn collect_scene(
         }
     }
     let (ref_name, sub, refs) = chosen.expect("at least one reference candidate");
-    let plane = main_plane(&refs);
+    let plane = main_plane(&refs, sys.gravity);
     let tracked = tracked(&refs, &sys.free, !scene.blocks.is_empty());
     let snapshot_steps: Vec<u64> = if scene.blocks.is_empty() {
         Vec::new()

@@ -130,7 +130,7 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
     }
     let p = charts::paths(r);
     write_chart(&dir, "paths", plots::paths(&p), &p)?;
-    fig("paths", "Trajectories", format!("Paths of the most-travelled free particle(s) in the {}{}-plane, where the reference moves most.", p.axes[0], p.axes[1]));
+    fig("paths", "Trajectories", format!("Paths of the most-travelled free particle(s) in the {}{}-plane (vertical: the axis gravity acts along, if any; else the plane where the reference moves most).", p.axes[0], p.axes[1]));
     if let Some(s) = charts::snapshots(r) {
         write_chart(&dir, "snapshots", plots::snapshots(&s), &s)?;
         fig("snapshots", "Snapshots", "The chain or cloth at a few instants (light to dark), one panel per backend at the same scale.".into());
@@ -139,7 +139,7 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
     sum.verdict = super::verdict::verdict(&sum, r);
     if let Some(c) = charts::collision(r) {
         write_chart(&dir, "collision", plots::collision(&c), &c)?;
-        fig("collision", "Collision", "Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact (zero-penetration contacts do not appear on the log axis).".into());
+        fig("collision", "Collision", "Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact.".into());
     } else {
         notes.push("Collision validation: this scene has no obstacles.".to_string());
     }

@@ -74,7 +74,7 @@ pub fn collision(data: &CollisionData) -> Result<String> {
         Panel {
             title: "Penetration per contact".into(),
             x: Axis::lin("contact n"),
-            y: Axis::log("deepest penetration (m)"),
+            y: Axis::lin("deepest penetration (m)"),
             series: &penetration,
             guides: &[],
             dots: true,
