@@ -6,8 +6,9 @@
 //!   duration (and π/ω_d for penalty), maximum penetration;
 //! - per tracked particle: apex heights after each bounce against h0·e^(2n), energy lost per
 //!   bounce against 1 − e², and the height over time;
-//! - per run: penetration statistics and tunnelling events (a path between two accepted states
-//!   that enters an obstacle and ends outside it behind the entry face).
+//! - per run: penetration statistics and tunnelling events: a path between two accepted states
+//!   that enters an obstacle and ends outside it behind the entry face, or a contact of at most
+//!   [`THROUGH_SAMPLES`] states left through the face opposite the entry.
 //!
 //! Sampled velocities are carried to the moment of touching the surface with the ballistic
 //! relation u² = u₀² − 2 a_n z₀ (a_n = g·n): exact in free flight, so a step of dt does not bias
@@ -26,6 +27,9 @@ use std::sync::Arc;
 pub const TRACKED_PARTICLES: usize = 8;
 /// Most contact events listed one by one (all are counted and enter the statistics).
 pub const MAX_LISTED_EVENTS: usize = 10_000;
+/// A contact of at most this many accepted states, left through the face opposite the one it
+/// entered by, is a tunnelling event (the particle went through, not off).
+pub const THROUGH_SAMPLES: u32 = 3;
 /// Most points of each height-over-time series (evenly decimated at the end).
 pub const MAX_SERIES_POINTS: usize = 4_000;
 
@@ -49,7 +53,7 @@ pub struct ContactEvent {
     /// Normal velocity when leaving (m/s, positive: separating).
     pub v_out: f64,
     /// Measured restitution v_out / |v_in| (absent for a resting or grazing contact, see
-    /// [`ContactMetrics::grazing_speed`]).
+    /// [`ContactMetrics::grazing_speed`], and for a pass-through).
     pub restitution: Option<f64>,
     /// What the response should give (see the module docs).
     pub expected_restitution: f64,
@@ -191,6 +195,8 @@ struct Sample {
 #[derive(Debug, Clone, Copy)]
 struct Open {
     obstacle: usize,
+    normal: Vec3,
+    samples: u32,
     t_in: f64,
     v_in: f64,
     max_pen: f64,
@@ -349,7 +355,10 @@ impl ContactMetrics {
             let a_n = self.gravity.dot(&c.normal);
             let track = &mut self.tracks[p];
             match &mut track.open {
-                Some(o) => o.max_pen = o.max_pen.max(pen),
+                Some(o) => {
+                    o.max_pen = o.max_pen.max(pen);
+                    o.samples += 1;
+                }
                 None => {
                     // Touching: carry the last free-flight sample to the surface.
                     let (t_in, v_in) = match prev.and_then(|pr| pr.near.map(|pc| (pr, pc))) {
@@ -368,8 +377,15 @@ impl ContactMetrics {
                         }
                         _ => (s.t, un.min(0.0)),
                     };
+                    // Entry side: the normal seen from the last sample outside, if it was near.
+                    let entry = prev
+                        .and_then(|pr| pr.near)
+                        .filter(|pc| pc.obstacle == c.obstacle && pc.gap >= 0.0)
+                        .map_or(c.normal, |pc| pc.normal);
                     track.open = Some(Open {
                         obstacle: c.obstacle,
+                        normal: entry,
+                        samples: 1,
                         t_in,
                         v_in,
                         max_pen: pen,
@@ -377,6 +393,19 @@ impl ContactMetrics {
                 }
             }
         } else if let Some(o) = self.tracks[p].open.take() {
+            // Through, not off: left a brief contact through the face opposite the entry.
+            let through = o.samples <= THROUGH_SAMPLES
+                && near.is_some_and(|c| c.obstacle == o.obstacle && c.normal.dot(&o.normal) < 0.0);
+            if through {
+                self.tunnel_count += 1;
+                if self.tunnels.len() < 100 {
+                    self.tunnels.push(Tunnelling {
+                        particle: p,
+                        obstacle: o.obstacle,
+                        t: s.t,
+                    });
+                }
+            }
             // Leaving: carry this sample back to the surface.
             let (u1, z1, a_n) = match near {
                 Some(c) => (un, c.gap.max(0.0), self.gravity.dot(&c.normal)),
@@ -393,7 +422,8 @@ impl ContactMetrics {
             };
             let t_out = t_out.clamp(prev_t.max(o.t_in), s.t);
             let e_exp = self.expected_restitution(o.obstacle, p);
-            let restitution = (o.v_in.abs() > self.grazing_speed()).then(|| u / o.v_in.abs());
+            let restitution =
+                (!through && o.v_in.abs() > self.grazing_speed()).then(|| u / o.v_in.abs());
             let ev = ContactEvent {
                 particle: p,
                 obstacle: o.obstacle,
@@ -427,10 +457,7 @@ impl ContactMetrics {
                 let a_n = self.gravity.dot(&c.normal);
                 let rising_before = prev.is_some_and(|pr| pr.un > 0.0);
                 let first = prev.is_none();
-                if a_n < 0.0
-                    && !in_contact
-                    && ((rising_before && un <= 0.0) || (first && un <= 0.0))
-                {
+                if a_n < 0.0 && !in_contact && un <= 0.0 && (rising_before || first) {
                     let (t0, z0, u0) = match prev {
                         Some(pr) if !first => (pr.t, pr.near.map_or(c.gap, |n| n.gap), pr.un),
                         _ => (s.t, c.gap, un.max(0.0)),

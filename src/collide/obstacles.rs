@@ -216,6 +216,9 @@ impl ObstacleSet {
     /// Outward normal at a point lying on obstacle `k`'s surface (from the surface feature).
     fn surface_normal(&self, k: usize, p: &Vec3) -> Vec3 {
         let o = &self.obstacles[k];
+        if let Some(hs) = o.shape.as_halfspace() {
+            return from_g(o.pose.rotation * hs.normal);
+        }
         let local = o.pose.inverse_transform_point(to_g(p));
         let (proj, feature) = o.shape.project_local_point_and_get_feature(local);
         let n = o

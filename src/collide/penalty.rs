@@ -111,11 +111,11 @@ impl ForceTerm for Penalty {
     }
     fn potential_energy(&self, x: &[Vec3]) -> f64 {
         let mut e = 0.0;
-        for p in 0..x.len() {
+        for (p, xp) in x.iter().enumerate() {
             if !self.free[p] {
                 continue;
             }
-            self.set.for_each_near(&x[p], self.radius[p], 0.0, |c| {
+            self.set.for_each_near(xp, self.radius[p], 0.0, |c| {
                 e += 0.5 * self.stiffness * c.gap * c.gap;
             });
         }
@@ -124,11 +124,11 @@ impl ForceTerm for Penalty {
     fn add_jacobian(&self, x: &[Vec3], _v: &[Vec3], jac: &mut Jacobian) {
         // ∂f/∂x = −k n nᵀ and ∂f/∂v = −c n nᵀ (surface curvature and friction neglected:
         // both symmetric negative semi-definite, so the Newton matrix stays SPD).
-        for p in 0..x.len() {
+        for (p, xp) in x.iter().enumerate() {
             if !self.free[p] {
                 continue;
             }
-            self.set.for_each_near(&x[p], self.radius[p], 0.0, |c| {
+            self.set.for_each_near(xp, self.radius[p], 0.0, |c| {
                 let nn: Matrix3<f64> = c.normal * c.normal.transpose();
                 jac.diag_x[p] -= nn * self.stiffness;
                 jac.diag_v[p] -= nn * self.dashpot(c.obstacle, p);

@@ -1,8 +1,17 @@
 //! A minimal Wavefront OBJ reader: `v x y z` and `f a b c ...` lines (1-based or negative
 //! indices, `a/b/c` forms allowed, polygons fanned into triangles); every other line is ignored.
 
+/// A mesh read from OBJ text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjMesh {
+    /// Vertex positions.
+    pub vertices: Vec<[f64; 3]>,
+    /// Triangles as 0-based vertex indices.
+    pub triangles: Vec<[u32; 3]>,
+}
+
 /// Vertices and 0-based triangles read from OBJ text; `Err` carries line number and reason.
-pub fn parse_obj(text: &str) -> Result<(Vec<[f64; 3]>, Vec<[u32; 3]>), String> {
+pub fn parse_obj(text: &str) -> Result<ObjMesh, String> {
     let mut vertices: Vec<[f64; 3]> = Vec::new();
     let mut triangles = Vec::new();
     for (ln, line) in text.lines().enumerate() {
@@ -56,5 +65,8 @@ pub fn parse_obj(text: &str) -> Result<(Vec<[f64; 3]>, Vec<[u32; 3]>), String> {
     if triangles.is_empty() {
         return Err("no faces ('f' lines) found".into());
     }
-    Ok((vertices, triangles))
+    Ok(ObjMesh {
+        vertices,
+        triangles,
+    })
 }

@@ -211,9 +211,9 @@ fn mesh(ck: &Ck, f: &str, o: &ObstacleSpec) -> Result<ShapeDef> {
             let text = std::fs::read_to_string(&full).map_err(|e| {
                 ck.err(format!("{f}.file"), format!("cannot read mesh '{}': {e}", full.display()))
             })?;
-            let (v, t) = parse_obj(&text)
+            let m = parse_obj(&text)
                 .map_err(|why| ck.err(format!("{f}.file"), format!("{}: {why}", full.display())))?;
-            (v, t.into_iter().map(|t| t.map(i64::from)).collect())
+            (m.vertices, m.triangles.into_iter().map(|t| t.map(i64::from)).collect())
         }
         (None, Some(v), Some(t)) => (v.clone(), t.clone()),
         (Some(_), _, _) => {
