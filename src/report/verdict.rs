@@ -115,7 +115,7 @@ pub fn verdict(s: &SceneSummary, r: &SceneResults) -> String {
     match (worst, steadiest) {
         (Some((w, c)), Some((b, d))) if w.backend != b.backend => {
             first += &format!(
-                ", {} {} {} of the energy scale{}; {} stays within {}.",
+                ", {} {} {} of the energy scale{}; {} {} {}.",
                 w.backend,
                 if c >= 0.0 { "gains" } else { "loses" },
                 pct(c.abs()),
@@ -124,6 +124,11 @@ pub fn verdict(s: &SceneSummary, r: &SceneResults) -> String {
                     cell(Some(t), 3)
                 )),
                 b.backend,
+                if d < 0.1 {
+                    "stays within"
+                } else {
+                    "is the steadiest and still moves it by"
+                },
                 pct(d)
             )
         }
