@@ -34,9 +34,14 @@ pub mod backend;
 pub mod collide;
 pub mod error;
 pub mod integrate;
+pub mod measure;
 pub mod model;
 pub mod output;
+<<<<<<< HEAD
 pub mod report;
+=======
+pub mod rapier;
+>>>>>>> main
 pub mod run;
 pub mod scenario;
 

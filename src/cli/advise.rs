@@ -1,0 +1,108 @@
+//! `springlab advise`: the cheapest verified integrator and step for a tolerance.
+
+use super::common::load;
+use super::measure_common::{fmt_opt, MeasureArgs};
+use anyhow::Result;
+use springlab::measure::advise::{advise, AdviseConfig, AdviseMetric};
+use springlab::output::write_atomic;
+use std::path::PathBuf;
+
+/// Flags of `springlab advise`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    #[command(flatten)]
+    pub m: MeasureArgs,
+    /// Error bound over the horizon (m for position, relative for energy).
+    #[arg(long)]
+    pub tolerance: f64,
+    /// Which error: position or energy.
+    #[arg(long, default_value = "position")]
+    pub metric: AdviseMetric,
+    /// Horizon (s; default the scene's duration).
+    #[arg(long)]
+    pub horizon: Option<f64>,
+    /// Predictions aim at tolerance / safety.
+    #[arg(long, default_value_t = 2.0)]
+    pub safety: f64,
+    /// Smallest step tried (s).
+    #[arg(long)]
+    pub dt_min: Option<f64>,
+    /// Largest step tried (s).
+    #[arg(long)]
+    pub dt_max: Option<f64>,
+    /// Steps tried per integrator.
+    #[arg(long, default_value_t = 10)]
+    pub points: usize,
+}
+
+/// Runs the command.
+pub fn run(a: Args) -> Result<()> {
+    let scene = load(&a.scenario)?;
+    let cfg = AdviseConfig {
+        tolerance: a.tolerance,
+        metric: a.metric,
+        horizon: a.horizon,
+        integrators: a.m.integrators.clone(),
+        options: a.m.options()?,
+        safety: a.safety,
+        points: a.points,
+        dt_min: a.dt_min,
+        dt_max: a.dt_max,
+        progress: true,
+    };
+    let adv = advise(&scene, &cfg)?;
+    let dir = a.m.out_dir(&scene.name, "advise");
+    let mut json = serde_json::to_vec_pretty(&adv)?;
+    json.push(b'\n');
+    let f = write_atomic(dir.join("advice.json"), &json)?;
+    match &adv.integrator {
+        Some(n) => println!(
+            "{}: use {n} at dt = {} s (predicted error {}, verified {}, {:.0} force evaluations per simulated second)",
+            scene.name,
+            fmt_opt(adv.dt),
+            fmt_opt(adv.predicted_error),
+            fmt_opt(adv.verified_error),
+            adv.cost_per_second.unwrap_or(0.0)
+        ),
+        None => println!("{}: nothing meets the tolerance on the grid", scene.name),
+    }
+    println!(
+        "{:<20} {:>12} {:>12} {:>12} {:>14} {:>12}",
+        "alternative", "dt", "predicted", "verified", "evals/s", "wall s/s"
+    );
+    for c in &adv.alternatives {
+        println!(
+            "{:<20} {:>12} {:>12} {:>12} {:>14.0} {:>12.3e}",
+            c.integrator,
+            fmt_opt(Some(c.dt)),
+            fmt_opt(Some(c.predicted_error)),
+            fmt_opt(Some(c.verified_error)),
+            c.cost_per_second,
+            c.wall_per_second
+        );
+    }
+    for (n, why) in &adv.unable {
+        println!("{n:<20} cannot: {why}");
+    }
+    for fr in &adv.frame_rates {
+        println!(
+            "{:>5} Hz: best {}; {}",
+            fr.fps,
+            fr.best.as_deref().unwrap_or("none"),
+            fr.entries
+                .iter()
+                .map(|e| format!(
+                    "{} ×{} ({})",
+                    e.integrator,
+                    e.substeps,
+                    if e.meets_tolerance { "ok" } else { "fails" }
+                ))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    println!("wrote {}", f.display());
+    Ok(())
+}

@@ -1,0 +1,81 @@
+//! `springlab compare`: every applicable backend at one step against the reference.
+
+use super::common::load;
+use super::measure_common::{fmt_opt, MeasureArgs};
+use anyhow::Result;
+use springlab::measure::compare::{compare, write_compare, CompareConfig};
+use std::path::PathBuf;
+
+/// Flags of `springlab compare`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    #[command(flatten)]
+    pub m: MeasureArgs,
+    /// Step (s; default the scene's).
+    #[arg(long)]
+    pub dt: Option<f64>,
+    /// Simulated time (s; default the scene's).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
+    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR)]
+    pub blowup_factor: f64,
+}
+
+/// Runs the command.
+pub fn run(a: Args) -> Result<()> {
+    let scene = load(&a.scenario)?;
+    let cfg = CompareConfig {
+        integrators: a.m.integrators.clone(),
+        dt: a.dt,
+        duration: a.duration,
+        options: a.m.options()?,
+        blowup_factor: a.blowup_factor,
+        progress: true,
+        ..Default::default()
+    };
+    let res = compare(&scene, &cfg)?;
+    let dir = a.m.out_dir(&scene.name, "compare");
+    let files = write_compare(&dir, &res)?;
+    println!(
+        "{}: dt = {} s, {} steps, reference {}",
+        scene.name, res.dt, res.steps, res.reference.kind
+    );
+    println!(
+        "{:<20} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+        "backend", "status", "err final", "err max", "E drift/s", "E balance", "evals", "wall s"
+    );
+    for e in &res.entries {
+        match &e.result {
+            Some(r) if !r.ok() => println!(
+                "{:<20} unstable at t = {} s: {} ({} evals)",
+                e.integrator,
+                fmt_opt(r.unstable_time),
+                r.unstable_reason.as_deref().unwrap_or(""),
+                r.force_evals
+            ),
+            Some(r) => println!(
+                "{:<20} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+                e.integrator,
+                e.status,
+                fmt_opt(Some(r.metrics.error_final)),
+                fmt_opt(Some(r.metrics.error_max)),
+                fmt_opt(Some(r.metrics.energy_drift)),
+                fmt_opt(Some(r.metrics.energy_balance)),
+                r.force_evals,
+                fmt_opt(Some(r.wall_seconds))
+            ),
+            None => println!(
+                "{:<20} skipped: {}",
+                e.integrator,
+                e.skip_reason.as_deref().unwrap_or("")
+            ),
+        }
+    }
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,49 @@
+//! Flags shared by the measuring subcommands (sweep, stability, advise, compare).
+
+use anyhow::{bail, Result};
+use springlab::integrate::IntegratorOptions;
+use std::path::{Path, PathBuf};
+
+/// Integrator selection and options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct MeasureArgs {
+    /// Integrators or backends, comma-separated (default: every one that applies).
+    #[arg(long, value_delimiter = ',')]
+    pub integrators: Vec<String>,
+    /// Constraint projection sweeps per step for verlet_constraints.
+    #[arg(long, default_value_t = 20)]
+    pub iterations: usize,
+    /// Solver substeps per frame for Rapier backends.
+    #[arg(long, default_value_t = 4)]
+    pub substeps: usize,
+    /// Output directory (default: out/<scenario>/<command>/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+impl MeasureArgs {
+    /// Integrator options, validated.
+    pub fn options(&self) -> Result<IntegratorOptions> {
+        if self.iterations == 0 {
+            bail!("--iterations: must be at least 1");
+        }
+        if self.substeps == 0 {
+            bail!("--substeps: must be at least 1");
+        }
+        Ok(IntegratorOptions {
+            constraint_iterations: self.iterations,
+            substeps: self.substeps,
+        })
+    }
+    /// The output directory for `command` on `scenario`.
+    pub fn out_dir(&self, scenario: &str, command: &str) -> PathBuf {
+        self.out
+            .clone()
+            .unwrap_or_else(|| Path::new("out").join(scenario).join(command))
+    }
+}
+
+/// Formats an optional number for tables.
+pub fn fmt_opt(v: Option<f64>) -> String {
+    v.map_or("-".into(), |x| format!("{x:.3e}"))
+}

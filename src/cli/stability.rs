@@ -1,0 +1,124 @@
+//! `springlab stability`: largest stable step per integrator, theory and experiment.
+
+use super::common::load;
+use super::measure_common::{fmt_opt, MeasureArgs};
+use anyhow::{bail, Result};
+use springlab::measure::stability::{
+    analyse, stability_map, MapConfig, StabilityConfig, MAP_HEADER,
+};
+use springlab::output::write_atomic;
+use std::path::PathBuf;
+
+/// Flags of `springlab stability`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    #[command(flatten)]
+    pub m: MeasureArgs,
+    /// Horizon of each empirical trial run (s; default 100 periods of the highest mode).
+    #[arg(long)]
+    pub horizon: Option<f64>,
+    /// Empirical criterion: unstable once the energy exceeds this multiple of the scene's scale.
+    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR)]
+    pub blowup_factor: f64,
+    /// Skip the empirical bisection.
+    #[arg(long)]
+    pub theory_only: bool,
+    /// Also sweep stiffness × dt into stability_map.csv.
+    #[arg(long)]
+    pub map: bool,
+    /// Damping multipliers for the map, comma-separated (default 1).
+    #[arg(long, value_delimiter = ',')]
+    pub damping_scales: Vec<f64>,
+    /// Stiffness multipliers for the map, comma-separated (default 1/16 … 16, 9 points).
+    #[arg(long, value_delimiter = ',')]
+    pub stiffness_scales: Vec<f64>,
+}
+
+/// Runs the command.
+pub fn run(a: Args) -> Result<()> {
+    let scene = load(&a.scenario)?;
+    if let Some(h) = a.horizon {
+        if !(h.is_finite() && h > 0.0) {
+            bail!("--horizon: must be a finite number > 0, got {h}");
+        }
+    }
+    if !(a.blowup_factor.is_finite() && a.blowup_factor > 1.0) {
+        bail!(
+            "--blowup-factor: must be a finite number > 1, got {}",
+            a.blowup_factor
+        );
+    }
+    for v in &a.stiffness_scales {
+        if !(v.is_finite() && *v > 0.0) {
+            bail!("--stiffness-scales: values must be finite and > 0, got {v}");
+        }
+    }
+    for v in &a.damping_scales {
+        if !(v.is_finite() && *v >= 0.0) {
+            bail!("--damping-scales: values must be finite and ≥ 0, got {v}");
+        }
+    }
+    let cfg = StabilityConfig {
+        integrators: a.m.integrators.clone(),
+        options: a.m.options()?,
+        horizon: a.horizon,
+        blowup_factor: a.blowup_factor,
+        theory_only: a.theory_only,
+    };
+    let rep = analyse(&scene, &cfg)?;
+    let dir = a.m.out_dir(&scene.name, "stability");
+    let mut json = serde_json::to_vec_pretty(&rep)?;
+    json.push(b'\n');
+    let mut files = vec![write_atomic(dir.join("stability.json"), &json)?];
+    println!(
+        "{}: ω_max = {:.6} rad/s ({})",
+        scene.name, rep.omega_max, rep.modes.method
+    );
+    println!(
+        "{:<20} {:<24} {:>12} {:>9} {:<20} {:>12}",
+        "integrator", "verdict", "max dt", "hω", "method", "empirical dt"
+    );
+    for i in &rep.integrators {
+        println!(
+            "{:<20} {:<24} {:>12} {:>9} {:<20} {:>12}",
+            i.integrator,
+            serde_json::to_value(i.verdict)?.as_str().unwrap_or(""),
+            fmt_opt(i.max_stable_dt),
+            i.h_omega.map_or("-".into(), |h| format!("{h:.6}")),
+            i.method,
+            fmt_opt(i.empirical.as_ref().and_then(|e| e.max_stable_dt))
+        );
+    }
+    for (n, why) in &rep.skipped {
+        println!("{n:<20} skipped: {why}");
+    }
+    if a.map {
+        let mut mc = MapConfig {
+            integrators: a.m.integrators.clone(),
+            options: a.m.options()?,
+            blowup_factor: a.blowup_factor,
+            progress: true,
+            ..Default::default()
+        };
+        if !a.damping_scales.is_empty() {
+            mc.damping_scales = a.damping_scales.clone();
+        }
+        if !a.stiffness_scales.is_empty() {
+            mc.stiffness_scales = a.stiffness_scales.clone();
+        }
+        let rows = stability_map(&scene, &mc)?;
+        let mut csv = String::from(MAP_HEADER);
+        csv.push('\n');
+        for r in &rows {
+            csv.push_str(&r.csv_line());
+            csv.push('\n');
+        }
+        files.push(write_atomic(dir.join("stability_map.csv"), csv.as_bytes())?);
+    }
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}

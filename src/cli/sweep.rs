@@ -1,0 +1,100 @@
+//! `springlab sweep`: every integrator over a log grid of steps; orders; shards.
+
+use super::common::load;
+use super::measure_common::{fmt_opt, MeasureArgs};
+use anyhow::Result;
+use springlab::measure::sweep::{run_sweep, write_sweep, Shard, SweepConfig};
+use std::path::PathBuf;
+
+/// Flags of `springlab sweep`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    #[command(flatten)]
+    pub m: MeasureArgs,
+    /// Smallest step (s; default the scene's dt / 30).
+    #[arg(long)]
+    pub dt_min: Option<f64>,
+    /// Largest step (s; default 10 × the scene's dt).
+    #[arg(long)]
+    pub dt_max: Option<f64>,
+    /// Number of log-spaced steps.
+    #[arg(long, default_value_t = 12)]
+    pub points: usize,
+    /// Simulated time (s; default the scene's duration).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Run only slice I of N (0 ≤ I < N); join the slices with `springlab merge`.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
+    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR)]
+    pub blowup_factor: f64,
+}
+
+/// Runs the command.
+pub fn run(a: Args) -> Result<()> {
+    let scene = load(&a.scenario)?;
+    let cfg = SweepConfig {
+        integrators: a.m.integrators.clone(),
+        dt_min: a.dt_min,
+        dt_max: a.dt_max,
+        points: a.points,
+        duration: a.duration,
+        options: a.m.options()?,
+        blowup_factor: a.blowup_factor,
+        shard: a.shard,
+        progress: true,
+        ..Default::default()
+    };
+    let t0 = std::time::Instant::now();
+    let res = run_sweep(&scene, &cfg)?;
+    let dir = match a.shard {
+        Some(s) if a.m.out.is_none() => a.m.out_dir(
+            &scene.name,
+            &format!("sweep/shard-{}-of-{}", s.index, s.count),
+        ),
+        _ => a.m.out_dir(&scene.name, "sweep"),
+    };
+    let files = write_sweep(&dir, &res)?;
+    println!(
+        "{}: {} cases, reference {} ({} s), {:.2} s wall",
+        scene.name,
+        res.rows.len(),
+        res.reference.kind,
+        res.plan.duration,
+        t0.elapsed().as_secs_f64()
+    );
+    if let Some(s) = &res.summary {
+        println!(
+            "{:<20} {:>8} {:>8} {:>9} {:>8}  dt range",
+            "integrator", "theory", "observed", "R²", "points"
+        );
+        for i in &s.integrators {
+            println!(
+                "{:<20} {:>8} {:>8} {:>9} {:>8}  {}",
+                i.integrator,
+                i.theoretical_order.map_or("-".into(), |o| o.to_string()),
+                i.observed_order.map_or("-".into(), |o| format!("{o:.3}")),
+                i.fit.r_squared.map_or("-".into(), |r| format!("{r:.5}")),
+                format!(
+                    "{}/{}",
+                    i.fit.points_used,
+                    i.stable_points + i.unstable_points
+                ),
+                i.fit.dt_range.map_or_else(
+                    || i.fit.note.clone().unwrap_or_default(),
+                    |r| format!("{} .. {}", fmt_opt(Some(r[0])), fmt_opt(Some(r[1])))
+                )
+            );
+        }
+        for (n, why) in &s.skipped {
+            println!("{n:<20} skipped: {why}");
+        }
+    }
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}

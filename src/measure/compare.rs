@@ -1,0 +1,235 @@
+//! Every applicable backend at one step against the reference, side by side.
+
+use super::case::{applicable, run_case, CaseResult, CaseSettings};
+use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use super::reference::{Reference, ReferenceInfo};
+use crate::error::{Error, Result};
+use crate::integrate::IntegratorOptions;
+use crate::output::write_atomic;
+use crate::scenario::Scenario;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// What to compare.
+#[derive(Debug, Clone)]
+pub struct CompareConfig {
+    /// Integrators (empty: the scene's `[run].integrators`, else every applicable one).
+    pub integrators: Vec<String>,
+    /// Step (default: the scene's).
+    pub dt: Option<f64>,
+    /// Simulated time (default: the scene's).
+    pub duration: Option<f64>,
+    /// Integrator options (substeps for Rapier).
+    pub options: IntegratorOptions,
+    /// Blow-up factor.
+    pub blowup_factor: f64,
+    /// Points per time series (0: none).
+    pub series_points: u64,
+    /// Progress bar on a terminal.
+    pub progress: bool,
+}
+
+impl Default for CompareConfig {
+    fn default() -> Self {
+        CompareConfig {
+            integrators: vec![],
+            dt: None,
+            duration: None,
+            options: IntegratorOptions::default(),
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            series_points: 2000,
+            progress: false,
+        }
+    }
+}
+
+/// One backend's line: a result, or why it was skipped.
+#[derive(Debug, Clone, Serialize)]
+pub struct CompareEntry {
+    /// Backend name.
+    pub integrator: String,
+    /// `ok`, `unstable` or `skipped`.
+    pub status: String,
+    /// Why it was skipped.
+    pub skip_reason: Option<String>,
+    /// The run, unless skipped.
+    pub result: Option<CaseResult>,
+}
+
+/// `summary.json` of a comparison (and the library result).
+#[derive(Debug, Clone, Serialize)]
+pub struct CompareResult {
+    /// Scenario name.
+    pub scenario: String,
+    /// Reference used.
+    pub reference: ReferenceInfo,
+    /// Step (s).
+    pub dt: f64,
+    /// Steps.
+    pub steps: u64,
+    /// Simulated time (s).
+    pub duration: f64,
+    /// Solver substeps given to external backends.
+    pub substeps: usize,
+    /// One entry per backend, in the order asked.
+    pub entries: Vec<CompareEntry>,
+}
+
+/// Runs the comparison.
+pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let dt = cfg.dt.or(scene.run.dt).ok_or_else(|| {
+        Error::option(
+            "--dt",
+            format!(
+                "{}: no step: give --dt or set [run].dt",
+                scene.source.display()
+            ),
+        )
+    })?;
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(Error::option(
+            "--dt",
+            format!("must be a finite number > 0, got {dt}"),
+        ));
+    }
+    let duration = cfg
+        .duration
+        .or(scene.run.duration)
+        .or_else(|| scene.run.steps.map(|n| n as f64 * dt))
+        .ok_or_else(|| {
+            Error::option(
+                "--duration",
+                "no duration: give --duration or set [run].duration",
+            )
+        })?;
+    let steps = ((duration / dt).round() as u64).max(1);
+    let asked = if cfg.integrators.is_empty() {
+        scene.run.integrators.clone()
+    } else {
+        cfg.integrators.clone()
+    };
+    let (names, skipped) = applicable(&sys, &asked, &cfg.options)?;
+    let grid = TimeGrid::new(
+        dt,
+        steps,
+        max_samples_for(DEFAULT_BUDGET_BYTES, 1, sys.len()),
+    );
+    let reference = Reference::compute(&sys, &s0, &[grid], grid.time(steps))?;
+    let set = CaseSettings {
+        options: cfg.options,
+        blowup_factor: cfg.blowup_factor,
+        series_points: cfg.series_points,
+        repeat_short: true,
+    };
+    let pb = super::progress::bar(
+        names.len() as u64,
+        &format!("compare {}", scene.name),
+        cfg.progress,
+    );
+    let runs: Vec<Result<CaseResult>> = names
+        .par_iter()
+        .map(|n| {
+            let r = run_case(&sys, &s0, &reference, 0, n, &set);
+            pb.inc(1);
+            r
+        })
+        .collect();
+    pb.finish_and_clear();
+    let mut entries: Vec<CompareEntry> = Vec::new();
+    for r in runs {
+        let r = r?;
+        entries.push(CompareEntry {
+            integrator: r.integrator.clone(),
+            status: r.status.clone(),
+            skip_reason: None,
+            result: Some(r),
+        });
+    }
+    for (n, why) in skipped {
+        entries.push(CompareEntry {
+            integrator: n,
+            status: "skipped".into(),
+            skip_reason: Some(why),
+            result: None,
+        });
+    }
+    Ok(CompareResult {
+        scenario: scene.name.clone(),
+        reference: reference.info,
+        dt,
+        steps,
+        duration: grid.time(steps),
+        substeps: cfg.options.substeps,
+        entries,
+    })
+}
+
+/// The header of `compare.csv`.
+pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,period,period_error,phase_error,unstable_time,unstable_reason,reference";
+
+fn csv_text(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// Writes `compare.csv` and `summary.json` into `dir`.
+pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
+    let mut csv = String::from(COMPARE_HEADER);
+    csv.push('\n');
+    let f = |v: f64| format!("{v:e}");
+    let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
+    for e in &res.entries {
+        let line = match &e.result {
+            None => format!(
+                "{},skipped,{},{},,,,,,,,,,,,,,,,,,,,{}",
+                e.integrator,
+                csv_text(e.skip_reason.as_deref().unwrap_or("")),
+                f(res.dt),
+                res.reference.kind
+            ),
+            Some(r) => {
+                let m = &r.metrics;
+                format!(
+                    "{},{},,{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                    r.integrator,
+                    r.status,
+                    f(r.dt),
+                    r.steps,
+                    r.steps_done,
+                    r.force_evals,
+                    f(r.wall_seconds),
+                    f(m.error_final),
+                    f(m.error_max),
+                    f(m.error_rms),
+                    f(m.energy_drift),
+                    f(m.energy_oscillation),
+                    f(m.energy_error_max),
+                    f(m.energy_balance),
+                    o(m.momentum_drift),
+                    o(m.constraint_max),
+                    o(m.constraint_mean),
+                    o(m.period),
+                    o(m.period_error),
+                    o(m.phase_error),
+                    o(r.unstable_time),
+                    csv_text(r.unstable_reason.as_deref().unwrap_or("")),
+                    res.reference.kind
+                )
+            }
+        };
+        csv.push_str(&line);
+        csv.push('\n');
+    }
+    let mut json = serde_json::to_vec_pretty(res).expect("serialisable");
+    json.push(b'\n');
+    Ok(vec![
+        write_atomic(dir.join("compare.csv"), csv.as_bytes())?,
+        write_atomic(dir.join("summary.json"), &json)?,
+    ])
+}

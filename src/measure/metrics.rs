@@ -1,0 +1,349 @@
+//! Accuracy metrics of one run against a [`Reference`], computed on the fly by an
+//! [`Observer`] so trajectories are never stored. Each metric is defined once, here.
+//!
+//! - Position error e(t) = max over particles |x_i(t) − x_ref,i(t)| (m), at the compared
+//!   steps; reported as its final value, its maximum and its RMS over the compared steps.
+//! - Relative energy error ε(t) = (total(t) − total(0)) / E, with `total` the
+//!   [`EnergyRecord`] account (K + G + E + dissipated − injected, constant for the exact
+//!   solution) and E = |K₀| + |G₀| + |E₀| (or the scene's energy scale when that is 0).
+//!   Drift = least-squares slope of ε over t (1/s); oscillation = peak-to-peak of ε minus
+//!   that line; balance = ε at the last step.
+//! - Momentum drift = max over t of |P(t) − P(0) − Σ impulses so far| (kg·m/s), only for
+//!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
+//! - Constraint violation: max and mean over steps of the largest |‖x_j − x_i‖ − L|.
+//! - Period: mean spacing of the upward zero crossings of the tracked velocity component
+//!   (crossing times from the cubic Hermite interpolant of each step); period error relative
+//!   to the reference's; phase error 2π·(t_k − t_k,ref)/T_ref at the last crossing k both have.
+
+use super::reference::{period_of, Reference, Tracked};
+use crate::error::Result;
+use crate::model::{State, System, Vec3};
+use crate::run::{energy_scale, EnergyRecord, Observer};
+use serde::Serialize;
+
+/// Least-squares line y = a + b t through points; returns (a, b). Fewer than two distinct
+/// t give b = 0.
+pub fn linear_fit(t: &[f64], y: &[f64]) -> (f64, f64) {
+    let n = t.len() as f64;
+    if t.is_empty() {
+        return (0.0, 0.0);
+    }
+    let tm = t.iter().sum::<f64>() / n;
+    let ym = y.iter().sum::<f64>() / n;
+    let (mut stt, mut sty) = (0.0, 0.0);
+    for (ti, yi) in t.iter().zip(y) {
+        stt += (ti - tm) * (ti - tm);
+        sty += (ti - tm) * (yi - ym);
+    }
+    let b = if stt > 0.0 { sty / stt } else { 0.0 };
+    (ym - b * tm, b)
+}
+
+/// Peak-to-peak of y minus the line a + b t.
+pub fn detrended_peak_to_peak(t: &[f64], y: &[f64], a: f64, b: f64) -> f64 {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (ti, yi) in t.iter().zip(y) {
+        let r = yi - (a + b * ti);
+        lo = lo.min(r);
+        hi = hi.max(r);
+    }
+    if hi >= lo {
+        hi - lo
+    } else {
+        0.0
+    }
+}
+
+/// Where the velocity (dx/dt of the cubic Hermite interpolant through (x0, v0), (x1, v1) over
+/// a step h) crosses zero upwards, as a fraction s in [0, 1] of the step.
+pub fn hermite_upward_root(x0: f64, v0: f64, x1: f64, v1: f64, h: f64) -> f64 {
+    // p'(s) = a s² + b s + c (times 1/h), the derivative of the Hermite cubic.
+    let a = 6.0 * x0 + 3.0 * h * v0 - 6.0 * x1 + 3.0 * h * v1;
+    let b = -6.0 * x0 - 4.0 * h * v0 + 6.0 * x1 - 2.0 * h * v1;
+    let c = h * v0;
+    let linear = -v0 / (v1 - v0);
+    let roots: Vec<f64> = if a.abs() < 1e-300 {
+        if b != 0.0 {
+            vec![-c / b]
+        } else {
+            vec![]
+        }
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        if disc < 0.0 {
+            vec![]
+        } else {
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            let mut r = vec![q / a];
+            if q != 0.0 {
+                r.push(c / q);
+            }
+            r
+        }
+    };
+    roots
+        .into_iter()
+        .filter(|s| (0.0..=1.0).contains(s) && 2.0 * a * s + b >= 0.0)
+        .min_by(|p, q| (p - linear).abs().total_cmp(&(q - linear).abs()))
+        .unwrap_or(linear)
+}
+
+/// Every accuracy metric of one run (absent where it does not apply).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, serde::Deserialize)]
+pub struct Metrics {
+    /// Position error at the last accepted step (m).
+    pub error_final: f64,
+    /// Maximum position error over the compared steps (m).
+    pub error_max: f64,
+    /// RMS position error over the compared steps (m).
+    pub error_rms: f64,
+    /// Number of compared steps.
+    pub compared_steps: u64,
+    /// Slope of the relative energy error (1/s).
+    pub energy_drift: f64,
+    /// Peak-to-peak of the relative energy error about its linear fit.
+    pub energy_oscillation: f64,
+    /// Maximum |relative energy error|.
+    pub energy_error_max: f64,
+    /// Relative energy error of the full account (incl. dissipated and injected) at the end.
+    pub energy_balance: f64,
+    /// Work dissipated by dampers and drag (J) at the end.
+    pub dissipated: f64,
+    /// Energy injected by impulses (J) at the end.
+    pub injected: f64,
+    /// Max |ΔP| (kg·m/s) where momentum is conserved.
+    pub momentum_drift: Option<f64>,
+    /// Max constraint violation (m) where the scene has constraints.
+    pub constraint_max: Option<f64>,
+    /// Mean constraint violation (m).
+    pub constraint_mean: Option<f64>,
+    /// Measured period of the tracked component (s).
+    pub period: Option<f64>,
+    /// Reference period (s).
+    pub period_reference: Option<f64>,
+    /// (T − T_ref)/T_ref.
+    pub period_error: Option<f64>,
+    /// Phase error at the last shared crossing (rad).
+    pub phase_error: Option<f64>,
+}
+
+/// Decimated time series for plots (finite values only; a blow-up ends the series).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Series {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// Position error (m).
+    pub position_error: Vec<f64>,
+    /// Relative energy error.
+    pub energy_error: Vec<f64>,
+}
+
+/// The observer computing [`Metrics`] (and optionally a [`Series`]) of a run on grid `grid`
+/// of a [`Reference`].
+pub struct MetricsObserver<'a> {
+    sys: &'a System,
+    reference: &'a Reference,
+    grid: usize,
+    dt: f64,
+    e0: Option<f64>,
+    e_scale: f64,
+    t: Vec<f64>,
+    eps: Vec<f64>,
+    err_sq: f64,
+    m: Metrics,
+    p0: Option<Vec3>,
+    momentum: bool,
+    cons_sum: f64,
+    cons_n: u64,
+    tracked: Option<Tracked>,
+    prev: Option<(f64, f64, f64)>,
+    crossings: Vec<f64>,
+    series_stride: Option<u64>,
+    /// The series, when asked for.
+    pub series: Series,
+    last_err: f64,
+}
+
+impl<'a> MetricsObserver<'a> {
+    /// Observes a run of step `dt` on grid `grid` of `reference`, from `s0` over `duration`;
+    /// `series_points` > 0 records a series of at most about that many points.
+    pub fn new(
+        sys: &'a System,
+        s0: &State,
+        reference: &'a Reference,
+        grid: usize,
+        series_points: u64,
+    ) -> Self {
+        let g = reference.grids[grid];
+        let e = sys.state_energy(s0);
+        let mut e_scale = e.kinetic.abs() + e.gravity.abs() + e.elastic.abs();
+        if e_scale <= 0.0 {
+            e_scale = energy_scale(sys, s0, g.dt * g.steps as f64);
+        }
+        if e_scale <= 0.0 {
+            e_scale = 1.0;
+        }
+        let momentum = sys.free.iter().all(|&f| f) && sys.gravity.is_none() && sys.terms.is_empty();
+        let series_stride = (series_points > 0).then(|| {
+            let samples = g.sample_count() as u64;
+            g.stride * samples.div_ceil(series_points).max(1)
+        });
+        MetricsObserver {
+            sys,
+            reference,
+            grid,
+            dt: g.dt,
+            e0: None,
+            e_scale,
+            t: Vec::new(),
+            eps: Vec::new(),
+            err_sq: 0.0,
+            m: Metrics {
+                constraint_max: (!sys.constraints.is_empty()).then_some(0.0),
+                ..Default::default()
+            },
+            p0: None,
+            momentum,
+            cons_sum: 0.0,
+            cons_n: 0,
+            tracked: reference.tracked,
+            prev: None,
+            crossings: Vec::new(),
+            series_stride,
+            series: Series::default(),
+            last_err: 0.0,
+        }
+    }
+
+    /// The metrics of the steps seen so far (call after the run).
+    pub fn metrics(&self) -> Metrics {
+        let mut m = self.m.clone();
+        if m.compared_steps > 0 {
+            m.error_rms = (self.err_sq / m.compared_steps as f64).sqrt();
+        }
+        m.error_final = self.last_err;
+        let (a, b) = linear_fit(&self.t, &self.eps);
+        m.energy_drift = b;
+        m.energy_oscillation = detrended_peak_to_peak(&self.t, &self.eps, a, b);
+        m.energy_error_max = self.eps.iter().fold(0.0, |acc, e| acc.max(e.abs()));
+        m.energy_balance = self.eps.last().copied().unwrap_or(0.0);
+        if self.cons_n > 0 {
+            m.constraint_mean = Some(self.cons_sum / self.cons_n as f64);
+        }
+        let t_ref = self.reference.period();
+        let t_end = self.t.last().copied().unwrap_or(0.0);
+        let ref_c: Vec<f64> = self
+            .reference
+            .crossings
+            .iter()
+            .copied()
+            .filter(|&c| c <= t_end)
+            .collect();
+        m.period = period_of(&self.crossings);
+        m.period_reference = period_of(&ref_c).or(t_ref);
+        if let (Some(p), Some(pr)) = (m.period, m.period_reference) {
+            m.period_error = Some((p - pr) / pr);
+            let k = self.crossings.len().min(ref_c.len());
+            if k >= 1 {
+                m.phase_error =
+                    Some(2.0 * std::f64::consts::PI * (self.crossings[k - 1] - ref_c[k - 1]) / pr);
+            }
+        }
+        m
+    }
+}
+
+impl Observer for MetricsObserver<'_> {
+    fn observe(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
+        let t = step as f64 * self.dt;
+        let e0 = *self.e0.get_or_insert(e.total);
+        let eps = (e.total - e0) / self.e_scale;
+        self.t.push(t);
+        self.eps.push(eps);
+        self.m.dissipated = e.dissipated;
+        self.m.injected = e.injected;
+        let mut err_now = None;
+        if let Some(xr) = self.reference.positions(self.grid, step) {
+            let err =
+                s.x.iter()
+                    .zip(xr)
+                    .map(|(a, b)| (a - b).norm())
+                    .fold(0.0, f64::max);
+            self.m.error_max = self.m.error_max.max(err);
+            self.err_sq += err * err;
+            self.m.compared_steps += 1;
+            self.last_err = err;
+            err_now = Some(err);
+        }
+        if self.momentum {
+            let p = self.sys.momentum(&s.v);
+            let p0 = *self.p0.get_or_insert(p);
+            let kicks: Vec3 = self
+                .sys
+                .impulses
+                .iter()
+                .filter(|im| im.time < t - 1e-9 * self.dt)
+                .map(|im| im.delta_v * self.sys.mass[im.particle])
+                .sum();
+            let d = (p - p0 - kicks).norm();
+            self.m.momentum_drift = Some(self.m.momentum_drift.unwrap_or(0.0).max(d));
+        }
+        if !self.sys.constraints.is_empty() {
+            let c = self.sys.constraint_violation(&s.x);
+            self.m.constraint_max = Some(self.m.constraint_max.unwrap_or(0.0).max(c));
+            self.cons_sum += c;
+            self.cons_n += 1;
+        }
+        if let Some(tr) = self.tracked {
+            let (x1, v1) = (s.x[tr.particle][tr.axis], s.v[tr.particle][tr.axis]);
+            if let Some((t0, x0, v0)) = self.prev {
+                if v0 < 0.0 && v1 >= 0.0 {
+                    let h = t - t0;
+                    let sfrac = hermite_upward_root(x0, v0, x1, v1, h);
+                    self.crossings.push(t0 + sfrac * h);
+                }
+            }
+            self.prev = Some((t, x1, v1));
+        }
+        if let (Some(stride), Some(err)) = (self.series_stride, err_now) {
+            let last = self.reference.grids[self.grid].steps;
+            if step % stride == 0 || step == last {
+                self.series.t.push(t);
+                self.series.position_error.push(err);
+                self.series.energy_error.push(eps);
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn linear_fit_recovers_a_line_and_ptp_of_a_sine() {
+        // Oracle: y = 2 + 3t exactly; then y + 0.5 cos(2πt) (orthogonal to t over whole periods) adds peak-to-peak ≈ 1 about the line.
+        let t: Vec<f64> = (0..1001).map(|i| i as f64 * 0.01).collect();
+        let y: Vec<f64> = t.iter().map(|t| 2.0 + 3.0 * t).collect();
+        let (a, b) = linear_fit(&t, &y);
+        assert!((a - 2.0).abs() < 1e-12 && (b - 3.0).abs() < 1e-12);
+        let y2: Vec<f64> = t
+            .iter()
+            .map(|t| 2.0 + 3.0 * t + 0.5 * (2.0 * std::f64::consts::PI * t).cos())
+            .collect();
+        let (a, b) = linear_fit(&t, &y2);
+        assert!((b - 3.0).abs() < 0.05);
+        let ptp = detrended_peak_to_peak(&t, &y2, a, b);
+        assert!((ptp - 1.0).abs() < 0.02, "{ptp}");
+    }
+
+    #[test]
+    fn hermite_root_finds_the_minimum_of_a_cosine() {
+        // x = cos t has v = -sin t crossing zero upwards at t = π.
+        let (t0, h) = (3.0f64, 0.3f64);
+        let s = hermite_upward_root(t0.cos(), -t0.sin(), (t0 + h).cos(), -(t0 + h).sin(), h);
+        let tc = t0 + s * h;
+        assert!((tc - std::f64::consts::PI).abs() < 1e-4, "{tc}");
+    }
+}

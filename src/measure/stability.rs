@@ -1,0 +1,691 @@
+//! Largest stable step per integrator: exactly from the spectral radius of each method's
+//! one-step map on the scene's linearised modes, and empirically by bisection on the real
+//! scene.
+//!
+//! Theory: for every mode q'' + c q' + ω² q = 0 (see [`super::modes`]) the integrator itself
+//! is stepped on a one-particle system with exactly that linear force, and its one-step map
+//! M(h) on (x, v) is identified from two consecutive steps of two independent trajectories
+//! (M = Y₂ Y₁⁻¹, which also covers methods with memory such as two-step Störmer). The method
+//! is stable at h when the spectral radius ρ(M(h)) ≤ 1 + [`RHO_TOL`] for every mode. The
+//! boundary is bracketed on a log grid hω ∈ [1e-2, 1e4] and bisected to machine precision.
+//!
+//! Empirical: a run is stable when it finishes the horizon with finite states and mechanical
+//! energy within `blowup_factor` × the scene's energy scale (the runner's criterion); the
+//! step is doubled or halved to a bracket, then bisected to 0.1 %. Bisection assumes that
+//! stability is monotone in dt.
+
+use super::modes::{modes, Mode, Modes};
+use crate::error::Result;
+use crate::integrate::IntegratorOptions;
+use crate::model::{EnergyKind, ForceTerm, Jacobian, Springs, State, System, Vec3};
+use crate::run::{run, NoObserver, RunPlan};
+use crate::scenario::Scenario;
+use nalgebra::Matrix3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Tolerance on the spectral radius: ρ ≤ 1 + RHO_TOL counts as stable.
+pub const RHO_TOL: f64 = 1e-12;
+/// Smallest hω tried by the theory scan.
+pub const SCAN_MIN: f64 = 1e-2;
+/// Largest hω tried by the theory scan: stable up to here means unconditionally stable.
+pub const SCAN_MAX: f64 = 1e3;
+
+/// An isotropic linear force f = −k x − c v on every particle: one linearised mode.
+#[derive(Debug, Clone, Copy)]
+struct LinearMode {
+    k: f64,
+    c: f64,
+}
+
+impl ForceTerm for LinearMode {
+    fn name(&self) -> &'static str {
+        "linear_mode"
+    }
+    fn energy_kind(&self) -> EnergyKind {
+        EnergyKind::Elastic
+    }
+    fn add_forces(&self, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) -> f64 {
+        let mut p = 0.0;
+        for i in 0..f.len() {
+            f[i] -= x[i] * self.k + v[i] * self.c;
+            p += self.c * v[i].norm_squared();
+        }
+        p
+    }
+    fn potential_energy(&self, x: &[Vec3]) -> f64 {
+        x.iter().map(|x| 0.5 * self.k * x.norm_squared()).sum()
+    }
+    fn add_jacobian(&self, _x: &[Vec3], _v: &[Vec3], jac: &mut Jacobian) {
+        for d in jac.diag_x.iter_mut() {
+            *d -= Matrix3::identity() * self.k;
+        }
+        for d in jac.diag_v.iter_mut() {
+            *d -= Matrix3::identity() * self.c;
+        }
+    }
+}
+
+fn mode_system(m: Mode) -> System {
+    System {
+        mass: vec![1.0],
+        inv_mass: vec![1.0],
+        free: vec![true],
+        radius: vec![0.0],
+        springs: Springs::default(),
+        gravity: None,
+        drag: None,
+        constraints: vec![],
+        impulses: vec![],
+        contacts: None,
+        terms: vec![Box::new(LinearMode {
+            k: m.omega2,
+            c: m.damping,
+        })],
+    }
+}
+
+/// The one-step map of integrator `name` on mode `m` at step `h`, as a 2×2 matrix on (x, v);
+/// None when the method fails or the identification is singular.
+pub fn one_step_map(
+    name: &str,
+    opts: &IntegratorOptions,
+    m: Mode,
+    h: f64,
+) -> Option<[[f64; 2]; 2]> {
+    let sys = mode_system(m);
+    let traj = |x0: f64, v0: f64| -> Option<[(f64, f64); 2]> {
+        let mut integ = crate::backend::create(name, opts).ok()?;
+        integ.check(&sys).ok()?;
+        let mut s = State {
+            t: 0.0,
+            x: vec![Vec3::new(x0, 0.0, 0.0)],
+            v: vec![Vec3::new(v0, 0.0, 0.0)],
+        };
+        integ.reset();
+        integ.step(&sys, &mut s, h).ok()?;
+        let y1 = (s.x[0].x, s.v[0].x);
+        integ.step(&sys, &mut s, h).ok()?;
+        Some([y1, (s.x[0].x, s.v[0].x)])
+    };
+    let a = traj(1.0, 0.0)?;
+    let b = traj(0.0, 1.0)?;
+    // Y1 = [a1 b1], Y2 = [a2 b2] (columns), M = Y2 Y1⁻¹.
+    let (p, q, r, s) = (a[0].0, b[0].0, a[0].1, b[0].1);
+    let det = p * s - q * r;
+    if !(det.is_finite() && det != 0.0) {
+        return None;
+    }
+    let inv = [[s / det, -q / det], [-r / det, p / det]];
+    let y2 = [[a[1].0, b[1].0], [a[1].1, b[1].1]];
+    let mut mm = [[0.0; 2]; 2];
+    for i in 0..2 {
+        for j in 0..2 {
+            mm[i][j] = y2[i][0] * inv[0][j] + y2[i][1] * inv[1][j];
+        }
+    }
+    mm.iter().flatten().all(|v| v.is_finite()).then_some(mm)
+}
+
+/// Spectral radius of a 2×2 matrix.
+pub fn spectral_radius(m: [[f64; 2]; 2]) -> f64 {
+    let tr = m[0][0] + m[1][1];
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let disc = 0.25 * tr * tr - det;
+    if disc >= 0.0 {
+        let s = disc.sqrt();
+        (0.5 * tr + s).abs().max((0.5 * tr - s).abs())
+    } else {
+        det.abs().sqrt()
+    }
+}
+
+fn rho(name: &str, opts: &IntegratorOptions, m: Mode, h: f64) -> f64 {
+    one_step_map(name, opts, m, h).map_or(f64::INFINITY, spectral_radius)
+}
+
+/// A stability verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Stable for every dt below `max_stable_dt`.
+    StableBelow,
+    /// Stable at every dt tried.
+    UnconditionallyStable,
+    /// Unstable at every dt tried.
+    UnstableForAllDt,
+}
+
+/// A verdict with its step limit (s) when `stable_below`.
+pub type Limit = (Verdict, Option<f64>);
+
+/// Largest stable step on one mode: (verdict, limit).
+pub fn mode_limit(name: &str, opts: &IntegratorOptions, m: Mode) -> (Verdict, Option<f64>) {
+    let w = m.omega2.sqrt().max(m.damping);
+    if w <= 0.0 {
+        return (Verdict::UnconditionallyStable, None);
+    }
+    let n = 121;
+    let hs: Vec<f64> = (0..n)
+        .map(|i| SCAN_MIN * (SCAN_MAX / SCAN_MIN).powf(i as f64 / (n - 1) as f64) / w)
+        .collect();
+    // A step the method cannot take (say, Newton fails at enormous hω) ends the scan: it
+    // says nothing about stability, so the verdict rests on the steps that ran.
+    let state =
+        |h: f64| one_step_map(name, opts, m, h).map(|mm| spectral_radius(mm) <= 1.0 + RHO_TOL);
+    let stable = |h: f64| state(h).unwrap_or(false);
+    match state(hs[0]) {
+        Some(true) => {}
+        _ => return (Verdict::UnstableForAllDt, None),
+    }
+    let mut first_bad = None;
+    for (i, &h) in hs.iter().enumerate() {
+        match state(h) {
+            Some(true) => {}
+            Some(false) => {
+                first_bad = Some(i);
+                break;
+            }
+            None => break,
+        }
+    }
+    let Some(first_bad) = first_bad else {
+        return (Verdict::UnconditionallyStable, None);
+    };
+    let (mut lo, mut hi) = (hs[first_bad - 1], hs[first_bad]);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if stable(mid) {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    (Verdict::StableBelow, Some(lo))
+}
+
+/// Theory for a method over all modes: the tightest mode decides.
+pub fn theory_limit(name: &str, opts: &IntegratorOptions, ms: &Modes) -> (Verdict, Option<f64>) {
+    let mut best = (Verdict::UnconditionallyStable, None::<f64>);
+    for &m in &ms.modes {
+        match mode_limit(name, opts, m) {
+            (Verdict::UnstableForAllDt, _) => return (Verdict::UnstableForAllDt, None),
+            (Verdict::StableBelow, Some(h)) if best.1.is_none_or(|b| h < b) => {
+                best = (Verdict::StableBelow, Some(h));
+            }
+            _ => {}
+        }
+    }
+    best
+}
+
+/// The empirical criterion and search bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct EmpiricalCriterion {
+    /// Simulated time of each trial run (s).
+    pub horizon: f64,
+    /// A run is unstable once its mechanical energy exceeds this multiple of the scene's
+    /// energy scale, or a state is non-finite.
+    pub blowup_factor: f64,
+    /// Smallest step tried (s).
+    pub dt_min: f64,
+    /// Largest step tried (s).
+    pub dt_max: f64,
+}
+
+/// Result of the empirical search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Empirical {
+    /// Verdict within the search bounds.
+    pub verdict: Verdict,
+    /// Largest stable step found (s).
+    pub max_stable_dt: Option<f64>,
+    /// Trial runs made.
+    pub runs: usize,
+}
+
+/// Empirical search for the largest stable step of `name` on the real scene.
+pub fn empirical_limit(
+    sys: &System,
+    s0: &State,
+    name: &str,
+    opts: &IntegratorOptions,
+    start: f64,
+    crit: &EmpiricalCriterion,
+) -> Result<Empirical> {
+    let mut runs = 0;
+    let mut stable = |h: f64| -> Result<bool> {
+        runs += 1;
+        let mut integ = crate::backend::create(name, opts)?;
+        let plan = RunPlan {
+            dt: h,
+            steps: ((crit.horizon / h).ceil() as u64).max(1),
+            blowup_factor: crit.blowup_factor,
+        };
+        Ok(
+            run(sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?
+                .status
+                .is_ok(),
+        )
+    };
+    let mut h = start.clamp(crit.dt_min, crit.dt_max);
+    let (mut lo, mut hi);
+    if stable(h)? {
+        lo = h;
+        loop {
+            h *= 2.0;
+            if h > crit.dt_max {
+                return Ok(Empirical {
+                    verdict: Verdict::UnconditionallyStable,
+                    max_stable_dt: None,
+                    runs,
+                });
+            }
+            if !stable(h)? {
+                hi = h;
+                break;
+            }
+            lo = h;
+        }
+    } else {
+        hi = h;
+        loop {
+            h *= 0.5;
+            if h < crit.dt_min {
+                return Ok(Empirical {
+                    verdict: Verdict::UnstableForAllDt,
+                    max_stable_dt: None,
+                    runs,
+                });
+            }
+            if stable(h)? {
+                lo = h;
+                break;
+            }
+            hi = h;
+        }
+    }
+    while hi / lo > 1.001 {
+        let mid = (lo * hi).sqrt();
+        if stable(mid)? {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    Ok(Empirical {
+        verdict: Verdict::StableBelow,
+        max_stable_dt: Some(lo),
+        runs,
+    })
+}
+
+/// Per-integrator stability.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IntegratorStability {
+    /// Integrator name.
+    pub integrator: String,
+    /// The verdict (theory when available, else empirical).
+    pub verdict: Verdict,
+    /// Largest stable step (s) when `stable_below`.
+    pub max_stable_dt: Option<f64>,
+    /// max_stable_dt × omega_max.
+    pub h_omega: Option<f64>,
+    /// Which method decided: `spectral_radius` or `empirical_bisection`.
+    pub method: String,
+    /// The theory verdict (None for external backends).
+    pub theory_verdict: Option<Verdict>,
+    /// The theory limit (s).
+    pub theory_max_stable_dt: Option<f64>,
+    /// The empirical search.
+    pub empirical: Option<Empirical>,
+    /// Anything to know (skipped, approximations).
+    pub note: Option<String>,
+}
+
+/// `stability.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilityReport {
+    /// Scenario name.
+    pub scenario: String,
+    /// Highest natural frequency of the linearised scene (rad/s).
+    pub omega_max: f64,
+    /// The modal analysis.
+    pub modes: Modes,
+    /// Theory criterion in words.
+    pub theory_criterion: String,
+    /// Empirical criterion.
+    pub empirical_criterion: EmpiricalCriterion,
+    /// Per integrator.
+    pub integrators: Vec<IntegratorStability>,
+    /// Integrators that do not apply, with the reason.
+    pub skipped: Vec<(String, String)>,
+}
+
+/// Options of [`analyse`].
+#[derive(Debug, Clone)]
+pub struct StabilityConfig {
+    /// Integrators (empty: all applicable).
+    pub integrators: Vec<String>,
+    /// Integrator options.
+    pub options: IntegratorOptions,
+    /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
+    pub horizon: Option<f64>,
+    /// Empirical blow-up factor (default: the runner's, 1e3).
+    pub blowup_factor: f64,
+    /// Skip the empirical search.
+    pub theory_only: bool,
+}
+
+impl Default for StabilityConfig {
+    fn default() -> Self {
+        StabilityConfig {
+            integrators: vec![],
+            options: IntegratorOptions::default(),
+            horizon: None,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            theory_only: false,
+        }
+    }
+}
+
+fn is_native_linear(name: &str) -> bool {
+    crate::integrate::NATIVE.contains(&name) && name != "analytic"
+}
+
+/// Analyses every applicable integrator on `scene`.
+pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityReport> {
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let ms = modes(&sys, &s0);
+    let (names, skipped) = super::case::applicable(&sys, &cfg.integrators, &cfg.options)?;
+    let duration = scene
+        .run
+        .duration
+        .or_else(|| scene.run.steps.zip(scene.run.dt).map(|(n, d)| n as f64 * d))
+        .unwrap_or(10.0);
+    let horizon = cfg.horizon.unwrap_or_else(|| {
+        if ms.omega_max > 0.0 {
+            100.0 * std::f64::consts::TAU / ms.omega_max
+        } else {
+            duration
+        }
+    });
+    let crit = EmpiricalCriterion {
+        horizon,
+        blowup_factor: cfg.blowup_factor,
+        dt_min: horizon / 1e6,
+        dt_max: horizon / 2.0,
+    };
+    let results: Vec<Result<IntegratorStability>> = names
+        .par_iter()
+        .map(|name| {
+            let mut note = None;
+            let theory = if is_native_linear(name) && !ms.modes.is_empty() {
+                Some(theory_limit(name, &cfg.options, &ms))
+            } else {
+                if ms.modes.is_empty() {
+                    note = Some("the linearised scene has no stiffness or damping (constraints are projected, not linearised): empirical only".to_string());
+                } else if name == "analytic" {
+                    note = Some("exact closed form: stable at any step".to_string());
+                }
+                None
+            };
+            if name == "analytic" {
+                return Ok(IntegratorStability {
+                    integrator: name.clone(),
+                    verdict: Verdict::UnconditionallyStable,
+                    max_stable_dt: None,
+                    h_omega: None,
+                    method: "closed_form".into(),
+                    theory_verdict: Some(Verdict::UnconditionallyStable),
+                    theory_max_stable_dt: None,
+                    empirical: None,
+                    note,
+                });
+            }
+            let start = theory
+                .and_then(|t| t.1)
+                .or(scene.run.dt)
+                .unwrap_or(horizon / 100.0);
+            let empirical = if cfg.theory_only {
+                None
+            } else {
+                Some(empirical_limit(&sys, &s0, name, &cfg.options, start, &crit)?)
+            };
+            let (verdict, dt, method) = match (&theory, &empirical) {
+                (Some(t), _) => (t.0, t.1, "spectral_radius"),
+                (None, Some(e)) => (e.verdict, e.max_stable_dt, "empirical_bisection"),
+                (None, None) => (Verdict::UnconditionallyStable, None, "none"),
+            };
+            if ms.damping_coupling.is_some_and(|c| c > 1e-6) && theory.is_some() {
+                note = Some(format!(
+                    "modal damping is coupled (off-diagonal {:.1e} of the diagonal); the theory limit uses the diagonal",
+                    ms.damping_coupling.unwrap_or(0.0)
+                ));
+            }
+            Ok(IntegratorStability {
+                integrator: name.clone(),
+                verdict,
+                max_stable_dt: dt,
+                h_omega: dt.map(|d| d * ms.omega_max),
+                method: method.into(),
+                theory_verdict: theory.map(|t| t.0),
+                theory_max_stable_dt: theory.and_then(|t| t.1),
+                empirical,
+                note,
+            })
+        })
+        .collect();
+    Ok(StabilityReport {
+        scenario: scene.name.clone(),
+        omega_max: ms.omega_max,
+        theory_criterion: format!("spectral radius of the one-step map on every linearised mode ≤ 1 + {RHO_TOL:e}, scanned over hω ∈ [{SCAN_MIN:e}, {SCAN_MAX:e}] and bisected"),
+        empirical_criterion: crit,
+        integrators: results.into_iter().collect::<Result<_>>()?,
+        skipped,
+        modes: ms,
+    })
+}
+
+/// Options of [`stability_map`].
+#[derive(Debug, Clone)]
+pub struct MapConfig {
+    /// Integrators (empty: all applicable).
+    pub integrators: Vec<String>,
+    /// Integrator options.
+    pub options: IntegratorOptions,
+    /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
+    pub stiffness_scales: Vec<f64>,
+    /// Multipliers of every damper and of drag (default [1]).
+    pub damping_scales: Vec<f64>,
+    /// Steps as multiples of 1/ω_max of the unscaled scene (default 16 points in [0.02, 20]).
+    pub h_omega: Vec<f64>,
+    /// Periods of the scaled ω_max per empirical run (default 50, at most 20 000 steps).
+    pub periods: f64,
+    /// Blow-up factor of the empirical runs.
+    pub blowup_factor: f64,
+    /// Progress bar on a terminal.
+    pub progress: bool,
+}
+
+fn logspace(a: f64, b: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| a * (b / a).powf(i as f64 / (n.max(2) - 1) as f64))
+        .collect()
+}
+
+impl Default for MapConfig {
+    fn default() -> Self {
+        MapConfig {
+            integrators: vec![],
+            options: IntegratorOptions::default(),
+            stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
+            damping_scales: vec![1.0],
+            h_omega: logspace(0.02, 20.0, 16),
+            periods: 50.0,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            progress: false,
+        }
+    }
+}
+
+/// One cell of `stability_map.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MapRow {
+    /// Integrator.
+    pub integrator: String,
+    /// Stiffness multiplier.
+    pub stiffness_scale: f64,
+    /// Damping multiplier.
+    pub damping_scale: f64,
+    /// Step (s).
+    pub dt: f64,
+    /// ω_max of the scaled scene (rad/s).
+    pub omega_max: f64,
+    /// dt × omega_max.
+    pub h_omega: f64,
+    /// Largest spectral radius over the linearised modes (None: no theory for this method).
+    pub spectral_radius: Option<f64>,
+    /// Theoretical largest stable step of the scaled scene (None: unconditional or unknown).
+    pub theory_max_dt: Option<f64>,
+    /// Theory verdict for the scaled scene.
+    pub theory_verdict: Option<Verdict>,
+    /// Did the empirical run stay stable?
+    pub stable: bool,
+}
+
+/// The header of `stability_map.csv`.
+pub const MAP_HEADER: &str = "integrator,stiffness_scale,damping_scale,dt,omega_max,h_omega,spectral_radius,theory_max_dt,theory_verdict,stable";
+
+impl MapRow {
+    /// The CSV line.
+    pub fn csv_line(&self) -> String {
+        let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
+        let v = match self.theory_verdict {
+            Some(Verdict::StableBelow) => "stable_below",
+            Some(Verdict::UnconditionallyStable) => "unconditionally_stable",
+            Some(Verdict::UnstableForAllDt) => "unstable_for_all_dt",
+            None => "",
+        };
+        format!(
+            "{},{:e},{:e},{:e},{:e},{:e},{},{},{},{}",
+            self.integrator,
+            self.stiffness_scale,
+            self.damping_scale,
+            self.dt,
+            self.omega_max,
+            self.h_omega,
+            o(self.spectral_radius),
+            o(self.theory_max_dt),
+            v,
+            self.stable
+        )
+    }
+}
+
+fn scaled(scene: &Scenario, ks: f64, cs: f64) -> Scenario {
+    let mut s = scene.clone();
+    for sp in &mut s.springs {
+        sp.stiffness *= ks;
+        sp.damping *= cs;
+    }
+    s.drag = s.drag.map(|d| d * cs);
+    s
+}
+
+/// Sweeps stiffness × damping × dt: empirical stability of each cell with the theoretical
+/// spectral radius and boundary alongside. Cells run in parallel, collected in order.
+pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
+    let sys0 = scene.build();
+    let s0 = scene.initial_state();
+    let w0 = modes(&sys0, &s0).omega_max;
+    let w0 = if w0 > 0.0 { w0 } else { 1.0 };
+    let (names, _) = super::case::applicable(&sys0, &cfg.integrators, &cfg.options)?;
+    let names: Vec<String> = names.into_iter().filter(|n| n != "analytic").collect();
+    let mut cells = Vec::new();
+    for name in &names {
+        for &ks in &cfg.stiffness_scales {
+            for &cs in &cfg.damping_scales {
+                for &hw in &cfg.h_omega {
+                    cells.push((name.clone(), ks, cs, hw / w0));
+                }
+            }
+        }
+    }
+    // Modal analysis once per (stiffness, damping) pair.
+    let mut pairs: Vec<(f64, f64, Modes)> = Vec::new();
+    for &ks in &cfg.stiffness_scales {
+        for &cs in &cfg.damping_scales {
+            let sc = scaled(scene, ks, cs);
+            pairs.push((ks, cs, modes(&sc.build(), &s0)));
+        }
+    }
+    let theory: Vec<Vec<Option<Limit>>> = names
+        .par_iter()
+        .map(|n| {
+            pairs
+                .iter()
+                .map(|(_, _, m)| {
+                    (is_native_linear(n) && !m.modes.is_empty())
+                        .then(|| theory_limit(n, &cfg.options, m))
+                })
+                .collect()
+        })
+        .collect();
+    let pb = super::progress::bar(
+        cells.len() as u64,
+        &format!("stability map {}", scene.name),
+        cfg.progress,
+    );
+    let rows: Vec<Result<MapRow>> = cells
+        .par_iter()
+        .map(|(name, ks, cs, dt)| {
+            let pi = pairs
+                .iter()
+                .position(|p| p.0 == *ks && p.1 == *cs)
+                .expect("pair");
+            let ms = &pairs[pi].2;
+            let ni = names.iter().position(|n| n == name).expect("name");
+            let th = theory[ni][pi];
+            let w = if ms.omega_max > 0.0 { ms.omega_max } else { w0 };
+            let sc = scaled(scene, *ks, *cs);
+            let sys = sc.build();
+            let steps =
+                ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64).clamp(1, 20_000);
+            let mut integ = crate::backend::create(name, &cfg.options)?;
+            let plan = RunPlan {
+                dt: *dt,
+                steps,
+                blowup_factor: cfg.blowup_factor,
+            };
+            let stable = run(&sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?
+                .status
+                .is_ok();
+            let rho_max = th.map(|_| {
+                ms.modes
+                    .iter()
+                    .map(|&m| rho(name, &cfg.options, m, *dt))
+                    .fold(0.0, f64::max)
+            });
+            pb.inc(1);
+            Ok(MapRow {
+                integrator: name.clone(),
+                stiffness_scale: *ks,
+                damping_scale: *cs,
+                dt: *dt,
+                omega_max: ms.omega_max,
+                h_omega: dt * ms.omega_max,
+                spectral_radius: rho_max.map(|r| if r.is_finite() { r } else { f64::MAX }),
+                theory_max_dt: th.and_then(|t| t.1),
+                theory_verdict: th.map(|t| t.0),
+                stable,
+            })
+        })
+        .collect();
+    pb.finish_and_clear();
+    rows.into_iter().collect()
+}

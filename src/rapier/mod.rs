@@ -1,0 +1,37 @@
+//! Rapier 0.36 (f64) backends: the only module that imports Rapier.
+//!
+//! `rapier_impulse` maps every particle to a rigid body and every spring/constraint to an
+//! impulse joint; `rapier_multibody` puts tree edges into multibody joints (reduced
+//! coordinates) and leaves loop-closing edges to impulse joints, saying so
+//! ([`RapierBackend::topology_note`]). [`scheme_prediction`] gives the known scheme Rapier's
+//! behaviour matches, as data to plot next to the measured curve.
+
+mod backend;
+mod bodies;
+mod convert;
+mod joints;
+mod multibody;
+mod scheme;
+mod topology;
+mod world;
+
+pub use backend::{RapierBackend, IMPULSE, MULTIBODY};
+pub use bodies::RESTITUTION_RULE;
+pub use scheme::{scheme_prediction, Prediction};
+pub use topology::{Edge, EdgeKind, FallbackReason, Topology, MAX_TREE_PARTICLES};
+pub use world::Mode;
+
+/// The multibody topology note for backend `name` on `sys` (trees, fallback edges), `None` for
+/// other backends: what `compare` and `run` print next to a `rapier_multibody` row.
+pub fn topology_note(name: &str, sys: &crate::model::System) -> Option<String> {
+    (name == MULTIBODY).then(|| Topology::of(sys, MAX_TREE_PARTICLES).describe())
+}
+
+/// Internals exposed for the trap regression tests (not a stable API).
+#[doc(hidden)]
+pub mod internals {
+    pub use super::bodies::{particle_body, particle_collider};
+    pub use super::joints::{constraint_joint, spring_joint};
+    pub use super::world::{build, Built};
+    pub use rapier3d_f64;
+}
