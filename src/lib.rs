@@ -37,11 +37,8 @@ pub mod integrate;
 pub mod measure;
 pub mod model;
 pub mod output;
-<<<<<<< HEAD
-pub mod report;
-=======
 pub mod rapier;
->>>>>>> main
+pub mod report;
 pub mod run;
 pub mod scenario;
 

@@ -5,12 +5,9 @@ mod check;
 mod common;
 mod compare;
 mod list;
-<<<<<<< HEAD
-mod report;
-=======
 mod measure_common;
 mod merge;
->>>>>>> main
+mod report;
 mod run;
 mod stability;
 mod sweep;
@@ -34,10 +31,8 @@ enum Command {
     Check(check::Args),
     /// List the integrators and the shipped scenarios.
     List(list::Args),
-<<<<<<< HEAD
     /// Run every scene through every backend and write plots, pages and summary.json.
     Report(report::Args),
-=======
     /// Run every integrator over a log grid of steps against the reference: sweep.csv, orders.
     Sweep(sweep::Args),
     /// Largest stable step per integrator (spectral radius and empirical bisection).
@@ -48,7 +43,6 @@ enum Command {
     Compare(compare::Args),
     /// Join the shard directories of one sweep.
     Merge(merge::Args),
->>>>>>> main
 }
 
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
@@ -58,15 +52,12 @@ pub fn main() -> ExitCode {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
-<<<<<<< HEAD
         Command::Report(a) => report::run(a),
-=======
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Advise(a) => advise::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Merge(a) => merge::run(a),
->>>>>>> main
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
