@@ -39,6 +39,7 @@ pub mod model;
 pub mod output;
 pub mod perf;
 pub mod rapier;
+pub mod report;
 pub mod run;
 pub mod scenario;
 

@@ -8,6 +8,7 @@ mod compare;
 mod list;
 mod measure_common;
 mod merge;
+mod report;
 mod run;
 mod stability;
 mod sweep;
@@ -33,6 +34,8 @@ enum Command {
     List(list::Args),
     /// Time every backend on n×n cloths: cost per step against particle count (CSV + log-log SVG).
     BenchScaling(bench_scaling::Args),
+    /// Run every scene through every backend and write plots, pages and summary.json.
+    Report(report::Args),
     /// Run every integrator over a log grid of steps against the reference: sweep.csv, orders.
     Sweep(sweep::Args),
     /// Largest stable step per integrator (spectral radius and empirical bisection).
@@ -53,6 +56,7 @@ pub fn main() -> ExitCode {
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
         Command::BenchScaling(a) => bench_scaling::run(a),
+        Command::Report(a) => report::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Advise(a) => advise::run(a),

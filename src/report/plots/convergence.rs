@@ -1,0 +1,35 @@
+//! Convergence: error against dt, log-log, one line per integrator with its fitted slope in
+//! the legend, and reference slopes drawn dashed.
+
+use super::common::{svg_single, Axis, Panel};
+use crate::error::Result;
+use crate::report::data::{ConvergenceData, Series};
+
+/// SVG of the error at the end of the sweep (m) against the step (s), log-log.
+pub fn convergence(data: &ConvergenceData) -> Result<String> {
+    let series: Vec<Series> = data
+        .lines
+        .iter()
+        .map(|l| {
+            let mut s = l.series.clone();
+            s.label = match l.fitted_slope {
+                Some(k) => format!("{} (slope {k:.2}, order {})", s.label, l.order),
+                None => format!("{} (no fit, order {})", s.label, l.order),
+            };
+            s
+        })
+        .collect();
+    svg_single(
+        (900, 560),
+        &Panel {
+            title: format!("Convergence against {}", data.reference),
+            x: Axis::log("time step dt (s)"),
+            y: Axis::log("RMS position error at the end (m)"),
+            series: &series,
+            guides: &data.guides,
+            dots: true,
+            equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::LowerRight,
+        },
+    )
+}

@@ -1,0 +1,45 @@
+//! Work-precision: error against wall time and against force evaluations, log-log.
+
+use super::common::{svg_grid, Axis, Panel};
+use crate::error::Result;
+use crate::report::data::{Series, WorkPrecisionData};
+
+/// SVG with two panels: error against wall time, and error against force evaluations.
+pub fn work_precision(data: &WorkPrecisionData) -> Result<String> {
+    let by = |f: &dyn Fn(&crate::report::data::WorkPoint) -> f64| -> Vec<Series> {
+        data.lines
+            .iter()
+            .map(|l| {
+                Series::new(
+                    l.label.clone(),
+                    l.points.iter().map(|p| [f(p), p.error]).collect(),
+                )
+            })
+            .collect()
+    };
+    let wall = by(&|p| p.wall_seconds);
+    let evals = by(&|p| p.force_evals as f64);
+    let panels = [
+        Panel {
+            title: "Error against wall time".into(),
+            x: Axis::log("wall time in the integrator (s)"),
+            y: Axis::log("RMS position error at the end (m)"),
+            series: &wall,
+            guides: &[],
+            dots: true,
+            equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::LowerRight,
+        },
+        Panel {
+            title: "Error against force evaluations".into(),
+            x: Axis::log("force evaluations (count)"),
+            y: Axis::log("RMS position error at the end (m)"),
+            series: &evals,
+            guides: &[],
+            dots: true,
+            equal_aspect: false,
+            legend: plotters::prelude::SeriesLabelPosition::LowerRight,
+        },
+    ];
+    svg_grid((1500, 560), 2, &panels)
+}

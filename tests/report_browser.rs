@@ -1,0 +1,97 @@
+//! Opens the generated report in a real headless browser (Debian's chromium): the overview
+//! and a scene page load with no missing resource, and their screenshots are not blank.
+//! Without chromium the test fails under CI=true (CI installs it) and is skipped otherwise.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const CHROMIUM: &str = "/usr/bin/chromium";
+
+fn chromium(user_dir: &Path, extra: &[String], url: &str) -> std::process::Output {
+    Command::new(CHROMIUM)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--enable-logging=stderr",
+            "--window-size=1200,900",
+        ])
+        .arg(format!("--user-data-dir={}", user_dir.display()))
+        .args(extra)
+        .arg(url)
+        .output()
+        .expect("run chromium")
+}
+
+/// Distinct RGB colours in a PNG (a blank page has one).
+fn distinct_colours(png_path: &Path) -> usize {
+    let dec = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(png_path).unwrap(),
+    ));
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let bpp = info.color_type.samples()
+        * if info.bit_depth == png::BitDepth::Sixteen {
+            2
+        } else {
+            1
+        };
+    let mut set = std::collections::HashSet::new();
+    for px in buf[..info.buffer_size()].chunks(bpp) {
+        set.insert(px[..bpp.min(3)].to_vec());
+    }
+    set.len()
+}
+
+#[test]
+fn report_opens_in_headless_chromium() {
+    if !Path::new(CHROMIUM).exists() {
+        if std::env::var("CI").as_deref() == Ok("true") {
+            panic!("{CHROMIUM} is missing: CI must install it (apt-get install -y chromium)");
+        }
+        eprintln!("SKIP report_opens_in_headless_chromium: {CHROMIUM} not installed");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("reports");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let st = Command::new(env!("CARGO_BIN_EXE_springlab"))
+        .args(["report", "--quick", "--scenarios"])
+        .arg(root.join("scenarios"))
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let pages: Vec<PathBuf> = vec![
+        out.join("index.html"),
+        out.join("anchored_spring/index.html"),
+    ];
+    for (k, page) in pages.iter().enumerate() {
+        let url = format!("file://{}", page.display());
+        let ud = tmp.path().join(format!("profile-{k}"));
+        // Missing resources show up as network errors in the log.
+        let dom = chromium(&ud, &["--dump-dom".into()], &url);
+        assert!(dom.status.success(), "chromium failed on {url}");
+        let html = String::from_utf8_lossy(&dom.stdout);
+        assert!(html.contains("springlab"), "{url}: page did not load");
+        let log = String::from_utf8_lossy(&dom.stderr);
+        for bad in ["ERR_FILE_NOT_FOUND", "net::ERR_"] {
+            assert!(!log.contains(bad), "{url}: missing resource: {log}");
+        }
+        let shot = tmp.path().join(format!("shot-{k}.png"));
+        let ss = chromium(&ud, &[format!("--screenshot={}", shot.display())], &url);
+        assert!(
+            ss.status.success() && shot.is_file(),
+            "no screenshot of {url}"
+        );
+        let n = distinct_colours(&shot);
+        assert!(n > 20, "{url}: screenshot looks blank ({n} colours)");
+    }
+}
