@@ -23,6 +23,9 @@ pub struct ImplicitSettings {
     /// Newton stops when max |M⁻¹ G| ≤ `newton_tol` × the velocity scale, or when an update
     /// is below `newton_tol` × |v| plus the round-off floor 16ε·max|x|/h.
     pub newton_tol: f64,
+    /// Newton also stops when the residual is below `stall_tol` × the velocity scale and fell
+    /// by less than 10 % in the last iteration (counted in `stalled_steps`).
+    pub stall_tol: f64,
     /// CG stops at this relative residual (preconditioned norm).
     pub cg_tol: f64,
     /// CG iterations before giving up on one linear solve.
@@ -34,6 +37,7 @@ impl Default for ImplicitSettings {
         ImplicitSettings {
             max_newton: 50,
             newton_tol: 1e-10,
+            stall_tol: 1e-5,
             cg_tol: 1e-8,
             max_cg: 2000,
         }
@@ -49,6 +53,8 @@ pub struct ImplicitEuler {
     pub newton_iterations: u64,
     /// Total CG iterations so far (for cost reports).
     pub cg_iterations: u64,
+    /// Steps accepted on Newton stagnation below `stall_tol` rather than full convergence.
+    pub stalled_steps: u64,
     jac: Option<Jacobian>,
     f: Vec<Vec3>,
     xn: Vec<Vec3>,
@@ -174,6 +180,7 @@ impl Integrator for ImplicitEuler {
                                                                      // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
         let x_floor = 16.0 * f64::EPSILON * max_abs(&s.x) / h;
         let mut small_update = false;
+        let mut prev_res = f64::INFINITY;
         for iter in 0..=self.settings.max_newton {
             for p in 0..n {
                 self.xn[p] = s.x[p] + self.vn[p] * h;
@@ -200,7 +207,15 @@ impl Integrator for ImplicitEuler {
                 result = Err(true);
                 break;
             }
-            if res <= self.settings.newton_tol * scale || scale == 0.0 || small_update {
+            // Stagnation below `stall_tol` (a residual far under backward Euler's own O(h)
+            // error, typically where a folding cloth makes the clamped Hessian a poor model):
+            // accept, and count it so the cost report can say so.
+            let stalled = res <= self.settings.stall_tol * scale && res > 0.9 * prev_res;
+            if stalled {
+                self.stalled_steps += 1;
+            }
+            prev_res = res;
+            if res <= self.settings.newton_tol * scale || scale == 0.0 || small_update || stalled {
                 result = Ok(power);
                 break;
             }

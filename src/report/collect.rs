@@ -339,7 +339,7 @@ pub fn collect_scene(
         dt,
         steps,
         reference: reference_label(&ref_name, sub, "dt"),
-        energy_scale: energy_scale(&sys, &s0, plan.duration()),
+        energy_scale: energy_scale(&sys, &s0),
         runs,
         skipped,
         sweep,
@@ -545,7 +545,7 @@ fn scan(
             let mut integ = make(&names[i], iopts)?;
             let mut growth = Growth::new(n);
             let out = run(sys, integ.as_mut(), s0.clone(), &plan, &mut growth)?;
-            let scale = energy_scale(sys, s0, plan.duration());
+            let scale = energy_scale(sys, s0);
             Ok((thetas[k], h, out.status.is_ok() && !growth.grows(scale)))
         })
         .collect();
