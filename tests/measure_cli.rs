@@ -28,6 +28,8 @@ fn compare_lists_skipped_backends_with_the_reason() {
     springlab(&[
         "compare",
         "scenarios/pendulum_rod.toml",
+        "--integrators",
+        "verlet_constraints,rk4",
         "--duration",
         "0.5",
         "--out",
