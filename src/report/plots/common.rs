@@ -164,7 +164,18 @@ pub fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) 
         .iter()
         .map(|s| plottable(&s.points, p.x.log, p.y.log))
         .collect();
-    let marks: Vec<Option<(f64, f64)>> = p
+    // A blow-up whose last value cannot sit on a log axis (zero error before the first step)
+    // is still marked: at the bottom of the axis, placed once the range is known.
+    let floor_marks: Vec<Option<f64>> = p
+        .series
+        .iter()
+        .map(|s| {
+            s.blowup
+                .filter(|b| drawable(b.x, p.x.log) && b.y.is_finite() && !drawable(b.y, p.y.log))
+                .map(|b| b.x)
+        })
+        .collect();
+    let mut marks: Vec<Option<(f64, f64)>> = p
         .series
         .iter()
         .map(|s| {
@@ -186,6 +197,11 @@ pub fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) 
     };
     let (mut x0, mut x1) = range(all().map(|q| q.0), p.x.log);
     let (mut y0, mut y1) = range(all().map(|q| q.1), p.y.log);
+    for (m, fx) in marks.iter_mut().zip(&floor_marks) {
+        if let Some(x) = fx {
+            *m = Some((*x, y0));
+        }
+    }
     if p.equal_aspect && !p.x.log && !p.y.log {
         let (w, h) = (x1 - x0, y1 - y0);
         let (aw, ah) = area.dim_in_pixel();
