@@ -117,6 +117,9 @@ impl Integrator for RapierBackend {
                 "the Rapier backends map springs, constraints, gravity and drag; the force term '{t}' has no Rapier equivalent yet"
             ));
         }
+        if sys.contacts.is_some() {
+            return Err("the scene's obstacles are not mapped to Rapier colliders yet".into());
+        }
         Ok(())
     }
     fn reset(&mut self) {

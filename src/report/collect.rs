@@ -94,16 +94,18 @@ pub fn theory_limit(integrator: &str) -> Option<f64> {
     }
 }
 
-/// The integrators a scene asks for (its `[run].integrators`, else every known name), each
+/// Largest scene (particles) the report runs through the Rapier backends.
+pub const RAPIER_MAX_PARTICLES: usize = 64;
+
+/// The integrators a scene asks for (its `[run].integrators`, else every native one) plus the
+/// Rapier backends on small scenes, each
 /// created and checked; the ones that refuse are returned with their reason.
 fn applicable(
     scene: &Scenario,
     sys: &System,
     opts: &IntegratorOptions,
 ) -> (Vec<String>, Vec<Skipped>) {
-    let names: Vec<String> = if scene.run.integrators.is_empty() {
-        // Native integrators only by default: a Rapier run of the 32×32 cloth takes minutes,
-        // beyond the report's budget; scenes that list Rapier backends get them.
+    let mut names: Vec<String> = if scene.run.integrators.is_empty() {
         crate::integrate::NATIVE
             .iter()
             .map(|s| s.to_string())
@@ -111,7 +113,26 @@ fn applicable(
     } else {
         scene.run.integrators.clone()
     };
-    let (mut ok, mut skipped) = (Vec::new(), Vec::new());
+    // Rapier joins every scene small enough for the report's time budget (a Rapier run of the
+    // 32×32 cloth takes minutes); larger scenes list it as skipped, with the reason.
+    let mut skipped = Vec::new();
+    for ext in crate::backend::EXTERNAL {
+        if names.iter().any(|n| n == ext) {
+            continue;
+        }
+        if scene.particles.len() <= RAPIER_MAX_PARTICLES {
+            names.push(ext.to_string());
+        } else {
+            skipped.push(Skipped {
+                backend: ext.to_string(),
+                reason: format!(
+                    "left out of the report: {} particles > {RAPIER_MAX_PARTICLES} (too slow for the report's budget); `springlab compare` runs it",
+                    scene.particles.len()
+                ),
+            });
+        }
+    }
+    let mut ok = Vec::new();
     for n in names {
         match crate::backend::create(&n, opts) {
             Ok(i) => match i.check(sys) {
