@@ -158,6 +158,7 @@ pub fn run(
     for n in 0..plan.steps {
         prev.clone_from(&s);
         let t_end = (n + 1) as f64 * plan.dt;
+        let imp_at_start = next_imp;
         let mut failure = None;
         while next_imp < sys.impulses.len() && sys.impulses[next_imp].time < t_end - eps {
             let im = sys.impulses[next_imp];
@@ -175,8 +176,11 @@ pub fn run(
             lp.integ.reset();
             next_imp += 1;
         }
+        let split = next_imp > imp_at_start;
         if failure.is_none() && t_end - s.t > eps {
-            let h = t_end - s.t;
+            // An unsplit step is exactly `dt`: t_end − t would differ from it by round-off and
+            // make history-keeping methods (position Verlet) restart.
+            let h = if split { t_end - s.t } else { plan.dt };
             if let Err(e) = lp.step(&mut s, h) {
                 failure = Some(e);
             }
