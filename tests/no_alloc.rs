@@ -72,7 +72,7 @@ fn no_integrator_allocates_inside_a_step() {
         .unwrap()
     };
     let small = damped_cloth(8);
-    let large = springlab::perf::cloth(100);
+    let large = springlab::perf::cloth(130);
     assert!(large.build().springs.len() >= PARALLEL_MIN_SPRINGS);
     let osc = common::oscillator(4.0, 0.3, 0.1, 0.0);
     let mut checked = 0;
@@ -80,7 +80,7 @@ fn no_integrator_allocates_inside_a_step() {
         for (label, scene, steps) in [
             ("oscillator", &osc, 50),
             ("cloth 8x8", &small, 20),
-            ("cloth 100x100", &large, 3),
+            ("cloth 130x130", &large, 3),
         ] {
             if let Some(n) = allocations(scene, name, 1e-3, steps) {
                 assert_eq!(n, 0, "{name} on {label}: {n} allocations in {steps} steps");
