@@ -50,12 +50,7 @@ impl StepArgs {
         if self.steps == Some(0) {
             bail!("--steps: must be at least 1");
         }
-        if !(self.blowup_factor.is_finite() && self.blowup_factor > 1.0) {
-            bail!(
-                "--blowup-factor: must be a finite number > 1, got {}",
-                self.blowup_factor
-            );
-        }
+        super::measure_common::blowup_factor(self.blowup_factor)?;
         if self.iterations == 0 {
             bail!("--iterations: must be at least 1");
         }

@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(long)]
     pub duration: Option<f64>,
     /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR)]
+    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
     pub blowup_factor: f64,
 }
 
@@ -32,7 +32,7 @@ pub fn run(a: Args) -> Result<()> {
         dt: a.dt,
         duration: a.duration,
         options: a.m.options()?,
-        blowup_factor: a.blowup_factor,
+        blowup_factor: super::measure_common::blowup_factor(a.blowup_factor)?,
         progress: true,
         ..Default::default()
     };

@@ -4,6 +4,14 @@ use anyhow::{bail, Result};
 use springlab::integrate::IntegratorOptions;
 use std::path::{Path, PathBuf};
 
+/// Validates a `--blowup-factor` value: finite and above 1.
+pub fn blowup_factor(f: f64) -> Result<f64> {
+    if !(f.is_finite() && f > 1.0) {
+        bail!("--blowup-factor: must be a finite number > 1, got {f}");
+    }
+    Ok(f)
+}
+
 /// Integrator selection and options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MeasureArgs {

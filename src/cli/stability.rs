@@ -44,12 +44,7 @@ pub fn run(a: Args) -> Result<()> {
             bail!("--horizon: must be a finite number > 0, got {h}");
         }
     }
-    if !(a.blowup_factor.is_finite() && a.blowup_factor > 1.0) {
-        bail!(
-            "--blowup-factor: must be a finite number > 1, got {}",
-            a.blowup_factor
-        );
-    }
+    super::measure_common::blowup_factor(a.blowup_factor)?;
     for v in &a.stiffness_scales {
         if !(v.is_finite() && *v > 0.0) {
             bail!("--stiffness-scales: values must be finite and > 0, got {v}");

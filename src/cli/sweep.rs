@@ -29,7 +29,7 @@ pub struct Args {
     #[arg(long)]
     pub shard: Option<Shard>,
     /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR)]
+    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
     pub blowup_factor: f64,
 }
 
@@ -43,7 +43,7 @@ pub fn run(a: Args) -> Result<()> {
         points: a.points,
         duration: a.duration,
         options: a.m.options()?,
-        blowup_factor: a.blowup_factor,
+        blowup_factor: super::measure_common::blowup_factor(a.blowup_factor)?,
         shard: a.shard,
         progress: true,
         ..Default::default()
