@@ -60,6 +60,11 @@ pub trait Integrator: Send {
             ))
         }
     }
+    /// True when the method resolves obstacle contacts itself (a physics engine), so the
+    /// runner must not apply springlab's post-step contact stage on top.
+    fn handles_contacts(&self) -> bool {
+        false
+    }
     /// Forgets any history (cached forces, previous positions): the state was changed from
     /// outside (an impulse, a contact) or the step size changes.
     fn reset(&mut self) {}

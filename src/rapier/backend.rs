@@ -106,6 +106,9 @@ impl Integrator for RapierBackend {
     fn order(&self) -> u32 {
         1
     }
+    fn handles_contacts(&self) -> bool {
+        true // obstacles are fixed Rapier colliders; Rapier's own solver resolves contacts
+    }
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         if let Some(t) = sys
             .terms
@@ -116,9 +119,6 @@ impl Integrator for RapierBackend {
             return Err(format!(
                 "the Rapier backends map springs, constraints, gravity and drag; the force term '{t}' has no Rapier equivalent yet"
             ));
-        }
-        if sys.contacts.is_some() {
-            return Err("the scene's obstacles are not mapped to Rapier colliders yet".into());
         }
         Ok(())
     }

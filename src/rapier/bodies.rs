@@ -60,13 +60,21 @@ pub fn pivot_body(x: Vector, eps: f64, r: f64) -> RigidBody {
 }
 
 /// The particle's ball collider: radius as given, density 0 (mass comes from the body),
-/// no collision with anything, restitution 0 combined by [`RESTITUTION_RULE`].
+/// restitution and friction 0 combined by `Max` (so an obstacle's values act as given); it
+/// collides with the scene's obstacles only, never with other particles.
 pub fn particle_collider(sys: &System, p: usize) -> Collider {
+    let groups = if sys.contacts.is_some() {
+        super::obstacles::particle_groups()
+    } else {
+        InteractionGroups::none()
+    };
     ColliderBuilder::ball(sys.radius[p].max(MIN_INERTIA_RADIUS))
         .density(0.0)
-        .collision_groups(InteractionGroups::none())
-        .solver_groups(InteractionGroups::none())
+        .collision_groups(groups)
+        .solver_groups(groups)
         .restitution(0.0)
         .restitution_combine_rule(RESTITUTION_RULE)
+        .friction(0.0)
+        .friction_combine_rule(CoefficientCombineRule::Max)
         .build()
 }

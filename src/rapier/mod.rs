@@ -11,6 +11,7 @@ mod bodies;
 mod convert;
 mod joints;
 mod multibody;
+mod obstacles;
 mod scheme;
 mod topology;
 mod world;

@@ -43,6 +43,9 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
                 .0
         })
         .collect();
+    for c in super::obstacles::obstacle_colliders(sys) {
+        world.insert_collider(c, None);
+    }
     let impulse = |world: &mut PhysicsWorld, e: Edge| {
         let data = edge_joint(sys, e.kind);
         world

@@ -112,7 +112,12 @@ impl Loop<'_> {
         // Contact stage (obstacles only): resolve contacts after the accepted step, before the
         // energy account; what it removes joins `dissipated`, and a changed state resets the
         // integrator's history.
-        if let Some(c) = &self.sys.contacts {
+        if let Some(c) = self
+            .sys
+            .contacts
+            .as_ref()
+            .filter(|_| !self.integ.handles_contacts())
+        {
             let cs = c.apply(self.sys, &self.x0, s, h);
             self.dissipated += cs.dissipated;
             if cs.changed {
