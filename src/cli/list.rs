@@ -47,6 +47,14 @@ pub const DESCRIPTIONS: &[(&str, &str)] = &[
         "analytic",
         "exact closed form for independent damped springs on fixed anchors",
     ),
+    (
+        "rapier_impulse",
+        "Rapier 0.36 (f64): a body per particle, springs as force-based joint motors",
+    ),
+    (
+        "rapier_multibody",
+        "Rapier 0.36 (f64): multibody trees, loop-closing edges as impulse joints",
+    ),
 ];
 
 /// Runs the command.
