@@ -132,20 +132,24 @@ fn applicable(
             });
         }
     }
-    let mut ok = Vec::new();
-    for n in names {
-        match crate::backend::create(&n, opts) {
-            Ok(i) => match i.check(sys) {
-                Ok(()) => ok.push(i.name().to_string()),
-                Err(reason) => skipped.push(Skipped { backend: n, reason }),
-            },
-            Err(e) => skipped.push(Skipped {
-                backend: n,
+    // Creating and checking each backend is measure's `applicable`; one place decides.
+    match crate::measure::case::applicable(sys, &names, opts) {
+        Ok((ok, refused)) => {
+            skipped.extend(
+                refused
+                    .into_iter()
+                    .map(|(backend, reason)| Skipped { backend, reason }),
+            );
+            (ok, skipped)
+        }
+        Err(e) => {
+            skipped.extend(names.into_iter().map(|backend| Skipped {
+                backend,
                 reason: e.to_string(),
-            }),
+            }));
+            (Vec::new(), skipped)
         }
     }
-    (ok, skipped)
 }
 
 fn make(name: &str, opts: &IntegratorOptions) -> Result<Box<dyn Integrator>> {
