@@ -23,13 +23,18 @@ pub struct ImplicitSettings {
     /// Newton stops when max |M⁻¹ G| ≤ `newton_tol` × the velocity scale, or when an update
     /// is below `newton_tol` × |v| plus the round-off floor 16ε·max|x|/h.
     pub newton_tol: f64,
-    /// Newton also stops when the residual is below `stall_tol` × the velocity scale and fell
-    /// by less than 10 % in the last iteration (counted in `stalled_steps`).
-    pub stall_tol: f64,
+    /// Newton also stops when max |M⁻¹ G| ≤ `kappa` × the step's truncation-error estimate
+    /// ½ max |v' − v_pred| (v_pred: the first-order explicit predictor), so the solver error
+    /// stays `kappa` times below the method's own error (Hairer & Wanner, Solving ODEs II,
+    /// §IV.8, use κ ∈ [0.01, 0.1] against the error tolerance; we take 1e-3 of the error).
+    pub kappa: f64,
     /// CG stops at this relative residual (preconditioned norm).
     pub cg_tol: f64,
     /// CG iterations before giving up on one linear solve.
     pub max_cg: usize,
+    /// Halvings of a Newton update tried when it would raise the residual (line search on
+    /// GᵀM⁻¹G); the last trial is taken if none lowers it.
+    pub max_halvings: usize,
 }
 
 impl Default for ImplicitSettings {
@@ -37,9 +42,10 @@ impl Default for ImplicitSettings {
         ImplicitSettings {
             max_newton: 50,
             newton_tol: 1e-10,
-            stall_tol: 1e-5,
+            kappa: 1e-2,
             cg_tol: 1e-8,
             max_cg: 2000,
+            max_halvings: 4,
         }
     }
 }
@@ -53,21 +59,48 @@ pub struct ImplicitEuler {
     pub newton_iterations: u64,
     /// Total CG iterations so far (for cost reports).
     pub cg_iterations: u64,
-    /// Steps accepted on Newton stagnation below `stall_tol` rather than full convergence.
-    pub stalled_steps: u64,
+    /// Steps that stopped on the truncation-error tolerance (`kappa`) before `newton_tol`.
+    pub error_limited_steps: u64,
+    /// Newton updates shortened by the line search.
+    pub damped_updates: u64,
     jac: Option<Jacobian>,
     f: Vec<Vec3>,
     xn: Vec<Vec3>,
     vn: Vec<Vec3>,
+    vbase: Vec<Vec3>,
+    vpred: Vec<Vec3>,
+    pot: PotentialScratch,
     r: Vec<Vec3>,
     dv: Vec<Vec3>,
     floor: Vec<f64>,
     cg: Cg,
 }
 
+/// What one evaluation of the backward-Euler residual G(v') found.
+#[derive(Debug, Clone, Copy)]
+struct Residual {
+    /// max |M⁻¹G| above the rounding floor (velocity units).
+    max: f64,
+    /// GᵀM⁻¹G, the line-search merit.
+    merit: f64,
+    /// Velocity scale for relative tolerances.
+    scale: f64,
+    /// Dissipated power at the iterate.
+    power: f64,
+}
+
+/// Incremental potential of the step at the current iterate (see [`ImplicitEuler::potential`]).
+fn no_potential() -> f64 {
+    f64::NAN
+}
+
 /// Rounding floor of the Newton residual, as a multiple of ε·h/m·Σ k(|x_i| + |x_j| + l0): a
 /// residual below it is the rounding error of the force evaluation itself and cannot shrink.
 const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
+
+/// Fractions of compressed springs' indefinite stiffness dropped in successive attempts at
+/// one Newton solve (see [`Jacobian::clamp`]).
+const CLAMPS: [f64; 4] = [0.0, 0.5, 0.875, 1.0];
 
 #[derive(Debug, Default)]
 struct Cg {
@@ -80,7 +113,7 @@ struct Cg {
 
 enum CgOutcome {
     Converged(usize),
-    NegativeCurvature,
+    NegativeCurvature(usize),
     NotConverged,
 }
 
@@ -123,7 +156,7 @@ impl Cg {
             }
             let pap: f64 = self.p.iter().zip(&self.ap).map(|(a, b)| a.dot(b)).sum();
             if pap <= 0.0 || !pap.is_finite() {
-                return CgOutcome::NegativeCurvature;
+                return CgOutcome::NegativeCurvature(it);
             }
             let alpha = rz / pap;
             for i in 0..n {
@@ -145,6 +178,67 @@ impl Cg {
     }
 }
 
+impl ImplicitEuler {
+    /// Sets x' = x + h v', evaluates the forces there and G(v') = M (v' − v) − h f(x', v')
+    /// into `self.r`; the max norm counts only what is above the force evaluation's own
+    /// rounding floor at each particle.
+    fn residual(&mut self, sys: &System, s: &State, h: f64, v_scale0: f64) -> Residual {
+        for p in 0..s.len() {
+            self.xn[p] = s.x[p] + self.vn[p] * h;
+        }
+        let power = sys.forces(&self.xn, &self.vn, &mut self.f);
+        self.floor.iter_mut().for_each(|r| *r = 0.0);
+        sys.springs.add_rounding_scale(&self.xn, &mut self.floor);
+        let (mut max, mut merit) = (0.0f64, 0.0f64);
+        let mut scale = v_scale0.max(max_abs(&self.vn));
+        for p in 0..s.len() {
+            if sys.free[p] {
+                self.r[p] = (self.vn[p] - s.v[p]) * sys.mass[p] - self.f[p] * h;
+                let noise = ROUNDING_FLOOR * h * sys.inv_mass[p] * self.floor[p];
+                max = max.max((self.r[p] * sys.inv_mass[p]).amax() - noise);
+                merit += self.r[p].norm_squared() * sys.inv_mass[p];
+                scale = scale.max((self.f[p] * (h * sys.inv_mass[p])).amax());
+            } else {
+                self.r[p] = Vec3::zeros();
+            }
+        }
+        Residual {
+            max,
+            merit,
+            scale,
+            power,
+        }
+    }
+}
+
+/// Scratch for [`potential`].
+#[derive(Debug, Default)]
+struct PotentialScratch {
+    /// x + h v' at the trial.
+    x_new: Vec<Vec3>,
+    /// Positions at which the damping directions are frozen (the line search's base).
+    x_frozen: Vec<Vec3>,
+    /// Force output of the dissipated-power evaluation (unused).
+    f: Vec<Vec3>,
+}
+
+/// The step's incremental potential Φ(v') = ½ Σ m|v' − v|² + U(x + h v') + ½ h P(x_k, v'),
+/// with the dissipated power P, a quadratic form in v' for springlab's linear dampers,
+/// evaluated with damping directions frozen at the line search's base x_k: its v'-gradient
+/// at the base is exactly the residual G, so a clamped Newton direction descends on it.
+fn potential(sys: &System, s: &State, v: &[Vec3], h: f64, w: &mut PotentialScratch) -> f64 {
+    let mut kin = 0.0;
+    for p in 0..s.len() {
+        w.x_new[p] = s.x[p] + v[p] * h;
+        if sys.free[p] {
+            kin += 0.5 * sys.mass[p] * (v[p] - s.v[p]).norm_squared();
+        }
+    }
+    let e = sys.energy(&w.x_new, v);
+    let power = sys.forces(&w.x_frozen, v, &mut w.f);
+    kin + e.gravity + e.elastic + 0.5 * h * power
+}
+
 fn max_abs(v: &[Vec3]) -> f64 {
     v.iter().map(|c| c.amax()).fold(0.0, f64::max)
 }
@@ -162,6 +256,11 @@ impl Integrator for ImplicitEuler {
             &mut self.f,
             &mut self.xn,
             &mut self.vn,
+            &mut self.vbase,
+            &mut self.vpred,
+            &mut self.pot.x_new,
+            &mut self.pot.x_frozen,
+            &mut self.pot.f,
             &mut self.r,
             &mut self.dv,
         ] {
@@ -173,50 +272,38 @@ impl Integrator for ImplicitEuler {
             _ => sys.new_jacobian(),
         };
         self.vn.copy_from_slice(&s.v);
-        let mut evals = 0u64;
         let v_scale0 = max_abs(&s.v);
         // Errors are built only on failure: a step must not allocate.
         let mut result: std::result::Result<f64, bool> = Err(false); // Err(true): non-finite
                                                                      // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
         let x_floor = 16.0 * f64::EPSILON * max_abs(&s.x) / h;
         let mut small_update = false;
-        let mut prev_res = f64::INFINITY;
+        let mut res = self.residual(sys, s, h, v_scale0);
+        let mut evals = 1u64;
+        // The explicit predictor v0 + h M⁻¹ f(x0 + h v0, v0) is first order, so ½|v' − v_pred|
+        // estimates backward Euler's local error in velocity at no extra force evaluation.
+        for p in 0..n {
+            self.vpred[p] = s.v[p] - self.r[p] * sys.inv_mass[p];
+        }
         for iter in 0..=self.settings.max_newton {
-            for p in 0..n {
-                self.xn[p] = s.x[p] + self.vn[p] * h;
-            }
-            let power = sys.forces(&self.xn, &self.vn, &mut self.f);
-            evals += 1;
-            self.floor.iter_mut().for_each(|r| *r = 0.0);
-            sys.springs.add_rounding_scale(&self.xn, &mut self.floor);
-            // G(v') = M (v' - v) - h f(x + h v', v'); scaled residual M⁻¹G has units of velocity,
-            // counted only above the rounding floor of the force evaluation at that particle.
-            let mut res = 0.0f64;
-            let mut scale = v_scale0.max(max_abs(&self.vn));
-            for p in 0..n {
-                if sys.free[p] {
-                    self.r[p] = (self.vn[p] - s.v[p]) * sys.mass[p] - self.f[p] * h;
-                    let noise = ROUNDING_FLOOR * h * sys.inv_mass[p] * self.floor[p];
-                    res = res.max((self.r[p] * sys.inv_mass[p]).amax() - noise);
-                    scale = scale.max((self.f[p] * (h * sys.inv_mass[p])).amax());
-                } else {
-                    self.r[p] = Vec3::zeros();
-                }
-            }
-            if !res.is_finite() {
+            if !res.max.is_finite() || !res.merit.is_finite() {
                 result = Err(true);
                 break;
             }
-            // Stagnation below `stall_tol` (a residual far under backward Euler's own O(h)
-            // error, typically where a folding cloth makes the clamped Hessian a poor model):
-            // accept, and count it so the cost report can say so.
-            let stalled = res <= self.settings.stall_tol * scale && res > 0.9 * prev_res;
-            if stalled {
-                self.stalled_steps += 1;
-            }
-            prev_res = res;
-            if res <= self.settings.newton_tol * scale || scale == 0.0 || small_update || stalled {
-                result = Ok(power);
+            let tight = res.max <= self.settings.newton_tol * res.scale || res.scale == 0.0;
+            let lte = 0.5
+                * self
+                    .vn
+                    .iter()
+                    .zip(&self.vpred)
+                    .map(|(a, b)| (a - b).amax())
+                    .fold(0.0, f64::max);
+            let loose = iter > 0 && res.max <= self.settings.kappa * lte;
+            if tight || small_update || loose {
+                if loose && !tight && !small_update {
+                    self.error_limited_steps += 1;
+                }
+                result = Ok(res.power);
                 break;
             }
             if iter == self.settings.max_newton {
@@ -226,9 +313,11 @@ impl Integrator for ImplicitEuler {
             for p in 0..n {
                 self.r[p] = -self.r[p];
             }
-            let mut definite = false;
+            // Exact Jacobian first; on negative curvature drop more and more of the compressed
+            // springs' indefinite stiffness (CLAMPS), ending with the SPD clamped matrix.
+            let mut attempt = 0;
             loop {
-                jac.definite = definite;
+                jac.clamp = CLAMPS[attempt];
                 sys.jacobian(&self.xn, &self.vn, &mut jac);
                 jac.prepare_newton(&sys.mass, &sys.free, h);
                 match self
@@ -239,22 +328,56 @@ impl Integrator for ImplicitEuler {
                         self.cg_iterations += it as u64;
                         break;
                     }
-                    CgOutcome::NegativeCurvature if !definite => definite = true,
+                    CgOutcome::NegativeCurvature(it) if attempt + 1 < CLAMPS.len() => {
+                        self.cg_iterations += it as u64;
+                        attempt += 1;
+                    }
                     CgOutcome::NotConverged => {
                         self.cg_iterations += self.settings.max_cg as u64;
                         break; // use the partial solve: Newton's residual check decides
                     }
-                    CgOutcome::NegativeCurvature => {
+                    CgOutcome::NegativeCurvature(_) => {
                         return Err(Error::Step("implicit_euler: Newton matrix is not positive definite even after clamping".into()));
                     }
                 }
             }
-            for p in 0..n {
-                self.vn[p] += self.dv[p];
+            // Backtracking: a folding cloth makes the (clamped) Jacobian a poor model, and a
+            // full update can raise the residual; halve it until GᵀM⁻¹G falls.
+            self.vbase.copy_from_slice(&self.vn);
+            let mut alpha = 1.0;
+            let mut phi_base = no_potential();
+            for halving in 0..=self.settings.max_halvings {
+                for p in 0..n {
+                    self.vn[p] = self.vbase[p] + self.dv[p] * alpha;
+                }
+                let trial = self.residual(sys, s, h, v_scale0);
+                evals += 1;
+                let mut done = trial.merit <= res.merit
+                    || !trial.merit.is_finite()
+                    || halving == self.settings.max_halvings;
+                if !done {
+                    // The residual rose: accept the update anyway if it lowers the step's
+                    // incremental potential (the clamped Newton direction is a descent
+                    // direction for it, not for the residual).
+                    if phi_base.is_nan() {
+                        for p in 0..n {
+                            self.pot.x_frozen[p] = s.x[p] + self.vbase[p] * h;
+                        }
+                        phi_base = potential(sys, s, &self.vbase, h, &mut self.pot);
+                    }
+                    done = potential(sys, s, &self.vn, h, &mut self.pot) < phi_base;
+                }
+                if done {
+                    if halving > 0 {
+                        self.damped_updates += 1;
+                    }
+                    res = trial;
+                    break;
+                }
+                alpha *= 0.5;
             }
-            // Converged when the update is below the tolerance or the round-off floor; one more
-            // force evaluation at the final iterate follows (for the dissipated power).
-            small_update = max_abs(&self.dv)
+            // Converged when the update is below the tolerance or the round-off floor.
+            small_update = alpha * max_abs(&self.dv)
                 <= self.settings.newton_tol * v_scale0.max(max_abs(&self.vn)) + x_floor;
         }
         self.jac = Some(jac);

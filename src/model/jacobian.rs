@@ -20,9 +20,10 @@ pub struct Jacobian {
     pub diag_x: Vec<Matrix3<f64>>,
     /// Velocity blocks per particle.
     pub diag_v: Vec<Matrix3<f64>>,
-    /// When set, terms must fill positive semi-definite stiffness blocks (dropping the
-    /// indefinite geometric part of compressed springs), so the Newton matrix is SPD.
-    pub definite: bool,
+    /// Fraction (0…1) of the indefinite geometric stiffness of compressed springs that terms
+    /// drop: 0 is the exact Jacobian, 1 fills positive semi-definite blocks only, so the
+    /// Newton matrix is SPD.
+    pub clamp: f64,
     /// Per-pair Newton blocks h·kv + h²·kx, filled by [`Jacobian::prepare_newton`].
     newton_pair: Vec<Matrix3<f64>>,
     /// Per-particle Newton blocks m I − h·diag_v − h²·diag_x (identity for fixed particles).
@@ -39,7 +40,7 @@ impl Jacobian {
             kv: vec![Matrix3::zeros(); m],
             diag_x: vec![Matrix3::zeros(); n],
             diag_v: vec![Matrix3::zeros(); n],
-            definite: false,
+            clamp: 0.0,
             newton_pair: vec![Matrix3::zeros(); m],
             newton_self: vec![Matrix3::zeros(); n],
         }

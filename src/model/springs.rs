@@ -184,12 +184,7 @@ impl Springs {
 
     /// Jacobian blocks (∂f_i/∂x_j, ∂f_i/∂v_j) of spring `s`.
     #[inline(always)]
-    fn jacobian_blocks(
-        &self,
-        s: usize,
-        x: &[Vec3],
-        definite: bool,
-    ) -> (Matrix3<f64>, Matrix3<f64>) {
+    fn jacobian_blocks(&self, s: usize, x: &[Vec3], clamp: f64) -> (Matrix3<f64>, Matrix3<f64>) {
         let (a, b) = (self.i[s] as usize, self.j[s] as usize);
         let d = x[b] - x[a];
         let len = d.norm();
@@ -199,8 +194,8 @@ impl Springs {
             let nn = n * n.transpose();
             let r = self.l0[s] / len;
             // k(1 - r)(I - nnᵀ) + k nnᵀ; the transverse part is negative when compressed.
-            let transverse = if definite {
-                (1.0 - r).max(0.0)
+            let transverse = if r > 1.0 {
+                (1.0 - r) * (1.0 - clamp)
             } else {
                 1.0 - r
             };
@@ -278,7 +273,7 @@ impl ForceTerm for Springs {
         // O(c·|v_rel|/L) and vanish at rest; Newton still converges to the same root),
         // ∂f_i/∂v_j = c n nᵀ. The blocks for (i,i) are the negatives.
         // Each block depends on its spring only, so the parallel fill is trivially deterministic.
-        let definite = jac.definite;
+        let clamp = jac.clamp;
         if self.incidence(x.len()).is_some() {
             let m = self.len();
             jac.kx[..m]
@@ -288,12 +283,12 @@ impl ForceTerm for Springs {
                 .for_each(|(c, (kx, kv))| {
                     let base = c * SPRING_CHUNK;
                     for k in 0..kx.len() {
-                        (kx[k], kv[k]) = self.jacobian_blocks(base + k, x, definite);
+                        (kx[k], kv[k]) = self.jacobian_blocks(base + k, x, clamp);
                     }
                 });
         } else {
             for s in 0..self.len() {
-                let (kx, kv) = self.jacobian_blocks(s, x, definite);
+                let (kx, kv) = self.jacobian_blocks(s, x, clamp);
                 jac.set_pair(s, kx, kv);
             }
         }
