@@ -1,5 +1,5 @@
 //! No allocation inside a step: a counting global allocator (this test binary only) counts
-//! every allocation made by any thread while every native integrator steps, after a warm-up
+//! every allocation made by the stepping thread and its rayon helpers while every native integrator steps, after a warm-up
 //! step that sizes its scratch buffers. Covers the serial spring loop (small scenes), the
 //! parallel path (a cloth above `PARALLEL_MIN_SPRINGS`), gravity, drag and dampers.
 
@@ -16,9 +16,19 @@ struct Counting;
 static COUNTING: AtomicBool = AtomicBool::new(false);
 static ALLOCS: AtomicUsize = AtomicUsize::new(0);
 
+thread_local! {
+    /// Set on the measuring pool's threads (the stepping thread and its helpers): the test
+    /// harness's own threads may allocate at any time and are not counted.
+    static COUNTED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+fn counted() -> bool {
+    COUNTING.load(Ordering::SeqCst) && COUNTED.with(|c| c.get())
+}
+
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        if COUNTING.load(Ordering::SeqCst) {
+        if counted() {
             ALLOCS.fetch_add(1, Ordering::SeqCst);
         }
         unsafe { System.alloc(l) }
@@ -27,7 +37,7 @@ unsafe impl GlobalAlloc for Counting {
         unsafe { System.dealloc(p, l) }
     }
     unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        if COUNTING.load(Ordering::SeqCst) {
+        if counted() {
             ALLOCS.fetch_add(1, Ordering::SeqCst);
         }
         unsafe { System.realloc(p, l, n) }
@@ -37,8 +47,25 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-/// Allocations made by `steps` steps of `name` on `scene` after one warm-up step.
+/// Allocations made by `steps` steps of `name` on `scene` after one warm-up step, stepping on a
+/// rayon worker thread. (Called from outside a pool, each parallel loop is pushed onto
+/// rayon's global injector queue, which allocates one block per 63 pushes: the scheduler's
+/// cost, amortized, not the step's. Inside the pool the loops go to the worker's own deque.)
+/// One pool for the whole test: a pool dropped between measurements would wind its threads
+/// down (and free and allocate) during the next one.
 fn allocations(scene: &Scenario, name: &str, h: f64, steps: usize) -> Option<usize> {
+    static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
+    let pool = POOL.get_or_init(|| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .start_handler(|_| COUNTED.with(|c| c.set(true)))
+            .build()
+            .unwrap()
+    });
+    pool.install(|| allocations_here(scene, name, h, steps))
+}
+
+fn allocations_here(scene: &Scenario, name: &str, h: f64, steps: usize) -> Option<usize> {
     let sys = scene.build();
     let mut integ = common::integ(name);
     if integ.check(&sys).is_err() {

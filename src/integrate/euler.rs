@@ -18,14 +18,20 @@ fn euler_step(
     kick_first: bool,
 ) -> StepStats {
     ensure_len(a, s.len());
-    let power = sys.accelerations(&s.x, &s.v, a);
-    for ((x, v), a) in s.x.iter_mut().zip(s.v.iter_mut()).zip(a.iter()) {
+    // Forces, not accelerations: 1/m is folded into the kick (one pass fewer per step).
+    let power = sys.forces(&s.x, &s.v, a);
+    for (((x, v), f), &w) in
+        s.x.iter_mut()
+            .zip(s.v.iter_mut())
+            .zip(a.iter())
+            .zip(&sys.inv_mass)
+    {
         if kick_first {
-            *v += a * h;
+            *v += f * (w * h);
             *x += *v * h;
         } else {
             *x += *v * h;
-            *v += a * h;
+            *v += f * (w * h);
         }
     }
     s.t += h;

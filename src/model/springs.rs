@@ -12,7 +12,10 @@
 //! [`super::parallel`]; the result is bit-identical to the serial loop whatever the thread count.
 
 use super::jacobian::Jacobian;
-use super::parallel::{sum_partials, Incidence, ScratchPool, PARALLEL_MIN_SPRINGS, SPRING_CHUNK};
+use super::parallel::{
+    sum_partials, Incidence, ScratchPool, OWNS_FIRST, OWNS_SECOND, PARALLEL_MIN_SPRINGS,
+    PARTICLE_CHUNK, SPRING_CHUNK,
+};
 use super::state::Vec3;
 use super::term::{EnergyKind, ForceTerm};
 use nalgebra::Matrix3;
@@ -90,21 +93,27 @@ impl Springs {
         }
     }
 
-    /// Force of spring `s` on its first particle and the power its damper dissipates.
+    /// Force of spring `s` on its first particle and the power its damper dissipates:
+    /// `n (k_eff (|d| − l0) + c n·(v_j − v_i))` with `n = d/|d|`, and zero at `|d| = 0`.
     #[inline(always)]
     fn force<const DAMPED: bool>(&self, s: usize, x: &[Vec3], v: &[Vec3]) -> (Vec3, f64) {
         let (a, b) = (self.i[s] as usize, self.j[s] as usize);
         let d = x[b] - x[a];
         let len = d.norm();
-        let mut fs = d * elastic_coeff(self.k[s], self.l0[s], len);
-        let mut power = 0.0;
-        if DAMPED && self.c[s] > 0.0 && len > 0.0 {
-            let n = d / len;
-            let vrel = (v[b] - v[a]).dot(&n);
-            fs += n * (self.c[s] * vrel);
-            power = self.c[s] * vrel * vrel;
+        if len == 0.0 {
+            // Coincident endpoints: k_eff d is the zero vector, the damper is skipped.
+            return (Vec3::zeros(), 0.0);
         }
-        (fs, power)
+        let n = d * (1.0 / len);
+        let mut mag = self.k[s] * (len - self.l0[s]);
+        let mut power = 0.0;
+        if DAMPED {
+            let vrel = (v[b] - v[a]).dot(&n);
+            let cv = self.c[s] * vrel;
+            mag += cv;
+            power = cv * vrel;
+        }
+        (n * mag, power)
     }
 
     /// Serial scatter; power summed per [`SPRING_CHUNK`] and then across chunks.
@@ -134,7 +143,7 @@ impl Springs {
         power
     }
 
-    /// Parallel compute-then-gather (see [`super::parallel`]).
+    /// Parallel owner-computes loop over fixed particle chunks (see [`super::parallel`]).
     fn add_forces_parallel<const DAMPED: bool>(
         &self,
         inc: &Incidence,
@@ -143,30 +152,38 @@ impl Springs {
         f: &mut [Vec3],
     ) -> f64 {
         let mut scratch = self.scratch.take();
-        scratch.fit(self.len());
-        scratch
-            .forces
-            .par_chunks_mut(SPRING_CHUNK)
-            .zip(scratch.partials.par_iter_mut())
+        let parts =
+            &mut scratch.fit(inc.chunks(), self.len().div_ceil(SPRING_CHUNK))[..inc.chunks()];
+        f.par_chunks_mut(PARTICLE_CHUNK)
+            .zip(parts.par_iter_mut())
             .enumerate()
-            .for_each(|(c, (buf, part))| {
-                let base = c * SPRING_CHUNK;
+            .for_each(|(c, (fc, part))| {
+                let base = c * PARTICLE_CHUNK;
                 let mut sum = 0.0;
-                for (k, out) in buf.iter_mut().enumerate() {
-                    let (fs, p) = self.force::<DAMPED>(base + k, x, v);
-                    if DAMPED {
-                        sum += p;
+                for &e in inc.chunk(c) {
+                    let s = (e >> 2) as usize;
+                    let (fs, p) = self.force::<DAMPED>(s, x, v);
+                    let (a, b) = (self.i[s] as usize, self.j[s] as usize);
+                    match e & (OWNS_FIRST | OWNS_SECOND) {
+                        3 => {
+                            fc[a - base] += fs;
+                            fc[b - base] -= fs;
+                            if DAMPED {
+                                sum += p;
+                            }
+                        }
+                        OWNS_FIRST => {
+                            fc[a - base] += fs;
+                            if DAMPED {
+                                sum += p;
+                            }
+                        }
+                        _ => fc[b - base] -= fs,
                     }
-                    *out = fs;
                 }
                 *part = sum;
             });
-        inc.gather(&scratch.forces, f);
-        let power = if DAMPED {
-            sum_partials(&scratch.partials)
-        } else {
-            0.0
-        };
+        let power = if DAMPED { sum_partials(parts) } else { 0.0 };
         self.scratch.give(scratch);
         power
     }
@@ -207,16 +224,6 @@ impl Springs {
     }
 }
 
-/// Elastic force coefficient `k (1 - l0/len)` so that `f_i = coeff * d`, with the fallback above.
-#[inline(always)]
-fn elastic_coeff(k: f64, l0: f64, len: f64) -> f64 {
-    if len > 0.0 {
-        k * (1.0 - l0 / len)
-    } else {
-        k
-    }
-}
-
 impl ForceTerm for Springs {
     fn name(&self) -> &'static str {
         if self.any_damping {
@@ -241,18 +248,15 @@ impl ForceTerm for Springs {
 
     fn potential_energy(&self, x: &[Vec3]) -> f64 {
         let m = self.len();
-        if self.incidence(x.len()).is_some() {
+        if let Some(inc) = self.incidence(x.len()) {
             let mut scratch = self.scratch.take();
-            scratch.fit(m);
-            scratch
-                .partials
-                .par_iter_mut()
-                .enumerate()
-                .for_each(|(c, part)| {
-                    let lo = c * SPRING_CHUNK;
-                    *part = self.energy_range(x, lo, (lo + SPRING_CHUNK).min(m));
-                });
-            let e = sum_partials(&scratch.partials);
+            let parts = &mut scratch.fit(m.div_ceil(SPRING_CHUNK), inc.chunks())
+                [..m.div_ceil(SPRING_CHUNK)];
+            parts.par_iter_mut().enumerate().for_each(|(c, part)| {
+                let lo = c * SPRING_CHUNK;
+                *part = self.energy_range(x, lo, (lo + SPRING_CHUNK).min(m));
+            });
+            let e = sum_partials(parts);
             self.scratch.give(scratch);
             e
         } else {
