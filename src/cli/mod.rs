@@ -1,6 +1,7 @@
 //! Command-line interface: clap subcommands, one file each, validated into library calls.
 
 mod advise;
+mod bench_ratios;
 mod bench_scaling;
 mod check;
 mod common;
@@ -34,6 +35,9 @@ enum Command {
     List(list::Args),
     /// Time every backend on n×n cloths: cost per step against particle count (CSV + log-log SVG).
     BenchScaling(bench_scaling::Args),
+    /// Measure issue 7's cost ratios in one interleaved run: step vs hand loop, Rapier frame vs
+    /// step, 1→2 threads, implicit Euler at 1/60 (CSV + table).
+    BenchRatios(bench_ratios::Args),
     /// Run every scene through every backend and write plots, pages and summary.json.
     Report(report::Args),
     /// Run every integrator over a log grid of steps against the reference: sweep.csv, orders.
@@ -56,6 +60,7 @@ pub fn main() -> ExitCode {
         Command::Check(a) => check::run(a),
         Command::List(a) => list::run(a),
         Command::BenchScaling(a) => bench_scaling::run(a),
+        Command::BenchRatios(a) => bench_ratios::run(a),
         Command::Report(a) => report::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),

@@ -20,20 +20,16 @@ fn euler_step(
     ensure_len(a, s.len());
     // Forces, not accelerations: 1/m is folded into the kick (one pass fewer per step).
     let power = sys.forces(&s.x, &s.v, a);
-    for (((x, v), f), &w) in
-        s.x.iter_mut()
-            .zip(s.v.iter_mut())
-            .zip(a.iter())
-            .zip(&sys.inv_mass)
-    {
+    let (f, w) = (&a[..], &sys.inv_mass[..]);
+    crate::model::parallel::each_particle2(&mut s.x, &mut s.v, |p, x, v| {
         if kick_first {
-            *v += f * (w * h);
+            *v += f[p] * (w[p] * h);
             *x += *v * h;
         } else {
             *x += *v * h;
-            *v += f * (w * h);
+            *v += f[p] * (w[p] * h);
         }
-    }
+    });
     s.t += h;
     StepStats {
         force_evals: 1,

@@ -28,6 +28,56 @@ pub const SPRING_CHUNK: usize = 4096;
 /// Particles per chunk in the owner-computes force loop.
 pub const PARTICLE_CHUNK: usize = 2048;
 
+/// Particle count from which per-particle loops (force fill, gravity, kick-drift) run in
+/// parallel over fixed [`PARTICLE_CHUNK`]s; they have no reductions, so results do not depend
+/// on the thread count.
+pub const PARALLEL_MIN_PARTICLES: usize = 32_768;
+
+/// Runs `op(p, &mut a[p])` for every particle `p`, in parallel over fixed chunks for large
+/// systems (at least [`PARALLEL_MIN_PARTICLES`]).
+pub fn each_particle<T: Send>(a: &mut [T], op: impl Fn(usize, &mut T) + Sync) {
+    use rayon::prelude::*;
+    if a.len() < PARALLEL_MIN_PARTICLES {
+        a.iter_mut().enumerate().for_each(|(p, t)| op(p, t));
+    } else {
+        a.par_chunks_mut(PARTICLE_CHUNK)
+            .enumerate()
+            .for_each(|(c, ch)| {
+                let base = c * PARTICLE_CHUNK;
+                ch.iter_mut().enumerate().for_each(|(k, t)| op(base + k, t));
+            });
+    }
+}
+
+/// Like [`each_particle`] over two arrays of equal length: `op(p, &mut a[p], &mut b[p])`.
+pub fn each_particle2<T: Send, U: Send>(
+    a: &mut [T],
+    b: &mut [U],
+    op: impl Fn(usize, &mut T, &mut U) + Sync,
+) {
+    use rayon::prelude::*;
+    assert_eq!(
+        a.len(),
+        b.len(),
+        "each_particle2: arrays of different length"
+    );
+    if a.len() < PARALLEL_MIN_PARTICLES {
+        for (p, (t, u)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
+            op(p, t, u);
+        }
+    } else {
+        a.par_chunks_mut(PARTICLE_CHUNK)
+            .zip(b.par_chunks_mut(PARTICLE_CHUNK))
+            .enumerate()
+            .for_each(|(c, (ca, cb))| {
+                let base = c * PARTICLE_CHUNK;
+                for (k, (t, u)) in ca.iter_mut().zip(cb.iter_mut()).enumerate() {
+                    op(base + k, t, u);
+                }
+            });
+    }
+}
+
 /// Flag of a chunk-list entry: the chunk owns the spring's first end (it adds `+f`, and counts
 /// the spring's dissipated power).
 pub const OWNS_FIRST: u32 = 2;

@@ -107,7 +107,7 @@ impl System {
 
     /// Writes the total force on every particle into `f`; returns the dissipated power (W).
     pub fn forces(&self, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) -> f64 {
-        f.iter_mut().for_each(|fi| *fi = Vec3::zeros());
+        super::parallel::each_particle(f, |_, fi| *fi = Vec3::zeros());
         let mut power = 0.0;
         if !self.springs.is_empty() {
             power += self.springs.add_forces(x, v, f);
@@ -122,9 +122,7 @@ impl System {
     /// This is "one force evaluation" in every cost count.
     pub fn accelerations(&self, x: &[Vec3], v: &[Vec3], a: &mut [Vec3]) -> f64 {
         let power = self.forces(x, v, a);
-        for (ai, &w) in a.iter_mut().zip(&self.inv_mass) {
-            *ai *= w;
-        }
+        super::parallel::each_particle(a, |p, ai| *ai *= self.inv_mass[p]);
         power
     }
 

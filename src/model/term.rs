@@ -52,9 +52,7 @@ impl ForceTerm for Gravity {
         EnergyKind::Gravity
     }
     fn add_forces(&self, _x: &[Vec3], _v: &[Vec3], f: &mut [Vec3]) -> f64 {
-        for (fi, &m) in f.iter_mut().zip(&self.mass) {
-            *fi += self.g * m;
-        }
+        super::parallel::each_particle(f, |p, fi| *fi += self.g * self.mass[p]);
         0.0
     }
     fn potential_energy(&self, x: &[Vec3]) -> f64 {

@@ -1,5 +1,10 @@
 //! Scenes and timing helpers shared by the criterion benches and `springlab bench-scaling`.
 
+mod baseline;
+pub mod ratios;
+
+pub use baseline::hand_step;
+
 use crate::error::Result;
 use crate::integrate::{Integrator, IntegratorOptions};
 use crate::scenario::Scenario;

@@ -1,0 +1,277 @@
+//! `springlab bench-ratios`: the cost ratios issue 7 sets targets for, measured in one run
+//! with the contenders interleaved (see [`springlab::perf::ratios`]), as `ratios.csv` and
+//! `implicit.csv` (written atomically) and a table on stdout.
+
+use anyhow::{bail, Result};
+use springlab::output::write_atomic;
+use springlab::perf::ratios::{
+    backend, hand_loop, implicit_cost, interleaved, on_threads, stepping, Contender,
+};
+use springlab::perf::{bench_dt, cloth};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Flags of `springlab bench-ratios`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Interleaved rounds per ratio (the minimum per contender is kept).
+    #[arg(long, default_value_t = 11)]
+    pub rounds: usize,
+    /// Cloth size n for the hand-loop and Rapier ratios.
+    #[arg(long, default_value_t = 100)]
+    pub size: usize,
+    /// Cloth size n for the 1→2 thread speedup.
+    #[arg(long, default_value_t = 316)]
+    pub thread_size: usize,
+    /// Cloth sizes for implicit Euler at dt = 1/60, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "32,100,316")]
+    pub implicit_sizes: Vec<usize>,
+    /// Implicit Euler steps per size.
+    #[arg(long, default_value_t = 10)]
+    pub implicit_steps: usize,
+    /// Leave out the Rapier ratio.
+    #[arg(long)]
+    pub no_rapier: bool,
+    /// Output directory.
+    #[arg(long, default_value = "out/bench-ratios")]
+    pub out: PathBuf,
+}
+
+/// One measured ratio.
+struct Row {
+    measure: &'static str,
+    n: usize,
+    num: String,
+    num_s: f64,
+    den: String,
+    den_s: f64,
+    target: &'static str,
+}
+
+impl Row {
+    fn ratio(&self) -> f64 {
+        self.num_s / self.den_s
+    }
+    fn met(&self) -> bool {
+        let r = self.ratio();
+        match self.target.split_once(' ') {
+            Some(("<=", v)) => v.parse().is_ok_and(|v: f64| r <= v),
+            Some((">=", v)) => v.parse().is_ok_and(|v: f64| r >= v),
+            _ => true,
+        }
+    }
+}
+
+/// Runs the command.
+pub fn run(a: Args) -> Result<()> {
+    let ok = |n: usize| (2..=1000).contains(&n);
+    if !ok(a.size) || !ok(a.thread_size) || a.implicit_sizes.iter().any(|&n| !ok(n)) {
+        bail!(
+            "--size, --thread-size, --implicit-sizes: each cloth size must be between 2 and 1000"
+        );
+    }
+    if a.rounds == 0 || a.implicit_steps == 0 {
+        bail!("--rounds and --implicit-steps must be at least 1");
+    }
+    let t_all = Instant::now();
+    let mut rows = Vec::new();
+    let frame = 1.0 / 60.0;
+
+    // Symplectic Euler step against the hand-written loop, same cloth, same dt.
+    let scene = cloth(a.size);
+    let (sys, s0) = (scene.build(), scene.initial_state());
+    let h = bench_dt("symplectic_euler");
+    let batch = (2_000_000 / sys.springs.len().max(1)).clamp(5, 200);
+    let mut c: Vec<Contender> = vec![
+        stepping(&sys, &s0, backend("symplectic_euler")?, h, batch),
+        hand_loop(&sys, &s0, h, batch),
+    ];
+    let t = interleaved(a.rounds, &mut c)?;
+    rows.push(Row {
+        measure: "step_vs_hand_loop",
+        n: a.size,
+        num: "symplectic_euler".into(),
+        num_s: t[0],
+        den: "hand_loop".into(),
+        den_s: t[1],
+        target: "<= 1.2",
+    });
+
+    // One rapier_impulse frame against one symplectic Euler step at the same dt (1/60 s; a
+    // short batch from rest, so the explicit step stays finite while it is timed).
+    if !a.no_rapier {
+        let mut c: Vec<Contender> = vec![
+            stepping(&sys, &s0, backend("rapier_impulse")?, frame, 1),
+            stepping(&sys, &s0, backend("symplectic_euler")?, frame, 5),
+        ];
+        let t = interleaved(a.rounds.min(5), &mut c)?;
+        rows.push(Row {
+            measure: "rapier_frame_vs_step",
+            n: a.size,
+            num: "rapier_impulse (4 substeps)".into(),
+            num_s: t[0],
+            den: "symplectic_euler".into(),
+            den_s: t[1],
+            target: ">= 100",
+        });
+    }
+
+    // 1 → 2 threads on the large cloth: one force evaluation and one symplectic step.
+    let big = cloth(a.thread_size);
+    let (bsys, bs0) = (big.build(), big.initial_state());
+    let bbatch = (4_000_000 / bsys.springs.len().max(1)).clamp(3, 200);
+    let forces = |threads| -> Result<Contender> {
+        let mut acc = vec![springlab::model::Vec3::zeros(); bsys.len()];
+        let (sys, s0) = (&bsys, &bs0);
+        Ok(on_threads(
+            threads,
+            Box::new(move || {
+                let t0 = Instant::now();
+                for _ in 0..bbatch {
+                    std::hint::black_box(sys.accelerations(&s0.x, &s0.v, &mut acc));
+                }
+                Ok(t0.elapsed().as_secs_f64() / bbatch as f64)
+            }),
+        )?)
+    };
+    let steps = |threads| -> Result<Contender> {
+        Ok(on_threads(
+            threads,
+            stepping(&bsys, &bs0, backend("symplectic_euler")?, h, bbatch),
+        )?)
+    };
+    let mut c: Vec<Contender> = vec![forces(1)?, forces(2)?, steps(1)?, steps(2)?];
+    let t = interleaved(a.rounds, &mut c)?;
+    for (measure, one, two) in [
+        ("thread_speedup_forces", t[0], t[1]),
+        ("thread_speedup_step", t[2], t[3]),
+    ] {
+        rows.push(Row {
+            measure,
+            n: a.thread_size,
+            num: "1 thread".into(),
+            num_s: one,
+            den: "2 threads".into(),
+            den_s: two,
+            target: ">= 1.7",
+        });
+    }
+
+    println!(
+        "{:<24} {:>5} {:>28} {:>12} {:>18} {:>12} {:>9} {:>8}",
+        "measure", "n", "numerator", "s/step", "denominator", "s/step", "ratio", "target"
+    );
+    for r in &rows {
+        println!(
+            "{:<24} {:>5} {:>28} {:>12.4e} {:>18} {:>12.4e} {:>9.3} {:>8} {}",
+            r.measure,
+            r.n,
+            r.num,
+            r.num_s,
+            r.den,
+            r.den_s,
+            r.ratio(),
+            r.target,
+            if r.met() { "met" } else { "NOT MET" }
+        );
+    }
+
+    // Implicit Euler at one frame: solver work and cost relative to a symplectic step.
+    let mut imp = csv::Writer::from_writer(Vec::new());
+    imp.write_record([
+        "n",
+        "particles",
+        "springs",
+        "steps",
+        "seconds_per_step",
+        "ns_per_spring",
+        "newton_per_step",
+        "cg_per_newton",
+        "force_evals_per_step",
+        "symplectic_seconds_per_step",
+        "ratio_to_symplectic_step",
+        "status",
+    ])?;
+    println!(
+        "\nimplicit_euler at dt = 1/60 (Newton + block-Jacobi PCG), {} steps from rest:",
+        a.implicit_steps
+    );
+    for &n in &a.implicit_sizes {
+        let scene = cloth(n);
+        let (sys, s0) = (scene.build(), scene.initial_state());
+        let springs = sys.springs.len();
+        let mut c: Vec<Contender> = vec![stepping(&sys, &s0, backend("symplectic_euler")?, h, 5)];
+        let se = interleaved(a.rounds.min(5), &mut c)?[0];
+        match implicit_cost(&scene, frame, a.implicit_steps) {
+            Ok(ic) => {
+                println!(
+                    "  {n:>4}×{n:<4}: {:>10.3} ms/step {:>9.1} ns/spring, {:.2} Newton/step, {:.1} CG/Newton, {:.1} force evals/step, {:.1}× a symplectic step",
+                    ic.seconds_per_step * 1e3,
+                    ic.seconds_per_step * 1e9 / springs as f64,
+                    ic.newton_per_step,
+                    ic.cg_per_newton,
+                    ic.force_evals_per_step,
+                    ic.seconds_per_step / se
+                );
+                imp.write_record([
+                    n.to_string(),
+                    (n * n).to_string(),
+                    springs.to_string(),
+                    ic.steps.to_string(),
+                    ic.seconds_per_step.to_string(),
+                    (ic.seconds_per_step * 1e9 / springs as f64).to_string(),
+                    ic.newton_per_step.to_string(),
+                    ic.cg_per_newton.to_string(),
+                    ic.force_evals_per_step.to_string(),
+                    se.to_string(),
+                    (ic.seconds_per_step / se).to_string(),
+                    "ok".into(),
+                ])?;
+            }
+            Err(why) => {
+                println!("  {n:>4}×{n:<4}: {why}");
+                let mut rec = vec![n.to_string(), (n * n).to_string(), springs.to_string()];
+                rec.extend(std::iter::repeat_n(String::new(), 8));
+                rec.push(format!("failed: {why}"));
+                imp.write_record(rec)?;
+            }
+        }
+    }
+
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "measure",
+        "n",
+        "numerator",
+        "numerator_seconds_per_step",
+        "denominator",
+        "denominator_seconds_per_step",
+        "ratio",
+        "target",
+        "met",
+    ])?;
+    for r in &rows {
+        w.write_record([
+            r.measure.to_string(),
+            r.n.to_string(),
+            r.num.clone(),
+            r.num_s.to_string(),
+            r.den.clone(),
+            r.den_s.to_string(),
+            r.ratio().to_string(),
+            r.target.to_string(),
+            r.met().to_string(),
+        ])?;
+    }
+    let (p1, p2) = (a.out.join("ratios.csv"), a.out.join("implicit.csv"));
+    write_atomic(&p1, &w.into_inner()?)?;
+    write_atomic(&p2, &imp.into_inner()?)?;
+    println!(
+        "wrote {} and {} in {:.1} s ({} rayon threads available)",
+        p1.display(),
+        p2.display(),
+        t_all.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    );
+    Ok(())
+}

@@ -1,0 +1,123 @@
+//! The cost ratios issue 7 sets targets for, each measured in one run with the contenders
+//! interleaved (A, B, A, B, ...) and the minimum per step kept for each: on a shared, noisy
+//! machine a slow phase then hits both sides of a ratio instead of one.
+
+use crate::error::Result;
+use crate::integrate::{ImplicitEuler, Integrator, IntegratorOptions};
+use crate::model::{State, System, Vec3};
+use crate::scenario::Scenario;
+use std::time::Instant;
+
+/// One contender: runs a batch of steps and returns the wall time per step (s).
+pub type Contender<'a> = Box<dyn FnMut() -> Result<f64> + Send + 'a>;
+
+/// Runs every contender once per round, `rounds` times, in turn; the minimum time per step of
+/// each.
+pub fn interleaved(rounds: usize, contenders: &mut [Contender<'_>]) -> Result<Vec<f64>> {
+    let mut best = vec![f64::INFINITY; contenders.len()];
+    for _ in 0..rounds.max(1) {
+        for (b, c) in best.iter_mut().zip(contenders.iter_mut()) {
+            *b = b.min(c()?);
+        }
+    }
+    Ok(best)
+}
+
+/// A contender stepping `integ` `batch` times from `s0` (restarted, untimed, every batch, so
+/// conditionally stable methods never time a blown-up state), after one untimed warm-up step.
+pub fn stepping<'a>(
+    sys: &'a System,
+    s0: &'a State,
+    mut integ: Box<dyn Integrator>,
+    h: f64,
+    batch: usize,
+) -> Contender<'a> {
+    let mut s = s0.clone();
+    let mut warm = false;
+    Box::new(move || {
+        if !warm {
+            integ.step(sys, &mut s, h)?;
+            warm = true;
+        }
+        s.clone_from(s0);
+        integ.reset();
+        let t0 = Instant::now();
+        for _ in 0..batch.max(1) {
+            integ.step(sys, &mut s, h)?;
+        }
+        Ok(t0.elapsed().as_secs_f64() / batch.max(1) as f64)
+    })
+}
+
+/// A contender running the hand-written baseline loop [`super::hand_step`] `batch` times.
+pub fn hand_loop<'a>(sys: &'a System, s0: &'a State, h: f64, batch: usize) -> Contender<'a> {
+    let (mut x, mut v) = (s0.x.clone(), s0.v.clone());
+    let mut f = vec![Vec3::zeros(); sys.len()];
+    Box::new(move || {
+        x.clone_from(&s0.x);
+        v.clone_from(&s0.v);
+        let t0 = Instant::now();
+        for _ in 0..batch.max(1) {
+            super::hand_step(sys, &mut x, &mut v, &mut f, h);
+        }
+        std::hint::black_box(&x);
+        Ok(t0.elapsed().as_secs_f64() / batch.max(1) as f64)
+    })
+}
+
+/// A contender running `inner` inside a rayon pool of `threads` threads.
+pub fn on_threads<'a>(threads: usize, mut inner: Contender<'a>) -> Result<Contender<'a>> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| crate::error::Error::Step(format!("thread pool: {e}")))?;
+    Ok(Box::new(move || pool.install(&mut inner)))
+}
+
+/// A fresh backend by name with default options.
+pub fn backend(name: &str) -> Result<Box<dyn Integrator>> {
+    crate::backend::create(name, &IntegratorOptions::default())
+}
+
+/// What implicit Euler's solver did over some steps of one scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImplicitCost {
+    /// Steps taken (fewer than asked when one failed).
+    pub steps: usize,
+    /// Wall time per step (s).
+    pub seconds_per_step: f64,
+    /// Newton iterations per step.
+    pub newton_per_step: f64,
+    /// CG iterations per Newton iteration.
+    pub cg_per_newton: f64,
+    /// Force evaluations per step.
+    pub force_evals_per_step: f64,
+}
+
+/// Steps implicit Euler `steps` times at `h` from the scene's initial state and reports its
+/// solver work; `Err` with the step number when a step fails.
+pub fn implicit_cost(
+    scene: &Scenario,
+    h: f64,
+    steps: usize,
+) -> std::result::Result<ImplicitCost, String> {
+    let sys = scene.build();
+    let mut s = scene.initial_state();
+    let mut ie = ImplicitEuler::default();
+    let mut evals = 0;
+    let t0 = Instant::now();
+    for k in 0..steps {
+        evals += ie
+            .step(&sys, &mut s, h)
+            .map_err(|e| format!("step {k} failed: {e}"))?
+            .force_evals;
+    }
+    let n = steps.max(1) as f64;
+    Ok(ImplicitCost {
+        steps,
+        seconds_per_step: t0.elapsed().as_secs_f64() / n,
+        newton_per_step: ie.newton_iterations as f64 / n,
+        cg_per_newton: ie.cg_iterations as f64 / ie.newton_iterations.max(1) as f64,
+        force_evals_per_step: evals as f64 / n,
+    })
+}
