@@ -34,6 +34,10 @@ pub struct Args {
     /// Stiffness multipliers for the map, comma-separated (default 1/16 … 16, 9 points).
     #[arg(long, value_delimiter = ',')]
     pub stiffness_scales: Vec<f64>,
+    /// Absolute steps (s) for the map, comma-separated (default: 16 steps with hω from 0.02
+    /// to 20 on the unscaled scene).
+    #[arg(long, value_delimiter = ',')]
+    pub dts: Vec<f64>,
 }
 
 /// Runs the command.
@@ -48,6 +52,11 @@ pub fn run(a: Args) -> Result<()> {
     for v in &a.stiffness_scales {
         if !(v.is_finite() && *v > 0.0) {
             bail!("--stiffness-scales: values must be finite and > 0, got {v}");
+        }
+    }
+    for v in &a.dts {
+        if !(v.is_finite() && *v > 0.0) {
+            bail!("--dts: steps must be finite and > 0 s, got {v}");
         }
     }
     for v in &a.damping_scales {
@@ -103,6 +112,7 @@ pub fn run(a: Args) -> Result<()> {
         if !a.stiffness_scales.is_empty() {
             mc.stiffness_scales = a.stiffness_scales.clone();
         }
+        mc.dts = a.dts.clone();
         let rows = stability_map(&scene, &mc)?;
         let mut csv = String::from(MAP_HEADER);
         csv.push('\n');

@@ -509,6 +509,9 @@ pub struct MapConfig {
     pub damping_scales: Vec<f64>,
     /// Steps as multiples of 1/ω_max of the unscaled scene (default 16 points in [0.02, 20]).
     pub h_omega: Vec<f64>,
+    /// Absolute steps (s); when non-empty they replace `h_omega` (for maps spanning many
+    /// decades of stiffness, where one relative axis cannot cover every scale).
+    pub dts: Vec<f64>,
     /// Periods of the scaled ω_max per empirical run (default 50, at most 20 000 steps).
     pub periods: f64,
     /// Blow-up factor of the empirical runs.
@@ -531,6 +534,7 @@ impl Default for MapConfig {
             stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
             damping_scales: vec![1.0],
             h_omega: logspace(0.02, 20.0, 16),
+            dts: vec![],
             periods: 50.0,
             blowup_factor: EMPIRICAL_BLOWUP_FACTOR,
             progress: false,
@@ -615,8 +619,14 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     for name in &names {
         for &ks in &cfg.stiffness_scales {
             for &cs in &cfg.damping_scales {
-                for &hw in &cfg.h_omega {
-                    cells.push((name.clone(), ks, cs, hw / w0));
+                if cfg.dts.is_empty() {
+                    for &hw in &cfg.h_omega {
+                        cells.push((name.clone(), ks, cs, hw / w0));
+                    }
+                } else {
+                    for &dt in &cfg.dts {
+                        cells.push((name.clone(), ks, cs, dt));
+                    }
                 }
             }
         }

@@ -1,0 +1,132 @@
+//! The stability map over the extremes of issue 7: the stiff anchored spring with stiffness from
+//! 1e-3 to 1e9 N/m (1 kg) and steps from 1e-6 to 1 s, for every native integrator and Rapier.
+//!
+//! Oracles, none tuned here:
+//! - textbook stability limits of the undamped oscillator (Hairer, Lubich & Wanner, Geometric
+//!   Numerical Integration, §I.1 and the RK stability polynomial): symplectic Euler and both
+//!   Verlets stable for hω < 2, classical RK4 for hω < 2√2, backward Euler for every h,
+//!   forward Euler and RK2 for none;
+//! - linear growth: on a linear oscillator the energy after n steps grows like ρ²ⁿ (ρ: spectral
+//!   radius of the one-step map), so the empirical run must blow up (energy gain above 1e4 ×
+//!   the initial energy) exactly when ρ²ⁿ > 1 + 1e4, away from that threshold.
+
+use springlab::measure::stability::{stability_map, MapConfig, MapRow, Verdict};
+use springlab::scenario::Scenario;
+
+const STIFFNESS_SCALES: [f64; 5] = [1e-9, 1e-6, 1e-3, 1.0, 1e3]; // k = 1e-3 … 1e9 N/m
+const DTS: [f64; 7] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
+
+fn map(integrators: &[&str]) -> Vec<MapRow> {
+    let scene = Scenario::from_file("scenarios/stiff_spring.toml").unwrap();
+    let cfg = MapConfig {
+        integrators: integrators.iter().map(|s| s.to_string()).collect(),
+        stiffness_scales: STIFFNESS_SCALES.to_vec(),
+        dts: DTS.to_vec(),
+        ..Default::default()
+    };
+    let rows = stability_map(&scene, &cfg).unwrap();
+    assert_eq!(
+        rows.len(),
+        integrators.len() * STIFFNESS_SCALES.len() * DTS.len()
+    );
+    rows
+}
+
+#[test]
+fn map_of_the_stiff_spring_shows_the_textbook_boundaries() {
+    let names = [
+        "explicit_euler",
+        "symplectic_euler",
+        "implicit_euler",
+        "rk2",
+        "rk4",
+        "velocity_verlet",
+        "position_verlet",
+    ];
+    let rows = map(&names);
+    let mut decided = 0;
+    for r in &rows {
+        let hw = r.h_omega;
+        // Textbook verdicts and limits.
+        let textbook = match r.integrator.as_str() {
+            "symplectic_euler" | "velocity_verlet" | "position_verlet" => Some(2.0),
+            "rk4" => Some(2.0 * 2f64.sqrt()),
+            _ => None,
+        };
+        let verdict = r
+            .theory_verdict
+            .expect("native linear methods have a theory");
+        match (r.integrator.as_str(), textbook) {
+            ("implicit_euler", _) => assert_eq!(verdict, Verdict::UnconditionallyStable),
+            ("explicit_euler" | "rk2", _) => assert_eq!(verdict, Verdict::UnstableForAllDt),
+            (_, Some(limit)) => {
+                assert_eq!(verdict, Verdict::StableBelow, "{r:?}");
+                let got = r.theory_max_dt.unwrap() * r.omega_max;
+                assert!(
+                    (got - limit).abs() < 1e-6 * limit,
+                    "{}: hω limit {got}",
+                    r.integrator
+                );
+            }
+            _ => unreachable!(),
+        }
+        // The empirical run against the growth the spectral radius predicts over its steps.
+        let rho = r.spectral_radius.unwrap();
+        let steps =
+            ((50.0 * std::f64::consts::TAU / r.omega_max / r.dt).ceil()).clamp(1.0, 20_000.0);
+        let growth = 2.0 * steps * rho.ln(); // ln of the energy growth factor
+        let threshold = (1.0f64 + 1e4).ln();
+        if growth > 2.0 * threshold {
+            assert!(
+                !r.stable,
+                "{} at k×{:e}, dt {:e} (hω {hw:e}): ρ = {rho} predicts blow-up",
+                r.integrator, r.stiffness_scale, r.dt
+            );
+            decided += 1;
+        } else if growth < 0.5 * threshold {
+            assert!(
+                r.stable,
+                "{} at k×{:e}, dt {:e} (hω {hw:e}): ρ = {rho} predicts bounded",
+                r.integrator, r.stiffness_scale, r.dt
+            );
+            decided += 1;
+        }
+        // Where the textbook says stable with margin, the run must be stable, whatever ρ says.
+        if let Some(limit) = textbook {
+            if hw < 0.9 * limit {
+                assert!(
+                    r.stable,
+                    "{} stable below hω = {limit}, at {hw}",
+                    r.integrator
+                );
+            } else if hw > 1.1 * limit {
+                assert!(
+                    !r.stable,
+                    "{} unstable above hω = {limit}, at {hw}",
+                    r.integrator
+                );
+            }
+        }
+        if r.integrator == "implicit_euler" {
+            assert!(r.stable, "backward Euler is A-stable: hω = {hw}");
+        }
+    }
+    // Most cells are far from the threshold: the oracle must actually decide them.
+    assert!(
+        decided >= rows.len() * 3 / 4,
+        "decided {decided} of {}",
+        rows.len()
+    );
+}
+
+#[test]
+fn rapier_runs_every_cell_of_the_extreme_map_without_nan() {
+    // No textbook limit exists for Rapier's solver; the contract is a status for every cell
+    // (the map would have returned an error on a failed run) and finite numbers.
+    let rows = map(&["rapier_impulse"]);
+    for r in &rows {
+        assert!(r.omega_max.is_finite() && r.h_omega.is_finite());
+    }
+    let stable = rows.iter().filter(|r| r.stable).count();
+    eprintln!("rapier_impulse: stable in {stable} of {} cells", rows.len());
+}
