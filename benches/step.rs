@@ -2,13 +2,15 @@
 //! particles, in ns per spring (criterion `Throughput::Elements(springs)`), against a plain
 //! hand-written loop, plus the 1→2 thread speedup on the 316² cloth.
 //!
-//! Run: `cargo bench --bench step` (release). External backends (Rapier) are picked up from
-//! `springlab::backend` automatically once they are registered there.
+//! Run: `cargo bench --bench step` (release); `SPRINGLAB_BENCH_BACKENDS=a,b` limits the step
+//! group to those backends. External backends (Rapier) are picked up from `springlab::backend`.
+//! The hand loop is [`springlab::perf::hand_step`]. Ratios with targets are also measured
+//! interleaved in one process by `springlab bench-ratios`, which is steadier on a noisy machine.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use springlab::integrate::{ImplicitEuler, Integrator, IntegratorOptions};
+use springlab::integrate::{Integrator, IntegratorOptions};
 use springlab::model::{State, System, Vec3};
-use springlab::perf::{backends_for, bench_dt, cloth};
+use springlab::perf::{backends_for, bench_dt, cloth, hand_step};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -17,6 +19,10 @@ const SIZES: [usize; 3] = [32, 100, 316];
 /// Steps timed from one initial state before restarting from it (outside the timing), so
 /// conditionally stable methods never time a blown-up state.
 const RESTART_EVERY: u64 = 200;
+
+/// The same for backends timed at a frame (1/60 s): implicit Euler and Rapier stay within the
+/// first 10 frames of the fall, where every cloth size is solvable.
+const RESTART_EVERY_FRAME: u64 = 10;
 
 fn config<'a>(
     c: &'a mut Criterion,
@@ -40,10 +46,15 @@ fn timed_steps(
     let mut total = Duration::ZERO;
     let mut s = s0.clone();
     let mut done = 0;
+    let restart = if dt > 1e-3 {
+        RESTART_EVERY_FRAME
+    } else {
+        RESTART_EVERY
+    };
     while done < iters {
         s.clone_from(s0);
         integ.reset();
-        let batch = RESTART_EVERY.min(iters - done);
+        let batch = restart.min(iters - done);
         let t0 = Instant::now();
         for _ in 0..batch {
             integ.step(sys, &mut s, dt).expect("step");
@@ -53,33 +64,6 @@ fn timed_steps(
         done += batch;
     }
     total
-}
-
-/// The baseline: one symplectic Euler step of the same springs, dampers and gravity written
-/// as one plain loop over the same arrays (scatter, then kick-drift).
-fn hand_step(sys: &System, g: Vec3, x: &mut [Vec3], v: &mut [Vec3], f: &mut [Vec3], h: f64) {
-    let sp = &sys.springs;
-    for p in 0..f.len() {
-        f[p] = if sys.free[p] {
-            g * sys.mass[p]
-        } else {
-            Vec3::zeros()
-        };
-    }
-    for s in 0..sp.i.len() {
-        let (a, b) = (sp.i[s] as usize, sp.j[s] as usize);
-        let d = x[b] - x[a];
-        let len = d.norm();
-        let n = d / len;
-        let vrel = (v[b] - v[a]).dot(&n);
-        let fs = n * (sp.k[s] * (len - sp.l0[s]) + sp.c[s] * vrel);
-        f[a] += fs;
-        f[b] -= fs;
-    }
-    for p in 0..x.len() {
-        v[p] += f[p] * (sys.inv_mass[p] * h);
-        x[p] += v[p] * h;
-    }
 }
 
 fn force_and_hand(c: &mut Criterion) {
@@ -93,7 +77,6 @@ fn force_and_hand(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("accelerations", n), |b| {
             b.iter(|| black_box(sys.accelerations(&s0.x, &s0.v, &mut a)))
         });
-        let gvec = sys.gravity.unwrap();
         g.bench_function(BenchmarkId::new("hand_loop_step", n), |b| {
             b.iter_custom(|iters| {
                 let mut total = Duration::ZERO;
@@ -104,7 +87,7 @@ fn force_and_hand(c: &mut Criterion) {
                     let batch = RESTART_EVERY.min(iters - done);
                     let t0 = Instant::now();
                     for _ in 0..batch {
-                        hand_step(&sys, gvec, &mut x, &mut v, &mut f, 1e-3);
+                        hand_step(&sys, &mut x, &mut v, &mut f, 1e-3);
                     }
                     total += t0.elapsed();
                     black_box(&x);
@@ -142,32 +125,25 @@ fn selected(name: &str) -> bool {
     std::env::var("SPRINGLAB_BENCH_BACKENDS").map_or(true, |l| l.split(',').any(|n| n == name))
 }
 
-/// Implicit Euler solver statistics at dt = 1/60 (printed, not timed by criterion).
+/// Implicit Euler solver statistics at dt = 1/60 over 10 steps from rest (printed, not timed
+/// by criterion).
 fn implicit_stats(_c: &mut Criterion) {
     if !selected("implicit_euler") {
         return;
     }
     for n in SIZES {
         let scene = cloth(n);
-        let sys = scene.build();
-        let mut s = scene.initial_state();
-        let mut ie = ImplicitEuler::default();
-        let steps = 10;
-        let t0 = Instant::now();
-        for k in 0..steps {
-            if let Err(e) = ie.step(&sys, &mut s, 1.0 / 60.0) {
-                eprintln!("implicit_euler {n}x{n} dt=1/60: step {k} failed: {e}");
-                break;
-            }
+        let springs = scene.build().springs.len();
+        match springlab::perf::ratios::implicit_cost(&scene, 1.0 / 60.0, 10) {
+            Ok(c) => eprintln!(
+                "implicit_euler {n}x{n} dt=1/60: {:.2} Newton iterations/step, {:.1} CG iterations/Newton iteration, {:.3} ms/step ({:.1} ns/spring)",
+                c.newton_per_step,
+                c.cg_per_newton,
+                c.seconds_per_step * 1e3,
+                c.seconds_per_step * 1e9 / springs as f64
+            ),
+            Err(why) => eprintln!("implicit_euler {n}x{n} dt=1/60: {why}"),
         }
-        let per_step = t0.elapsed().as_secs_f64() / steps as f64;
-        eprintln!(
-            "implicit_euler {n}x{n} dt=1/60: {:.2} Newton iterations/step, {:.1} CG iterations/Newton iteration, {:.3} ms/step ({:.1} ns/spring)",
-            ie.newton_iterations as f64 / steps as f64,
-            ie.cg_iterations as f64 / ie.newton_iterations.max(1) as f64,
-            per_step * 1e3,
-            per_step * 1e9 / sys.springs.len() as f64
-        );
     }
 }
 
