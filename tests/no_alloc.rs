@@ -74,14 +74,21 @@ fn allocations_here(scene: &Scenario, name: &str, h: f64, steps: usize) -> Optio
     let mut s = scene.initial_state();
     integ.step(&sys, &mut s, h).expect("warm-up step");
     integ.step(&sys, &mut s, h).expect("warm-up step");
-    ALLOCS.store(0, Ordering::SeqCst);
-    COUNTING.store(true, Ordering::SeqCst);
-    for _ in 0..steps {
-        integ.step(&sys, &mut s, h).expect("step");
+    // Three windows, the fewest allocations kept: a pool thread's first work steal registers
+    // it once with crossbeam's epoch collector (rayon's one-time cost, at a moment the
+    // scheduler picks); a step that allocated would do so in every window.
+    let mut fewest = usize::MAX;
+    for _ in 0..3 {
+        ALLOCS.store(0, Ordering::SeqCst);
+        COUNTING.store(true, Ordering::SeqCst);
+        for _ in 0..steps {
+            integ.step(&sys, &mut s, h).expect("step");
+        }
+        COUNTING.store(false, Ordering::SeqCst);
+        fewest = fewest.min(ALLOCS.load(Ordering::SeqCst));
     }
-    COUNTING.store(false, Ordering::SeqCst);
     assert!(s.first_non_finite().is_none(), "{name}");
-    Some(ALLOCS.load(Ordering::SeqCst))
+    Some(fewest)
 }
 
 // One test function: the counter is global, and tests in one binary run concurrently.

@@ -12,6 +12,7 @@
 
 use super::{ensure_len, Integrator, StepStats};
 use crate::error::{Error, Result};
+use crate::model::parallel::{dot, each_particle, each_particle2, each_particle3};
 use crate::model::{Jacobian, State, System, Vec3};
 use nalgebra::Matrix3;
 
@@ -109,6 +110,8 @@ struct Cg {
     z: Vec<Vec3>,
     p: Vec<Vec3>,
     ap: Vec<Vec3>,
+    /// Chunk sums of the dot products.
+    parts: Vec<f64>,
 }
 
 enum CgOutcome {
@@ -133,46 +136,50 @@ impl Cg {
         }
         ensure_len(&mut self.diag_inv, n);
         jac.newton_diagonal(&sys.free, &mut self.diag_inv);
-        for d in self.diag_inv.iter_mut() {
-            *d = d.try_inverse().unwrap_or_else(Matrix3::identity);
-        }
-        for i in 0..n {
-            x[i] = Vec3::zeros();
-            self.r[i] = if sys.free[i] { b[i] } else { Vec3::zeros() };
-            self.z[i] = self.diag_inv[i] * self.r[i];
-            self.p[i] = self.z[i];
-        }
-        let mut rz: f64 = self.r.iter().zip(&self.z).map(|(a, b)| a.dot(b)).sum();
+        each_particle(&mut self.diag_inv, |_, d| {
+            *d = d.try_inverse().unwrap_or_else(Matrix3::identity)
+        });
+        let free = &sys.free;
+        each_particle2(x, &mut self.r, |i, xi, ri| {
+            *xi = Vec3::zeros();
+            *ri = if free[i] { b[i] } else { Vec3::zeros() };
+        });
+        let (r, d) = (&self.r, &self.diag_inv);
+        each_particle2(&mut self.z, &mut self.p, |i, zi, pi| {
+            *zi = d[i] * r[i];
+            *pi = *zi;
+        });
+        let mut rz = dot(&self.r, &self.z, &mut self.parts);
         let rz0 = rz;
         if rz0 == 0.0 {
             return CgOutcome::Converged(0);
         }
         for it in 0..set.max_cg {
-            jac.newton_matvec(&sys.free, &self.p, &mut self.ap);
-            for i in 0..n {
-                if !sys.free[i] {
-                    self.ap[i] = Vec3::zeros();
+            jac.newton_matvec(free, &self.p, &mut self.ap);
+            each_particle(&mut self.ap, |i, a| {
+                if !free[i] {
+                    *a = Vec3::zeros();
                 }
-            }
-            let pap: f64 = self.p.iter().zip(&self.ap).map(|(a, b)| a.dot(b)).sum();
+            });
+            let pap = dot(&self.p, &self.ap, &mut self.parts);
             if pap <= 0.0 || !pap.is_finite() {
                 return CgOutcome::NegativeCurvature(it);
             }
             let alpha = rz / pap;
-            for i in 0..n {
-                x[i] += self.p[i] * alpha;
-                self.r[i] -= self.ap[i] * alpha;
-                self.z[i] = self.diag_inv[i] * self.r[i];
-            }
-            let rz_new: f64 = self.r.iter().zip(&self.z).map(|(a, b)| a.dot(b)).sum();
+            let (p, ap, d) = (&self.p, &self.ap, &self.diag_inv);
+            each_particle3(x, &mut self.r, &mut self.z, |i, xi, ri, zi| {
+                *xi += p[i] * alpha;
+                *ri -= ap[i] * alpha;
+                *zi = d[i] * *ri;
+            });
+            let rz_new = dot(&self.r, &self.z, &mut self.parts);
             if rz_new <= set.cg_tol * set.cg_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
             }
             let beta = rz_new / rz;
             rz = rz_new;
-            for i in 0..n {
-                self.p[i] = self.z[i] + self.p[i] * beta;
-            }
+            let z = &self.z;
+            each_particle(&mut self.p, |i, pi| *pi = z[i] + *pi * beta);
         }
         CgOutcome::NotConverged
     }

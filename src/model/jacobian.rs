@@ -1,7 +1,11 @@
 //! Sparse force Jacobians for implicit methods: 3×3 blocks per spring pair and per particle.
 
+use super::parallel::{
+    each_particle, Incidence, OWNS_FIRST, OWNS_SECOND, PARALLEL_MIN_SPRINGS, PARTICLE_CHUNK,
+};
 use super::state::Vec3;
 use nalgebra::Matrix3;
+use rayon::prelude::*;
 
 /// ∂f/∂x and ∂f/∂v in block form.
 ///
@@ -28,12 +32,21 @@ pub struct Jacobian {
     newton_pair: Vec<Matrix3<f64>>,
     /// Per-particle Newton blocks m I − h·diag_v − h²·diag_x (identity for fixed particles).
     newton_self: Vec<Matrix3<f64>>,
+    /// Chunk lists of the pairs for the parallel owner-computes products of large systems
+    /// (as for spring forces: bit-identical to the serial loop whatever the thread count).
+    owners: Option<Incidence>,
 }
 
 impl Jacobian {
     /// An all-zero Jacobian with the given pair topology over `n` particles.
     pub fn new(n: usize, pairs: Vec<[u32; 2]>) -> Self {
         let m = pairs.len();
+        let owners = if m >= PARALLEL_MIN_SPRINGS {
+            let (i, j): (Vec<u32>, Vec<u32>) = pairs.iter().map(|p| (p[0], p[1])).unzip();
+            Incidence::build(&i, &j, n)
+        } else {
+            None
+        };
         Jacobian {
             pairs,
             kx: vec![Matrix3::zeros(); m],
@@ -43,6 +56,7 @@ impl Jacobian {
             clamp: 0.0,
             newton_pair: vec![Matrix3::zeros(); m],
             newton_self: vec![Matrix3::zeros(); n],
+            owners,
         }
     }
     /// Resets every block to zero, keeping the topology and storage.
@@ -64,43 +78,127 @@ impl Jacobian {
     /// Precomputes the blocks of the backward-Euler Newton matrix M − h ∂f/∂v − h² ∂f/∂x for
     /// step `h`, so that each matrix-vector product costs one 3×3 product per pair and particle.
     pub fn prepare_newton(&mut self, mass: &[f64], free: &[bool], h: f64) {
-        for s in 0..self.pairs.len() {
-            self.newton_pair[s] = self.kv[s] * h + self.kx[s] * (h * h);
+        let (kv, kx) = (&self.kv, &self.kx);
+        let pair = |s: usize, out: &mut Matrix3<f64>| *out = kv[s] * h + kx[s] * (h * h);
+        if self.owners.is_some() {
+            self.newton_pair
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(s, o)| pair(s, o));
+        } else {
+            self.newton_pair
+                .iter_mut()
+                .enumerate()
+                .for_each(|(s, o)| pair(s, o));
         }
-        for i in 0..mass.len() {
-            self.newton_self[i] = if free[i] {
-                Matrix3::identity() * mass[i] - self.diag_v[i] * h - self.diag_x[i] * (h * h)
+        let (dv, dx) = (&self.diag_v, &self.diag_x);
+        each_particle(&mut self.newton_self, |i, o| {
+            *o = if free[i] {
+                Matrix3::identity() * mass[i] - dv[i] * h - dx[i] * (h * h)
             } else {
                 Matrix3::identity()
             };
-        }
+        });
     }
 
     /// y = A p for the Newton matrix A prepared by [`Jacobian::prepare_newton`]. Rows of fixed
     /// particles are left as p and never coupled.
     pub fn newton_matvec(&self, free: &[bool], p: &[Vec3], y: &mut [Vec3]) {
-        for i in 0..p.len() {
-            y[i] = self.newton_self[i] * p[i];
-        }
-        for (s, pr) in self.pairs.iter().enumerate() {
-            let (a, b) = (pr[0] as usize, pr[1] as usize);
+        let pair = |s: usize, a: usize, b: usize, ya: Option<&mut Vec3>, yb: Option<&mut Vec3>| {
             let q = self.newton_pair[s] * (p[b] - p[a]);
-            if free[a] {
-                y[a] -= q;
+            if let Some(ya) = ya.filter(|_| free[a]) {
+                *ya -= q;
             }
-            if free[b] {
-                y[b] += q;
+            if let Some(yb) = yb.filter(|_| free[b]) {
+                *yb += q;
+            }
+        };
+        if !self.owner_pass(y, |i| self.newton_self[i] * p[i], pair) {
+            // Serial: the same updates in the same order, without the chunk bookkeeping.
+            for i in 0..p.len() {
+                y[i] = self.newton_self[i] * p[i];
+            }
+            for (s, pr) in self.pairs.iter().enumerate() {
+                let (a, b) = (pr[0] as usize, pr[1] as usize);
+                let q = self.newton_pair[s] * (p[b] - p[a]);
+                if free[a] {
+                    y[a] -= q;
+                }
+                if free[b] {
+                    y[b] += q;
+                }
             }
         }
     }
 
+    /// For large systems, in parallel over the owning particle chunks: `out[i] = init(i)` for
+    /// the chunk's particles, then for every pair `s` (a, b) touching the chunk, in pair order,
+    /// `pair(s, a, b, oa, ob)` with `Some` for the ends the chunk owns. Every particle sees
+    /// the updates the serial loop makes, in the same order, so results are bit-identical to it
+    /// whatever the thread count. Returns false (doing nothing) for small systems.
+    fn owner_pass<T: Send>(
+        &self,
+        out: &mut [T],
+        init: impl Fn(usize) -> T + Sync,
+        pair: impl Fn(usize, usize, usize, Option<&mut T>, Option<&mut T>) + Sync,
+    ) -> bool {
+        let Some(inc) = self
+            .owners
+            .as_ref()
+            .filter(|inc| inc.particles == out.len())
+        else {
+            return false;
+        };
+        out.par_chunks_mut(PARTICLE_CHUNK)
+            .enumerate()
+            .for_each(|(c, oc)| {
+                let base = c * PARTICLE_CHUNK;
+                for (k, o) in oc.iter_mut().enumerate() {
+                    *o = init(base + k);
+                }
+                for &e in inc.chunk(c) {
+                    let s = (e >> 2) as usize;
+                    let (a, b) = (self.pairs[s][0] as usize, self.pairs[s][1] as usize);
+                    match e & (OWNS_FIRST | OWNS_SECOND) {
+                        3 => {
+                            let (lo, hi) = (a.min(b) - base, a.max(b) - base);
+                            let (x, y) = oc.split_at_mut(hi);
+                            let (oa, ob) = if a < b {
+                                (&mut x[lo], &mut y[0])
+                            } else {
+                                (&mut y[0], &mut x[lo])
+                            };
+                            pair(s, a, b, Some(oa), Some(ob));
+                        }
+                        OWNS_FIRST => pair(s, a, b, Some(&mut oc[a - base]), None),
+                        _ => pair(s, a, b, None, Some(&mut oc[b - base])),
+                    }
+                }
+            });
+        true
+    }
+
     /// The 3×3 diagonal blocks of the prepared Newton matrix, for a block-Jacobi preconditioner.
     pub fn newton_diagonal(&self, free: &[bool], out: &mut [Matrix3<f64>]) {
-        out.copy_from_slice(&self.newton_self);
-        for (s, pr) in self.pairs.iter().enumerate() {
-            for &q in pr {
-                if free[q as usize] {
-                    out[q as usize] += self.newton_pair[s];
+        let pair = |s: usize,
+                    a: usize,
+                    b: usize,
+                    oa: Option<&mut Matrix3<f64>>,
+                    ob: Option<&mut Matrix3<f64>>| {
+            if let Some(oa) = oa.filter(|_| free[a]) {
+                *oa += self.newton_pair[s];
+            }
+            if let Some(ob) = ob.filter(|_| free[b]) {
+                *ob += self.newton_pair[s];
+            }
+        };
+        if !self.owner_pass(out, |i| self.newton_self[i], pair) {
+            out.copy_from_slice(&self.newton_self);
+            for (s, pr) in self.pairs.iter().enumerate() {
+                for &q in pr {
+                    if free[q as usize] {
+                        out[q as usize] += self.newton_pair[s];
+                    }
                 }
             }
         }

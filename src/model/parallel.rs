@@ -16,6 +16,7 @@
 //! free list: each evaluation takes a buffer and returns it, so after the first evaluation
 //! nothing is allocated, and systems shared by concurrent runs stay thread-safe.
 
+use super::state::Vec3;
 use std::sync::Mutex;
 
 /// Spring count from which evaluation goes parallel. Depends only on the scene, never on the
@@ -75,6 +76,62 @@ pub fn each_particle2<T: Send, U: Send>(
                     op(base + k, t, u);
                 }
             });
+    }
+}
+
+/// Like [`each_particle`] over three arrays of equal length.
+pub fn each_particle3<T: Send, U: Send, W: Send>(
+    a: &mut [T],
+    b: &mut [U],
+    c: &mut [W],
+    op: impl Fn(usize, &mut T, &mut U, &mut W) + Sync,
+) {
+    use rayon::prelude::*;
+    assert!(
+        a.len() == b.len() && a.len() == c.len(),
+        "each_particle3: lengths differ"
+    );
+    if a.len() < PARALLEL_MIN_PARTICLES {
+        for (p, ((t, u), w)) in a.iter_mut().zip(b.iter_mut()).zip(c.iter_mut()).enumerate() {
+            op(p, t, u, w);
+        }
+    } else {
+        a.par_chunks_mut(PARTICLE_CHUNK)
+            .zip(b.par_chunks_mut(PARTICLE_CHUNK))
+            .zip(c.par_chunks_mut(PARTICLE_CHUNK))
+            .enumerate()
+            .for_each(|(k, ((ca, cb), cc))| {
+                let base = k * PARTICLE_CHUNK;
+                for (q, ((t, u), w)) in ca
+                    .iter_mut()
+                    .zip(cb.iter_mut())
+                    .zip(cc.iter_mut())
+                    .enumerate()
+                {
+                    op(base + q, t, u, w);
+                }
+            });
+    }
+}
+
+/// Σ a[p]·b[p]: summed in particle order for small systems, and for large ones (at least
+/// [`PARALLEL_MIN_PARTICLES`]) per fixed [`PARTICLE_CHUNK`] in parallel, the chunk sums then
+/// added in order, so the result never depends on the thread count. `parts` is scratch for
+/// the chunk sums (grown once, then reused).
+pub fn dot(a: &[Vec3], b: &[Vec3], parts: &mut Vec<f64>) -> f64 {
+    use rayon::prelude::*;
+    if a.len() < PARALLEL_MIN_PARTICLES {
+        a.iter().zip(b).map(|(x, y)| x.dot(y)).sum()
+    } else {
+        parts.resize(a.len().div_ceil(PARTICLE_CHUNK), 0.0);
+        parts
+            .par_iter_mut()
+            .zip(
+                a.par_chunks(PARTICLE_CHUNK)
+                    .zip(b.par_chunks(PARTICLE_CHUNK)),
+            )
+            .for_each(|(part, (x, y))| *part = x.iter().zip(y).map(|(p, q)| p.dot(q)).sum());
+        sum_partials(parts)
     }
 }
 
@@ -302,11 +359,20 @@ mod tests {
         let _ = Springs::default();
     }
 
-    /// Whole runs: 1 and 2 threads give the same bits for every native integrator.
+    /// Whole runs: 1 and 2 threads give the same bits (symplectic Euler, RK4, implicit Euler
+    /// with its parallel CG).
     #[test]
     fn stepping_is_bit_identical_across_thread_counts() {
-        let scene = cloth(130, 0.002);
+        // 130²: parallel springs, serial particle loops; 190²: both parallel.
+        for n in [130, 190] {
+            stepping_is_bit_identical_on(n);
+        }
+    }
+
+    fn stepping_is_bit_identical_on(n: usize) {
+        let scene = cloth(n, 0.002);
         let sys = scene.build();
+        assert!(sys.springs.is_parallel(sys.len()));
         for name in ["symplectic_euler", "rk4", "implicit_euler"] {
             let run = |threads| {
                 in_pool(threads, || {
