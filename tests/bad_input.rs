@@ -259,3 +259,50 @@ fn integrator_that_cannot_honour_constraints_says_why() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("constraint"), "{err}");
 }
+
+/// Bad flags of the measurement and benchmark commands: non-zero exit, the flag named, no
+/// panic, and nothing run.
+#[test]
+fn bad_flags_of_stability_and_bench_ratios() {
+    let out_dir = tempfile::tempdir().unwrap();
+    let out = out_dir.path().to_str().unwrap();
+    for (args, needle) in [
+        (
+            vec![
+                "stability",
+                "scenarios/stiff_spring.toml",
+                "--map",
+                "--dts",
+                "0",
+            ],
+            "--dts",
+        ),
+        (
+            vec![
+                "stability",
+                "scenarios/stiff_spring.toml",
+                "--map",
+                "--dts",
+                "-1e-3",
+            ],
+            "--dts",
+        ),
+        (
+            vec!["bench-ratios", "--rounds", "0", "--out", out],
+            "--rounds",
+        ),
+        (vec!["bench-ratios", "--size", "1", "--out", out], "--size"),
+        (
+            vec!["bench-ratios", "--implicit-sizes", "32,5000", "--out", out],
+            "--implicit-sizes",
+        ),
+    ] {
+        let o = bin().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "accepted {args:?}");
+        assert!(
+            !err.contains("panicked") && err.contains(needle),
+            "{args:?}: {err}"
+        );
+    }
+}
