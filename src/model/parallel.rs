@@ -36,6 +36,7 @@ pub const PARALLEL_MIN_PARTICLES: usize = 32_768;
 
 /// Runs `op(p, &mut a[p])` for every particle `p`, in parallel over fixed chunks for large
 /// systems (at least [`PARALLEL_MIN_PARTICLES`]).
+#[inline(always)]
 pub fn each_particle<T: Send>(a: &mut [T], op: impl Fn(usize, &mut T) + Sync) {
     use rayon::prelude::*;
     if a.len() < PARALLEL_MIN_PARTICLES {
@@ -51,6 +52,7 @@ pub fn each_particle<T: Send>(a: &mut [T], op: impl Fn(usize, &mut T) + Sync) {
 }
 
 /// Like [`each_particle`] over two arrays of equal length: `op(p, &mut a[p], &mut b[p])`.
+#[inline(always)]
 pub fn each_particle2<T: Send, U: Send>(
     a: &mut [T],
     b: &mut [U],
@@ -80,6 +82,7 @@ pub fn each_particle2<T: Send, U: Send>(
 }
 
 /// Like [`each_particle`] over three arrays of equal length.
+#[inline(always)]
 pub fn each_particle3<T: Send, U: Send, W: Send>(
     a: &mut [T],
     b: &mut [U],
