@@ -1,0 +1,106 @@
+//! The benchmark subcommands end to end on tiny cloths: the files they promise, one row per
+//! backend and size (bench-scaling) or per targeted ratio (bench-ratios), with finite positive
+//! timings. Speed itself is not asserted here: speed claims live in `cargo bench` and in the
+//! commands' own output, never in timed tests.
+
+use std::path::Path;
+use std::process::Command;
+
+fn springlab(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+fn csv_rows(p: &Path) -> Vec<Vec<String>> {
+    let mut r = csv::Reader::from_path(p).unwrap();
+    r.records()
+        .map(|rec| rec.unwrap().iter().map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn bench_scaling_writes_one_row_per_backend_and_size_and_a_plot() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().to_str().unwrap();
+    springlab(&[
+        "bench-scaling",
+        "--sizes",
+        "4,6",
+        "--reps",
+        "1",
+        "--out",
+        out,
+    ]);
+    let rows = csv_rows(&d.path().join("scaling.csv"));
+    let backends = springlab::perf::backends_for(&springlab::perf::cloth(4));
+    assert_eq!(rows.len(), 2 * backends.len(), "{rows:?}");
+    for name in &backends {
+        for n in ["4", "6"] {
+            let row = rows
+                .iter()
+                .find(|r| r[0] == *name && r[1] == n)
+                .unwrap_or_else(|| panic!("no row for {name} at {n}"));
+            assert_eq!(row[7], "ok", "{row:?}");
+            let t: f64 = row[5].parse().unwrap();
+            assert!(t.is_finite() && t > 0.0, "{row:?}");
+        }
+    }
+    let svg = std::fs::read_to_string(d.path().join("scaling.svg")).unwrap();
+    assert!(svg.contains("<svg"));
+}
+
+#[test]
+fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().to_str().unwrap();
+    let stdout = springlab(&[
+        "bench-ratios",
+        "--rounds",
+        "1",
+        "--size",
+        "6",
+        "--thread-size",
+        "6",
+        "--implicit-sizes",
+        "4,5",
+        "--implicit-steps",
+        "2",
+        "--out",
+        out,
+    ]);
+    let rows = csv_rows(&d.path().join("ratios.csv"));
+    let measures: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(
+        measures,
+        [
+            "step_vs_hand_loop",
+            "rapier_frame_vs_step",
+            "thread_speedup_forces",
+            "thread_speedup_step"
+        ]
+    );
+    for r in &rows {
+        let ratio: f64 = r[6].parse().unwrap();
+        assert!(ratio.is_finite() && ratio > 0.0, "{r:?}");
+        assert!(r[8] == "true" || r[8] == "false", "{r:?}");
+    }
+    let imp = csv_rows(&d.path().join("implicit.csv"));
+    assert_eq!(imp.len(), 2);
+    for r in &imp {
+        assert_eq!(r[11], "ok", "{r:?}");
+        let newton: f64 = r[6].parse().unwrap();
+        assert!(
+            newton >= 1.0,
+            "at least one Newton iteration per step: {r:?}"
+        );
+    }
+    assert!(stdout.contains("implicit_euler at dt = 1/60"));
+}
