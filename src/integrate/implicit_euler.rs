@@ -283,8 +283,9 @@ impl Integrator for ImplicitEuler {
         self.vn.copy_from_slice(&s.v);
         let v_scale0 = max_abs(&s.v);
         // Errors are built only on failure: a step must not allocate.
-        let mut result: std::result::Result<f64, bool> = Err(false); // Err(true): non-finite
-                                                                     // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
+        // Err(true): non-finite residual; Err(false): no convergence.
+        let mut result: std::result::Result<f64, bool> = Err(false);
+        // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
         let x_floor = 16.0 * f64::EPSILON * max_abs(&s.x) / h;
         let mut small_update = false;
         let free_mass: f64 = (0..n).filter(|&p| sys.free[p]).map(|p| sys.mass[p]).sum();
@@ -378,8 +379,10 @@ impl Integrator for ImplicitEuler {
                             self.pot.x_frozen[p] = s.x[p] + self.vbase[p] * h;
                         }
                         phi_base = potential(sys, s, &self.vbase, h, &mut self.pot);
+                        evals += 1;
                     }
                     done = potential(sys, s, &self.vn, h, &mut self.pot) < phi_base;
+                    evals += 1; // each potential evaluates the dampers' power: a force pass
                 }
                 if done {
                     if halving > 0 {

@@ -1,11 +1,12 @@
 //! Sparse force Jacobians for implicit methods: 3×3 blocks per spring pair and per particle.
 
 use super::parallel::{
-    each_particle, Incidence, OWNS_FIRST, OWNS_SECOND, PARALLEL_MIN_SPRINGS, PARTICLE_CHUNK,
+    each_particle, Incidence, OWNS_BOTH, OWNS_FIRST, PARALLEL_MIN_SPRINGS, PARTICLE_CHUNK,
 };
 use super::state::Vec3;
 use nalgebra::Matrix3;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// ∂f/∂x and ∂f/∂v in block form.
 ///
@@ -34,19 +35,27 @@ pub struct Jacobian {
     newton_self: Vec<Matrix3<f64>>,
     /// Chunk lists of the pairs for the parallel owner-computes products of large systems
     /// (as for spring forces: bit-identical to the serial loop whatever the thread count).
-    owners: Option<Incidence>,
+    owners: Option<Arc<Incidence>>,
 }
 
 impl Jacobian {
-    /// An all-zero Jacobian with the given pair topology over `n` particles.
+    /// An all-zero Jacobian with the given pair topology over `n` particles (building the
+    /// parallel chunk lists itself when the pairs are many).
     pub fn new(n: usize, pairs: Vec<[u32; 2]>) -> Self {
-        let m = pairs.len();
-        let owners = if m >= PARALLEL_MIN_SPRINGS {
+        let owners = if pairs.len() >= PARALLEL_MIN_SPRINGS {
             let (i, j): (Vec<u32>, Vec<u32>) = pairs.iter().map(|p| (p[0], p[1])).unzip();
-            Incidence::build(&i, &j, n)
+            Incidence::build(&i, &j, n).map(Arc::new)
         } else {
             None
         };
+        Self::with_owners(n, pairs, owners)
+    }
+
+    /// An all-zero Jacobian over `n` particles whose pairs are walked in parallel through
+    /// `owners` (chunk lists built for exactly these pairs, e.g. the springs' own), or serially
+    /// when `None`.
+    pub fn with_owners(n: usize, pairs: Vec<[u32; 2]>, owners: Option<Arc<Incidence>>) -> Self {
+        let m = pairs.len();
         Jacobian {
             pairs,
             kx: vec![Matrix3::zeros(); m],
@@ -159,8 +168,13 @@ impl Jacobian {
                 for &e in inc.chunk(c) {
                     let s = (e >> 2) as usize;
                     let (a, b) = (self.pairs[s][0] as usize, self.pairs[s][1] as usize);
-                    match e & (OWNS_FIRST | OWNS_SECOND) {
-                        3 => {
+                    match e & OWNS_BOTH {
+                        OWNS_BOTH if a == b => {
+                            // A pair on one particle: its two ends in turn, as the serial loop.
+                            pair(s, a, b, Some(&mut oc[a - base]), None);
+                            pair(s, a, b, None, Some(&mut oc[b - base]));
+                        }
+                        OWNS_BOTH => {
                             let (lo, hi) = (a.min(b) - base, a.max(b) - base);
                             let (x, y) = oc.split_at_mut(hi);
                             let (oa, ob) = if a < b {

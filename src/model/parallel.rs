@@ -143,6 +143,8 @@ pub fn dot(a: &[Vec3], b: &[Vec3], parts: &mut Vec<f64>) -> f64 {
 pub const OWNS_FIRST: u32 = 2;
 /// Flag of a chunk-list entry: the chunk owns the spring's second end (it adds `-f`).
 pub const OWNS_SECOND: u32 = 1;
+/// Both flags: the spring lies inside the chunk.
+pub const OWNS_BOTH: u32 = OWNS_FIRST | OWNS_SECOND;
 
 /// The springs touching each particle chunk, in compressed sparse row form.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -186,7 +188,7 @@ impl Incidence {
             let (a, b) = (chunk(i[s]), chunk(j[s]));
             let key = (s as u32) << 2;
             if a == b {
-                entries[fill[a] as usize] = key | OWNS_FIRST | OWNS_SECOND;
+                entries[fill[a] as usize] = key | OWNS_BOTH;
                 fill[a] += 1;
             } else {
                 entries[fill[a] as usize] = key | OWNS_FIRST;
@@ -276,11 +278,8 @@ mod tests {
         // Springs 0:(0,1) inside chunk 0; 1:(1,c) crossing; 2:(c+1,c) inside chunk 1.
         let inc = Incidence::build(&[0, 1, c + 1], &[1, c, c], 2 * PARTICLE_CHUNK).unwrap();
         assert_eq!(inc.start, vec![0, 2, 4]);
-        assert_eq!(
-            inc.chunk(0),
-            &[OWNS_FIRST | OWNS_SECOND, 1 << 2 | OWNS_FIRST]
-        );
-        assert_eq!(inc.chunk(1), &[1 << 2 | OWNS_SECOND, 2 << 2 | 3]);
+        assert_eq!(inc.chunk(0), &[OWNS_BOTH, 1 << 2 | OWNS_FIRST]);
+        assert_eq!(inc.chunk(1), &[1 << 2 | OWNS_SECOND, 2 << 2 | OWNS_BOTH]);
         assert!(Incidence::build(&[0], &[3], 3).is_none());
     }
 

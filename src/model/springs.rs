@@ -13,14 +13,14 @@
 
 use super::jacobian::Jacobian;
 use super::parallel::{
-    sum_partials, Incidence, ScratchPool, OWNS_FIRST, OWNS_SECOND, PARALLEL_MIN_SPRINGS,
+    sum_partials, Incidence, ScratchPool, OWNS_BOTH, OWNS_FIRST, PARALLEL_MIN_SPRINGS,
     PARTICLE_CHUNK, SPRING_CHUNK,
 };
 use super::state::Vec3;
 use super::term::{EnergyKind, ForceTerm};
 use nalgebra::Matrix3;
 use rayon::prelude::*;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 /// All springs of a system, one entry per spring in each array.
 ///
@@ -40,7 +40,7 @@ pub struct Springs {
     pub c: Vec<f64>,
     /// True when any spring has damping (so the damper loop is worth running).
     pub any_damping: bool,
-    incidence: OnceLock<Option<Incidence>>,
+    incidence: OnceLock<Option<Arc<Incidence>>>,
     scratch: ScratchPool,
 }
 
@@ -76,9 +76,16 @@ impl Springs {
             return None;
         }
         self.incidence
-            .get_or_init(|| Incidence::build(&self.i, &self.j, n))
-            .as_ref()
+            .get_or_init(|| Incidence::build(&self.i, &self.j, n).map(Arc::new))
+            .as_deref()
             .filter(|inc| inc.particles == n && inc.springs == self.len())
+    }
+
+    /// The chunk lists of the parallel path for `n` particles, shared (the Jacobian of the
+    /// same springs walks the same lists), or `None` where the scene is evaluated serially.
+    pub fn owner_lists(&self, n: usize) -> Option<Arc<Incidence>> {
+        self.incidence(n)?;
+        self.incidence.get().cloned().flatten()
     }
 
     /// Adds to `out[p]`, for every spring at particle `p`, `k (|x_i|∞ + |x_j|∞ + l0)`: the size
@@ -164,8 +171,8 @@ impl Springs {
                     let s = (e >> 2) as usize;
                     let (fs, p) = self.force::<DAMPED>(s, x, v);
                     let (a, b) = (self.i[s] as usize, self.j[s] as usize);
-                    match e & (OWNS_FIRST | OWNS_SECOND) {
-                        3 => {
+                    match e & OWNS_BOTH {
+                        OWNS_BOTH => {
                             fc[a - base] += fs;
                             fc[b - base] -= fs;
                             if DAMPED {

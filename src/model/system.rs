@@ -167,7 +167,7 @@ impl System {
             .zip(&self.springs.j)
             .map(|(&a, &b)| [a, b])
             .collect();
-        Jacobian::new(self.len(), pairs)
+        Jacobian::with_owners(self.len(), pairs, self.springs.owner_lists(self.len()))
     }
 
     /// Fills `jac` with ∂f/∂x and ∂f/∂v at (x, v).
