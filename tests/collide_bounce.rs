@@ -7,7 +7,8 @@
 //! so any drift would be energy the contact stage failed to book.
 
 use springlab::collide::ContactMetrics;
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::integrate::IntegratorOptions;
+use springlab::method::create as by_name;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 

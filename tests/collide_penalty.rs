@@ -9,7 +9,8 @@
 use springlab::collide::{
     damping_ratio_for_restitution, restitution_for_damping_ratio, ContactMetrics,
 };
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::integrate::IntegratorOptions;
+use springlab::method::create as by_name;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 

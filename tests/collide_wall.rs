@@ -6,7 +6,8 @@
 //! the same detector, which shows the count can fail.
 
 use springlab::collide::ContactMetrics;
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::integrate::IntegratorOptions;
+use springlab::method::create as by_name;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 

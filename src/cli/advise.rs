@@ -51,6 +51,7 @@ pub fn run(a: Args) -> Result<()> {
         dt_min: a.dt_min,
         dt_max: a.dt_max,
         progress: true,
+        ..Default::default()
     };
     let adv = advise(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "advise");

@@ -30,7 +30,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.every == 0 {
         bail!("--every: must be at least 1");
     }
-    let mut integ = springlab::backend::create(&a.integrator, &a.step.options())?;
+    let mut integ = springlab::method::create(&a.integrator, &a.step.options())?;
     let sys = scene.build();
     if let Err(reason) = integ.check(&sys) {
         return Err(springlab::Error::Unsupported {

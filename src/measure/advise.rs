@@ -14,6 +14,7 @@ use super::reference::{Reference, ReferenceInfo};
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
+use crate::method::{Order, Registry};
 use crate::scenario::Scenario;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -56,6 +57,8 @@ pub struct AdviseConfig {
     pub horizon: Option<f64>,
     /// Candidates (empty: every applicable integrator except the closed form).
     pub integrators: Vec<String>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
     /// Predictions aim at tolerance / safety (default 2).
@@ -77,6 +80,7 @@ impl Default for AdviseConfig {
             metric: AdviseMetric::Position,
             horizon: None,
             integrators: vec![],
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             safety: 2.0,
             points: 10,
@@ -260,16 +264,23 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             format!("need 0 < dt-min ≤ dt-max, got {dt_min} and {dt_max}"),
         ));
     }
-    let (mut names, mut unable) = applicable(&sys, &cfg.integrators, &cfg.options)?;
+    let (mut names, mut unable) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
-        if let Some(p) = names.iter().position(|n| n == "analytic") {
-            names.remove(p);
-            unable.push(("analytic".into(), "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
+        // Exact methods are closed forms for special scenes, not general integrators.
+        let exact: Vec<String> = names
+            .iter()
+            .filter(|n| cfg.methods.info(n).is_ok_and(|m| m.order == Order::Exact))
+            .cloned()
+            .collect();
+        for n in exact {
+            names.retain(|m| *m != n);
+            unable.push((n, "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
         }
     }
     let grid = step_grid(dt_min, dt_max, cfg.points.max(2), horizon);
     let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
     let set = CaseSettings {
+        methods: cfg.methods.clone(),
         options: cfg.options,
         blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
         series_points: 0,

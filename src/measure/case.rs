@@ -5,6 +5,7 @@ use super::metrics::{Metrics, MetricsObserver, Series};
 use super::reference::Reference;
 use crate::error::Result;
 use crate::integrate::IntegratorOptions;
+use crate::method::Registry;
 use crate::model::{State, System};
 use crate::run::{run, NoObserver, RunPlan, Status};
 use serde::Serialize;
@@ -50,8 +51,10 @@ impl CaseResult {
 }
 
 /// How to run one case.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct CaseSettings {
+    /// The methods cases are run with (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
     /// Blow-up factor of the runner.
@@ -65,6 +68,7 @@ pub struct CaseSettings {
 impl Default for CaseSettings {
     fn default() -> Self {
         CaseSettings {
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 0,
@@ -83,7 +87,7 @@ pub fn run_case(
     set: &CaseSettings,
 ) -> Result<CaseResult> {
     let g: TimeGrid = reference.grids[grid];
-    let mut integ = crate::backend::create(name, &set.options)?;
+    let mut integ = set.methods.create(name, &set.options)?;
     let plan = RunPlan {
         dt: g.dt,
         steps: g.steps,
@@ -94,7 +98,7 @@ pub fn run_case(
     let mut wall = out.wall_seconds;
     if set.repeat_short && out.wall_seconds < SHORT_RUN_SECONDS {
         for _ in 1..SHORT_RUN_REPEATS {
-            let mut again = crate::backend::create(name, &set.options)?;
+            let mut again = set.methods.create(name, &set.options)?;
             let o = run(sys, again.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             wall = wall.min(o.wall_seconds);
         }
@@ -118,25 +122,23 @@ pub fn run_case(
     })
 }
 
-/// The integrators that apply to `sys`: `asked` (or, when empty, every native method plus
-/// every external backend), split into (applicable, skipped with the reason).
+/// The methods of `methods` that apply to `sys`: `asked` (or, when empty, every registered
+/// method), canonical names split into (applicable, skipped with the reason).
 #[allow(clippy::type_complexity)]
 pub fn applicable(
+    methods: &Registry,
     sys: &System,
     asked: &[String],
     opts: &IntegratorOptions,
 ) -> Result<(Vec<String>, Vec<(String, String)>)> {
     let names: Vec<String> = if asked.is_empty() {
-        crate::integrate::known_names()
-            .into_iter()
-            .map(String::from)
-            .collect()
+        methods.names().into_iter().map(String::from).collect()
     } else {
         asked.to_vec()
     };
     let (mut ok, mut skipped) = (Vec::new(), Vec::new());
     for n in names {
-        let integ = crate::backend::create(&n, opts)?;
+        let integ = methods.create(&n, opts)?;
         let canon = integ.name().to_string();
         if ok.contains(&canon) || skipped.iter().any(|(s, _)| *s == canon) {
             continue;

@@ -5,6 +5,7 @@ use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
+use crate::method::Registry;
 use crate::output::write_atomic;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
@@ -21,6 +22,8 @@ pub struct CompareConfig {
     pub dt: Option<f64>,
     /// Simulated time (default: the scene's).
     pub duration: Option<f64>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options (substeps for Rapier).
     pub options: IntegratorOptions,
     /// Blow-up factor.
@@ -37,6 +40,7 @@ impl Default for CompareConfig {
             integrators: vec![],
             dt: None,
             duration: None,
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 2000,
@@ -107,14 +111,14 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
             )
         })?;
     let steps = ((duration / dt).round() as u64).max(1);
-    // Default: the scene's own [run].integrators next to both Rapier backends, else everything.
+    // Default: the scene's own [run].integrators next to every engine, else everything.
     let asked: Vec<String> = if cfg.integrators.is_empty() && !scene.run.integrators.is_empty() {
-        let ext = crate::backend::EXTERNAL.iter().map(|s| s.to_string());
+        let ext = cfg.methods.engine_names().into_iter().map(String::from);
         scene.run.integrators.iter().cloned().chain(ext).collect()
     } else {
         cfg.integrators.clone()
     };
-    let (names, skipped) = applicable(&sys, &asked, &cfg.options)?;
+    let (names, skipped) = applicable(&cfg.methods, &sys, &asked, &cfg.options)?;
     let grid = TimeGrid::new(
         dt,
         steps,
@@ -122,6 +126,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     );
     let reference = Reference::compute(&sys, &s0, &[grid], grid.time(steps))?;
     let set = CaseSettings {
+        methods: cfg.methods.clone(),
         options: cfg.options,
         blowup_factor: cfg.blowup_factor,
         series_points: cfg.series_points,
