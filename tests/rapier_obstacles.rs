@@ -6,7 +6,7 @@
 //! so at a small step its first apex ratios must be e² = 0.25 within 2 %. A fast particle shot
 //! at a thin wall must not pass it (Rapier sweeps fixed colliders for fast bodies).
 
-use springlab::collide::ContactMetrics;
+use springlab::measure::contacts::ContactMetrics;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 

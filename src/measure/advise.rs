@@ -285,6 +285,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
         series_points: 0,
         repeat_short: true,
+        trace: None,
     };
     let jobs: Vec<(String, TimeGrid)> = names
         .iter()

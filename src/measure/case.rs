@@ -1,8 +1,10 @@
 //! One measured case: an integrator at one step over a horizon, against a reference.
 
+use super::contacts::{ContactMetrics, ContactReport};
 use super::grid::TimeGrid;
 use super::metrics::{Metrics, MetricsObserver, Series};
 use super::reference::Reference;
+use super::trace::{Trace, TraceObserver, TraceSpec};
 use crate::error::Result;
 use crate::integrate::IntegratorOptions;
 use crate::method::Registry;
@@ -41,6 +43,12 @@ pub struct CaseResult {
     /// Decimated series, when asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub series: Option<Series>,
+    /// Paths and snapshots, when asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trace: Option<Trace>,
+    /// Collision metrics, for scenes with obstacles (also written as `contacts.json`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts: Option<ContactReport>,
 }
 
 impl CaseResult {
@@ -63,6 +71,8 @@ pub struct CaseSettings {
     pub series_points: u64,
     /// Repeat short runs to time them.
     pub repeat_short: bool,
+    /// Record paths and snapshots.
+    pub trace: Option<TraceSpec>,
 }
 
 impl Default for CaseSettings {
@@ -73,6 +83,7 @@ impl Default for CaseSettings {
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 0,
             repeat_short: true,
+            trace: None,
         }
     }
 }
@@ -94,7 +105,15 @@ pub fn run_case(
         blowup_factor: set.blowup_factor,
     };
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
-    let out = run(sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?;
+    let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));
+    let mut contacts = ContactMetrics::new(sys, g.dt);
+    let out = run(
+        sys,
+        integ.as_mut(),
+        s0.clone(),
+        &plan,
+        &mut (&mut obs, (&mut trace, &mut contacts)),
+    )?;
     let mut wall = out.wall_seconds;
     if set.repeat_short && out.wall_seconds < SHORT_RUN_SECONDS {
         for _ in 1..SHORT_RUN_REPEATS {
@@ -119,6 +138,8 @@ pub fn run_case(
         unstable_reason,
         metrics: obs.metrics(),
         series: (set.series_points > 0).then(|| obs.series.clone()),
+        trace: trace.map(|t| t.trace),
+        contacts: contacts.map(|c| c.report()),
     })
 }
 

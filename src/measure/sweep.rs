@@ -412,6 +412,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
         repeat_short: cfg.repeat_short,
+        trace: None,
     };
     let pb = super::progress::bar(
         mine.len() as u64,

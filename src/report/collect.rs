@@ -326,7 +326,7 @@ pub fn collect_scene(
                 &snapshot_steps,
                 false,
             );
-            let mut metrics = crate::collide::ContactMetrics::new(&sys, dt);
+            let mut metrics = crate::measure::contacts::ContactMetrics::new(&sys, dt);
             let out = match metrics.as_mut() {
                 Some(m) => run(&sys, integ.as_mut(), s0.clone(), &plan, &mut (&mut obs, m))?,
                 None => run(&sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?,
