@@ -1,9 +1,15 @@
-//! Bring your own integrator: implement `Integrator` for the scheme in your game, build a scene
-//! in code, and run it through springlab side by side with the built-in methods.
+//! Bring your own integrator: implement `Integrator` for the scheme in your game, register it
+//! with its facts, and it runs through run, compare, sweep, stability, advise and the report
+//! exactly like the built-in methods.
 //!
-//! Run with `cargo run --example custom_integrator`.
+//! Run with `cargo run --release --example custom_integrator` (writes under `out/custom/`).
 
 use springlab::integrate::{Integrator, StepStats};
+use springlab::measure::advise::{advise, AdviseConfig};
+use springlab::measure::compare::{compare, CompareConfig};
+use springlab::measure::stability::{analyse, StabilityConfig};
+use springlab::measure::sweep::{run_sweep, SweepConfig};
+use springlab::method::{CostUnit, Method, MethodInfo, Order, Registry, StabilityTheory};
 use springlab::model::{State, System, Vec3};
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::file::{ParticleSpec, RunSpec, ScenarioFile, SpringSpec};
@@ -23,8 +29,10 @@ impl Integrator for GameEuler {
         self.a.resize(s.len(), Vec3::zeros());
         sys.accelerations(&s.x, &s.v, &mut self.a);
         for p in 0..s.len() {
-            s.v[p] = (s.v[p] + self.a[p] * h) * 0.999;
-            s.x[p] += s.v[p] * h;
+            if sys.free[p] {
+                s.v[p] = (s.v[p] + self.a[p] * h) * 0.999;
+                s.x[p] += s.v[p] * h;
+            }
         }
         s.t += h;
         Ok(StepStats {
@@ -60,34 +68,120 @@ fn main() -> springlab::Result<()> {
         }),
         ..Default::default()
     })?;
+    // Register the method once, with its facts.
+    let methods = Registry::builtin().with(Method::new(
+        MethodInfo {
+            name: "game_euler",
+            aliases: &[],
+            order: Order::Finite(1),
+            summary: "symplectic Euler with a 0.999 velocity damping per step",
+            stability: StabilityTheory::SpectralRadius,
+            cost: CostUnit::ForceEvaluations,
+            engine: false,
+        },
+        |_| Box::new(GameEuler { a: Vec::new() }),
+    ))?;
     let sys = scene.build();
+    let mine = ["game_euler", "symplectic_euler", "velocity_verlet", "rk4"].map(String::from);
+
+    // run: one trajectory.
     let plan = RunPlan::for_duration(1.0 / 60.0, 10.0);
-    let exact = run(
+    let mut game = methods.create("game_euler", &Default::default())?;
+    let out = run(
         &sys,
-        springlab::method::create("analytic", &Default::default())?.as_mut(),
+        game.as_mut(),
         scene.initial_state(),
         &plan,
         &mut NoObserver,
     )?;
-    let mut mine: Vec<Box<dyn Integrator>> = vec![Box::new(GameEuler { a: Vec::new() })];
-    for name in ["symplectic_euler", "velocity_verlet", "rk4"] {
-        mine.push(springlab::method::create(name, &Default::default())?);
-    }
     println!(
-        "{:<18} {:>14} {:>14}",
-        "integrator", "position error", "energy change"
+        "run: game_euler keeps {:.1}% of its energy after 10 s",
+        100.0 * out.final_energy.total / out.initial_energy.total
     );
-    for integ in mine.iter_mut() {
-        let out = run(
-            &sys,
-            integ.as_mut(),
-            scene.initial_state(),
-            &plan,
-            &mut NoObserver,
-        )?;
-        let err = (out.final_state.x[1] - exact.final_state.x[1]).norm();
-        let de = out.final_energy.total / out.initial_energy.total - 1.0;
-        println!("{:<18} {:>14.3e} {:>+14.3e}", integ.name(), err, de);
+
+    // compare: side by side against the closed form.
+    let cmp = compare(
+        &scene,
+        &CompareConfig {
+            methods: methods.clone(),
+            integrators: mine.to_vec(),
+            series_points: 0,
+            ..Default::default()
+        },
+    )?;
+    println!("compare against {}:", cmp.reference.kind);
+    for e in &cmp.entries {
+        if let Some(r) = &e.result {
+            println!(
+                "  {:<18} max position error {:.3e} m, energy error {:+.3e}",
+                r.integrator, r.metrics.error_max, r.metrics.energy_balance
+            );
+        }
     }
+
+    // sweep: observed orders.
+    let sw = run_sweep(
+        &scene,
+        &SweepConfig {
+            methods: methods.clone(),
+            integrators: mine.to_vec(),
+            ..Default::default()
+        },
+    )?;
+    for i in &sw.summary.as_ref().expect("full sweep").integrators {
+        println!(
+            "sweep: {:<18} observed order {}",
+            i.integrator,
+            i.observed_order.map_or_else(
+                || format!("none ({})", i.fit.note.clone().unwrap_or_default()),
+                |p| format!("{p:.3}")
+            )
+        );
+    }
+
+    // stability: the spectral radius of game_euler's own one-step map.
+    let st = analyse(
+        &scene,
+        &StabilityConfig {
+            methods: methods.clone(),
+            integrators: mine.to_vec(),
+            ..Default::default()
+        },
+    )?;
+    for i in &st.integrators {
+        println!(
+            "stability: {:<18} {:?} {}",
+            i.integrator,
+            i.verdict,
+            i.max_stable_dt
+                .map_or(String::new(), |d| format!("dt ≤ {d:.4} s"))
+        );
+    }
+
+    // advise: the cheapest method and step for 1 mm.
+    let adv = advise(
+        &scene,
+        &AdviseConfig {
+            methods: methods.clone(),
+            integrators: mine.to_vec(),
+            tolerance: 1e-3,
+            ..Default::default()
+        },
+    )?;
+    println!(
+        "advise: {} at dt = {}",
+        adv.integrator.as_deref().unwrap_or("nothing"),
+        adv.dt.map_or("-".into(), |d| format!("{d:.4e} s"))
+    );
+
+    // report: the same pages as `springlab report`, with game_euler among the methods.
+    let opts = springlab::report::ReportOptions {
+        out: "out/custom".into(),
+        quick: true,
+        energy_terms: false,
+        methods,
+    };
+    let page = springlab::report::report_scene(&scene, &opts)?;
+    println!("report: out/custom/{}", page.page);
     Ok(())
 }

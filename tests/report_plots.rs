@@ -80,33 +80,13 @@ fn every_chart_renders_from_plain_data() {
                 series: Series::new("rk4", vec![[0.1, 1e-4], [0.05, 6.25e-6]]),
                 fitted_slope: Some(4.0),
                 order: 4,
+                note: None,
             }],
             guides: vec![Guide {
                 label: "reference slope 4".into(),
                 points: vec![[0.05, 3e-6], [0.1, 5e-5]],
             }],
             reference: "analytic".into(),
-        })
-        .unwrap(),
-        plots::stability(&StabilityData {
-            omega: 2.0,
-            omega_note: "test".into(),
-            rows: vec![StabilityRow {
-                integrator: "velocity_verlet".into(),
-                cells: vec![
-                    StabilityCell {
-                        h_omega: 1.0,
-                        dt: 0.5,
-                        stable: true,
-                    },
-                    StabilityCell {
-                        h_omega: 3.0,
-                        dt: 1.5,
-                        stable: false,
-                    },
-                ],
-                theory: Some(2.0),
-            }],
         })
         .unwrap(),
         plots::paths(&PathData {
@@ -123,7 +103,9 @@ fn every_chart_renders_from_plain_data() {
         );
     }
     assert!(texts(&svgs[0]).iter().any(|x| x.contains("envelope")));
-    assert!(texts(&svgs[1]).iter().any(|x| x.contains("slope 4.00")));
+    assert!(texts(&svgs[1])
+        .iter()
+        .any(|x| x.contains("observed order 4.00")));
     // The collision CSV carries every bounce.
     let csv = String::from_utf8(col.to_csv().unwrap()).unwrap();
     assert_eq!(csv.lines().filter(|l| l.starts_with("bounce,")).count(), 4);

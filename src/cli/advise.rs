@@ -3,8 +3,7 @@
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::Result;
-use springlab::measure::advise::{advise, AdviseConfig, AdviseMetric};
-use springlab::output::write_atomic;
+use springlab::measure::advise::{advise, write_advice, AdviseConfig, AdviseMetric};
 use std::path::PathBuf;
 
 /// Flags of `springlab advise`.
@@ -55,9 +54,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     let adv = advise(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "advise");
-    let mut json = serde_json::to_vec_pretty(&adv)?;
-    json.push(b'\n');
-    let f = write_atomic(dir.join("advice.json"), &json)?;
+    let f = write_advice(&dir, &adv)?;
     match &adv.integrator {
         Some(n) => println!(
             "{}: use {n} at dt = {} s (predicted error {}, verified {}, {:.0} force evaluations per simulated second)",

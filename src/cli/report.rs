@@ -34,6 +34,7 @@ pub fn run(a: Args) -> Result<()> {
         out: a.out.clone(),
         quick: a.quick,
         energy_terms: a.energy_terms,
+        methods: springlab::method::Registry::builtin(),
     };
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(files.len() as u64);

@@ -4,7 +4,7 @@ use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::{bail, Result};
 use springlab::measure::stability::{
-    analyse, stability_map, MapConfig, StabilityConfig, MAP_HEADER,
+    analyse, stability_map, write_stability, MapConfig, StabilityConfig, MAP_HEADER,
 };
 use springlab::output::write_atomic;
 use std::path::PathBuf;
@@ -74,9 +74,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     let rep = analyse(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "stability");
-    let mut json = serde_json::to_vec_pretty(&rep)?;
-    json.push(b'\n');
-    let mut files = vec![write_atomic(dir.join("stability.json"), &json)?];
+    let mut files = vec![write_stability(&dir, &rep)?];
     println!(
         "{}: ω_max = {:.6} rad/s ({})",
         scene.name, rep.omega_max, rep.modes.method

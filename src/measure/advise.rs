@@ -143,6 +143,8 @@ pub struct FrameRate {
 /// `advice.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Advice {
+    /// The command that re-creates this document (`--out DIR` is added where it is written).
+    pub command: String,
     /// Scenario name.
     pub scenario: String,
     /// Reference used.
@@ -428,7 +430,28 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         })
         .collect();
     let pick = alternatives.first().cloned();
+    let metric = match cfg.metric {
+        AdviseMetric::Position => "position",
+        AdviseMetric::Energy => "energy",
+    };
+    let mut asked = cfg.integrators.clone();
+    if asked.is_empty() {
+        asked = cfg.methods.names().into_iter().map(String::from).collect();
+    }
+    let command = super::command::CommandLine::new("advise", &scene.source)
+        .flag("tolerance", cfg.tolerance)
+        .flag("metric", metric)
+        .flag("horizon", horizon)
+        .list("integrators", &asked)
+        .flag("safety", cfg.safety)
+        .flag("points", cfg.points)
+        .flag_opt("dt-min", cfg.dt_min)
+        .flag_opt("dt-max", cfg.dt_max)
+        .flag("substeps", cfg.options.substeps)
+        .flag("iterations", cfg.options.constraint_iterations)
+        .render();
     Ok(Advice {
+        command,
         scenario: scene.name.clone(),
         reference,
         tolerance: cfg.tolerance,
@@ -446,4 +469,15 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         grid: grid.iter().map(|g| g.0).collect(),
         frame_rates,
     })
+}
+
+/// Writes `advice.json` into `dir` (with `--out dir` in its command).
+pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<std::path::PathBuf> {
+    let doc = Advice {
+        command: super::command::with_out(&adv.command, dir),
+        ..adv.clone()
+    };
+    let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
+    json.push(b'\n');
+    crate::output::write_atomic(dir.join("advice.json"), &json)
 }

@@ -13,5 +13,6 @@ pub mod modes;
 pub mod progress;
 pub mod reference;
 pub mod stability;
+pub mod study;
 pub mod sweep;
 pub mod trace;

@@ -155,6 +155,8 @@ pub enum Verdict {
     UnconditionallyStable,
     /// Unstable at every dt tried.
     UnstableForAllDt,
+    /// Neither theory nor the empirical search was run (say, an engine with `--theory-only`).
+    NotAnalysed,
 }
 
 /// A verdict with its step limit (s) when `stable_below`.
@@ -354,6 +356,8 @@ pub struct IntegratorStability {
 /// `stability.json`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StabilityReport {
+    /// The command that re-creates this document (`--out DIR` is added where it is written).
+    pub command: String,
     /// Scenario name.
     pub scenario: String,
     /// Highest natural frequency of the linearised scene (rad/s).
@@ -412,18 +416,12 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let ms = modes(&sys, &s0);
     let (names, skipped) =
         super::case::applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
-    let duration = scene
-        .run
-        .duration
-        .or_else(|| scene.run.steps.zip(scene.run.dt).map(|(n, d)| n as f64 * d))
-        .unwrap_or(10.0);
-    let horizon = cfg.horizon.unwrap_or_else(|| {
-        if ms.omega_max > 0.0 {
-            100.0 * std::f64::consts::TAU / ms.omega_max
-        } else {
-            duration
-        }
-    });
+    let horizon = match cfg.horizon {
+        Some(h) => h,
+        None if ms.omega_max > 0.0 => 100.0 * std::f64::consts::TAU / ms.omega_max,
+        // Nothing oscillates: the scene's own duration (an error when it has none).
+        None => crate::scenario::Timing::duration(scene, None)?,
+    };
     let crit = EmpiricalCriterion {
         horizon,
         blowup_factor: cfg.blowup_factor,
@@ -471,7 +469,10 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
             let (verdict, dt, method) = match (&theory, &empirical) {
                 (Some(t), _) => (t.0, t.1, "spectral_radius"),
                 (None, Some(e)) => (e.verdict, e.max_stable_dt, "empirical_bisection"),
-                (None, None) => (Verdict::UnconditionallyStable, None, "none"),
+                (None, None) => {
+                    note = Some("no linear theory applies and the empirical search was skipped (--theory-only)".into());
+                    (Verdict::NotAnalysed, None, "none")
+                }
             };
             if ms.damping_coupling.is_some_and(|c| c > 1e-6) && theory.is_some() {
                 note = Some(format!(
@@ -492,7 +493,20 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
             })
         })
         .collect();
+    let mut asked = cfg.integrators.clone();
+    if asked.is_empty() {
+        asked = cfg.methods.names().into_iter().map(String::from).collect();
+    }
+    let command = super::command::CommandLine::new("stability", &scene.source)
+        .list("integrators", &asked)
+        .flag("substeps", cfg.options.substeps)
+        .flag("iterations", cfg.options.constraint_iterations)
+        .flag("horizon", horizon)
+        .flag("blowup-factor", cfg.blowup_factor)
+        .switch("theory-only", cfg.theory_only)
+        .render();
     Ok(StabilityReport {
+        command,
         scenario: scene.name.clone(),
         omega_max: ms.omega_max,
         theory_criterion: format!("spectral radius of the one-step map on every linearised mode ≤ 1 + {RHO_TOL:e}, scanned over hω ∈ [{SCAN_MIN:e}, {SCAN_MAX:e}] and bisected"),
@@ -501,6 +515,17 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         skipped,
         modes: ms,
     })
+}
+
+/// Writes `stability.json` into `dir` (with `--out dir` in its command).
+pub fn write_stability(dir: &std::path::Path, rep: &StabilityReport) -> Result<std::path::PathBuf> {
+    let doc = StabilityReport {
+        command: super::command::with_out(&rep.command, dir),
+        ..rep.clone()
+    };
+    let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
+    json.push(b'\n');
+    crate::output::write_atomic(dir.join("stability.json"), &json)
 }
 
 /// Options of [`stability_map`].
@@ -588,7 +613,7 @@ impl MapRow {
             Some(Verdict::StableBelow) => "stable_below",
             Some(Verdict::UnconditionallyStable) => "unconditionally_stable",
             Some(Verdict::UnstableForAllDt) => "unstable_for_all_dt",
-            None => "",
+            Some(Verdict::NotAnalysed) | None => "",
         };
         format!(
             "{},{:e},{:e},{:e},{:e},{:e},{},{},{},{}",

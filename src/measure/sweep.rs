@@ -162,6 +162,8 @@ impl SweepRow {
 /// Everything that defines a sweep's cases; shards of one sweep share it exactly.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepPlan {
+    /// The command that re-creates the sweep (shards add `--shard`, writers `--out`).
+    pub command: String,
     /// Scenario name.
     pub scenario: String,
     /// Simulated time (s).
@@ -235,6 +237,8 @@ pub struct IntegratorSummary {
 /// `summary.json` of a sweep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SweepSummary {
+    /// The command that re-creates this document (`--out DIR` is added where it is written).
+    pub command: String,
     /// Scenario name.
     pub scenario: String,
     /// Reference used.
@@ -365,7 +369,18 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     let grid = step_grid(dt_min, dt_max.min(duration), cfg.points, duration);
     let max_samples = max_samples_for(cfg.budget_bytes, grid.len(), sys.len());
     let (integrators, skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+    let command = super::command::CommandLine::new("sweep", &scene.source)
+        .list("integrators", &integrators)
+        .flag_opt("dt-min", cfg.dt_min)
+        .flag_opt("dt-max", cfg.dt_max)
+        .flag("points", cfg.points)
+        .flag("duration", duration)
+        .flag("substeps", cfg.options.substeps)
+        .flag("iterations", cfg.options.constraint_iterations)
+        .flag("blowup-factor", cfg.blowup_factor)
+        .render();
     Ok(SweepPlan {
+        command,
         scenario: scene.name.clone(),
         duration,
         dts: grid.iter().map(|g| g.0).collect(),
@@ -500,6 +515,7 @@ pub fn summarise(res: &SweepResult) -> SweepSummary {
         })
         .collect();
     SweepSummary {
+        command: res.plan.command.clone(),
         scenario: res.plan.scenario.clone(),
         reference: res.reference.clone(),
         duration: res.plan.duration,
@@ -527,7 +543,13 @@ pub fn write_sweep(dir: &Path, res: &SweepResult) -> Result<Vec<PathBuf>> {
     }
     let mut out = vec![write_atomic(dir.join("sweep.csv"), csv.as_bytes())?];
     match (&res.summary, res.shard) {
-        (Some(s), _) => out.push(write_atomic(dir.join("summary.json"), &json(s))?),
+        (Some(s), _) => {
+            let doc = SweepSummary {
+                command: super::command::with_out(&s.command, dir),
+                ..s.clone()
+            };
+            out.push(write_atomic(dir.join("summary.json"), &json(&doc))?)
+        }
         (None, Some(shard)) => {
             let f = ShardFile {
                 plan: res.plan.clone(),

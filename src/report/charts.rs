@@ -1,58 +1,67 @@
-//! Turns one scene's [`SceneResults`] into the plain chart data of [`super::data`].
+//! Turns one scene's [`SceneStudy`] into the plain chart data of [`super::data`]: every point
+//! is a number of a document (compare's series and traces, the sweep's rows and fits, the
+//! contact metrics); nothing is measured here.
 
 use super::data::*;
-use super::results::{RunRecord, SceneResults};
-use super::summary::sweep_slope;
-use crate::run::Status;
+use crate::measure::case::CaseResult;
+use crate::measure::study::SceneStudy;
+use crate::method::Registry;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
-fn blowup_at(run: &RunRecord, last: Option<[f64; 2]>) -> Option<BlowUp> {
-    match (&run.status, last) {
-        (Status::Unstable { time, .. }, Some(p)) => Some(BlowUp { x: *time, y: p[1] }),
+/// The compared runs that ran (skipped ones have nothing to draw).
+fn runs(s: &SceneStudy) -> impl Iterator<Item = &CaseResult> {
+    s.compare.entries.iter().filter_map(|e| e.result.as_ref())
+}
+
+fn blowup_at(run: &CaseResult, last: Option<[f64; 2]>) -> Option<BlowUp> {
+    match (run.unstable_time, last) {
+        (Some(t), Some(p)) => Some(BlowUp { x: t, y: p[1] }),
         _ => None,
     }
 }
 
-fn time_series(run: &RunRecord, f: impl Fn(&super::results::Sample) -> Option<f64>) -> Series {
-    let points: Vec<[f64; 2]> = run
-        .samples
-        .iter()
-        .filter_map(|s| f(s).filter(|v| v.is_finite()).map(|v| [s.t, v]))
-        .collect();
-    let mut s = Series::new(run.backend.clone(), points);
+/// One series of a run's compare series: `f(k)` at every recorded time.
+fn time_series(
+    run: &CaseResult,
+    f: impl Fn(&crate::measure::metrics::Series, usize) -> f64,
+) -> Series {
+    let points: Vec<[f64; 2]> = match &run.series {
+        Some(se) => (0..se.t.len())
+            .map(|k| [se.t[k], f(se, k)])
+            .filter(|p| p[1].is_finite())
+            .collect(),
+        None => Vec::new(),
+    };
+    let mut s = Series::new(run.integrator.clone(), points);
     s.blowup = blowup_at(run, s.points.last().copied());
     s
 }
 
 /// Energy over time: totals per backend, and (when `terms`) the terms of the first backend.
-pub fn energy(r: &SceneResults, terms: bool) -> EnergyData {
-    let totals = r
-        .runs
-        .iter()
-        .map(|run| time_series(run, |s| Some(s.energy.total)))
+pub fn energy(s: &SceneStudy, terms: bool) -> EnergyData {
+    let totals = runs(s)
+        .map(|run| time_series(run, |se, k| se.energy[k].total))
         .collect();
     let mut term_series = Vec::new();
-    if terms {
-        let pick = ["analytic", "rk4", "velocity_verlet", "verlet_constraints"]
-            .iter()
-            .find_map(|n| r.runs.iter().find(|run| run.backend == *n))
-            .or(r.runs.first());
-        if let Some(run) = pick {
-            type Term = fn(&crate::run::EnergyRecord) -> f64;
-            let all: [(&str, Term); 5] = [
-                ("kinetic", |e| e.kinetic),
-                ("gravity", |e| e.gravity),
-                ("elastic", |e| e.elastic),
-                ("dissipated", |e| e.dissipated),
-                ("injected", |e| e.injected),
-            ];
-            for (name, f) in all {
-                if run.samples.iter().any(|s| f(&s.energy) != 0.0) {
-                    let mut s = time_series(run, |s| Some(f(&s.energy)));
-                    s.label = format!("{name} ({})", run.backend);
-                    term_series.push(s);
-                }
+    if let Some(run) = runs(s).next().filter(|_| terms) {
+        type Term = fn(&crate::run::EnergyRecord) -> f64;
+        let all: [(&str, Term); 5] = [
+            ("kinetic", |e| e.kinetic),
+            ("gravity", |e| e.gravity),
+            ("elastic", |e| e.elastic),
+            ("dissipated", |e| e.dissipated),
+            ("injected", |e| e.injected),
+        ];
+        for (name, f) in all {
+            if run
+                .series
+                .as_ref()
+                .is_some_and(|se| se.energy.iter().any(|e| f(e) != 0.0))
+            {
+                let mut t = time_series(run, |se, k| f(&se.energy[k]));
+                t.label = format!("{name} ({})", run.integrator);
+                term_series.push(t);
             }
         }
     }
@@ -62,70 +71,70 @@ pub fn energy(r: &SceneResults, terms: bool) -> EnergyData {
     }
 }
 
-/// Relative energy error |E(t) − E(0)| / E_scale per backend.
-pub fn energy_error(r: &SceneResults) -> EnergyErrorData {
-    let scale = r.energy_scale;
-    let series = r
-        .runs
-        .iter()
-        .map(|run| {
-            let e0 = run.samples.first().map_or(0.0, |s| s.energy.total);
-            time_series(run, |s| Some((s.energy.total - e0).abs() / scale))
-        })
-        .collect();
+/// Relative energy error per backend, as compare's metrics define it.
+pub fn energy_error(s: &SceneStudy) -> EnergyErrorData {
     EnergyErrorData {
-        series,
-        scale_note: format!("E_scale = {} J", super::finite::cell(Some(scale), 3)),
+        series: runs(s)
+            .map(|run| time_series(run, |se, k| se.energy_error[k].abs()))
+            .collect(),
+        scale_note: "the scene's energy scale (compare's definition)".into(),
     }
 }
 
-/// RMS position error per backend (the exact reference itself left out).
-pub fn position_error(r: &SceneResults) -> PositionErrorData {
-    let series = r
-        .runs
-        .iter()
-        .filter(|run| !(run.backend == "analytic" && r.reference.starts_with("analytic")))
-        .map(|run| time_series(run, |s| s.pos_error))
-        .collect();
+/// Position error per backend (the exact reference itself left out).
+pub fn position_error(s: &SceneStudy) -> PositionErrorData {
+    let exact_reference = s.compare.reference.kind == "analytic";
     PositionErrorData {
-        series,
-        reference: r.reference.clone(),
+        series: runs(s)
+            .filter(|run| !(exact_reference && run.integrator == "analytic"))
+            .map(|run| time_series(run, |se, k| se.position_error[k]))
+            .collect(),
+        reference: super::summary::reference_words(s),
     }
 }
 
-/// Convergence lines with fitted slopes and reference slopes dt^p for the orders present.
-pub fn convergence(r: &SceneResults) -> Option<ConvergenceData> {
-    let sweep = r.sweep.as_ref()?;
+/// Convergence lines from the sweep's rows with the sweep's fitted orders, and reference
+/// slopes dt^p for the orders present.
+pub fn convergence(s: &SceneStudy, methods: &Registry) -> Option<ConvergenceData> {
+    let sweep = s.sweep.as_ref()?;
+    let summary = sweep.summary.as_ref()?;
     let mut lines = Vec::new();
-    for l in &sweep.lines {
-        let points: Vec<[f64; 2]> = l
-            .points
-            .iter()
-            .filter_map(|p| {
-                p.error
+    for name in &sweep.plan.integrators {
+        let rows = sweep.rows.iter().filter(|r| &r.integrator == name);
+        let points: Vec<[f64; 2]> = rows
+            .clone()
+            .filter_map(|r| {
+                r.error_max
                     .filter(|e| e.is_finite() && *e > 0.0)
-                    .map(|e| [p.dt, e])
+                    .map(|e| [r.dt, e])
             })
             .collect();
-        // Coarsest unstable step, marked at the top of the line.
-        let unstable = l
-            .points
-            .iter()
-            .filter(|p| p.blowup_time.is_some())
-            .map(|p| p.dt)
+        let unstable = rows
+            .filter(|r| r.status != "ok")
+            .map(|r| r.dt)
             .reduce(f64::max);
         let top = points.iter().map(|p| p[1]).reduce(f64::max).unwrap_or(1.0);
-        let mut series = Series::new(l.integrator.clone(), points);
+        let mut series = Series::new(name.clone(), points);
         series.blowup = unstable.map(|dt| BlowUp { x: dt, y: top });
+        let fit = summary.integrators.iter().find(|i| &i.integrator == name);
+        let Some(order) = methods.info(name).ok().and_then(|m| m.order.finite()) else {
+            continue;
+        };
         lines.push(ConvergenceLine {
             series,
-            fitted_slope: sweep_slope(sweep, &l.integrator),
-            order: l.order,
+            fitted_slope: fit.and_then(|f| f.observed_order),
+            order,
+            note: fit.and_then(|f| f.fit.note.clone()),
         });
     }
     let mut orders: Vec<u32> = lines.iter().map(|l| l.order).collect();
     orders.sort();
     orders.dedup();
+    let (dt0, dt1) = sweep
+        .plan
+        .dts
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &d| (a.min(d), b.max(d)));
     let guides = orders
         .iter()
         .filter_map(|&p| {
@@ -133,20 +142,7 @@ pub fn convergence(r: &SceneResults) -> Option<ConvergenceData> {
                 .iter()
                 .filter(|l| l.order == p)
                 .flat_map(|l| l.series.points.iter())
-                .filter(|q| q[1] > super::summary::ROUNDOFF_FLOOR)
                 .min_by(|a, b| a[0].total_cmp(&b[0]))?;
-            let (dt0, dt1) = (
-                sweep
-                    .lines
-                    .iter()
-                    .flat_map(|l| l.points.iter().map(|p| p.dt))
-                    .fold(f64::INFINITY, f64::min),
-                sweep
-                    .lines
-                    .iter()
-                    .flat_map(|l| l.points.iter().map(|p| p.dt))
-                    .fold(0.0, f64::max),
-            );
             let c = anchor[1] * 0.5 / anchor[0].powi(p as i32);
             Some(Guide {
                 label: format!("reference slope {p} (∝ dt^{p})"),
@@ -157,93 +153,103 @@ pub fn convergence(r: &SceneResults) -> Option<ConvergenceData> {
     Some(ConvergenceData {
         lines,
         guides,
-        reference: sweep.reference.clone(),
+        reference: format!("{} ({})", sweep.reference.kind, sweep.reference.description),
     })
 }
 
-/// Work-precision lines from the sweep's stable points; `None` when no sweep run was stable.
-pub fn work_precision(r: &SceneResults) -> Option<WorkPrecisionData> {
-    let sweep = r.sweep.as_ref()?;
-    if !sweep.lines.iter().any(|l| {
-        l.points
-            .iter()
-            .any(|p| p.error.is_some_and(|e| e.is_finite() && e > 0.0))
-    }) {
-        return None;
+/// Work-precision lines from the sweep's stable rows; `None` when no sweep run was stable.
+pub fn work_precision(s: &SceneStudy) -> Option<WorkPrecisionData> {
+    let sweep = s.sweep.as_ref()?;
+    let lines: Vec<WorkLine> = sweep
+        .plan
+        .integrators
+        .iter()
+        .map(|name| WorkLine {
+            label: name.clone(),
+            points: sweep
+                .rows
+                .iter()
+                .filter(|r| &r.integrator == name)
+                .filter_map(|r| {
+                    r.error_max
+                        .filter(|e| e.is_finite() && *e > 0.0)
+                        .map(|e| WorkPoint {
+                            dt: r.dt,
+                            error: e,
+                            wall_seconds: r.wall_seconds,
+                            force_evals: r.force_evals,
+                        })
+                })
+                .collect(),
+        })
+        .collect();
+    lines
+        .iter()
+        .any(|l| !l.points.is_empty())
+        .then_some(WorkPrecisionData { lines })
+}
+
+/// The plane trajectories are drawn in, as [horizontal, vertical] axis indices: with gravity,
+/// the vertical is the axis gravity points along and the horizontal the other axis the first
+/// run's trace spreads over most; without, the two axes of largest spread in x, y, z order.
+pub fn main_plane(s: &SceneStudy, gravity: Option<[f64; 3]>) -> [usize; 2] {
+    let mut var = [0.0f64; 3];
+    if let Some(tr) = runs(s).find_map(|r| r.trace.as_ref()) {
+        for (a, v) in var.iter_mut().enumerate() {
+            let vals = tr
+                .paths
+                .iter()
+                .flatten()
+                .chain(tr.snapshots.iter().flat_map(|(_, x)| x.iter()))
+                .map(|x| x[a]);
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for x in vals.filter(|x| x.is_finite()) {
+                lo = lo.min(x);
+                hi = hi.max(x);
+            }
+            *v = if hi >= lo { hi - lo } else { 0.0 };
+        }
     }
-    Some(WorkPrecisionData {
-        lines: sweep
-            .lines
-            .iter()
-            .map(|l| WorkLine {
-                label: l.integrator.clone(),
-                points: l
-                    .points
-                    .iter()
-                    .filter_map(|p| {
-                        p.error
-                            .filter(|e| e.is_finite() && *e > 0.0)
-                            .map(|e| WorkPoint {
-                                dt: p.dt,
-                                error: e,
-                                wall_seconds: p.wall_seconds,
-                                force_evals: p.force_evals,
-                            })
-                    })
-                    .collect(),
-            })
-            .collect(),
-    })
-}
-
-/// Stability map from the scan.
-pub fn stability(r: &SceneResults) -> Option<StabilityData> {
-    let scan = r.scan.as_ref()?;
-    Some(StabilityData {
-        omega: scan.omega,
-        omega_note: scan.omega_note.clone(),
-        rows: scan
-            .rows
-            .iter()
-            .map(|row| StabilityRow {
-                integrator: row.integrator.clone(),
-                cells: row
-                    .cells
-                    .iter()
-                    .map(|&(h_omega, dt, stable)| StabilityCell {
-                        h_omega,
-                        dt,
-                        stable,
-                    })
-                    .collect(),
-                theory: row.theory,
-            })
-            .collect(),
-    })
+    if let Some(g) = gravity.filter(|g| g.iter().any(|c| *c != 0.0)) {
+        let v = (0..3)
+            .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()).then(b.cmp(&a)))
+            .unwrap_or(1);
+        let h = (0..3)
+            .filter(|&a| a != v)
+            .max_by(|&a, &b| var[a].total_cmp(&var[b]).then(b.cmp(&a)))
+            .unwrap_or(0);
+        return [h, v];
+    }
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&a, &b| var[b].total_cmp(&var[a]).then(a.cmp(&b)));
+    let mut p = [idx[0], idx[1]];
+    p.sort();
+    p
 }
 
 /// Paths of the tracked particles in the main plane.
-pub fn paths(r: &SceneResults) -> PathData {
-    let [a, b] = r.plane;
+pub fn paths(s: &SceneStudy, plane: [usize; 2]) -> PathData {
+    let [a, b] = plane;
     let mut series = Vec::new();
-    for run in &r.runs {
-        for (k, path) in run.paths.iter().enumerate() {
+    for run in runs(s) {
+        let Some(tr) = &run.trace else { continue };
+        for (k, path) in tr.paths.iter().enumerate() {
             let points: Vec<[f64; 2]> = path
                 .iter()
                 .filter(|p| p[a].is_finite() && p[b].is_finite())
                 .map(|p| [p[a], p[b]])
                 .collect();
-            let label = if r.tracked.len() > 1 {
-                format!("{} particle {}", run.backend, r.tracked[k])
+            let label = if tr.tracked.len() > 1 {
+                format!("{} particle {}", run.integrator, tr.tracked[k])
             } else {
-                run.backend.clone()
+                run.integrator.clone()
             };
-            let mut s = Series::new(label, points);
-            s.blowup = match (&run.status, s.points.last()) {
-                (Status::Unstable { .. }, Some(p)) => Some(BlowUp { x: p[0], y: p[1] }),
+            let mut line = Series::new(label, points);
+            line.blowup = match (run.unstable_time, line.points.last()) {
+                (Some(_), Some(p)) => Some(BlowUp { x: p[0], y: p[1] }),
                 _ => None,
             };
-            series.push(s);
+            series.push(line);
         }
     }
     PathData {
@@ -284,60 +290,52 @@ fn block_lines(
 }
 
 /// Snapshots of the scene's chains and cloths per backend, if it has any.
-pub fn snapshots(r: &SceneResults) -> Option<SnapshotData> {
-    if r.blocks.is_empty() {
+pub fn snapshots(
+    s: &SceneStudy,
+    blocks: &[crate::scenario::Block],
+    plane: [usize; 2],
+) -> Option<SnapshotData> {
+    if blocks.is_empty() {
         return None;
     }
-    let panels = r
-        .runs
-        .iter()
+    let panels = runs(s)
         .map(|run| SnapshotPanel {
-            label: run.backend.clone(),
+            label: run.integrator.clone(),
             snapshots: run
-                .snapshots
+                .trace
                 .iter()
+                .flat_map(|tr| tr.snapshots.iter())
                 .map(|(t, x)| Snapshot {
                     t: *t,
-                    lines: r
-                        .blocks
+                    lines: blocks
                         .iter()
-                        .flat_map(|b| block_lines(b, x, r.plane))
+                        .flat_map(|b| block_lines(b, x, plane))
                         .collect(),
                 })
                 .collect(),
-            blowup_time: match &run.status {
-                Status::Unstable { time, .. } => Some(*time),
-                Status::Ok => None,
-            },
+            blowup_time: run.unstable_time,
         })
         .collect();
     Some(SnapshotData {
-        axes: [AXES[r.plane[0]].into(), AXES[r.plane[1]].into()],
+        axes: [AXES[plane[0]].into(), AXES[plane[1]].into()],
         panels,
     })
 }
 
 /// Height over time, the h₀·e^(2n) envelope and per-bounce restitution and penetration, for
 /// scenes with obstacles (the first tracked particle of each backend's contact metrics).
-pub fn collision(r: &SceneResults) -> Option<CollisionData> {
-    let with: Vec<(&RunRecord, &crate::measure::contacts::ContactReport)> = r
-        .runs
-        .iter()
-        .filter_map(|run| run.contacts.as_ref().map(|c| (run, c)))
-        .collect();
-    if with.is_empty() {
-        return None;
-    }
+pub fn collision(s: &SceneStudy) -> Option<CollisionData> {
     let mut heights = Vec::new();
     let mut bounces = Vec::new();
     let mut envelope = None;
-    for (run, c) in &with {
+    for run in runs(s) {
+        let Some(c) = &run.contacts else { continue };
         let Some(pb) = c.bounces.first() else {
             continue;
         };
-        let mut s = Series::new(run.backend.clone(), pb.heights.clone());
-        s.blowup = blowup_at(run, s.points.last().copied());
-        heights.push(s);
+        let mut h = Series::new(run.integrator.clone(), pb.heights.clone());
+        h.blowup = blowup_at(run, h.points.last().copied());
+        heights.push(h);
         if envelope.is_none() && pb.apexes.len() > 1 {
             envelope = Some(Series::new(
                 format!("particle {}", pb.particle),
@@ -358,7 +356,7 @@ pub fn collision(r: &SceneResults) -> Option<CollisionData> {
                 })
             })
             .collect();
-        bounces.push((run.backend.clone(), list));
+        bounces.push((run.integrator.clone(), list));
     }
     if heights.is_empty() {
         return None;

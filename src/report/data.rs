@@ -82,6 +82,8 @@ pub struct ConvergenceLine {
     pub fitted_slope: Option<f64>,
     /// The method's theoretical order.
     pub order: u32,
+    /// Why there is no fitted slope (the sweep's reason), when there is none.
+    pub note: Option<String>,
 }
 
 /// Error against dt, log-log, one line per integrator, with reference slopes.
@@ -122,40 +124,6 @@ pub struct WorkLine {
 pub struct WorkPrecisionData {
     /// One line per integrator.
     pub lines: Vec<WorkLine>,
-}
-
-/// One cell of a stability map.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct StabilityCell {
-    /// Dimensionless step h·ω.
-    pub h_omega: f64,
-    /// Step size (s).
-    pub dt: f64,
-    /// True when the run stayed bounded.
-    pub stable: bool,
-}
-
-/// One integrator's row of the stability map.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StabilityRow {
-    /// Integrator name.
-    pub integrator: String,
-    /// Cells in increasing h·ω.
-    pub cells: Vec<StabilityCell>,
-    /// Textbook limit on h·ω for the undamped linear oscillator: `Some(inf)` when
-    /// unconditionally stable, `Some(0)` when never stable, `None` when unknown.
-    pub theory: Option<f64>,
-}
-
-/// Stable/unstable regions in h·ω per integrator, with the theoretical boundary.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StabilityData {
-    /// ω used to scale the step (rad/s) and how it was obtained.
-    pub omega: f64,
-    /// How ω was obtained, in words.
-    pub omega_note: String,
-    /// One row per integrator.
-    pub rows: Vec<StabilityRow>,
 }
 
 /// One bounce of a collision test.
@@ -373,27 +341,6 @@ impl ChartCsv for WorkPrecisionData {
         });
         csv_bytes(
             &["integrator", "dt", "error", "wall_seconds", "force_evals"],
-            rows,
-        )
-    }
-}
-
-impl ChartCsv for StabilityData {
-    fn to_csv(&self) -> Result<Vec<u8>> {
-        let rows = self.rows.iter().flat_map(|r| {
-            let theory = r.theory.map(num).unwrap_or_default();
-            r.cells.iter().map(move |c| {
-                vec![
-                    r.integrator.clone(),
-                    num(c.h_omega),
-                    num(c.dt),
-                    c.stable.to_string(),
-                    theory.clone(),
-                ]
-            })
-        });
-        csv_bytes(
-            &["integrator", "h_omega", "dt", "stable", "theory_limit"],
             rows,
         )
     }

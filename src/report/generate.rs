@@ -1,15 +1,16 @@
-//! Building the report: per scene, collect → charts (SVG + CSV) → page; then the overview,
+//! Building the report: per scene, the study (measure's one pipeline) → its documents, written
+//! with the commands' own writers and names → charts (SVG + CSV) → page; then the overview,
 //! the Markdown README and `summary.json`. Every file is written atomically, scene pages
 //! before the overview, so an interrupted run leaves every earlier file whole.
 
 use super::charts;
-use super::collect::{collect_scene, CollectOptions};
 use super::data::ChartCsv;
 use super::html::{index_page, scene_page, Figure};
 use super::plots;
-use super::results::SceneResults;
-use super::summary::{scene_summary, SceneSummary, Summary};
+use super::summary::{scene_summary, Document, SceneSummary, Summary};
 use crate::error::{Error, Result};
+use crate::measure::study::{study, SceneStudy, StudyConfig};
+use crate::method::Registry;
 use crate::output::write_atomic;
 use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -23,10 +24,9 @@ pub struct ReportOptions {
     pub quick: bool,
     /// Add the individual energy terms to the energy chart.
     pub energy_terms: bool,
+    /// The methods (built-ins unless a library user added theirs).
+    pub methods: Registry,
 }
-
-/// Steps of a quick pass's comparison runs at most.
-pub const QUICK_MAX_STEPS: u64 = 300;
 
 /// The scenario files of a directory (`*.toml`), sorted by name.
 pub fn scenario_files(dir: &Path) -> Result<Vec<PathBuf>> {
@@ -42,45 +42,66 @@ pub fn scenario_files(dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// The comparison step and length of a scene: its `[run]` table, shortened for `--quick`.
-pub fn scene_plan(scene: &Scenario, quick: bool) -> Result<(f64, u64)> {
-    let dt = scene.run.dt.ok_or_else(|| {
-        Error::invalid(
-            &scene.source,
-            "run.dt",
-            "the report needs a time step: set [run].dt",
-        )
-    })?;
-    let steps = match (scene.run.steps, scene.run.duration) {
-        (Some(n), _) => n,
-        (None, Some(d)) => ((d / dt).round() as u64).max(1),
-        (None, None) => {
-            return Err(Error::invalid(
-                &scene.source,
-                "run.duration",
-                "the report needs a run length: set [run].duration or [run].steps",
-            ))
-        }
-    };
-    Ok((
-        dt,
-        if quick {
-            steps.min(QUICK_MAX_STEPS)
-        } else {
-            steps
-        },
-    ))
-}
-
 fn write_chart(dir: &Path, stem: &str, svg: Result<String>, data: &dyn ChartCsv) -> Result<()> {
     write_atomic(dir.join(format!("{stem}.csv")), &data.to_csv()?)?;
     write_atomic(dir.join(format!("{stem}.svg")), svg?.as_bytes())?;
     Ok(())
 }
 
-/// Writes one scene's charts and page under `out/<scene>/` and returns its summary.
-pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummary> {
-    let dir = opts.out.join(&r.scene);
+/// Writes a study's documents into sub-folders of `dir` with the commands' writers (same
+/// names, same schemas, each with the `"command"` that re-creates it) and lists them with
+/// paths relative to `dir`.
+pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
+    use crate::measure::command::with_out;
+    let mut docs = Vec::new();
+    let mut add = |sub: &str, files: Vec<PathBuf>, command: &str| {
+        for f in files {
+            let name = f
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            docs.push(Document {
+                file: format!("{sub}/{name}"),
+                command: with_out(command, &dir.join(sub)),
+            });
+        }
+    };
+    let d = dir.join("compare");
+    add(
+        "compare",
+        crate::measure::compare::write_compare(&d, &s.compare)?,
+        &s.compare.command,
+    );
+    if let Some(sw) = &s.sweep {
+        let d = dir.join("sweep");
+        let files = crate::measure::sweep::write_sweep(&d, sw)?;
+        let command = sw.summary.as_ref().map_or("", |x| x.command.as_str());
+        add("sweep", files, command);
+    }
+    let d = dir.join("stability");
+    add(
+        "stability",
+        vec![crate::measure::stability::write_stability(
+            &d,
+            &s.stability,
+        )?],
+        &s.stability.command,
+    );
+    if let Some(a) = &s.advice {
+        let d = dir.join("advise");
+        add(
+            "advise",
+            vec![crate::measure::advise::write_advice(&d, a)?],
+            &a.command,
+        );
+    }
+    Ok(docs)
+}
+
+/// Writes one scene's documents, charts and page under `out/<scene>/` and returns its summary.
+pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Result<SceneSummary> {
+    let dir = opts.out.join(&s.scenario);
+    let docs = write_documents(&dir, s)?;
+    let link = |k: &str| format!("Document: <code>{k}</code>.");
     let mut figs = Vec::new();
     let mut fig = |stem: &str, title: &str, caption: String| {
         figs.push(Figure {
@@ -89,67 +110,62 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
             caption,
         })
     };
-    let e = charts::energy(r, opts.energy_terms);
+    let e = charts::energy(s, opts.energy_terms);
     write_chart(&dir, "energy", plots::energy(&e), &e)?;
-    fig("energy", "Energy over time", "The total energy account per backend; flat is right. A run that blew up stops at its × marker.".into());
-    let ee = charts::energy_error(r);
+    fig("energy", "Energy over time", format!("The total energy account per backend; flat is right. A run that blew up stops at its × marker. {}", link("compare/summary.json")));
+    let ee = charts::energy_error(s);
     write_chart(&dir, "energy_error", plots::energy_error(&ee), &ee)?;
     fig(
         "energy_error",
         "Relative energy error",
         format!(
-            "|E(t) − E(0)| / E_scale on a log scale, with {}.",
-            ee.scale_note
+            "|E(t) − E(0)| relative to {}, log scale. {}",
+            ee.scale_note,
+            link("compare/summary.json")
         ),
     );
-    let pe = charts::position_error(r);
+    let pe = charts::position_error(s);
     write_chart(&dir, "position_error", plots::position_error(&pe), &pe)?;
     fig(
         "position_error",
         "Position error against the reference",
         format!(
-            "RMS distance of the free particles from the reference ({}), log scale.",
-            r.reference
+            "Largest distance of any particle from the reference ({}), log scale. {}",
+            pe.reference,
+            link("compare/summary.json")
         ),
     );
-    if let Some(c) = charts::convergence(r) {
+    let mut notes = s.notes.clone();
+    if let Some(c) = charts::convergence(s, &opts.methods) {
         write_chart(&dir, "convergence", plots::convergence(&c), &c)?;
-        fig("convergence", "Convergence", format!("End-point error against the step over {} s, log-log; the legend gives each line's least-squares slope over its three finest stable points, dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step.", super::finite::cell(r.sweep.as_ref().map(|s| s.duration), 3)));
+        fig("convergence", "Convergence", format!("Largest position error against the step, log-log; the legend gives each method's observed order as the sweep fitted it on its asymptotic range (none when that range was not reached), dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step. {}", link("sweep/summary.json, sweep/sweep.csv")));
     }
-    let mut notes = Vec::new();
-    if let Some(w) = charts::work_precision(r) {
+    if let Some(w) = charts::work_precision(s) {
         write_chart(&dir, "work_precision", plots::work_precision(&w), &w)?;
-        fig("work_precision", "Work against precision", "The same sweep as cost: lower-left is better. Wall time varies between machines and runs; force evaluations do not.".into());
-    } else if r.sweep.is_some() {
+        fig("work_precision", "Work against precision", format!("The same sweep as cost: lower-left is better. Wall time varies between machines and runs; force evaluations do not. {}", link("sweep/sweep.csv")));
+    } else if s.sweep.is_some() {
         notes.push("Work against precision: no run of the step-size sweep stayed stable, so there is nothing to plot.".to_string());
     }
-    if let Some(s) = charts::stability(r) {
-        write_chart(&dir, "stability", plots::stability(&s), &s)?;
-        let max = r.scan.as_ref().map_or(0, |s| s.max_steps);
-        fig("stability", "Stability map", format!("Each cell is one run at h = θ/ω for the scene's duration (at least 30, at most {max} steps): green when it did not blow up and its energy gain E(t) − E(0) did not grow (unstable: the largest gain in the last third of the run is more than twice that of the first third and more than 1% of the scene's energy scale; losses from numerical damping count as stable), red otherwise. Black bars: the textbook limit for an undamped linear oscillator (damping and nonlinearity shift it)."));
-    }
-    let p = charts::paths(r);
+    let plane = charts::main_plane(s, scene.raw.world.gravity);
+    let p = charts::paths(s, plane);
     write_chart(&dir, "paths", plots::paths(&p), &p)?;
-    fig("paths", "Trajectories", format!("Paths of the most-travelled free particle(s) in the {}{}-plane (vertical: the axis gravity acts along, if any; else the plane where the reference moves most).", p.axes[0], p.axes[1]));
-    if let Some(s) = charts::snapshots(r) {
-        write_chart(&dir, "snapshots", plots::snapshots(&s), &s)?;
+    fig("paths", "Trajectories", format!("Paths of the most-travelled free particle(s) in the {}{}-plane (vertical: the axis gravity acts along, if any; else the plane where the motion spreads most). {}", p.axes[0], p.axes[1], link("compare/summary.json")));
+    if let Some(sn) = charts::snapshots(s, &scene.blocks, plane) {
+        write_chart(&dir, "snapshots", plots::snapshots(&sn), &sn)?;
         fig("snapshots", "Snapshots", "The chain or cloth at a few instants (light to dark), one panel per backend at the same scale.".into());
     }
-    let mut sum = scene_summary(r);
-    sum.verdict = super::verdict::verdict(&sum, r);
-    if let Some(c) = charts::collision(r) {
+    if let Some(c) = charts::collision(s) {
         write_chart(&dir, "collision", plots::collision(&c), &c)?;
-        fig("collision", "Collision", "Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact.".into());
+        fig("collision", "Collision", format!("Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact. {}", link("compare/contacts.json")));
     } else {
         notes.push("Collision validation: this scene has no obstacles.".to_string());
     }
-    if let Some(s) = &r.sweep {
-        notes.push(format!("Sweep reference: {}.", s.reference));
-    }
-    notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit.".into());
+    notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit from the command beside its document.".into());
+    let mut sum = scene_summary(s, &opts.methods, docs);
+    sum.verdict = super::verdict::verdict(&sum);
     write_atomic(
         dir.join("index.html"),
-        scene_page(&sum, &figs, &notes).as_bytes(),
+        scene_page(&sum, s, &figs, &notes).as_bytes(),
     )?;
     write_atomic(
         dir.join("results.json"),
@@ -163,11 +179,15 @@ pub fn write_scene(r: &SceneResults, opts: &ReportOptions) -> Result<SceneSummar
     Ok(sum)
 }
 
-/// Collects and writes one scene.
+/// Studies and writes one scene.
 pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<SceneSummary> {
-    let (dt, steps) = scene_plan(scene, opts.quick)?;
-    let r = collect_scene(scene, dt, steps, &CollectOptions { quick: opts.quick })?;
-    write_scene(&r, opts)
+    let cfg = StudyConfig {
+        methods: opts.methods.clone(),
+        quick: opts.quick,
+        ..Default::default()
+    };
+    let s = study(scene, &cfg)?;
+    write_scene(scene, &s, opts)
 }
 
 /// Writes `index.html`, `README.md` and `summary.json` (last, after every scene page).

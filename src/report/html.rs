@@ -3,7 +3,9 @@
 
 use super::finite::cell;
 use super::summary::{BackendSummary, SceneSummary, Summary};
-use super::verdict::dt_words;
+use super::verdict::{dt_words, limit_words};
+use crate::measure::stability::StabilityReport;
+use crate::measure::study::SceneStudy;
 
 /// One chart on a scene page.
 #[derive(Debug, Clone)]
@@ -39,13 +41,26 @@ fn page(title: &str, body: &str) -> String {
     )
 }
 
-/// The stable step cell: `h·ω ≤ θ (dt ≤ …)`, `none` or `—`.
+/// The stable step cell: the stability report's limit (`dt ≤ … s (h·ω ≤ …)`, `any step`, …).
 pub fn stable_cell(b: &BackendSummary) -> String {
-    match (b.stable_h_omega, b.stable_dt) {
-        (Some(h), Some(dt)) => format!("h·ω ≤ {} (dt ≤ {} s)", cell(Some(h), 2), cell(Some(dt), 2)),
-        _ if b.unstable_at_every_scanned_step => "none scanned".into(),
-        _ => "—".into(),
+    match b.stable_h_omega {
+        Some(h) => format!("{} (h·ω ≤ {})", limit_words(b), cell(Some(h), 3)),
+        None => limit_words(b),
     }
+}
+
+/// The observed-order cell: the sweep's fitted order, or `—` (its reason is on the page).
+pub fn order_cell(b: &BackendSummary) -> String {
+    match (b.observed_order, &b.order_note) {
+        (Some(p), _) => cell(Some(p), 3),
+        (None, Some(_)) => "none".into(),
+        (None, None) => "—".into(),
+    }
+}
+
+/// The force-evaluation cell: the count, or `—` for methods that never evaluate ours.
+pub fn evals_cell(b: &BackendSummary) -> String {
+    b.force_evals.map_or("—".into(), |n| n.to_string())
 }
 
 /// The status cell: `ok` or `unstable at t = …`.
@@ -64,21 +79,11 @@ pub fn drift_cell(v: Option<f64>) -> String {
     }
 }
 
-fn backend_rows(s: &SceneSummary, link: Option<&str>) -> String {
+fn backend_rows(s: &SceneSummary) -> String {
     let mut rows = String::new();
-    for (k, b) in s.backends.iter().enumerate() {
-        let scene_cell = match (k, link) {
-            (0, Some(l)) => format!(
-                "<td class=\"l\" rowspan=\"{}\"><a href=\"{}\">{}</a></td>",
-                s.backends.len(),
-                esc(l),
-                esc(&s.scene)
-            ),
-            (_, Some(_)) => String::new(),
-            (_, None) => String::new(),
-        };
+    for b in &s.backends {
         rows += &format!(
-            "<tr class=\"{}\">{scene_cell}<td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>\n",
+            "<tr class=\"{}\"><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>\n",
             esc(&b.status),
             esc(&b.backend),
             b.order,
@@ -86,19 +91,77 @@ fn backend_rows(s: &SceneSummary, link: Option<&str>) -> String {
             cell(b.max_position_error, 2),
             drift_cell(b.max_energy_drift),
             drift_cell(b.final_energy_change),
-            cell(b.convergence_slope, 3),
+            order_cell(b),
             esc(&stable_cell(b)),
-            b.force_evals,
+            evals_cell(b),
             cell(Some(b.wall_seconds * 1e3), 3),
         );
     }
     rows
 }
 
-const TABLE_HEAD: &str = "<th class=\"l\">backend</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy drift</th><th>final energy change</th><th>fitted order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>wall time (ms)</th>";
+const TABLE_HEAD: &str = "<th class=\"l\">backend</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy error</th><th>final energy change</th><th>observed order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>wall time (ms)</th>";
+
+fn documents(s: &SceneSummary) -> String {
+    let mut out = String::from("<h2>Documents</h2>\n<p class=\"note\">Every number on this page comes from these files, written by the commands beside them; re-running a command gives the same numbers (wall times aside).</p>\n<table>\n<tr><th class=\"l\">document</th><th class=\"l\">command</th></tr>\n");
+    for d in &s.documents {
+        out += &format!(
+            "<tr><td class=\"l\"><a href=\"{f}\">{f}</a></td><td class=\"l\"><code>{}</code></td></tr>\n",
+            esc(&d.command),
+            f = esc(&d.file)
+        );
+    }
+    out + "</table>\n"
+}
+
+fn stability_table(st: &StabilityReport) -> String {
+    let mut out = format!("<h2>Stability</h2>\n<p class=\"note\">From <a href=\"stability/stability.json\">stability/stability.json</a>: ω_max = {} rad/s. Theory: {}. Empirical: a run of {} s is unstable once its energy exceeds {}× the scene's energy scale.</p>\n<table>\n<tr><th class=\"l\">method</th><th class=\"l\">verdict</th><th>largest stable step (s)</th><th>h·ω_max</th><th class=\"l\">decided by</th><th>theory limit (s)</th><th>empirical limit (s)</th><th class=\"l\">note</th></tr>\n",
+        cell(Some(st.omega_max), 4), esc(&st.theory_criterion), cell(Some(st.empirical_criterion.horizon), 3), cell(Some(st.empirical_criterion.blowup_factor), 2));
+    for i in &st.integrators {
+        out += &format!(
+            "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>\n",
+            esc(&i.integrator),
+            esc(&format!("{:?}", i.verdict)),
+            cell(i.max_stable_dt, 4),
+            cell(i.h_omega, 4),
+            esc(&i.method),
+            cell(i.theory_max_stable_dt, 4),
+            cell(i.empirical.as_ref().and_then(|e| e.max_stable_dt), 4),
+            esc(i.note.as_deref().unwrap_or(""))
+        );
+    }
+    out + "</table>\n"
+}
+
+fn order_table(s: &SceneSummary) -> String {
+    let rows: Vec<&BackendSummary> = s
+        .backends
+        .iter()
+        .filter(|b| b.observed_order.is_some() || b.order_note.is_some())
+        .collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from("<h2>Convergence orders</h2>\n<p class=\"note\">From <a href=\"sweep/summary.json\">sweep/summary.json</a>: the slope of log error against log dt over each method's asymptotic range, or why there is none.</p>\n<table>\n<tr><th class=\"l\">method</th><th>theoretical order</th><th>observed order</th><th class=\"l\">reason when none</th></tr>\n");
+    for b in rows {
+        out += &format!(
+            "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>\n",
+            esc(&b.backend),
+            b.order,
+            order_cell(b),
+            esc(b.order_note.as_deref().unwrap_or(""))
+        );
+    }
+    out + "</table>\n"
+}
 
 /// A scene's page.
-pub fn scene_page(s: &SceneSummary, figures: &[Figure], notes: &[String]) -> String {
+pub fn scene_page(
+    s: &SceneSummary,
+    st: &SceneStudy,
+    figures: &[Figure],
+    notes: &[String],
+) -> String {
     let mut body = format!(
         "<p><a href=\"../index.html\">← all scenes</a></p>\n<h1>{}</h1>\n<p>{}</p>\n<p class=\"verdict\">{}</p>\n",
         esc(&s.scene),
@@ -106,14 +169,16 @@ pub fn scene_page(s: &SceneSummary, figures: &[Figure], notes: &[String]) -> Str
         esc(&s.verdict)
     );
     body += &format!(
-        "<h2>Comparison at dt = {} over {} s</h2>\n<p class=\"note\">Reference: {}. Position error is the RMS over free particles; energy drift is |E(t) − E(0)| divided by the scene's energy scale, E the total account (kinetic + gravity + elastic + dissipated − injected), which the exact solution keeps constant.</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",
+        "<h2>Comparison at dt = {} over {} s</h2>\n<p class=\"note\">From <a href=\"compare/summary.json\">compare/summary.json</a> and <a href=\"compare/compare.csv\">compare/compare.csv</a>. Reference: {}. Position error is the largest distance of any particle from the reference; energy error is |E(t) − E(0)| relative to the scene's energy scale, E the total account (kinetic + gravity + elastic + dissipated − injected).</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",
         esc(&dt_words(s.dt)),
         cell(Some(s.duration), 3),
         esc(&s.reference),
-        backend_rows(s, None)
+        backend_rows(s)
     );
+    body += &stability_table(&st.stability);
+    body += &order_table(s);
     if s.backends.iter().any(|b| b.tunnelling.is_some()) {
-        body += "<h2>Contacts</h2>\n<table>\n<tr><th class=\"l\">backend</th><th>mean measured restitution</th><th>mean specified restitution</th><th>deepest penetration (m)</th><th>tunnelling paths</th></tr>\n";
+        body += "<h2>Contacts</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>.</p>\n<table>\n<tr><th class=\"l\">backend</th><th>mean measured restitution</th><th>mean specified restitution</th><th>deepest penetration (m)</th><th>tunnelling paths</th></tr>\n";
         for b in &s.backends {
             body += &format!(
                 "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
@@ -138,10 +203,11 @@ pub fn scene_page(s: &SceneSummary, figures: &[Figure], notes: &[String]) -> Str
             "<h2>{}</h2>\n<figure><img src=\"{stem}.svg\" alt=\"{}\"><figcaption>{} <a href=\"{stem}.csv\">Data (CSV)</a>.</figcaption></figure>\n",
             esc(&f.title),
             esc(&f.title),
-            esc(&f.caption),
+            f.caption.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace("&lt;code&gt;", "<code>").replace("&lt;/code&gt;", "</code>"),
             stem = esc(&f.stem)
         );
     }
+    body += &documents(s);
     if !notes.is_empty() {
         body += "<h2>Notes</h2>\n<ul class=\"note\">\n";
         for n in notes {
@@ -152,23 +218,62 @@ pub fn scene_page(s: &SceneSummary, figures: &[Figure], notes: &[String]) -> Str
     page(&format!("springlab: {}", s.scene), &body)
 }
 
-/// The overview page.
+/// The answer line of a scene on the front page: what to use, limits, blow-ups.
+fn front_row(s: &SceneSummary) -> String {
+    let pick = match &s.pick {
+        Some(p) => match (&p.integrator, p.dt) {
+            (Some(m), Some(dt)) => format!(
+                "<strong>{}</strong> at dt = {} (error {} m ≤ {} m over {} s)",
+                esc(m),
+                esc(&dt_words(dt)),
+                cell(p.verified_error, 2),
+                cell(Some(p.tolerance), 2),
+                cell(Some(p.horizon), 3)
+            ),
+            _ => format!("nothing meets {} m on the grid", cell(Some(p.tolerance), 2)),
+        },
+        None => "no advice (no candidate applies)".into(),
+    };
+    let limits: Vec<String> = s
+        .backends
+        .iter()
+        .filter(|b| b.stability.is_some())
+        .map(|b| format!("{}: {}", esc(&b.backend), esc(&limit_words(b))))
+        .collect();
+    let blew: Vec<String> = s
+        .backends
+        .iter()
+        .filter(|b| b.status != "ok")
+        .map(|b| format!("{} at t = {} s", esc(&b.backend), cell(b.blowup_time, 3)))
+        .collect();
+    format!(
+        "<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{pick}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
+        esc(&s.page),
+        esc(&s.scene),
+        limits.join("<br>"),
+        if blew.is_empty() { "none".into() } else { blew.join("<br>") }
+    )
+}
+
+/// The overview page: per scene, what to use, each method's stability limit and what blew up;
+/// then the full tables.
 pub fn index_page(sum: &Summary) -> String {
-    let mut body = String::from("<h1>springlab report</h1>\n<p>Every shipped scene run through every integrator that applies, against a trusted reference: accuracy, energy, stable step and cost. Regenerate with <code>springlab report</code>; machine-readable numbers in <a href=\"summary.json\">summary.json</a>.</p>\n");
+    let mut body = String::from("<h1>springlab report</h1>\n<p>Every shipped scene run through every method that applies, against a trusted reference. Each scene page names the documents behind its numbers and the command that re-creates each. Regenerate with <code>springlab report</code>; machine-readable numbers in <a href=\"summary.json\">summary.json</a>.</p>\n");
     if sum.quick {
-        body += "<p class=\"note\"><strong>Quick pass</strong> (<code>--quick</code>): short runs and coarse sweeps; numbers are indicative only.</p>\n";
+        body += "<p class=\"note\"><strong>Quick pass</strong> (<code>--quick</code>): coarse sweeps, theory-only stability; numbers are indicative only.</p>\n";
     }
-    body += &format!("<table>\n<tr><th class=\"l\">scene</th>{TABLE_HEAD}</tr>\n");
+    body += "<h2>What to use</h2>\n<table>\n<tr><th class=\"l\">scene</th><th class=\"l\">advised method and step (stated tolerance)</th><th class=\"l\">stable steps</th><th class=\"l\">blew up at the scene's step</th></tr>\n";
     for s in &sum.scenes {
-        body += &backend_rows(s, Some(&s.page));
+        body += &front_row(s);
     }
-    body += "</table>\n<h2>Verdicts</h2>\n";
+    body += "</table>\n<h2>All methods at each scene's step</h2>\n";
     for s in &sum.scenes {
         body += &format!(
-            "<h3><a href=\"{}\">{}</a></h3>\n<p>{}</p>\n",
+            "<h3><a href=\"{}\">{}</a></h3>\n<p>{}</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",
             esc(&s.page),
             esc(&s.scene),
-            esc(&s.verdict)
+            esc(&s.verdict),
+            backend_rows(s)
         );
     }
     if !sum.failed.is_empty() {

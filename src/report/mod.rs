@@ -1,19 +1,18 @@
-//! The report: runs every scene through every applicable backend, measures, and writes plots
-//! (SVG + the CSV behind each), HTML pages, a Markdown overview and `summary.json`.
+//! The report renders what measure measured: per scene, [`crate::measure::study::study`]
+//! returns the commands' own documents; the report writes them (same names, same schemas, each
+//! with the command that re-creates it) and renders plots (SVG + the CSV behind each), HTML
+//! pages, a Markdown overview and `summary.json`. It runs no method and measures nothing.
 //!
-//! Data flows one way: [`collect`] → [`results`] → [`charts`] (plain [`data`]) → [`plots`]
-//! (SVG) and [`summary`] → [`verdict`], [`html`], [`markdown`]; [`generate`] writes it all.
+//! Data flows one way: study → [`charts`] (plain [`data`]) → [`plots`] (SVG) and [`summary`]
+//! → [`verdict`], [`html`], [`markdown`]; [`generate`] writes it all.
 
 pub mod charts;
-pub mod collect;
 pub mod data;
 pub mod finite;
 pub mod generate;
 pub mod html;
 pub mod markdown;
 pub mod plots;
-pub mod results;
-pub mod sampler;
 pub mod summary;
 pub mod verdict;
 

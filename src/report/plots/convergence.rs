@@ -13,8 +13,8 @@ pub fn convergence(data: &ConvergenceData) -> Result<String> {
         .map(|l| {
             let mut s = l.series.clone();
             s.label = match l.fitted_slope {
-                Some(k) => format!("{} (slope {k:.2}, order {})", s.label, l.order),
-                None => format!("{} (no fit, order {})", s.label, l.order),
+                Some(k) => format!("{} (observed order {k:.2}, theory {})", s.label, l.order),
+                None => format!("{} (no asymptotic range, theory {})", s.label, l.order),
             };
             s
         })
@@ -24,7 +24,7 @@ pub fn convergence(data: &ConvergenceData) -> Result<String> {
         &Panel {
             title: format!("Convergence against {}", data.reference),
             x: Axis::log("time step dt (s)"),
-            y: Axis::log("RMS position error at the end (m)"),
+            y: Axis::log("max position error over the run (m)"),
             series: &series,
             guides: &data.guides,
             dots: true,

@@ -9,7 +9,6 @@ pub mod energy_error;
 pub mod paths;
 pub mod position_error;
 pub mod snapshots;
-pub mod stability;
 pub mod work_precision;
 
 pub use collision::collision;
@@ -19,5 +18,4 @@ pub use energy_error::energy_error;
 pub use paths::paths;
 pub use position_error::position_error;
 pub use snapshots::snapshots;
-pub use stability::stability;
 pub use work_precision::work_precision;

@@ -4,14 +4,14 @@ use super::common::{svg_single, Axis, Panel};
 use crate::error::Result;
 use crate::report::data::PositionErrorData;
 
-/// SVG of the RMS position error (m) against time (log y).
+/// SVG of the largest position error of any particle (m) against time (log y).
 pub fn position_error(data: &PositionErrorData) -> Result<String> {
     svg_single(
         (900, 520),
         &Panel {
             title: format!("Position error against the reference ({})", data.reference),
             x: Axis::lin("time t (s)"),
-            y: Axis::log("RMS position error (m)"),
+            y: Axis::log("max position error (m)"),
             series: &data.series,
             guides: &[],
             dots: false,
