@@ -22,7 +22,7 @@ use serde::Serialize;
 /// Relative band within which two median wall times are a tie (0.10: 10 %).
 pub const TIE_BAND: f64 = 0.10;
 
-/// Advice's timing rule: at least 5 runs and 0.05 s measured in total; a run whose total
+/// Advice's timing rule: at least 5 runs and 0.05 s elapsed in total; a run whose total
 /// passes 0.5 s stops once it has 3; never more than 10 000 runs.
 pub const ADVICE_TIMING: TimingRule = TimingRule {
     min_repetitions: 5,

@@ -383,7 +383,6 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             runs.push(r);
         }
     }
-    let sys = scene.build();
     let timings = time_interleaved(&sys, &scene.initial_state(), &runs, &set, &cfg.timing)?;
     let timing_of = |r: &TimedRun| -> Timing {
         let k = runs
