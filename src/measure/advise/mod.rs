@@ -215,6 +215,43 @@ fn run_grids(
     Ok((reference.info, out.into_iter().collect::<Result<_>>()?))
 }
 
+impl Choice {
+    /// The choice of run `c` with its prediction `pred` and its repeated `timing`.
+    fn new(c: &CaseResult, pred: f64, metric: AdviseMetric, timing: Timing) -> Self {
+        let simulated = c.dt * c.steps as f64;
+        let (cost, why) = force_evals_per_second(&c.integrator, c.force_evals, simulated);
+        Choice {
+            integrator: c.integrator.clone(),
+            dt: c.dt,
+            predicted_error: pred,
+            verified_error: error_of(c, metric).unwrap_or(f64::INFINITY),
+            wall_per_second: timing.median_seconds / simulated,
+            cost_per_second: cost,
+            cost_per_second_reason: why,
+            timing,
+        }
+    }
+}
+
+/// `choices` cheapest first by [`cost::rank`], with the rule that decided the first place.
+fn rank_choices(choices: Vec<Choice>, scenario: &str) -> Result<(Vec<Choice>, Option<PickedBy>)> {
+    let keys: Vec<CostKey> = choices
+        .iter()
+        .map(|c| CostKey {
+            integrator: c.integrator.clone(),
+            wall_per_second: c.wall_per_second,
+            force_evals_per_second: c.cost_per_second,
+        })
+        .collect();
+    let (order, picked_by) = rank(&keys, scenario)?;
+    let mut slots: Vec<Option<Choice>> = choices.into_iter().map(Some).collect();
+    let ranked = order
+        .iter()
+        .map(|&i| slots[i].take().expect("rank returns a permutation"))
+        .collect();
+    Ok((ranked, picked_by))
+}
+
 fn check_timing(r: &TimingRule) -> Result<()> {
     let ok = r.min_repetitions >= 1
         && r.max_repetitions >= r.min_repetitions
@@ -391,38 +428,11 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             .expect("every run was timed");
         timings[k].clone()
     };
-    let mut alternatives: Vec<Choice> = chosen
+    let choices: Vec<Choice> = chosen
         .iter()
-        .map(|&(c, pred)| {
-            let simulated = c.dt * c.steps as f64;
-            let timing = timing_of(&run_of(c));
-            let (cost, why) = force_evals_per_second(&c.integrator, c.force_evals, simulated);
-            Choice {
-                integrator: c.integrator.clone(),
-                dt: c.dt,
-                predicted_error: pred,
-                verified_error: error_of(c, cfg.metric).unwrap_or(f64::INFINITY),
-                wall_per_second: timing.median_seconds / simulated,
-                cost_per_second: cost,
-                cost_per_second_reason: why,
-                timing,
-            }
-        })
+        .map(|&(c, pred)| Choice::new(c, pred, cfg.metric, timing_of(&run_of(c))))
         .collect();
-    let keys: Vec<CostKey> = alternatives
-        .iter()
-        .map(|c| CostKey {
-            integrator: c.integrator.clone(),
-            wall_per_second: c.wall_per_second,
-            force_evals_per_second: c.cost_per_second,
-        })
-        .collect();
-    let (order, picked_by) = rank(&keys, &scene.name)?;
-    let mut slots: Vec<Option<Choice>> = alternatives.drain(..).map(Some).collect();
-    let alternatives: Vec<Choice> = order
-        .iter()
-        .map(|&i| slots[i].take().expect("rank returns a permutation"))
-        .collect();
+    let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     plan.apply_timings(&mut view, &timing_of, &scene.name)?;
     let pick = alternatives.first().cloned();
     Ok(Advice {
