@@ -8,19 +8,22 @@
 //! touches all alike), repeated under [`ADVICE_TIMING`] and summarised by the median.
 //!
 //! Ranking ([`rank`]): sort by median wall time per simulated second; the cheapest remaining
-//! candidate and every other whose median is within [`TIE_BAND`] (10 %) of it form a tie group,
+//! candidate and every other whose median is within [`TIE_BAND`] (20 %) of it form a tie group,
 //! ordered by force evaluations per simulated second (a method with a count before one without:
-//! a known cost before an unknown one), then by name; repeat with the rest. 10 % is above the
-//! run-to-run change of a median on a shared 2-core machine (a few %), so two candidates that
-//! are really that close get the same order on every run instead of flipping with the noise.
+//! a known cost before an unknown one), then by name; repeat with the rest. Why 20 %: on a
+//! 30-bead rope, the ratio of velocity Verlet's to symplectic Euler's median moved between
+//! 1.07 and 1.14 over four runs on a shared, loaded 2-core machine (each median by about
+//! 8 %); a band wider than that noise gives two candidates that close the same order on every
+//! run instead of one that flips with the load, at the price of preferring fewer force
+//! evaluations over a wall-time lead of up to 20 %.
 //! A wall time of 0 or one not finite is a failed measurement and an error, never the cheapest.
 
 use crate::error::{Error, Result};
 use crate::measure::case::TimingRule;
 use serde::Serialize;
 
-/// Relative band within which two median wall times are a tie (0.10: 10 %).
-pub const TIE_BAND: f64 = 0.10;
+/// Relative band within which two median wall times are a tie (0.20: 20 %).
+pub const TIE_BAND: f64 = 0.20;
 
 /// Advice's timing rule: at least 5 runs and 0.05 s elapsed in total; a run whose total
 /// passes 0.5 s stops once it has 3; never more than 10 000 runs.
@@ -236,10 +239,11 @@ mod tests {
 
     #[test]
     fn ties_within_the_band_go_to_fewer_force_evaluations_then_to_the_name() {
-        // b is 5 % slower than a (a tie) but needs half the force evaluations: b first.
+        assert_eq!(TIE_BAND, 0.20, "the cases below are worked for a 20 % band");
+        // b is 10 % slower than a (a tie) but needs half the force evaluations: b first.
         let keys = [
             key("a", 1.00e-3, Some(2000.0)),
-            key("b", 1.05e-3, Some(1000.0)),
+            key("b", 1.10e-3, Some(1000.0)),
         ];
         assert_eq!(names(&keys), ["b", "a"]);
         assert_eq!(
@@ -249,32 +253,32 @@ mod tests {
         // Equal force evaluations: the name decides, whichever median is lower.
         let keys = [
             key("zeta", 1.00e-3, Some(1000.0)),
-            key("alpha", 1.08e-3, Some(1000.0)),
+            key("alpha", 1.15e-3, Some(1000.0)),
         ];
         assert_eq!(names(&keys), ["alpha", "zeta"]);
         assert_eq!(rank(&keys, "t").unwrap().1, Some(PickedBy::TieName));
         // A method with a count goes before a tied one without.
         let keys = [
             key("rapier_impulse", 1.00e-3, None),
-            key("velocity_verlet", 1.09e-3, Some(1000.0)),
+            key("velocity_verlet", 1.19e-3, Some(1000.0)),
         ];
         assert_eq!(names(&keys), ["velocity_verlet", "rapier_impulse"]);
-        // Outside the band (11 % slower) the wall time decides.
+        // Outside the band (21 % slower) the wall time decides.
         let keys = [
             key("a", 1.00e-3, Some(2000.0)),
-            key("b", 1.11e-3, Some(1000.0)),
+            key("b", 1.21e-3, Some(1000.0)),
         ];
         assert_eq!(names(&keys), ["a", "b"]);
     }
 
     #[test]
     fn groups_are_formed_from_the_cheapest_remaining_candidate() {
-        // a..b tie (b within 10 % of a); c is within 10 % of b but not of a, so it starts the
-        // next group with d.
+        // a and b tie (b within 20 % of a); c is within 20 % of b but not of a, so it starts
+        // the next group, with d (within 20 % of c).
         let keys = [
-            key("d", 1.25e-3, Some(1.0)),
-            key("c", 1.15e-3, Some(9.0)),
-            key("b", 1.08e-3, Some(1.0)),
+            key("d", 1.50e-3, Some(1.0)),
+            key("c", 1.30e-3, Some(9.0)),
+            key("b", 1.15e-3, Some(1.0)),
             key("a", 1.00e-3, Some(5.0)),
         ];
         assert_eq!(names(&keys), ["b", "a", "d", "c"]);
