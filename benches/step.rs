@@ -110,8 +110,7 @@ fn steps(c: &mut Criterion) {
         // Rapier (`rapier_impulse`) appears here once registered in `springlab::backend`.
         for name in backends_for(&scene).into_iter().filter(|n| selected(n)) {
             let dt = bench_dt(name);
-            let mut integ =
-                springlab::backend::create(name, &IntegratorOptions::default()).unwrap();
+            let mut integ = springlab::method::create(name, &IntegratorOptions::default()).unwrap();
             g.bench_function(BenchmarkId::new(name, n), |b| {
                 b.iter_custom(|iters| timed_steps(&sys, &s0, integ.as_mut(), dt, iters))
             });
@@ -164,7 +163,7 @@ fn threads(c: &mut Criterion) {
             b.iter(|| pool.install(|| black_box(sys.accelerations(&s0.x, &s0.v, &mut a))))
         });
         let mut integ =
-            springlab::backend::create("symplectic_euler", &IntegratorOptions::default()).unwrap();
+            springlab::method::create("symplectic_euler", &IntegratorOptions::default()).unwrap();
         g.bench_function(BenchmarkId::new("symplectic_euler", t), |b| {
             b.iter_custom(|iters| {
                 pool.install(|| timed_steps(&sys, &s0, integ.as_mut(), 1e-3, iters))

@@ -19,9 +19,6 @@ impl Integrator for GameEuler {
     fn name(&self) -> &str {
         "game_euler"
     }
-    fn order(&self) -> u32 {
-        1
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> springlab::Result<StepStats> {
         self.a.resize(s.len(), Vec3::zeros());
         sys.accelerations(&s.x, &s.v, &mut self.a);
@@ -67,14 +64,14 @@ fn main() -> springlab::Result<()> {
     let plan = RunPlan::for_duration(1.0 / 60.0, 10.0);
     let exact = run(
         &sys,
-        springlab::backend::create("analytic", &Default::default())?.as_mut(),
+        springlab::method::create("analytic", &Default::default())?.as_mut(),
         scene.initial_state(),
         &plan,
         &mut NoObserver,
     )?;
     let mut mine: Vec<Box<dyn Integrator>> = vec![Box::new(GameEuler { a: Vec::new() })];
     for name in ["symplectic_euler", "velocity_verlet", "rk4"] {
-        mine.push(springlab::backend::create(name, &Default::default())?);
+        mine.push(springlab::method::create(name, &Default::default())?);
     }
     println!(
         "{:<18} {:>14} {:>14}",

@@ -70,6 +70,14 @@ pub enum Error {
         /// The underlying I/O error.
         source: std::io::Error,
     },
+    /// A method could not be registered: its facts are inconsistent (order 0, a name taken).
+    #[error("cannot register method '{name}': {message}")]
+    Registration {
+        /// The method's name.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A numerical solve inside a step failed (for example Newton did not converge).
     #[error("step failed: {0}")]
     Step(String),

@@ -1,11 +1,12 @@
 //! springlab: how far to trust a particle-spring simulation.
 //!
 //! A scene ([`scenario::Scenario`]) builds a [`model::System`] with only the terms it uses;
-//! [`integrate::Integrator`]s step it; [`run::run`] owns the loop, the energy accounts and
+//! [`integrate::Integrator`]s step it, each registered with its facts in a
+//! [`method::Registry`]; [`run::run`] owns the loop, the energy accounts and
 //! blow-up detection; [`output`] writes what a run produced, atomically.
 //!
 //! ```
-//! use springlab::{integrate, run, scenario::Scenario};
+//! use springlab::{method, run, scenario::Scenario};
 //! let scene = Scenario::from_toml_str(r#"
 //!     [[particle]]
 //!     position = [0.0, 0.0, 0.0]
@@ -20,7 +21,7 @@
 //!     rest_length = 0.5
 //! "#, "osc.toml").unwrap();
 //! let sys = scene.build();
-//! let mut rk4 = integrate::by_name("rk4", &Default::default()).unwrap();
+//! let mut rk4 = method::create("rk4", &Default::default()).unwrap();
 //! let plan = run::RunPlan::new(0.01, 100);
 //! let out = run::run(&sys, rk4.as_mut(), scene.initial_state(), &plan, &mut run::NoObserver).unwrap();
 //! assert!(out.status.is_ok());
@@ -30,11 +31,11 @@
 
 #![warn(missing_docs)]
 
-pub mod backend;
 pub mod collide;
 pub mod error;
 pub mod integrate;
 pub mod measure;
+pub mod method;
 pub mod model;
 pub mod output;
 pub mod perf;

@@ -9,7 +9,10 @@ use springlab::run::{run, EnergyRecord, Observer, RunPlan};
 use springlab::scenario::Scenario;
 
 fn is_rapier(name: &str) -> bool {
-    springlab::backend::EXTERNAL.contains(&name)
+    springlab::method::Registry::builtin()
+        .info(name)
+        .unwrap()
+        .engine
 }
 
 /// A 30-bead rope: k = 200 N/m, 50 g beads, first bead fixed, released horizontally under
@@ -175,7 +178,7 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
         .expect("velocity_verlet meets 1 mm");
     assert_eq!(vv.dt, largest);
     // The pick, re-run independently, is exact to round-off against the closed form.
-    let mut integ = springlab::backend::create(&pick, &Default::default()).unwrap();
+    let mut integ = springlab::method::create(&pick, &Default::default()).unwrap();
     let dt = adv.dt.unwrap();
     let steps = (1.0 / dt).round() as u64;
     let mut obs = FallErr(0.0, dt);

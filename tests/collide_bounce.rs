@@ -6,8 +6,9 @@
 //! K + G + E + dissipated must stay constant (a conservation law): rk4 is exact in free fall,
 //! so any drift would be energy the contact stage failed to book.
 
-use springlab::collide::ContactMetrics;
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::integrate::IntegratorOptions;
+use springlab::measure::contacts::ContactMetrics;
+use springlab::method::create as by_name;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 

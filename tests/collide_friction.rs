@@ -3,7 +3,8 @@
 //! Oracle: a particle sliding on a horizontal plane with Coulomb friction μ decelerates at μg
 //! and stops after v0² / (2μg) (any mechanics text); every response must reproduce it.
 
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::integrate::IntegratorOptions;
+use springlab::method::create as by_name;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 

@@ -5,7 +5,8 @@
 //! thread); the same run with one plane must move them (the counter works).
 
 use springlab::collide::{build_count, query_count};
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::integrate::IntegratorOptions;
+use springlab::method::create as by_name;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 

@@ -6,10 +6,10 @@
 //! (e.g. Schwager & Pöschel, "Coefficient of restitution and linear-dashpot model revisited",
 //! Granular Matter 9 (2007), eq. 5).
 
-use springlab::collide::{
-    damping_ratio_for_restitution, restitution_for_damping_ratio, ContactMetrics,
-};
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::collide::{damping_ratio_for_restitution, restitution_for_damping_ratio};
+use springlab::integrate::IntegratorOptions;
+use springlab::measure::contacts::ContactMetrics;
+use springlab::method::create as by_name;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -40,7 +40,7 @@ fn measure(
     scene: &Scenario,
     integrator: &str,
     dt: f64,
-) -> springlab::collide::metrics::ContactEvent {
+) -> springlab::measure::contacts::ContactEvent {
     let sys = scene.build();
     assert!(sys.active_terms().contains(&"penalty_contacts"));
     let mut integ = by_name(integrator, &IntegratorOptions::default()).unwrap();

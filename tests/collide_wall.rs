@@ -5,8 +5,9 @@
 //! metrics must count no tunnelling. A penalty contact (no swept response) must be caught by
 //! the same detector, which shows the count can fail.
 
-use springlab::collide::ContactMetrics;
-use springlab::integrate::{by_name, IntegratorOptions};
+use springlab::integrate::IntegratorOptions;
+use springlab::measure::contacts::ContactMetrics;
+use springlab::method::create as by_name;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 

@@ -11,7 +11,8 @@ fn momentum_is_conserved_on_two_free_masses() {
     let scene = Scenario::from_file("scenarios/two_body.toml").unwrap();
     let sys = scene.build();
     let p0 = sys.momentum(&scene.initial_state().v);
-    for &name in springlab::integrate::NATIVE
+    for &name in springlab::method::Registry::builtin()
+        .native_names()
         .iter()
         .filter(|n| **n != "analytic")
     {

@@ -6,10 +6,19 @@
 
 mod common;
 
-use springlab::integrate::{known_names, NATIVE};
 use springlab::model::Vec3;
 use springlab::run::{run, NoObserver, RunOutcome, RunPlan, Status};
 use springlab::scenario::Scenario;
+
+/// Every built-in method.
+fn known_names() -> Vec<&'static str> {
+    springlab::method::Registry::builtin().names()
+}
+
+/// The built-in methods that are not engines.
+fn native_names() -> Vec<&'static str> {
+    springlab::method::Registry::builtin().native_names()
+}
 
 fn scene(toml: &str) -> Scenario {
     Scenario::from_toml_str(toml, "extreme.toml").expect("valid extreme scene")
@@ -75,7 +84,7 @@ fn status<'a>(runs: &'a [(&str, RunOutcome)], name: &str) -> &'a Status {
 /// engines (Rapier) are held to the no-NaN contract in [`run_all`] and have their outcome printed.
 fn native(runs: &[(&'static str, RunOutcome)]) -> Vec<(&'static str, RunOutcome)> {
     runs.iter()
-        .filter(|(n, _)| NATIVE.contains(n))
+        .filter(|(n, _)| native_names().contains(n))
         .cloned()
         .collect()
 }
@@ -321,7 +330,10 @@ fn hundred_thousand_particles() {
     let sc = springlab::perf::cloth(316);
     assert!(sc.particles.len() >= 99_000);
     // Rapier's multibody backend needs minutes for this scene: natives and rapier_impulse only.
-    let names: Vec<&'static str> = NATIVE.iter().copied().chain(["rapier_impulse"]).collect();
+    let names: Vec<&'static str> = native_names()
+        .into_iter()
+        .chain(["rapier_impulse"])
+        .collect();
     let runs = run_names(&sc, 1e-3, 3, &names);
     print("1e5 particles", &runs);
     let runs = native(&runs);
@@ -337,7 +349,7 @@ fn hundred_thousand_particles() {
 /// until it trips the blow-up bound.
 fn long_run(n: u64) {
     // Native integrators only: the Rapier backends take minutes for 1e6 steps.
-    let runs = run_names(&oscillator(1.0), 0.01, n, NATIVE);
+    let runs = run_names(&oscillator(1.0), 0.01, n, &native_names());
     print("long run", &runs);
     let e0 = 0.5 * 0.01;
     for (name, tol) in [

@@ -40,8 +40,7 @@ fn advised_step_meets_the_tolerance_when_rerun() {
         assert!(w[0].wall_per_second <= (1.0 + band) * w[1].wall_per_second);
     }
     for choice in &adv.alternatives {
-        let mut integ =
-            springlab::backend::create(&choice.integrator, &Default::default()).unwrap();
+        let mut integ = springlab::method::create(&choice.integrator, &Default::default()).unwrap();
         let steps = (5.0 / choice.dt).round() as u64;
         let mut obs = MaxErr(0.0, choice.dt);
         let plan = RunPlan::new(choice.dt, steps);

@@ -6,7 +6,7 @@
 //! so at a small step its first apex ratios must be e² = 0.25 within 2 %. A fast particle shot
 //! at a thin wall must not pass it (Rapier sweeps fixed colliders for fast bodies).
 
-use springlab::collide::ContactMetrics;
+use springlab::measure::contacts::ContactMetrics;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -20,7 +20,7 @@ fn rapier_bounce_apex_ratios_match_e_squared() {
     let sys = s.build();
     for name in ["rapier_impulse", "rapier_multibody"] {
         let dt = 1e-3;
-        let mut integ = springlab::backend::create(name, &Default::default()).unwrap();
+        let mut integ = springlab::method::create(name, &Default::default()).unwrap();
         assert!(integ.handles_contacts());
         let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
         let out = run(
@@ -53,7 +53,7 @@ fn rapier_bounce_apex_ratios_match_e_squared() {
 fn rapier_fast_particle_does_not_pass_the_wall() {
     let s = scene("fast_particle_wall.toml");
     let sys = s.build();
-    let mut integ = springlab::backend::create("rapier_impulse", &Default::default()).unwrap();
+    let mut integ = springlab::method::create("rapier_impulse", &Default::default()).unwrap();
     let dt = s.run.dt.unwrap();
     let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
     let out = run(

@@ -22,7 +22,7 @@ fn every_shipped_scenario_runs_with_every_applicable_integrator() {
         let sys = scene.build();
         let dt = scene.run.dt.expect("shipped scenes give a step");
         let mut ran = 0;
-        for name in springlab::integrate::NATIVE {
+        for name in springlab::method::Registry::builtin().native_names() {
             let mut i = integ(name);
             if let Err(why) = i.check(&sys) {
                 assert!(!why.is_empty());

@@ -49,7 +49,7 @@ pub fn run(a: Args) -> Result<()> {
         let scene = cloth(n);
         let springs = scene.springs.len();
         for name in backends_for(&scene) {
-            let mut integ = springlab::backend::create(name, &IntegratorOptions::default())?;
+            let mut integ = springlab::method::create(name, &IntegratorOptions::default())?;
             let dt = bench_dt(name);
             // About 10⁶ spring updates per repetition, at least 2 steps.
             let steps = (1_000_000 / springs.max(1)).clamp(2, 500);

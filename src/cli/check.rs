@@ -2,7 +2,6 @@
 
 use super::common::load;
 use anyhow::Result;
-use springlab::integrate;
 use std::path::PathBuf;
 
 /// Flags of `springlab check`.
@@ -59,10 +58,10 @@ pub fn run(a: Args) -> Result<()> {
     }
     println!("impulses: {}", sys.impulses.len());
     println!("active terms: {}", sys.active_terms().join(", "));
-    let applicable: Vec<&str> = integrate::NATIVE
+    let applicable: Vec<&str> = springlab::method::Registry::builtin()
         .iter()
-        .filter(|n| integrate::by_name(n, &Default::default()).is_ok_and(|i| i.check(&sys).is_ok()))
-        .copied()
+        .filter(|m| m.create(&Default::default()).check(&sys).is_ok())
+        .map(|m| m.info.name)
         .collect();
     println!("integrators that apply: {}", applicable.join(", "));
     Ok(())

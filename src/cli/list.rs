@@ -12,60 +12,22 @@ pub struct Args {
     pub scenarios: PathBuf,
 }
 
-/// One line per integrator: what it is.
-pub const DESCRIPTIONS: &[(&str, &str)] = &[
-    (
-        "explicit_euler",
-        "forward Euler, order 1; unstable on undamped oscillators at every step",
-    ),
-    (
-        "symplectic_euler",
-        "semi-implicit Euler (alias semi_implicit_euler), order 1, symplectic; stable for hω < 2",
-    ),
-    (
-        "implicit_euler",
-        "backward Euler, Newton + block-Jacobi CG; order 1, stable at any step, damps",
-    ),
-    ("rk2", "explicit midpoint Runge-Kutta, order 2"),
-    (
-        "rk4",
-        "classic Runge-Kutta, order 4; stable for hω < 2√2 on oscillators",
-    ),
-    (
-        "velocity_verlet",
-        "kick-drift-kick Störmer-Verlet, order 2, symplectic; stable for hω < 2",
-    ),
-    (
-        "position_verlet",
-        "two-step Störmer form, order 2, symplectic; stable for hω < 2",
-    ),
-    (
-        "verlet_constraints",
-        "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
-    ),
-    (
-        "analytic",
-        "exact closed form for independent damped springs on fixed anchors",
-    ),
-    (
-        "rapier_impulse",
-        "Rapier 0.36 (f64): a body per particle, springs as force-based joint motors",
-    ),
-    (
-        "rapier_multibody",
-        "Rapier 0.36 (f64): multibody trees, loop-closing edges as impulse joints",
-    ),
-];
-
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     println!("integrators:");
-    for name in springlab::integrate::known_names() {
-        let desc = DESCRIPTIONS
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map_or("", |(_, d)| d);
-        println!("  {name:<20} {desc}");
+    for m in springlab::method::Registry::builtin().iter() {
+        let i = &m.info;
+        let aliases = if i.aliases.is_empty() {
+            String::new()
+        } else {
+            format!(" (alias {})", i.aliases.join(", "))
+        };
+        println!(
+            "  {:<20} order {:<5} {}{aliases}",
+            i.name,
+            i.order.to_string(),
+            i.summary
+        );
     }
     println!("scenarios ({}):", a.scenarios.display());
     for path in scenario_files(&a.scenarios)? {

@@ -30,7 +30,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.every == 0 {
         bail!("--every: must be at least 1");
     }
-    let mut integ = springlab::backend::create(&a.integrator, &a.step.options())?;
+    let mut integ = springlab::method::create(&a.integrator, &a.step.options())?;
     let sys = scene.build();
     if let Err(reason) = integ.check(&sys) {
         return Err(springlab::Error::Unsupported {
@@ -46,7 +46,7 @@ pub fn run(a: Args) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from("out").join(&scene.name).join(&name));
     let mut files = RunFiles::create(&dir, a.every, plan.dt)?;
     // Collision metrics only when the scene has obstacles (contacts.json).
-    let mut metrics = springlab::collide::ContactMetrics::new(&sys, plan.dt);
+    let mut metrics = springlab::measure::contacts::ContactMetrics::new(&sys, plan.dt);
     let out = match metrics.as_mut() {
         Some(m) => springlab::run::run(
             &sys,
@@ -66,7 +66,7 @@ pub fn run(a: Args) -> Result<()> {
     files.commit()?;
     if let Some(m) = &metrics {
         let r = m.report();
-        springlab::collide::metrics::write_report(&dir, &r)?;
+        springlab::measure::contacts::write_report(&dir, &r)?;
         println!(
             "contacts ({}): {} events ({} open), restitution {:.4} measured vs {:.4} expected (mean of {} impacts), max penetration {:.3e} m, {} tunnelling",
             r.response, r.events_total, r.open_contacts, r.restitution.mean, r.expected_restitution.mean,

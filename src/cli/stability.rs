@@ -70,6 +70,7 @@ pub fn run(a: Args) -> Result<()> {
         horizon: a.horizon,
         blowup_factor: a.blowup_factor,
         theory_only: a.theory_only,
+        ..Default::default()
     };
     let rep = analyse(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "stability");

@@ -1,12 +1,12 @@
 //! Static obstacles through parry3d-f64 (issue 5): shapes at poses with a broad phase,
-//! per-particle signed-distance queries, the three contact responses (penalty force term,
-//! post-step impulse, post-step projection) and validation metrics. Nothing here is built or
+//! per-particle signed-distance queries and the three contact responses (penalty force term,
+//! post-step impulse, post-step projection). Their validation metrics are measurement, in
+//! [`crate::measure::contacts`]. Nothing here is built or
 //! queried for a scene without obstacles ([`query_count`], [`build_count`] show it).
 
 mod contacts;
 mod counter;
 mod def;
-pub mod metrics;
 mod obstacles;
 mod penalty;
 
@@ -16,6 +16,5 @@ pub use def::{
     damping_ratio_for_restitution, restitution_for_damping_ratio, CollisionSetup, ObstacleDef,
     PenaltyDamping, Response, ShapeDef,
 };
-pub use metrics::{ContactMetrics, ContactReport};
 pub use obstacles::{Contact, Obstacle, ObstacleSet, SweepHit};
 pub use penalty::{Penalty, FRICTION_REGULARISATION};

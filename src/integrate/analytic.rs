@@ -184,9 +184,6 @@ impl Integrator for Analytic {
     fn name(&self) -> &str {
         "analytic"
     }
-    fn order(&self) -> u32 {
-        u32::MAX
-    }
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         Self::oscillators(sys).map(|_| ())
     }

@@ -47,9 +47,6 @@ impl Integrator for ExplicitEuler {
     fn name(&self) -> &str {
         "explicit_euler"
     }
-    fn order(&self) -> u32 {
-        1
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         Ok(euler_step(sys, s, h, &mut self.a, false))
     }
@@ -64,9 +61,6 @@ pub struct SymplecticEuler {
 impl Integrator for SymplecticEuler {
     fn name(&self) -> &str {
         "symplectic_euler"
-    }
-    fn order(&self) -> u32 {
-        1
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         Ok(euler_step(sys, s, h, &mut self.a, true))

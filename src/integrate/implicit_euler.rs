@@ -256,9 +256,6 @@ impl Integrator for ImplicitEuler {
     fn name(&self) -> &str {
         "implicit_euler"
     }
-    fn order(&self) -> u32 {
-        1
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         let n = s.len();
         for buf in [

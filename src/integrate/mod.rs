@@ -1,12 +1,14 @@
-//! Time integrators: one trait, one file per method, and a registry by CLI name.
+//! Time integrators: one trait, one file per method. Their names and facts are registered in
+//! [`crate::method`].
 //!
-//! Write your own scheme by implementing [`Integrator`]; the runner, metrics and reports treat
-//! it exactly like the built-in ones (see `examples/custom_integrator.rs`).
+//! Write your own scheme by implementing [`Integrator`] and registering it
+//! ([`crate::method::Registry::with`]); the runner, every command and the report then treat it
+//! exactly like the built-in ones (see `examples/custom_integrator.rs`).
 
 mod analytic;
 mod euler;
 mod implicit_euler;
-mod registry;
+mod options;
 mod rk;
 mod verlet;
 mod verlet_constraints;
@@ -14,7 +16,7 @@ mod verlet_constraints;
 pub use analytic::Analytic;
 pub use euler::{ExplicitEuler, SymplecticEuler};
 pub use implicit_euler::ImplicitEuler;
-pub use registry::{by_name, canonical_name, is_known, known_names, IntegratorOptions, NATIVE};
+pub use options::IntegratorOptions;
 pub use rk::{RungeKutta, Tableau};
 pub use verlet::{PositionVerlet, VelocityVerlet};
 pub use verlet_constraints::VerletConstraints;
@@ -45,10 +47,8 @@ pub struct StepStats {
 /// assert_eq!(s.x[0].x, 0.5);
 /// ```
 pub trait Integrator: Send {
-    /// The CLI name (`symplectic_euler`, ...).
+    /// The CLI name (`symplectic_euler`, ...): the name its registry entry carries.
     fn name(&self) -> &str;
-    /// Global order of accuracy in the step size.
-    fn order(&self) -> u32;
     /// `Err(reason)` when this method cannot run `sys` faithfully (say, it has constraints).
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         if sys.constraints.is_empty() {

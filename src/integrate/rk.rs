@@ -78,9 +78,6 @@ impl Integrator for RungeKutta {
     fn name(&self) -> &str {
         self.tab.name
     }
-    fn order(&self) -> u32 {
-        self.tab.order
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         let n = s.len();
         ensure_len(&mut self.xs, n);

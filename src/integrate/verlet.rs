@@ -22,9 +22,6 @@ impl Integrator for VelocityVerlet {
     fn name(&self) -> &str {
         "velocity_verlet"
     }
-    fn order(&self) -> u32 {
-        2
-    }
     fn reset(&mut self) {
         self.cached = false;
     }
@@ -72,9 +69,6 @@ pub struct PositionVerlet {
 impl Integrator for PositionVerlet {
     fn name(&self) -> &str {
         "position_verlet"
-    }
-    fn order(&self) -> u32 {
-        2
     }
     fn reset(&mut self) {
         self.h_prev = None;

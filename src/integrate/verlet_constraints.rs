@@ -41,9 +41,6 @@ impl Integrator for VerletConstraints {
     fn name(&self) -> &str {
         "verlet_constraints"
     }
-    fn order(&self) -> u32 {
-        1
-    }
     fn check(&self, _sys: &System) -> std::result::Result<(), String> {
         Ok(())
     }

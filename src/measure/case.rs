@@ -1,10 +1,13 @@
 //! One measured case: an integrator at one step over a horizon, against a reference.
 
+use super::contacts::{ContactMetrics, ContactReport};
 use super::grid::TimeGrid;
 use super::metrics::{Metrics, MetricsObserver, Series};
 use super::reference::Reference;
+use super::trace::{Trace, TraceObserver, TraceSpec};
 use crate::error::Result;
 use crate::integrate::IntegratorOptions;
+use crate::method::Registry;
 use crate::model::{State, System};
 use crate::run::{run, NoObserver, RunPlan, Status};
 use serde::Serialize;
@@ -127,7 +130,7 @@ pub fn time_interleaved(
             }
             any = true;
             let started = std::time::Instant::now();
-            let mut integ = crate::backend::create(&r.integrator, &set.options)?;
+            let mut integ = set.methods.create(&r.integrator, &set.options)?;
             let plan = RunPlan {
                 dt: r.dt,
                 steps: r.steps,
@@ -170,6 +173,12 @@ pub struct CaseResult {
     /// Decimated series, when asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub series: Option<Series>,
+    /// Paths and snapshots, when asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trace: Option<Trace>,
+    /// Collision metrics, for scenes with obstacles (also written as `contacts.json`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts: Option<ContactReport>,
 }
 
 impl CaseResult {
@@ -180,8 +189,10 @@ impl CaseResult {
 }
 
 /// How to run one case.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct CaseSettings {
+    /// The methods cases are run with (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
     /// Blow-up factor of the runner.
@@ -190,15 +201,19 @@ pub struct CaseSettings {
     pub series_points: u64,
     /// Repeat short runs to time them ([`SHORT_RUN_RULE`], median kept).
     pub repeat_short: bool,
+    /// Record paths and snapshots.
+    pub trace: Option<TraceSpec>,
 }
 
 impl Default for CaseSettings {
     fn default() -> Self {
         CaseSettings {
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 0,
             repeat_short: true,
+            trace: None,
         }
     }
 }
@@ -213,19 +228,27 @@ pub fn run_case(
     set: &CaseSettings,
 ) -> Result<CaseResult> {
     let g: TimeGrid = reference.grids[grid];
-    let mut integ = crate::backend::create(name, &set.options)?;
+    let mut integ = set.methods.create(name, &set.options)?;
     let plan = RunPlan {
         dt: g.dt,
         steps: g.steps,
         blowup_factor: set.blowup_factor,
     };
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
-    let out = run(sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?;
+    let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));
+    let mut contacts = ContactMetrics::new(sys, g.dt);
+    let out = run(
+        sys,
+        integ.as_mut(),
+        s0.clone(),
+        &plan,
+        &mut (&mut obs, (&mut trace, &mut contacts)),
+    )?;
     let mut wall = out.wall_seconds;
     if set.repeat_short && out.wall_seconds < SHORT_RUN_SECONDS {
         let mut samples = vec![out.wall_seconds];
         while !SHORT_RUN_RULE.satisfied(samples.len(), samples.iter().sum()) {
-            let mut again = crate::backend::create(name, &set.options)?;
+            let mut again = set.methods.create(name, &set.options)?;
             let o = run(sys, again.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             samples.push(o.wall_seconds);
         }
@@ -247,28 +270,28 @@ pub fn run_case(
         unstable_reason,
         metrics: obs.metrics(),
         series: (set.series_points > 0).then(|| obs.series.clone()),
+        trace: trace.map(|t| t.trace),
+        contacts: contacts.map(|c| c.report()),
     })
 }
 
-/// The integrators that apply to `sys`: `asked` (or, when empty, every native method plus
-/// every external backend), split into (applicable, skipped with the reason).
+/// The methods of `methods` that apply to `sys`: `asked` (or, when empty, every registered
+/// method), canonical names split into (applicable, skipped with the reason).
 #[allow(clippy::type_complexity)]
 pub fn applicable(
+    methods: &Registry,
     sys: &System,
     asked: &[String],
     opts: &IntegratorOptions,
 ) -> Result<(Vec<String>, Vec<(String, String)>)> {
     let names: Vec<String> = if asked.is_empty() {
-        crate::integrate::known_names()
-            .into_iter()
-            .map(String::from)
-            .collect()
+        methods.names().into_iter().map(String::from).collect()
     } else {
         asked.to_vec()
     };
     let (mut ok, mut skipped) = (Vec::new(), Vec::new());
     for n in names {
-        let integ = crate::backend::create(&n, opts)?;
+        let integ = methods.create(&n, opts)?;
         let canon = integ.name().to_string();
         if ok.contains(&canon) || skipped.iter().any(|(s, _)| *s == canon) {
             continue;

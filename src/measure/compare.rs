@@ -1,12 +1,16 @@
 //! Every applicable backend at one step against the reference, side by side.
 
 use super::case::{applicable, run_case, CaseResult, CaseSettings};
+use super::command::{with_out, CommandLine};
+use super::contacts::ContactReport;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
-use crate::error::{Error, Result};
+use super::trace::{longest_paths, TraceSpec};
+use crate::error::Result;
 use crate::integrate::IntegratorOptions;
+use crate::method::Registry;
 use crate::output::write_atomic;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, Timing};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -21,6 +25,8 @@ pub struct CompareConfig {
     pub dt: Option<f64>,
     /// Simulated time (default: the scene's).
     pub duration: Option<f64>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options (substeps for Rapier).
     pub options: IntegratorOptions,
     /// Blow-up factor.
@@ -29,6 +35,8 @@ pub struct CompareConfig {
     pub series_points: u64,
     /// Progress bar on a terminal.
     pub progress: bool,
+    /// Record paths and snapshots of each run (for pictures).
+    pub trace: bool,
 }
 
 impl Default for CompareConfig {
@@ -37,10 +45,12 @@ impl Default for CompareConfig {
             integrators: vec![],
             dt: None,
             duration: None,
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 2000,
             progress: false,
+            trace: false,
         }
     }
 }
@@ -61,6 +71,8 @@ pub struct CompareEntry {
 /// `summary.json` of a comparison (and the library result).
 #[derive(Debug, Clone, Serialize)]
 pub struct CompareResult {
+    /// The command that re-creates this document (`--out DIR` is added where it is written).
+    pub command: String,
     /// Scenario name.
     pub scenario: String,
     /// Reference used.
@@ -81,51 +93,41 @@ pub struct CompareResult {
 pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let sys = scene.build();
     let s0 = scene.initial_state();
-    let dt = cfg.dt.or(scene.run.dt).ok_or_else(|| {
-        Error::option(
-            "--dt",
-            format!(
-                "{}: no step: give --dt or set [run].dt",
-                scene.source.display()
-            ),
-        )
-    })?;
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(Error::option(
-            "--dt",
-            format!("must be a finite number > 0, got {dt}"),
-        ));
-    }
-    let duration = cfg
-        .duration
-        .or(scene.run.duration)
-        .or_else(|| scene.run.steps.map(|n| n as f64 * dt))
-        .ok_or_else(|| {
-            Error::option(
-                "--duration",
-                "no duration: give --duration or set [run].duration",
-            )
-        })?;
-    let steps = ((duration / dt).round() as u64).max(1);
-    // Default: the scene's own [run].integrators next to both Rapier backends, else everything.
+    let Timing { dt, steps, .. } = Timing::resolve(scene, cfg.dt, cfg.duration)?;
+    // Default: the scene's own [run].integrators next to every engine, else everything.
     let asked: Vec<String> = if cfg.integrators.is_empty() && !scene.run.integrators.is_empty() {
-        let ext = crate::backend::EXTERNAL.iter().map(|s| s.to_string());
+        let ext = cfg.methods.engine_names().into_iter().map(String::from);
         scene.run.integrators.iter().cloned().chain(ext).collect()
     } else {
         cfg.integrators.clone()
     };
-    let (names, skipped) = applicable(&sys, &asked, &cfg.options)?;
+    let (names, skipped) = applicable(&cfg.methods, &sys, &asked, &cfg.options)?;
     let grid = TimeGrid::new(
         dt,
         steps,
         max_samples_for(DEFAULT_BUDGET_BYTES, 1, sys.len()),
     );
     let reference = Reference::compute(&sys, &s0, &[grid], grid.time(steps))?;
+    let trace = cfg.trace.then(|| TraceSpec {
+        tracked: longest_paths(
+            &reference,
+            &sys.free,
+            if scene.blocks.is_empty() { 2 } else { 1 },
+        ),
+        stride: steps.div_ceil(cfg.series_points.max(1)).max(1),
+        snapshot_steps: if scene.blocks.is_empty() {
+            Vec::new()
+        } else {
+            vec![0, steps / 3, 2 * steps / 3, steps]
+        },
+    });
     let set = CaseSettings {
+        methods: cfg.methods.clone(),
         options: cfg.options,
         blowup_factor: cfg.blowup_factor,
         series_points: cfg.series_points,
         repeat_short: true,
+        trace,
     };
     let pb = super::progress::bar(
         names.len() as u64,
@@ -159,7 +161,16 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
             result: None,
         });
     }
+    let command = CommandLine::new("compare", &scene.source)
+        .flag("dt", dt)
+        .flag("duration", grid.time(steps))
+        .list("integrators", &asked_or_all(&cfg.methods, &asked))
+        .flag("substeps", cfg.options.substeps)
+        .flag("iterations", cfg.options.constraint_iterations)
+        .flag("blowup-factor", cfg.blowup_factor)
+        .render();
     Ok(CompareResult {
+        command,
         scenario: scene.name.clone(),
         reference: reference.info,
         dt,
@@ -168,6 +179,15 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         substeps: cfg.options.substeps,
         entries,
     })
+}
+
+/// The methods asked for, or every registered one when none was named.
+fn asked_or_all(methods: &Registry, asked: &[String]) -> Vec<String> {
+    if asked.is_empty() {
+        methods.names().into_iter().map(String::from).collect()
+    } else {
+        asked.to_vec()
+    }
 }
 
 /// The header of `compare.csv`.
@@ -229,10 +249,63 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
         csv.push_str(&line);
         csv.push('\n');
     }
-    let mut json = serde_json::to_vec_pretty(res).expect("serialisable");
+    let doc = CompareResult {
+        command: with_out(&res.command, dir),
+        ..res.clone()
+    };
+    let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
     json.push(b'\n');
-    Ok(vec![
+    let mut files = vec![
         write_atomic(dir.join("compare.csv"), csv.as_bytes())?,
         write_atomic(dir.join("summary.json"), &json)?,
-    ])
+    ];
+    if let Some(c) = contacts_doc(&doc) {
+        let mut json = serde_json::to_vec_pretty(&c).expect("serialisable");
+        json.push(b'\n');
+        files.push(write_atomic(dir.join("contacts.json"), &json)?);
+    }
+    Ok(files)
+}
+
+/// `contacts.json` of a comparison: each backend's collision metrics at the compared step.
+#[derive(Debug, Clone, Serialize)]
+pub struct ContactsDoc<'a> {
+    /// The command that re-creates this document (the comparison's).
+    pub command: &'a str,
+    /// Scenario name.
+    pub scenario: &'a str,
+    /// Step (s).
+    pub dt: f64,
+    /// Per backend that ran, in the comparison's order.
+    pub backends: Vec<BackendContacts<'a>>,
+}
+
+/// One backend's collision metrics.
+#[derive(Debug, Clone, Serialize)]
+pub struct BackendContacts<'a> {
+    /// Backend name.
+    pub integrator: &'a str,
+    /// What its contacts did.
+    pub report: &'a ContactReport,
+}
+
+/// The contacts document of a comparison, `None` for a scene without obstacles.
+pub fn contacts_doc(res: &CompareResult) -> Option<ContactsDoc<'_>> {
+    let backends: Vec<BackendContacts> = res
+        .entries
+        .iter()
+        .filter_map(|e| e.result.as_ref())
+        .filter_map(|r| {
+            r.contacts.as_ref().map(|c| BackendContacts {
+                integrator: &r.integrator,
+                report: c,
+            })
+        })
+        .collect();
+    (!backends.is_empty()).then(|| ContactsDoc {
+        command: &res.command,
+        scenario: &res.scenario,
+        dt: res.dt,
+        backends,
+    })
 }

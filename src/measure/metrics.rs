@@ -136,6 +136,8 @@ pub struct Series {
     pub position_error: Vec<f64>,
     /// Relative energy error.
     pub energy_error: Vec<f64>,
+    /// The energy account (every term, J).
+    pub energy: Vec<EnergyRecord>,
 }
 
 /// The observer computing [`Metrics`] (and optionally a [`Series`]) of a run on grid `grid`
@@ -311,6 +313,7 @@ impl Observer for MetricsObserver<'_> {
                 self.series.t.push(t);
                 self.series.position_error.push(err);
                 self.series.energy_error.push(eps);
+                self.series.energy.push(*e);
             }
         }
         Ok(())

@@ -2,7 +2,9 @@
 
 pub mod advise;
 pub mod case;
+pub mod command;
 pub mod compare;
+pub mod contacts;
 pub mod dop853;
 pub mod fit;
 pub mod grid;
@@ -12,3 +14,4 @@ pub mod progress;
 pub mod reference;
 pub mod stability;
 pub mod sweep;
+pub mod trace;

@@ -17,6 +17,7 @@
 use super::modes::{modes, Mode, Modes};
 use crate::error::Result;
 use crate::integrate::IntegratorOptions;
+use crate::method::{Method, Registry, StabilityTheory};
 use crate::model::{EnergyKind, ForceTerm, Jacobian, Springs, State, System, Vec3};
 use crate::run::{run, NoObserver, RunPlan};
 use crate::scenario::Scenario;
@@ -85,17 +86,17 @@ fn mode_system(m: Mode) -> System {
     }
 }
 
-/// The one-step map of integrator `name` on mode `m` at step `h`, as a 2×2 matrix on (x, v);
+/// The one-step map of `method` on mode `m` at step `h`, as a 2×2 matrix on (x, v);
 /// None when the method fails or the identification is singular.
 pub fn one_step_map(
-    name: &str,
+    method: &Method,
     opts: &IntegratorOptions,
     m: Mode,
     h: f64,
 ) -> Option<[[f64; 2]; 2]> {
     let sys = mode_system(m);
     let traj = |x0: f64, v0: f64| -> Option<[(f64, f64); 2]> {
-        let mut integ = crate::backend::create(name, opts).ok()?;
+        let mut integ = method.create(opts);
         integ.check(&sys).ok()?;
         let mut s = State {
             t: 0.0,
@@ -140,8 +141,8 @@ pub fn spectral_radius(m: [[f64; 2]; 2]) -> f64 {
     }
 }
 
-fn rho(name: &str, opts: &IntegratorOptions, m: Mode, h: f64) -> f64 {
-    one_step_map(name, opts, m, h).map_or(f64::INFINITY, spectral_radius)
+fn rho(method: &Method, opts: &IntegratorOptions, m: Mode, h: f64) -> f64 {
+    one_step_map(method, opts, m, h).map_or(f64::INFINITY, spectral_radius)
 }
 
 /// A stability verdict.
@@ -160,7 +161,7 @@ pub enum Verdict {
 pub type Limit = (Verdict, Option<f64>);
 
 /// Largest stable step on one mode: (verdict, limit).
-pub fn mode_limit(name: &str, opts: &IntegratorOptions, m: Mode) -> (Verdict, Option<f64>) {
+pub fn mode_limit(method: &Method, opts: &IntegratorOptions, m: Mode) -> (Verdict, Option<f64>) {
     let w = m.omega2.sqrt().max(m.damping);
     if w <= 0.0 {
         return (Verdict::UnconditionallyStable, None);
@@ -172,7 +173,7 @@ pub fn mode_limit(name: &str, opts: &IntegratorOptions, m: Mode) -> (Verdict, Op
     // A step the method cannot take (say, Newton fails at enormous hω) ends the scan: it
     // says nothing about stability, so the verdict rests on the steps that ran.
     let state =
-        |h: f64| one_step_map(name, opts, m, h).map(|mm| spectral_radius(mm) <= 1.0 + RHO_TOL);
+        |h: f64| one_step_map(method, opts, m, h).map(|mm| spectral_radius(mm) <= 1.0 + RHO_TOL);
     let stable = |h: f64| state(h).unwrap_or(false);
     match state(hs[0]) {
         Some(true) => {}
@@ -208,10 +209,14 @@ pub fn mode_limit(name: &str, opts: &IntegratorOptions, m: Mode) -> (Verdict, Op
 }
 
 /// Theory for a method over all modes: the tightest mode decides.
-pub fn theory_limit(name: &str, opts: &IntegratorOptions, ms: &Modes) -> (Verdict, Option<f64>) {
+pub fn theory_limit(
+    method: &Method,
+    opts: &IntegratorOptions,
+    ms: &Modes,
+) -> (Verdict, Option<f64>) {
     let mut best = (Verdict::UnconditionallyStable, None::<f64>);
     for &m in &ms.modes {
-        match mode_limit(name, opts, m) {
+        match mode_limit(method, opts, m) {
             (Verdict::UnstableForAllDt, _) => return (Verdict::UnstableForAllDt, None),
             (Verdict::StableBelow, Some(h)) if best.1.is_none_or(|b| h < b) => {
                 best = (Verdict::StableBelow, Some(h));
@@ -247,11 +252,11 @@ pub struct Empirical {
     pub runs: usize,
 }
 
-/// Empirical search for the largest stable step of `name` on the real scene.
+/// Empirical search for the largest stable step of `method` on the real scene.
 pub fn empirical_limit(
     sys: &System,
     s0: &State,
-    name: &str,
+    method: &Method,
     opts: &IntegratorOptions,
     start: f64,
     crit: &EmpiricalCriterion,
@@ -259,7 +264,7 @@ pub fn empirical_limit(
     let mut runs = 0;
     let mut stable = |h: f64| -> Result<bool> {
         runs += 1;
-        let mut integ = crate::backend::create(name, opts)?;
+        let mut integ = method.create(opts);
         let plan = RunPlan {
             dt: h,
             steps: ((crit.horizon / h).ceil() as u64).max(1),
@@ -370,6 +375,8 @@ pub struct StabilityReport {
 pub struct StabilityConfig {
     /// Integrators (empty: all applicable).
     pub integrators: Vec<String>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
     /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
@@ -389,6 +396,7 @@ impl Default for StabilityConfig {
     fn default() -> Self {
         StabilityConfig {
             integrators: vec![],
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             horizon: None,
             blowup_factor: EMPIRICAL_BLOWUP_FACTOR,
@@ -397,16 +405,13 @@ impl Default for StabilityConfig {
     }
 }
 
-fn is_native_linear(name: &str) -> bool {
-    crate::integrate::NATIVE.contains(&name) && name != "analytic"
-}
-
 /// Analyses every applicable integrator on `scene`.
 pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityReport> {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let ms = modes(&sys, &s0);
-    let (names, skipped) = super::case::applicable(&sys, &cfg.integrators, &cfg.options)?;
+    let (names, skipped) =
+        super::case::applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     let duration = scene
         .run
         .duration
@@ -428,18 +433,20 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let results: Vec<Result<IntegratorStability>> = names
         .par_iter()
         .map(|name| {
+            let method = cfg.methods.get(name)?;
+            let exact = method.info.stability == StabilityTheory::Unconditional;
             let mut note = None;
-            let theory = if is_native_linear(name) && !ms.modes.is_empty() {
-                Some(theory_limit(name, &cfg.options, &ms))
+            let theory = if method.info.linear_theory() && !ms.modes.is_empty() {
+                Some(theory_limit(method, &cfg.options, &ms))
             } else {
                 if ms.modes.is_empty() {
                     note = Some("the linearised scene has no stiffness or damping (constraints are projected, not linearised): empirical only".to_string());
-                } else if name == "analytic" {
+                } else if exact {
                     note = Some("exact closed form: stable at any step".to_string());
                 }
                 None
             };
-            if name == "analytic" {
+            if exact {
                 return Ok(IntegratorStability {
                     integrator: name.clone(),
                     verdict: Verdict::UnconditionallyStable,
@@ -459,7 +466,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
             let empirical = if cfg.theory_only {
                 None
             } else {
-                Some(empirical_limit(&sys, &s0, name, &cfg.options, start, &crit)?)
+                Some(empirical_limit(&sys, &s0, method, &cfg.options, start, &crit)?)
             };
             let (verdict, dt, method) = match (&theory, &empirical) {
                 (Some(t), _) => (t.0, t.1, "spectral_radius"),
@@ -501,6 +508,8 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
 pub struct MapConfig {
     /// Integrators (empty: all applicable).
     pub integrators: Vec<String>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
     /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
@@ -530,6 +539,7 @@ impl Default for MapConfig {
     fn default() -> Self {
         MapConfig {
             integrators: vec![],
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
             damping_scales: vec![1.0],
@@ -613,8 +623,16 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let s0 = scene.initial_state();
     let w0 = modes(&sys0, &s0).omega_max;
     let w0 = if w0 > 0.0 { w0 } else { 1.0 };
-    let (names, _) = super::case::applicable(&sys0, &cfg.integrators, &cfg.options)?;
-    let names: Vec<String> = names.into_iter().filter(|n| n != "analytic").collect();
+    let (names, _) = super::case::applicable(&cfg.methods, &sys0, &cfg.integrators, &cfg.options)?;
+    // Exact methods are stable everywhere by construction: nothing to map.
+    let methods: Vec<&Method> = names
+        .iter()
+        .map(|n| cfg.methods.get(n))
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .filter(|m| m.info.stability != StabilityTheory::Unconditional)
+        .collect();
+    let names: Vec<String> = methods.iter().map(|m| m.info.name.to_string()).collect();
     let mut cells = Vec::new();
     for name in &names {
         for &ks in &cfg.stiffness_scales {
@@ -639,14 +657,14 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             pairs.push((ks, cs, modes(&sc.build(), &s0)));
         }
     }
-    let theory: Vec<Vec<Option<Limit>>> = names
+    let theory: Vec<Vec<Option<Limit>>> = methods
         .par_iter()
-        .map(|n| {
+        .map(|method| {
             pairs
                 .iter()
                 .map(|(_, _, m)| {
-                    (is_native_linear(n) && !m.modes.is_empty())
-                        .then(|| theory_limit(n, &cfg.options, m))
+                    (method.info.linear_theory() && !m.modes.is_empty())
+                        .then(|| theory_limit(method, &cfg.options, m))
                 })
                 .collect()
         })
@@ -671,7 +689,8 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             let sys = sc.build();
             let steps =
                 ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64).clamp(1, 20_000);
-            let mut integ = crate::backend::create(name, &cfg.options)?;
+            let method = methods[ni];
+            let mut integ = method.create(&cfg.options);
             let plan = RunPlan {
                 dt: *dt,
                 steps,
@@ -683,7 +702,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             let rho_max = th.map(|_| {
                 ms.modes
                     .iter()
-                    .map(|&m| rho(name, &cfg.options, m, *dt))
+                    .map(|&m| rho(method, &cfg.options, m, *dt))
                     .fold(0.0, f64::max)
             });
             pb.inc(1);

@@ -12,6 +12,7 @@ use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
+use crate::method::Registry;
 use crate::output::write_atomic;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
@@ -59,6 +60,8 @@ pub struct SweepConfig {
     pub points: usize,
     /// Simulated time (default: the scene's duration).
     pub duration: Option<f64>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
     /// Blow-up factor of the runner.
@@ -81,6 +84,7 @@ impl Default for SweepConfig {
             dt_max: None,
             points: 12,
             duration: None,
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             shard: None,
@@ -360,7 +364,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     }
     let grid = step_grid(dt_min, dt_max.min(duration), cfg.points, duration);
     let max_samples = max_samples_for(cfg.budget_bytes, grid.len(), sys.len());
-    let (integrators, skipped) = applicable(&sys, &cfg.integrators, &cfg.options)?;
+    let (integrators, skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     Ok(SweepPlan {
         scenario: scene.name.clone(),
         duration,
@@ -403,10 +407,12 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         .fold(0.0, f64::max);
     let reference = Reference::compute(&sys, &s0, &grids, horizon)?;
     let set = CaseSettings {
+        methods: cfg.methods.clone(),
         options: cfg.options,
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
         repeat_short: cfg.repeat_short,
+        trace: None,
     };
     let pb = super::progress::bar(
         mine.len() as u64,
@@ -453,12 +459,11 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
 
 /// Theoretical order of a named method (None for exact and external ones).
 pub fn theoretical_order(name: &str) -> Option<u32> {
-    if name == "analytic" || crate::backend::EXTERNAL.contains(&name) {
-        return None;
-    }
-    crate::backend::create(name, &IntegratorOptions::default())
+    Registry::builtin()
+        .info(name)
         .ok()
-        .map(|i| i.order())
+        .filter(|m| !m.engine)
+        .and_then(|m| m.order.finite())
 }
 
 /// The summary of a full (unsharded or merged) sweep, computed from its rows only.

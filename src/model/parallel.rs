@@ -378,7 +378,7 @@ mod tests {
         for name in ["symplectic_euler", "rk4", "implicit_euler"] {
             let run = |threads| {
                 in_pool(threads, || {
-                    let mut integ = crate::integrate::by_name(name, &Default::default()).unwrap();
+                    let mut integ = crate::method::create(name, &Default::default()).unwrap();
                     let mut s = scene.initial_state();
                     for _ in 0..3 {
                         integ.step(&sys, &mut s, 1e-3).unwrap();

@@ -26,7 +26,11 @@ pub fn cloth(n: usize) -> Scenario {
 /// (1/60 s), explicit methods at 1 ms (the cloth's stable step; cost per step does not depend
 /// on it, stability over the timed steps does).
 pub fn bench_dt(name: &str) -> f64 {
-    if name == "implicit_euler" || crate::backend::EXTERNAL.contains(&name) {
+    if name == "implicit_euler"
+        || crate::method::Registry::builtin()
+            .info(name)
+            .is_ok_and(|m| m.engine)
+    {
         1.0 / 60.0
     } else {
         1e-3
@@ -38,11 +42,12 @@ pub fn bench_dt(name: &str) -> f64 {
 /// not a tree, and its step took 57 ms on an 8×8 cloth (2026-11-25), too slow to scale.
 pub fn backends_for(scene: &Scenario) -> Vec<&'static str> {
     let sys = scene.build();
-    crate::integrate::known_names()
+    crate::method::Registry::builtin()
+        .names()
         .into_iter()
         .filter(|n| *n != "rapier_multibody")
         .filter(|n| {
-            crate::backend::create(n, &IntegratorOptions::default())
+            crate::method::create(n, &IntegratorOptions::default())
                 .map(|i| i.check(&sys).is_ok())
                 .unwrap_or(false)
         })

@@ -76,7 +76,7 @@ pub fn on_threads<'a>(threads: usize, mut inner: Contender<'a>) -> Result<Conten
 
 /// A fresh backend by name with default options.
 pub fn backend(name: &str) -> Result<Box<dyn Integrator>> {
-    crate::backend::create(name, &IntegratorOptions::default())
+    crate::method::create(name, &IntegratorOptions::default())
 }
 
 /// What implicit Euler's solver did over some steps of one scene.

@@ -102,10 +102,6 @@ impl Integrator for RapierBackend {
             Mode::Multibody => MULTIBODY,
         }
     }
-    /// Rapier's integrator is first order (symplectic Euler on velocities/positions).
-    fn order(&self) -> u32 {
-        1
-    }
     fn handles_contacts(&self) -> bool {
         true // obstacles are fixed Rapier colliders; Rapier's own solver resolves contacts
     }

@@ -320,7 +320,7 @@ pub fn snapshots(r: &SceneResults) -> Option<SnapshotData> {
 /// Height over time, the h₀·e^(2n) envelope and per-bounce restitution and penetration, for
 /// scenes with obstacles (the first tracked particle of each backend's contact metrics).
 pub fn collision(r: &SceneResults) -> Option<CollisionData> {
-    let with: Vec<(&RunRecord, &crate::collide::ContactReport)> = r
+    let with: Vec<(&RunRecord, &crate::measure::contacts::ContactReport)> = r
         .runs
         .iter()
         .filter_map(|run| run.contacts.as_ref().map(|c| (run, c)))

@@ -106,9 +106,10 @@ fn applicable(
     opts: &IntegratorOptions,
 ) -> (Vec<String>, Vec<Skipped>) {
     let mut names: Vec<String> = if scene.run.integrators.is_empty() {
-        crate::integrate::NATIVE
-            .iter()
-            .map(|s| s.to_string())
+        crate::method::Registry::builtin()
+            .native_names()
+            .into_iter()
+            .map(String::from)
             .collect()
     } else {
         scene.run.integrators.clone()
@@ -116,7 +117,7 @@ fn applicable(
     // Rapier joins every scene small enough for the report's time budget (a Rapier run of the
     // 32×32 cloth takes minutes); larger scenes list it as skipped, with the reason.
     let mut skipped = Vec::new();
-    for ext in crate::backend::EXTERNAL {
+    for ext in crate::method::Registry::builtin().engine_names() {
         if names.iter().any(|n| n == ext) {
             continue;
         }
@@ -133,7 +134,7 @@ fn applicable(
         }
     }
     // Creating and checking each backend is measure's `applicable`; one place decides.
-    match crate::measure::case::applicable(sys, &names, opts) {
+    match crate::measure::case::applicable(&crate::method::Registry::builtin(), sys, &names, opts) {
         Ok((ok, refused)) => {
             skipped.extend(
                 refused
@@ -152,8 +153,17 @@ fn applicable(
     }
 }
 
+/// The registry's order as the report's interim integer (`u32::MAX`: exact).
+fn order_of(name: &str) -> u32 {
+    crate::method::Registry::builtin()
+        .info(name)
+        .ok()
+        .and_then(|m| m.order.finite())
+        .unwrap_or(u32::MAX)
+}
+
 fn make(name: &str, opts: &IntegratorOptions) -> Result<Box<dyn Integrator>> {
-    crate::backend::create(name, opts)
+    crate::method::create(name, opts)
 }
 
 /// Reference methods for a scene in order of preference, with their refinement: analytic
@@ -316,14 +326,14 @@ pub fn collect_scene(
                 &snapshot_steps,
                 false,
             );
-            let mut metrics = crate::collide::ContactMetrics::new(&sys, dt);
+            let mut metrics = crate::measure::contacts::ContactMetrics::new(&sys, dt);
             let out = match metrics.as_mut() {
                 Some(m) => run(&sys, integ.as_mut(), s0.clone(), &plan, &mut (&mut obs, m))?,
                 None => run(&sys, integ.as_mut(), s0.clone(), &plan, &mut obs)?,
             };
             Ok(RunRecord {
                 backend: integ.name().to_string(),
-                order: integ.order(),
+                order: order_of(integ.name()),
                 status: out.status,
                 steps_done: out.steps_done,
                 force_evals: out.force_evals,
@@ -340,7 +350,11 @@ pub fn collect_scene(
     // comparison only, as their cost per run is far higher.
     let sweep_names: Vec<String> = names
         .iter()
-        .filter(|n| *n != "analytic" && !crate::backend::EXTERNAL.contains(&n.as_str()))
+        .filter(|n| {
+            crate::method::Registry::builtin()
+                .info(n)
+                .is_ok_and(|m| !m.engine && m.order.finite().is_some())
+        })
         .cloned()
         .collect();
     let sweep = if sweep_names.is_empty() {
@@ -458,7 +472,7 @@ fn sweep(
             .collect::<Result<Vec<_>>>()?;
         lines.push(SweepLine {
             integrator: name.clone(),
-            order: make(name, iopts)?.order(),
+            order: order_of(name),
             points,
         });
     }

@@ -38,7 +38,7 @@ pub struct RunRecord {
     /// Full snapshots (time, all positions) for chains and cloths.
     pub snapshots: Vec<(f64, Vec<[f64; 3]>)>,
     /// Collision metrics (contact events, bounces, penetration), for scenes with obstacles.
-    pub contacts: Option<crate::collide::ContactReport>,
+    pub contacts: Option<crate::measure::contacts::ContactReport>,
 }
 
 /// A backend the scene could not use, and why.

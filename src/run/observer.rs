@@ -32,6 +32,16 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     }
 }
 
+/// An observer that may be absent (a metric that does not apply to the scene).
+impl<T: Observer> Observer for Option<T> {
+    fn observe(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
+        self.as_mut().map_or(Ok(()), |o| o.observe(step, s, e))
+    }
+    fn finish(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
+        self.as_mut().map_or(Ok(()), |o| o.finish(step, s, e))
+    }
+}
+
 impl<T: Observer + ?Sized> Observer for &mut T {
     fn observe(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
         (**self).observe(step, s, e)

@@ -29,11 +29,13 @@ mod obj;
 pub mod obstacle_file;
 mod obstacle_validate;
 mod parse;
+mod timing;
 mod validate;
 pub use validate::{MAX_PARTICLES, MAX_STEPS};
 
 pub use file::{ScenarioFile, SpringLaw};
 pub use generate::Block;
+pub use timing::Timing;
 
 use crate::error::Result;
 use crate::model::{

@@ -365,12 +365,12 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
     }
     let integrators = r.integrators.clone().unwrap_or_default();
     for (k, name) in integrators.iter().enumerate() {
-        if !crate::integrate::is_known(name) {
+        if crate::method::Registry::builtin().find(name).is_none() {
             return Err(ck.err(
                 format!("run.integrators[{k}]"),
                 format!(
                     "unknown integrator '{name}'; known: {}",
-                    crate::integrate::known_names().join(", ")
+                    crate::method::Registry::builtin().names().join(", ")
                 ),
             ));
         }

@@ -20,7 +20,7 @@ pub fn oscillator(k: f64, c: f64, u0: f64, v0: f64) -> Scenario {
 
 /// A fresh integrator by name with default options.
 pub fn integ(name: &str) -> Box<dyn Integrator> {
-    springlab::backend::create(name, &IntegratorOptions::default()).expect("known integrator")
+    springlab::method::create(name, &IntegratorOptions::default()).expect("known integrator")
 }
 
 /// Runs `name` on `scene` for `steps` of `dt` with no observer.

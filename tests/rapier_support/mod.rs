@@ -39,7 +39,7 @@ pub fn record(
         substeps,
         ..Default::default()
     };
-    let mut i = springlab::backend::create(name, &opts).expect("backend");
+    let mut i = springlab::method::create(name, &opts).expect("backend");
     i.check(&sys).expect("backend accepts the scene");
     let mut rec = Record::default();
     let out = run(

@@ -20,6 +20,7 @@
 
 use crate::error::{Error, Result};
 use crate::measure::case::TimingRule;
+use crate::method::{CostUnit, Registry};
 use serde::Serialize;
 
 /// Relative band within which two median wall times are a tie (0.20: 20 %).
@@ -37,10 +38,6 @@ pub const ADVICE_TIMING: TimingRule = TimingRule {
 
 /// The name of the ranking measure, as written to `advice.json`.
 pub const MEASURE: &str = "wall_seconds_per_simulated_second";
-
-/// Why a Rapier backend's force evaluations are null.
-pub const NO_FORCE_COUNT: &str =
-    "Rapier backend: it steps its own dynamics and never evaluates springlab's force model, so it has no force-evaluation count";
 
 /// The cost measure stated at the top of `advice.json`.
 #[derive(Debug, Clone, Serialize)]
@@ -77,23 +74,32 @@ impl CostMeasure {
                 "medians within {:.0} % of the cheapest remaining candidate tie; a tie is broken by force evaluations per simulated second (a method with a count before one without), then by name",
                 TIE_BAND * 100.0
             ),
-            secondary: "force evaluations per simulated second (cost_per_second), null for Rapier backends",
+            secondary: "force evaluations per simulated second (cost_per_second), null for a method costed in wall time only (Rapier backends, closed forms)",
         }
     }
 }
 
 /// Force evaluations per simulated second of `integrator` over `simulated` seconds, or null
-/// with the reason for a backend that has no such count.
+/// with the reason for a method whose registered cost unit is wall time only (a physics
+/// engine, a closed form): it has no force-evaluation count, and 0 would read as free.
 pub fn force_evals_per_second(
+    methods: &Registry,
     integrator: &str,
     force_evals: u64,
     simulated: f64,
-) -> (Option<f64>, Option<String>) {
-    if crate::backend::EXTERNAL.contains(&integrator) {
-        (None, Some(NO_FORCE_COUNT.to_string()))
-    } else {
-        (Some(force_evals as f64 / simulated), None)
-    }
+) -> Result<(Option<f64>, Option<String>)> {
+    let info = methods.info(integrator)?;
+    Ok(match info.cost {
+        CostUnit::ForceEvaluations => (Some(force_evals as f64 / simulated), None),
+        CostUnit::WallTime => (
+            None,
+            Some(format!(
+                "{} is costed in wall time only: it never evaluates springlab's force model{}, so it has no force-evaluation count",
+                info.name,
+                if info.engine { " (a physics engine steps its own dynamics)" } else { "" }
+            )),
+        ),
+    })
 }
 
 /// What [`rank`] compares for one candidate.
@@ -308,9 +314,11 @@ mod tests {
 
     #[test]
     fn rapier_has_no_force_count_and_natives_do() {
-        let (v, why) = force_evals_per_second("rapier_impulse", 0, 2.0);
-        assert!(v.is_none() && why.is_some());
-        let (v, why) = force_evals_per_second("velocity_verlet", 400, 2.0);
+        let reg = Registry::builtin();
+        let (v, why) = force_evals_per_second(&reg, "rapier_impulse", 0, 2.0).unwrap();
+        assert!(v.is_none() && why.is_some_and(|w| w.contains("rapier_impulse")));
+        let (v, why) = force_evals_per_second(&reg, "velocity_verlet", 400, 2.0).unwrap();
         assert_eq!((v, why), (Some(200.0), None));
+        assert!(force_evals_per_second(&reg, "no_such_method", 1, 1.0).is_err());
     }
 }

@@ -7,6 +7,7 @@ use super::{error_of, AdviseMetric};
 use crate::error::Result;
 use crate::measure::case::{CaseResult, TimedRun, Timing};
 use crate::measure::grid::TimeGrid;
+use crate::method::Registry;
 use serde::Serialize;
 
 /// Frame rates of the game view (Hz).
@@ -108,11 +109,12 @@ impl FramePlan {
     /// The frame view from the results of [`FramePlan::grids`], before timing.
     pub(super) fn entries(
         &self,
+        methods: &Registry,
         names: &[String],
         res: &[CaseResult],
         metric: AdviseMetric,
         tolerance: f64,
-    ) -> Vec<FrameRate> {
+    ) -> Result<Vec<FrameRate>> {
         let np = names.len();
         FRAME_RATES
             .iter()
@@ -126,12 +128,13 @@ impl FramePlan {
                         let sub = &res[2 * (fi * np + pi) + 1];
                         let se = error_of(sub, metric);
                         let (cost, why) = force_evals_per_second(
+                            methods,
                             name,
                             sub.force_evals,
                             sub.dt * sub.steps as f64,
-                        );
+                        )?;
                         let meets = se.is_some_and(|e| e <= tolerance);
-                        FrameEntry {
+                        Ok(FrameEntry {
                             integrator: name.clone(),
                             one_step_status: one.status.clone(),
                             one_step_error: error_of(one, metric),
@@ -143,16 +146,16 @@ impl FramePlan {
                             timing: None,
                             cost_per_second: cost,
                             cost_per_second_reason: why,
-                        }
+                        })
                     })
-                    .collect();
-                FrameRate {
+                    .collect::<Result<_>>()?;
+                Ok(FrameRate {
                     fps,
                     frame_dt: 1.0 / fps,
                     best: None,
                     picked_by: None,
                     entries,
-                }
+                })
             })
             .collect()
     }

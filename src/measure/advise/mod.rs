@@ -28,6 +28,7 @@ use super::reference::{Reference, ReferenceInfo};
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
+use crate::method::{Order, Registry};
 use crate::scenario::Scenario;
 use cost::{force_evals_per_second, rank, CostKey};
 use frames::FramePlan;
@@ -69,6 +70,8 @@ pub struct AdviseConfig {
     pub horizon: Option<f64>,
     /// Candidates (empty: every applicable integrator except the closed form).
     pub integrators: Vec<String>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
     /// Predictions aim at tolerance / safety (default 2).
@@ -92,6 +95,7 @@ impl Default for AdviseConfig {
             metric: AdviseMetric::Position,
             horizon: None,
             integrators: vec![],
+            methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             safety: 2.0,
             points: 10,
@@ -217,10 +221,16 @@ fn run_grids(
 
 impl Choice {
     /// The choice of run `c` with its prediction `pred` and its repeated `timing`.
-    fn new(c: &CaseResult, pred: f64, metric: AdviseMetric, timing: Timing) -> Self {
+    fn new(
+        methods: &Registry,
+        c: &CaseResult,
+        pred: f64,
+        metric: AdviseMetric,
+        timing: Timing,
+    ) -> Result<Self> {
         let simulated = c.dt * c.steps as f64;
-        let (cost, why) = force_evals_per_second(&c.integrator, c.force_evals, simulated);
-        Choice {
+        let (cost, why) = force_evals_per_second(methods, &c.integrator, c.force_evals, simulated)?;
+        Ok(Choice {
             integrator: c.integrator.clone(),
             dt: c.dt,
             predicted_error: pred,
@@ -229,7 +239,7 @@ impl Choice {
             cost_per_second: cost,
             cost_per_second_reason: why,
             timing,
-        }
+        })
     }
 }
 
@@ -310,21 +320,29 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             format!("need 0 < dt-min ≤ dt-max, got {dt_min} and {dt_max}"),
         ));
     }
-    let (mut names, mut unable) = applicable(&sys, &cfg.integrators, &cfg.options)?;
+    let (mut names, mut unable) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
-        if let Some(p) = names.iter().position(|n| n == "analytic") {
-            names.remove(p);
-            unable.push(("analytic".into(), "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
+        // Exact methods are closed forms for special scenes, not general integrators.
+        let exact: Vec<String> = names
+            .iter()
+            .filter(|n| cfg.methods.info(n).is_ok_and(|m| m.order == Order::Exact))
+            .cloned()
+            .collect();
+        for n in exact {
+            names.retain(|m| *m != n);
+            unable.push((n, "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
         }
     }
     let grid = step_grid(dt_min, dt_max, cfg.points.max(2), horizon);
     let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
     let set = CaseSettings {
+        methods: cfg.methods.clone(),
         options: cfg.options,
         blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
         series_points: 0,
         // Advice times its candidates' runs itself, after the accuracy runs.
         repeat_short: false,
+        trace: None,
     };
     let jobs: Vec<(String, TimeGrid)> = names
         .iter()
@@ -402,7 +420,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             },
         )
         .collect();
-    let mut view = plan.entries(&names, &vres[np..], cfg.metric, cfg.tolerance);
+    let mut view = plan.entries(&cfg.methods, &names, &vres[np..], cfg.metric, cfg.tolerance)?;
     // Timing: every chosen run and every frame entry that meets the tolerance, once each,
     // interleaved on this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
@@ -430,8 +448,8 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     };
     let choices: Vec<Choice> = chosen
         .iter()
-        .map(|&(c, pred)| Choice::new(c, pred, cfg.metric, timing_of(&run_of(c))))
-        .collect();
+        .map(|&(c, pred)| Choice::new(&cfg.methods, c, pred, cfg.metric, timing_of(&run_of(c))))
+        .collect::<Result<_>>()?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     plan.apply_timings(&mut view, &timing_of, &scene.name)?;
     let pick = alternatives.first().cloned();

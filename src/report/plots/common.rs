@@ -76,7 +76,8 @@ pub fn color_for(label: &str) -> RGBColor {
         RGBColor(128, 0, 0),     // maroon
     ];
     let key = label.split_whitespace().next().unwrap_or(label);
-    let idx = crate::integrate::known_names()
+    let idx = crate::method::Registry::builtin()
+        .names()
         .iter()
         .position(|n| *n == key)
         .unwrap_or_else(|| {

@@ -14,9 +14,8 @@
 //! relation u² = u₀² − 2 a_n z₀ (a_n = g·n): exact in free flight, so a step of dt does not bias
 //! the in/out speeds by g·dt. Apexes use the same relation from the last rising sample.
 
-use super::def::{damping_ratio_for_restitution, restitution_for_damping_ratio};
-use super::def::{PenaltyDamping, Response};
-use super::obstacles::{Contact, ObstacleSet};
+use crate::collide::{damping_ratio_for_restitution, restitution_for_damping_ratio};
+use crate::collide::{Contact, ObstacleSet, PenaltyDamping, Response};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 use crate::run::{EnergyRecord, Observer};
@@ -276,7 +275,7 @@ impl ContactMetrics {
             pen_min: f64::INFINITY,
             tunnels: Vec::new(),
             tunnel_count: 0,
-            q0: super::counter::query_count(),
+            q0: crate::collide::query_count(),
             q1: 0,
         })
     }
@@ -587,11 +586,11 @@ impl Observer for ContactMetrics {
                 self.sample(p, s);
             }
         }
-        self.q1 = super::counter::query_count();
+        self.q1 = crate::collide::query_count();
         Ok(())
     }
     fn finish(&mut self, _step: u64, _s: &State, _e: &EnergyRecord) -> Result<()> {
-        self.q1 = super::counter::query_count();
+        self.q1 = crate::collide::query_count();
         Ok(())
     }
 }

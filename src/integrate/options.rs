@@ -1,0 +1,19 @@
+//! Options that some methods read when they are constructed.
+
+/// Options that some integrators read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IntegratorOptions {
+    /// Constraint projection sweeps per step (`verlet_constraints`).
+    pub constraint_iterations: usize,
+    /// Solver substeps per frame for physics-engine backends (Rapier's `num_solver_iterations`).
+    pub substeps: usize,
+}
+
+impl Default for IntegratorOptions {
+    fn default() -> Self {
+        IntegratorOptions {
+            constraint_iterations: 20,
+            substeps: 4,
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! springlab's built-in methods and their facts: the one file to touch (with its tests) when a
+//! method is added. Orders and limits are the textbook ones (Hairer, Nørsett & Wanner, *Solving
+//! ODEs I*; Hairer, Lubich & Wanner, *Geometric Numerical Integration*).
+
+use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
+use super::registry::Method;
+use crate::integrate::{
+    Analytic, ExplicitEuler, ImplicitEuler, PositionVerlet, RungeKutta, SymplecticEuler, Tableau,
+    VelocityVerlet, VerletConstraints,
+};
+use crate::rapier::{Mode, RapierBackend, IMPULSE, MULTIBODY};
+
+const fn native(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
+    MethodInfo {
+        name,
+        aliases: &[],
+        order: Order::Finite(order),
+        summary,
+        stability: StabilityTheory::SpectralRadius,
+        cost: CostUnit::ForceEvaluations,
+        engine: false,
+    }
+}
+
+const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
+    MethodInfo {
+        name,
+        aliases: &[],
+        // A frame of h is N substeps of symplectic Euler with backward-Euler joint springs
+        // (see `rapier::scheme`): first order.
+        order: Order::Finite(1),
+        summary,
+        stability: StabilityTheory::Empirical,
+        cost: CostUnit::WallTime,
+        engine: true,
+    }
+}
+
+/// The built-in methods, in the order reports list them.
+pub fn methods() -> Vec<Method> {
+    vec![
+        Method::new(
+            native(
+                "explicit_euler",
+                1,
+                "forward Euler; unstable on undamped oscillators at every step",
+            ),
+            |_| Box::new(ExplicitEuler::default()),
+        ),
+        Method::new(
+            MethodInfo {
+                aliases: &["semi_implicit_euler"],
+                ..native(
+                    "symplectic_euler",
+                    1,
+                    "semi-implicit Euler (kick then drift), symplectic; stable for hω < 2",
+                )
+            },
+            |_| Box::new(SymplecticEuler::default()),
+        ),
+        Method::new(
+            native(
+                "implicit_euler",
+                1,
+                "backward Euler, Newton + block-Jacobi CG; stable at any step, damps",
+            ),
+            |_| Box::new(ImplicitEuler::default()),
+        ),
+        Method::new(
+            native(
+                "rk2",
+                2,
+                "explicit midpoint Runge-Kutta; unstable on undamped oscillators",
+            ),
+            |_| Box::new(RungeKutta::new(Tableau::rk2())),
+        ),
+        Method::new(
+            native(
+                "rk4",
+                4,
+                "classic Runge-Kutta; stable for hω < 2√2 on oscillators",
+            ),
+            |_| Box::new(RungeKutta::new(Tableau::rk4())),
+        ),
+        Method::new(
+            native(
+                "velocity_verlet",
+                2,
+                "kick-drift-kick Störmer-Verlet, symplectic; stable for hω < 2",
+            ),
+            |_| Box::new(VelocityVerlet::default()),
+        ),
+        Method::new(
+            native(
+                "position_verlet",
+                2,
+                "two-step Störmer form, symplectic; stable for hω < 2",
+            ),
+            |_| Box::new(PositionVerlet::default()),
+        ),
+        Method::new(
+            native(
+                "verlet_constraints",
+                2,
+                "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
+            ),
+            |o| Box::new(VerletConstraints::new(o.constraint_iterations)),
+        ),
+        Method::new(
+            MethodInfo {
+                order: Order::Exact,
+                stability: StabilityTheory::Unconditional,
+                cost: CostUnit::WallTime,
+                ..native(
+                    "analytic",
+                    1,
+                    "exact closed form for independent damped springs on fixed anchors",
+                )
+            },
+            |_| Box::new(Analytic::default()),
+        ),
+        Method::new(
+            engine(
+                IMPULSE,
+                "Rapier 0.36 (f64): a body per particle, springs as force-based joint motors",
+            ),
+            |o| Box::new(RapierBackend::new(Mode::Impulse, o.substeps)),
+        ),
+        Method::new(
+            engine(
+                MULTIBODY,
+                "Rapier 0.36 (f64): multibody trees, loop-closing edges as impulse joints",
+            ),
+            |o| Box::new(RapierBackend::new(Mode::Multibody, o.substeps)),
+        ),
+    ]
+}

@@ -1,0 +1,97 @@
+//! The facts a method carries: its order, how its stability is judged and how its cost is
+//! counted. Commands, reports and the registry read these; nobody re-derives them by name.
+
+use serde::{Serialize, Serializer};
+
+/// Global order of accuracy in the step size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Order {
+    /// Error O(hᵖ) with p ≥ 1.
+    Finite(u32),
+    /// Exact at any step (a closed form): no convergence to fit.
+    Exact,
+}
+
+impl Order {
+    /// The finite order, `None` for exact methods.
+    pub fn finite(self) -> Option<u32> {
+        match self {
+            Order::Finite(p) => Some(p),
+            Order::Exact => None,
+        }
+    }
+}
+
+impl std::fmt::Display for Order {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Order::Finite(p) => write!(f, "{p}"),
+            Order::Exact => f.write_str("exact"),
+        }
+    }
+}
+
+/// In documents an order is a number, or the string `"exact"`.
+impl Serialize for Order {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Order::Finite(p) => s.serialize_u32(*p),
+            Order::Exact => s.serialize_str("exact"),
+        }
+    }
+}
+
+/// How a method's largest stable step is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StabilityTheory {
+    /// Linear one-step theory applies: the spectral radius of the method's one-step map on
+    /// each linearised mode decides, and the empirical search checks it on the real scene.
+    SpectralRadius,
+    /// Exact (a closed form): stable at every step by construction.
+    Unconditional,
+    /// No linear theory (a physics engine's solver): only the empirical search on the scene.
+    Empirical,
+}
+
+/// What a method's cost is counted in, besides wall time (which every method has).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CostUnit {
+    /// Evaluations of springlab's force model (`System::accelerations` calls), beside wall time.
+    ForceEvaluations,
+    /// Wall time only: the method never evaluates springlab's force model (an engine, a
+    /// closed form), so a force-evaluation count would read as free.
+    WallTime,
+}
+
+/// One method's facts, registered once and read everywhere.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MethodInfo {
+    /// Canonical CLI name (`rk4`): lower-case letters, digits and underscores.
+    pub name: &'static str,
+    /// Other accepted spellings.
+    pub aliases: &'static [&'static str],
+    /// Global order of accuracy.
+    pub order: Order,
+    /// One line: what the method is.
+    pub summary: &'static str,
+    /// How its stability limit is judged.
+    pub stability: StabilityTheory,
+    /// How its cost is counted.
+    pub cost: CostUnit,
+    /// True for a physics engine (Rapier): it resolves contacts itself and is left out of
+    /// nothing, but its internals (force evaluations, one-step maps) are not ours to inspect.
+    pub engine: bool,
+}
+
+impl MethodInfo {
+    /// True when the spectral-radius theory applies.
+    pub fn linear_theory(&self) -> bool {
+        self.stability == StabilityTheory::SpectralRadius
+    }
+    /// True when `name` is this method's name or one of its aliases.
+    pub fn answers_to(&self, name: &str) -> bool {
+        self.name == name || self.aliases.contains(&name)
+    }
+}

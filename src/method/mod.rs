@@ -1,0 +1,23 @@
+//! Methods as data: every integrator and engine springlab can run, registered once with its
+//! facts (name, aliases, order, summary, stability theory, cost unit) and its constructor.
+//!
+//! `list`, every command and the report read these facts from a [`Registry`]; a library user
+//! adds a method with [`Registry::with`] and passes the registry to the measuring commands.
+//! This module sits above `integrate` and `rapier` (it imports both; they import neither it
+//! nor each other).
+
+mod builtin;
+mod info;
+mod registry;
+
+pub use info::{CostUnit, MethodInfo, Order, StabilityTheory};
+pub use registry::{Constructor, Method, Registry};
+
+use crate::error::Result;
+use crate::integrate::{Integrator, IntegratorOptions};
+
+/// A fresh built-in method by name (aliases accepted): shorthand for
+/// `Registry::builtin().create(name, opts)`.
+pub fn create(name: &str, opts: &IntegratorOptions) -> Result<Box<dyn Integrator>> {
+    Registry::builtin().create(name, opts)
+}

@@ -1,0 +1,158 @@
+//! The method registry: facts registered once, refused when inconsistent, and a user's own
+//! method run by the measuring commands exactly like a built-in.
+
+use springlab::integrate::{Integrator, StepStats};
+use springlab::measure::compare::{compare, CompareConfig};
+use springlab::method::{CostUnit, Method, MethodInfo, Order, Registry, StabilityTheory};
+use springlab::model::{State, System};
+use springlab::scenario::Scenario;
+
+/// Symplectic Euler written by a user (the scheme most game loops ship).
+struct UserEuler {
+    a: Vec<springlab::model::Vec3>,
+}
+
+impl Integrator for UserEuler {
+    fn name(&self) -> &str {
+        "user_euler"
+    }
+    fn step(&mut self, sys: &System, s: &mut State, h: f64) -> springlab::Result<StepStats> {
+        self.a.resize(s.len(), Default::default());
+        sys.accelerations(&s.x, &s.v, &mut self.a);
+        for p in 0..s.len() {
+            if sys.free[p] {
+                s.v[p] += self.a[p] * h;
+                s.x[p] += s.v[p] * h;
+            }
+        }
+        s.t += h;
+        Ok(StepStats {
+            force_evals: 1,
+            dissipated: 0.0,
+        })
+    }
+}
+
+fn info(name: &'static str, order: Order) -> MethodInfo {
+    MethodInfo {
+        name,
+        aliases: &[],
+        order,
+        summary: "a user's symplectic Euler",
+        stability: StabilityTheory::SpectralRadius,
+        cost: CostUnit::ForceEvaluations,
+        engine: false,
+    }
+}
+
+fn user() -> Method {
+    Method::new(info("user_euler", Order::Finite(1)), |_| {
+        Box::new(UserEuler { a: Vec::new() })
+    })
+}
+
+#[test]
+fn builtin_facts_are_the_textbook_ones() {
+    // Orders: Hairer, Nørsett & Wanner, Solving ODEs I (Euler 1, midpoint 2, classic RK 4),
+    // Störmer–Verlet 2; the closed form is exact; Rapier's substepped symplectic Euler 1.
+    let r = Registry::builtin();
+    let order = |n: &str| r.info(n).unwrap().order;
+    for (n, p) in [
+        ("explicit_euler", 1),
+        ("symplectic_euler", 1),
+        ("implicit_euler", 1),
+        ("rk2", 2),
+        ("rk4", 4),
+        ("velocity_verlet", 2),
+        ("position_verlet", 2),
+    ] {
+        assert_eq!(order(n), Order::Finite(p), "{n}");
+    }
+    assert_eq!(order("analytic"), Order::Exact);
+    assert_eq!(serde_json::to_string(&Order::Exact).unwrap(), "\"exact\"");
+    assert_eq!(serde_json::to_string(&Order::Finite(4)).unwrap(), "4");
+    assert_eq!(r.canonical("semi_implicit_euler"), Some("symplectic_euler"));
+    for n in r.engine_names() {
+        let i = r.info(n).unwrap();
+        assert_eq!(i.cost, CostUnit::WallTime, "{n} never evaluates our forces");
+        assert_eq!(i.stability, StabilityTheory::Empirical);
+    }
+    // Every instance reports its registered name.
+    for m in r.iter() {
+        assert_eq!(m.create(&Default::default()).name(), m.info.name);
+    }
+}
+
+#[test]
+fn inconsistent_facts_are_refused_at_registration() {
+    let r = Registry::builtin();
+    let zero = Method::new(info("user_euler", Order::Finite(0)), |_| {
+        Box::new(UserEuler { a: Vec::new() })
+    });
+    let e = r.clone().with(zero).unwrap_err().to_string();
+    assert!(e.contains("user_euler") && e.contains("order 0"), "{e}");
+    let dup = Method::new(info("rk4", Order::Finite(4)), |_| {
+        Box::new(UserEuler { a: Vec::new() })
+    });
+    let e = r.clone().with(dup).unwrap_err().to_string();
+    assert!(e.contains("already taken"), "{e}");
+    let alias = Method::new(
+        MethodInfo {
+            aliases: &["semi_implicit_euler"],
+            ..info("user_euler", Order::Finite(1))
+        },
+        |_| Box::new(UserEuler { a: Vec::new() }),
+    );
+    let e = r.clone().with(alias).unwrap_err().to_string();
+    assert!(
+        e.contains("semi_implicit_euler") && e.contains("symplectic_euler"),
+        "{e}"
+    );
+    let liar = Method::new(info("other_name", Order::Finite(1)), |_| {
+        Box::new(UserEuler { a: Vec::new() })
+    });
+    let e = r.clone().with(liar).unwrap_err().to_string();
+    assert!(e.contains("user_euler"), "{e}");
+    let bad = Method::new(info("User Euler", Order::Finite(1)), |_| {
+        Box::new(UserEuler { a: Vec::new() })
+    });
+    assert!(r.clone().with(bad).is_err());
+    // Unknown names list every known one, the user's included.
+    let mine = r.with(user()).unwrap();
+    let e = mine
+        .create("nope", &Default::default())
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("rk4") && e.contains("user_euler"), "{e}");
+}
+
+#[test]
+fn a_registered_method_runs_through_compare_like_a_builtin() {
+    // Oracle: the user's scheme is symplectic Euler step for step, so compare must report
+    // bit-identical errors for both.
+    let scene = Scenario::from_toml_str(
+        "[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\nfixed = true\n\
+         [[particle]]\nposition = [1.5, 0.0, 0.0]\nmass = 1.0\n\
+         [[spring]]\nbetween = [0, 1]\nstiffness = 4.0\nrest_length = 1.0\n\
+         [run]\ndt = 0.05\nduration = 2.0\n",
+        "osc.toml",
+    )
+    .unwrap();
+    let cfg = CompareConfig {
+        methods: Registry::builtin().with(user()).unwrap(),
+        integrators: vec!["user_euler".into(), "symplectic_euler".into()],
+        series_points: 0,
+        ..Default::default()
+    };
+    let res = compare(&scene, &cfg).unwrap();
+    let err = |n: &str| {
+        let e = res.entries.iter().find(|e| e.integrator == n).unwrap();
+        e.result.as_ref().unwrap().metrics.error_max
+    };
+    assert!(err("user_euler") > 0.0);
+    assert_eq!(
+        err("user_euler").to_bits(),
+        err("symplectic_euler").to_bits()
+    );
+}
