@@ -56,29 +56,42 @@ pub fn run(a: Args) -> Result<()> {
     let dir = a.m.out_dir(&scene.name, "advise");
     let f = write_advice(&dir, &adv)?;
     match &adv.integrator {
-        Some(n) => println!(
-            "{}: use {n} at dt = {} s (predicted error {}, verified {}, {:.0} force evaluations per simulated second)",
-            scene.name,
-            fmt_opt(adv.dt),
-            fmt_opt(adv.predicted_error),
-            fmt_opt(adv.verified_error),
-            adv.cost_per_second.unwrap_or(0.0)
-        ),
+        Some(n) => {
+            let evals = match adv.cost_per_second {
+                Some(e) => format!("{e:.0} force evaluations per simulated second"),
+                None => "no force-evaluation count (Rapier backend)".into(),
+            };
+            println!(
+                "{}: use {n} at dt = {} s (predicted error {}, verified {})",
+                scene.name,
+                fmt_opt(adv.dt),
+                fmt_opt(adv.predicted_error),
+                fmt_opt(adv.verified_error),
+            );
+            println!(
+                "  picked by {}: {} wall s per simulated s (median of {} interleaved runs); {evals}",
+                adv.picked_by.map_or("-".into(), |p| p.describe()),
+                fmt_opt(adv.wall_per_second),
+                adv.alternatives
+                    .first()
+                    .map_or(0, |c| c.timing.repetitions),
+            );
+        }
         None => println!("{}: nothing meets the tolerance on the grid", scene.name),
     }
     println!(
-        "{:<20} {:>12} {:>12} {:>12} {:>14} {:>12}",
-        "alternative", "dt", "predicted", "verified", "evals/s", "wall s/s"
+        "{:<20} {:>12} {:>14} {:>12} {:>12} {:>12}",
+        "alternative", "wall s/s", "evals/s", "dt", "predicted", "verified"
     );
     for c in &adv.alternatives {
         println!(
-            "{:<20} {:>12} {:>12} {:>12} {:>14.0} {:>12.3e}",
+            "{:<20} {:>12} {:>14} {:>12} {:>12} {:>12}",
             c.integrator,
+            fmt_opt(Some(c.wall_per_second)),
+            c.cost_per_second.map_or("-".into(), |e| format!("{e:.0}")),
             fmt_opt(Some(c.dt)),
             fmt_opt(Some(c.predicted_error)),
             fmt_opt(Some(c.verified_error)),
-            c.cost_per_second,
-            c.wall_per_second
         );
     }
     for (n, why) in &adv.unable {
@@ -86,7 +99,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     for fr in &adv.frame_rates {
         println!(
-            "{:>5} Hz: best {}; {}",
+            "{:>5} Hz: best {} (by wall s per simulated s); {}",
             fr.fps,
             fr.best.as_deref().unwrap_or("none"),
             fr.entries

@@ -12,10 +12,140 @@ use crate::model::{State, System};
 use crate::run::{run, NoObserver, RunPlan, Status};
 use serde::Serialize;
 
-/// Runs shorter than this (integrator wall time, s) are repeated and the minimum kept.
+/// Runs shorter than this (integrator wall time, s) are repeated and the median kept.
 pub const SHORT_RUN_SECONDS: f64 = 0.05;
 /// Repetitions of a short run (including the measured one).
 pub const SHORT_RUN_REPEATS: usize = 5;
+
+/// When to stop repeating a timed run: once it has `min_repetitions` runs and
+/// `min_total_seconds` of elapsed time, or once its elapsed time reaches `cap_seconds` with
+/// at least `cap_repetitions` runs, or at `max_repetitions` runs, whichever comes first.
+/// Elapsed time counts each repetition whole (integrator set-up included), so the rule bounds
+/// what the timing costs; the sample kept is the integrator's own wall time.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TimingRule {
+    /// Repetitions wanted (≥ 1).
+    pub min_repetitions: usize,
+    /// Elapsed time wanted in total (s).
+    pub min_total_seconds: f64,
+    /// A run whose elapsed time reaches this total (s) stops early ...
+    pub cap_seconds: f64,
+    /// ... once it has at least this many repetitions.
+    pub cap_repetitions: usize,
+    /// Hard limit on repetitions.
+    pub max_repetitions: usize,
+}
+
+impl TimingRule {
+    /// True when `reps` runs that took `total` seconds in all are enough.
+    pub fn satisfied(&self, reps: usize, total: f64) -> bool {
+        (reps >= self.min_repetitions && total >= self.min_total_seconds)
+            || (reps >= self.cap_repetitions && total >= self.cap_seconds)
+            || reps >= self.max_repetitions
+    }
+}
+
+/// The rule of [`run_case`] for short runs: [`SHORT_RUN_REPEATS`] runs, no minimum time (a
+/// sweep times hundreds of cases; its wall times are a side note, advice times its own).
+pub const SHORT_RUN_RULE: TimingRule = TimingRule {
+    min_repetitions: SHORT_RUN_REPEATS,
+    min_total_seconds: 0.0,
+    cap_seconds: f64::INFINITY,
+    cap_repetitions: SHORT_RUN_REPEATS,
+    max_repetitions: SHORT_RUN_REPEATS,
+};
+
+/// Repeated wall-time measurements of one run, summarised.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Timing {
+    /// Runs timed.
+    pub repetitions: usize,
+    /// Median integrator wall time of one run (s): the kept statistic.
+    pub median_seconds: f64,
+    /// Fastest run (s).
+    pub min_seconds: f64,
+    /// Slowest run (s).
+    pub max_seconds: f64,
+    /// (max − min) / median: how much the runs disagreed.
+    pub spread: f64,
+}
+
+impl Timing {
+    /// Summarises `samples` (wall seconds of each run; not empty). The median of an even count
+    /// is the mean of the two middle values.
+    pub fn of(samples: &[f64]) -> Timing {
+        assert!(!samples.is_empty(), "Timing::of needs at least one sample");
+        let mut v = samples.to_vec();
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        let median = if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        };
+        let (lo, hi) = (v[0], v[n - 1]);
+        Timing {
+            repetitions: n,
+            median_seconds: median,
+            min_seconds: lo,
+            max_seconds: hi,
+            spread: if median > 0.0 {
+                (hi - lo) / median
+            } else {
+                f64::INFINITY
+            },
+        }
+    }
+}
+
+/// One run to time: an integrator or backend at a step for a number of steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimedRun {
+    /// Integrator or backend name.
+    pub integrator: String,
+    /// Step (s).
+    pub dt: f64,
+    /// Steps.
+    pub steps: u64,
+}
+
+/// Times every run in `runs` on this thread, interleaved round-robin (A, B, C, A, B, C, …)
+/// so that a drift of the machine's speed touches all of them alike; a run leaves the rotation
+/// once `rule` is satisfied. Each repetition uses a fresh integrator and no observer; the time
+/// is the runner's integrator wall time. Returns one [`Timing`] per run, in input order.
+pub fn time_interleaved(
+    sys: &System,
+    s0: &State,
+    runs: &[TimedRun],
+    set: &CaseSettings,
+    rule: &TimingRule,
+) -> Result<Vec<Timing>> {
+    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); runs.len()];
+    let mut totals = vec![0.0; runs.len()];
+    loop {
+        let mut any = false;
+        for (i, r) in runs.iter().enumerate() {
+            if !samples[i].is_empty() && rule.satisfied(samples[i].len(), totals[i]) {
+                continue;
+            }
+            any = true;
+            let started = std::time::Instant::now();
+            let mut integ = set.methods.create(&r.integrator, &set.options)?;
+            let plan = RunPlan {
+                dt: r.dt,
+                steps: r.steps,
+                blowup_factor: set.blowup_factor,
+            };
+            let o = run(sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
+            samples[i].push(o.wall_seconds);
+            totals[i] += started.elapsed().as_secs_f64();
+        }
+        if !any {
+            break;
+        }
+    }
+    Ok(samples.iter().map(|s| Timing::of(s)).collect())
+}
 
 /// The outcome of one case: cost, status and metrics.
 #[derive(Debug, Clone, Serialize)]
@@ -30,7 +160,7 @@ pub struct CaseResult {
     pub steps_done: u64,
     /// Force evaluations.
     pub force_evals: u64,
-    /// Integrator wall time (s), the minimum over repetitions for short runs.
+    /// Integrator wall time (s); for a short run the median of [`SHORT_RUN_RULE`]'s repetitions.
     pub wall_seconds: f64,
     /// `ok` or `unstable`.
     pub status: String,
@@ -69,7 +199,7 @@ pub struct CaseSettings {
     pub blowup_factor: f64,
     /// Series points (0: none).
     pub series_points: u64,
-    /// Repeat short runs to time them.
+    /// Repeat short runs to time them ([`SHORT_RUN_RULE`], median kept).
     pub repeat_short: bool,
     /// Record paths and snapshots.
     pub trace: Option<TraceSpec>,
@@ -116,11 +246,13 @@ pub fn run_case(
     )?;
     let mut wall = out.wall_seconds;
     if set.repeat_short && out.wall_seconds < SHORT_RUN_SECONDS {
-        for _ in 1..SHORT_RUN_REPEATS {
+        let mut samples = vec![out.wall_seconds];
+        while !SHORT_RUN_RULE.satisfied(samples.len(), samples.iter().sum()) {
             let mut again = set.methods.create(name, &set.options)?;
             let o = run(sys, again.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
-            wall = wall.min(o.wall_seconds);
+            samples.push(o.wall_seconds);
         }
+        wall = Timing::of(&samples).median_seconds;
     }
     let (unstable_time, unstable_reason) = match &out.status {
         Status::Ok => (None, None),
@@ -170,4 +302,35 @@ pub fn applicable(
         }
     }
     Ok((ok, skipped))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Oracle: the median's definition (middle value; mean of the two middle values for an
+    // even count), worked by hand.
+    #[test]
+    fn timing_keeps_the_median_not_the_minimum() {
+        let t = Timing::of(&[3.0, 1.0, 2.0, 10.0, 2.5]);
+        assert_eq!(t.median_seconds, 2.5);
+        assert_eq!(
+            (t.min_seconds, t.max_seconds, t.repetitions),
+            (1.0, 10.0, 5)
+        );
+        assert_eq!(t.spread, 9.0 / 2.5);
+        assert_eq!(Timing::of(&[4.0, 1.0, 2.0, 3.0]).median_seconds, 2.5);
+    }
+
+    #[test]
+    fn the_rule_wants_both_repetitions_and_time_unless_capped() {
+        let r = crate::measure::advise::ADVICE_TIMING;
+        assert!(!r.satisfied(4, 1e-3));
+        assert!(!r.satisfied(5, 0.049));
+        assert!(r.satisfied(5, 0.05));
+        assert!(!r.satisfied(2, 0.6));
+        assert!(r.satisfied(3, 0.6));
+        assert!(r.satisfied(10_000, 0.0));
+        assert!(SHORT_RUN_RULE.satisfied(5, 0.0) && !SHORT_RUN_RULE.satisfied(4, 0.0));
+    }
 }

@@ -6,9 +6,23 @@
 //! log-log interpolation towards the next (failing) step; that step is then run again
 //! (against a reference sampled on its own grid) and accepted only when the verified error is
 //! within the tolerance, else the last passing grid step is used. Candidates are ranked by
-//! force evaluations per simulated second (wall time per simulated second breaks ties).
+//! measured wall time per simulated second, the median of repeated interleaved runs, with
+//! force evaluations per simulated second beside it and breaking ties ([`cost`]): a Rapier
+//! backend has no force-evaluation count, and counting them would make it look free.
+//!
+//! Every number in [`Advice`] is reproducible bit for bit except the timings
+//! (`wall_per_second`, `timing`) and what the ranking derives from them (the order of
+//! `alternatives`, the pick, `best` and `picked_by`).
 
-use super::case::{applicable, run_case, CaseResult, CaseSettings};
+pub mod cost;
+pub mod frames;
+
+pub use cost::{CostMeasure, PickedBy, ADVICE_TIMING, TIE_BAND};
+pub use frames::{FrameEntry, FrameRate, FRAME_RATES};
+
+use super::case::{
+    applicable, run_case, time_interleaved, CaseResult, CaseSettings, TimedRun, Timing, TimingRule,
+};
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use super::sweep::step_grid;
@@ -16,6 +30,8 @@ use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
 use crate::method::{Order, Registry};
 use crate::scenario::Scenario;
+use cost::{force_evals_per_second, rank, CostKey};
+use frames::FramePlan;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -43,9 +59,6 @@ impl std::str::FromStr for AdviseMetric {
     }
 }
 
-/// Frame rates of the game view (Hz).
-pub const FRAME_RATES: [f64; 4] = [30.0, 60.0, 144.0, 240.0];
-
 /// Options of [`advise`].
 #[derive(Debug, Clone)]
 pub struct AdviseConfig {
@@ -71,6 +84,8 @@ pub struct AdviseConfig {
     pub dt_max: Option<f64>,
     /// Progress bar on a terminal.
     pub progress: bool,
+    /// How often each candidate's run is repeated to time it (default [`ADVICE_TIMING`]).
+    pub timing: TimingRule,
 }
 
 impl Default for AdviseConfig {
@@ -87,6 +102,7 @@ impl Default for AdviseConfig {
             dt_min: None,
             dt_max: None,
             progress: false,
+            timing: ADVICE_TIMING,
         }
     }
 }
@@ -102,42 +118,14 @@ pub struct Choice {
     pub predicted_error: f64,
     /// Error measured by running it.
     pub verified_error: f64,
-    /// Force evaluations per simulated second.
-    pub cost_per_second: f64,
-    /// Integrator wall time per simulated second (s/s).
+    /// Median integrator wall time per simulated second (s/s): what candidates are ranked by.
     pub wall_per_second: f64,
-}
-
-/// How one integrator fares at one frame rate.
-#[derive(Debug, Clone, Serialize)]
-pub struct FrameEntry {
-    /// Integrator name.
-    pub integrator: String,
-    /// Status with one step per frame.
-    pub one_step_status: String,
-    /// Error with one step per frame (None when unstable).
-    pub one_step_error: Option<f64>,
-    /// Substeps per frame needed to meet the tolerance (from its recommended step).
-    pub substeps: u64,
-    /// Error verified at that many substeps (None when unstable).
-    pub substep_error: Option<f64>,
-    /// Whether the substepped run meets the tolerance.
-    pub meets_tolerance: bool,
-    /// Force evaluations per simulated second at that many substeps.
-    pub cost_per_second: f64,
-}
-
-/// The game view at one frame rate.
-#[derive(Debug, Clone, Serialize)]
-pub struct FrameRate {
-    /// Frames per second.
-    pub fps: f64,
-    /// Frame time (s).
-    pub frame_dt: f64,
-    /// Cheapest integrator meeting the tolerance at this frame rate.
-    pub best: Option<String>,
-    /// Per integrator.
-    pub entries: Vec<FrameEntry>,
+    /// Force evaluations per simulated second; null for a backend without such a count.
+    pub cost_per_second: Option<f64>,
+    /// Why `cost_per_second` is null.
+    pub cost_per_second_reason: Option<String>,
+    /// The repeated timing behind `wall_per_second` (wall seconds of the whole run).
+    pub timing: Timing,
 }
 
 /// `advice.json`.
@@ -157,6 +145,10 @@ pub struct Advice {
     pub horizon: f64,
     /// Safety factor.
     pub safety: f64,
+    /// How candidates are costed and ranked.
+    pub cost: CostMeasure,
+    /// Which rule of the ranking made the pick (None when there is no pick).
+    pub picked_by: Option<PickedBy>,
     /// The pick (None when nothing meets the tolerance on the grid).
     pub integrator: Option<String>,
     /// Its step (s).
@@ -165,11 +157,14 @@ pub struct Advice {
     pub predicted_error: Option<f64>,
     /// Its verified error.
     pub verified_error: Option<f64>,
-    /// Its force evaluations per simulated second.
-    pub cost_per_second: Option<f64>,
-    /// Its wall time per simulated second.
+    /// Its median wall time per simulated second (s/s).
     pub wall_per_second: Option<f64>,
-    /// Every candidate meeting the tolerance, cheapest first (the pick included).
+    /// Its force evaluations per simulated second (null without a pick or without a count).
+    pub cost_per_second: Option<f64>,
+    /// Why `cost_per_second` is null for a pick.
+    pub cost_per_second_reason: Option<String>,
+    /// Every candidate meeting the tolerance, cheapest first by [`cost::rank`] (the pick
+    /// included).
     pub alternatives: Vec<Choice>,
     /// Candidates that cannot meet the tolerance on the grid, with the reason.
     pub unable: Vec<(String, String)>,
@@ -179,7 +174,7 @@ pub struct Advice {
     pub frame_rates: Vec<FrameRate>,
 }
 
-fn error_of(c: &CaseResult, m: AdviseMetric) -> Option<f64> {
+pub(super) fn error_of(c: &CaseResult, m: AdviseMetric) -> Option<f64> {
     let e = match m {
         AdviseMetric::Position => c.metrics.error_max,
         AdviseMetric::Energy => c.metrics.energy_error_max,
@@ -226,6 +221,66 @@ fn run_grids(
     Ok((reference.info, out.into_iter().collect::<Result<_>>()?))
 }
 
+impl Choice {
+    /// The choice of run `c` with its prediction `pred` and its repeated `timing`.
+    fn new(
+        methods: &Registry,
+        c: &CaseResult,
+        pred: f64,
+        metric: AdviseMetric,
+        timing: Timing,
+    ) -> Result<Self> {
+        let simulated = c.dt * c.steps as f64;
+        let (cost, why) = force_evals_per_second(methods, &c.integrator, c.force_evals, simulated)?;
+        Ok(Choice {
+            integrator: c.integrator.clone(),
+            dt: c.dt,
+            predicted_error: pred,
+            verified_error: error_of(c, metric).unwrap_or(f64::INFINITY),
+            wall_per_second: timing.median_seconds / simulated,
+            cost_per_second: cost,
+            cost_per_second_reason: why,
+            timing,
+        })
+    }
+}
+
+/// `choices` cheapest first by [`cost::rank`], with the rule that decided the first place.
+fn rank_choices(choices: Vec<Choice>, scenario: &str) -> Result<(Vec<Choice>, Option<PickedBy>)> {
+    let keys: Vec<CostKey> = choices
+        .iter()
+        .map(|c| CostKey {
+            integrator: c.integrator.clone(),
+            wall_per_second: c.wall_per_second,
+            force_evals_per_second: c.cost_per_second,
+        })
+        .collect();
+    let (order, picked_by) = rank(&keys, scenario)?;
+    let mut slots: Vec<Option<Choice>> = choices.into_iter().map(Some).collect();
+    let ranked = order
+        .iter()
+        .map(|&i| slots[i].take().expect("rank returns a permutation"))
+        .collect();
+    Ok((ranked, picked_by))
+}
+
+fn check_timing(r: &TimingRule) -> Result<()> {
+    let ok = r.min_repetitions >= 1
+        && r.max_repetitions >= r.min_repetitions
+        && r.cap_repetitions >= 1
+        && r.min_total_seconds.is_finite()
+        && r.min_total_seconds >= 0.0
+        && r.cap_seconds > 0.0;
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::option(
+            "timing",
+            format!("need 1 ≤ min_repetitions ≤ max_repetitions, cap_repetitions ≥ 1, a finite min_total_seconds ≥ 0 and cap_seconds > 0; got {r:?}"),
+        ))
+    }
+}
+
 /// Finds the cheapest verified integrator and step for the tolerance.
 pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
@@ -240,6 +295,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             format!("must be ≥ 1, got {}", cfg.safety),
         ));
     }
+    check_timing(&cfg.timing)?;
     let sys = scene.build();
     let horizon = cfg
         .horizon
@@ -286,7 +342,8 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         options: cfg.options,
         blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
         series_points: 0,
-        repeat_short: true,
+        // Advice times its candidates' runs itself, after the accuracy runs.
+        repeat_short: false,
         trace: None,
     };
     let jobs: Vec<(String, TimeGrid)> = names
@@ -338,97 +395,65 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         predictions.push((name.clone(), g, pred, row[j].clone()));
     }
     // Verification runs, and the frame-rate runs, against one more reference.
-    let mut vjobs: Vec<(String, TimeGrid)> =
-        predictions.iter().map(|p| (p.0.clone(), p.1)).collect();
-    let frames: Vec<u64> = FRAME_RATES
+    let names: Vec<String> = predictions.iter().map(|p| p.0.clone()).collect();
+    let plan = FramePlan::new(
+        horizon,
+        &predictions.iter().map(|p| p.1.dt).collect::<Vec<_>>(),
+    );
+    let vjobs: Vec<(String, TimeGrid)> = predictions
         .iter()
-        .map(|f| ((horizon * f).round() as u64).max(1))
+        .map(|p| (p.0.clone(), p.1))
+        .chain(
+            plan.grids(max_samples)
+                .into_iter()
+                .map(|(pi, g)| (names[pi].clone(), g)),
+        )
         .collect();
-    let substeps: Vec<Vec<u64>> = FRAME_RATES
-        .iter()
-        .map(|&fps| {
-            predictions
-                .iter()
-                .map(|p| ((1.0 / fps) / p.1.dt).ceil().max(1.0) as u64)
-                .collect()
-        })
-        .collect();
-    for (fi, &fps) in FRAME_RATES.iter().enumerate() {
-        for (pi, p) in predictions.iter().enumerate() {
-            let frame = 1.0 / fps;
-            vjobs.push((p.0.clone(), TimeGrid::new(frame, frames[fi], max_samples)));
-            let n = substeps[fi][pi];
-            vjobs.push((
-                p.0.clone(),
-                TimeGrid::new(frame / n as f64, frames[fi] * n, max_samples),
-            ));
-        }
-    }
     let (_, vres) = run_grids(scene, &vjobs, horizon, &set, cfg.progress)?;
-    let mut alternatives: Vec<Choice> = Vec::new();
-    for (pi, (name, g, pred, fallback)) in predictions.iter().enumerate() {
-        let v = &vres[pi];
-        let choice = |c: &CaseResult, pred: f64| Choice {
-            integrator: name.clone(),
-            dt: c.dt,
-            predicted_error: pred,
-            verified_error: error_of(c, cfg.metric).unwrap_or(f64::INFINITY),
-            cost_per_second: c.force_evals as f64 / (c.dt * c.steps as f64),
-            wall_per_second: c.wall_seconds / (c.dt * c.steps as f64),
-        };
-        match error_of(v, cfg.metric) {
-            Some(e) if e <= cfg.tolerance => alternatives.push(choice(v, *pred)),
-            _ => {
-                let _ = g;
-                alternatives.push(choice(
-                    fallback,
-                    error_of(fallback, cfg.metric).unwrap_or(0.0),
-                ))
-            }
-        }
-    }
-    alternatives.sort_by(|a, b| {
-        a.cost_per_second
-            .total_cmp(&b.cost_per_second)
-            .then(a.wall_per_second.total_cmp(&b.wall_per_second))
-            .then(a.integrator.cmp(&b.integrator))
-    });
     let np = predictions.len();
-    let frame_rates = FRAME_RATES
+    // The chosen run of each candidate: the verified one, else the last passing grid step.
+    let chosen: Vec<(&CaseResult, f64)> = predictions
         .iter()
         .enumerate()
-        .map(|(fi, &fps)| {
-            let entries: Vec<FrameEntry> = predictions
-                .iter()
-                .enumerate()
-                .map(|(pi, p)| {
-                    let one = &vres[np + 2 * (fi * np + pi)];
-                    let sub = &vres[np + 2 * (fi * np + pi) + 1];
-                    let se = error_of(sub, cfg.metric);
-                    FrameEntry {
-                        integrator: p.0.clone(),
-                        one_step_status: one.status.clone(),
-                        one_step_error: error_of(one, cfg.metric),
-                        substeps: substeps[fi][pi],
-                        substep_error: se,
-                        meets_tolerance: se.is_some_and(|e| e <= cfg.tolerance),
-                        cost_per_second: sub.force_evals as f64 / (sub.dt * sub.steps as f64),
-                    }
-                })
-                .collect();
-            let best = entries
-                .iter()
-                .filter(|e| e.meets_tolerance)
-                .min_by(|a, b| a.cost_per_second.total_cmp(&b.cost_per_second))
-                .map(|e| e.integrator.clone());
-            FrameRate {
-                fps,
-                frame_dt: 1.0 / fps,
-                best,
-                entries,
-            }
-        })
+        .map(
+            |(pi, (_, _, pred, fallback))| match error_of(&vres[pi], cfg.metric) {
+                Some(e) if e <= cfg.tolerance => (&vres[pi], *pred),
+                _ => (fallback, error_of(fallback, cfg.metric).unwrap_or(0.0)),
+            },
+        )
         .collect();
+    let mut view = plan.entries(&cfg.methods, &names, &vres[np..], cfg.metric, cfg.tolerance)?;
+    // Timing: every chosen run and every frame entry that meets the tolerance, once each,
+    // interleaved on this thread after all accuracy runs.
+    let run_of = |c: &CaseResult| TimedRun {
+        integrator: c.integrator.clone(),
+        dt: c.dt,
+        steps: c.steps,
+    };
+    let mut runs: Vec<TimedRun> = Vec::new();
+    for r in chosen
+        .iter()
+        .map(|(c, _)| run_of(c))
+        .chain(plan.timed_runs(&view))
+    {
+        if !runs.contains(&r) {
+            runs.push(r);
+        }
+    }
+    let timings = time_interleaved(&sys, &scene.initial_state(), &runs, &set, &cfg.timing)?;
+    let timing_of = |r: &TimedRun| -> Timing {
+        let k = runs
+            .iter()
+            .position(|x| x == r)
+            .expect("every run was timed");
+        timings[k].clone()
+    };
+    let choices: Vec<Choice> = chosen
+        .iter()
+        .map(|&(c, pred)| Choice::new(&cfg.methods, c, pred, cfg.metric, timing_of(&run_of(c))))
+        .collect::<Result<_>>()?;
+    let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
+    plan.apply_timings(&mut view, &timing_of, &scene.name)?;
     let pick = alternatives.first().cloned();
     let metric = match cfg.metric {
         AdviseMetric::Position => "position",
@@ -458,16 +483,19 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         metric: cfg.metric,
         horizon,
         safety: cfg.safety,
+        cost: CostMeasure::new(&cfg.timing),
+        picked_by,
         integrator: pick.as_ref().map(|p| p.integrator.clone()),
         dt: pick.as_ref().map(|p| p.dt),
         predicted_error: pick.as_ref().map(|p| p.predicted_error),
         verified_error: pick.as_ref().map(|p| p.verified_error),
-        cost_per_second: pick.as_ref().map(|p| p.cost_per_second),
         wall_per_second: pick.as_ref().map(|p| p.wall_per_second),
+        cost_per_second: pick.as_ref().and_then(|p| p.cost_per_second),
+        cost_per_second_reason: pick.as_ref().and_then(|p| p.cost_per_second_reason.clone()),
         alternatives,
         unable,
         grid: grid.iter().map(|g| g.0).collect(),
-        frame_rates,
+        frame_rates: view,
     })
 }
 

@@ -1,0 +1,221 @@
+//! The game view of advice: at each common frame rate, how each candidate fares with one step
+//! per frame and with enough substeps to meet the tolerance, and which is cheapest there by
+//! the same cost as the pick ([`super::cost`]).
+
+use super::cost::{force_evals_per_second, rank, CostKey, PickedBy};
+use super::{error_of, AdviseMetric};
+use crate::error::Result;
+use crate::measure::case::{CaseResult, TimedRun, Timing};
+use crate::measure::grid::TimeGrid;
+use crate::method::Registry;
+use serde::Serialize;
+
+/// Frame rates of the game view (Hz).
+pub const FRAME_RATES: [f64; 4] = [30.0, 60.0, 144.0, 240.0];
+
+/// Why an entry that fails the tolerance has no wall time.
+const NOT_TIMED: &str = "not timed: the substepped run does not meet the tolerance";
+
+/// How one integrator fares at one frame rate.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameEntry {
+    /// Integrator name.
+    pub integrator: String,
+    /// Status with one step per frame.
+    pub one_step_status: String,
+    /// Error with one step per frame (None when unstable).
+    pub one_step_error: Option<f64>,
+    /// Substeps per frame needed to meet the tolerance (from its recommended step).
+    pub substeps: u64,
+    /// Error verified at that many substeps (None when unstable).
+    pub substep_error: Option<f64>,
+    /// Whether the substepped run meets the tolerance.
+    pub meets_tolerance: bool,
+    /// Median wall time per simulated second at that many substeps (s/s); null when the
+    /// entry fails the tolerance (only entries that can be `best` are timed).
+    pub wall_per_second: Option<f64>,
+    /// Why `wall_per_second` is null.
+    pub wall_per_second_reason: Option<String>,
+    /// The repeated timing behind `wall_per_second`.
+    pub timing: Option<Timing>,
+    /// Force evaluations per simulated second at that many substeps; null for a backend that
+    /// has no such count.
+    pub cost_per_second: Option<f64>,
+    /// Why `cost_per_second` is null.
+    pub cost_per_second_reason: Option<String>,
+}
+
+/// The game view at one frame rate.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameRate {
+    /// Frames per second.
+    pub fps: f64,
+    /// Frame time (s).
+    pub frame_dt: f64,
+    /// Cheapest integrator meeting the tolerance at this frame rate, by the advice's cost.
+    pub best: Option<String>,
+    /// Which rule made `best` the cheapest.
+    pub picked_by: Option<PickedBy>,
+    /// Per integrator.
+    pub entries: Vec<FrameEntry>,
+}
+
+/// The runs of the frame view: per frame rate, per candidate, the one-step run then the
+/// substepped run.
+pub(super) struct FramePlan {
+    /// Frames over the horizon, per frame rate.
+    frames: Vec<u64>,
+    /// Substeps per frame, per frame rate, per candidate.
+    substeps: Vec<Vec<u64>>,
+}
+
+impl FramePlan {
+    /// The plan for candidates whose recommended steps are `steps` (s).
+    pub(super) fn new(horizon: f64, steps: &[f64]) -> Self {
+        FramePlan {
+            frames: FRAME_RATES
+                .iter()
+                .map(|f| ((horizon * f).round() as u64).max(1))
+                .collect(),
+            substeps: FRAME_RATES
+                .iter()
+                .map(|&fps| {
+                    steps
+                        .iter()
+                        .map(|&dt| ((1.0 / fps) / dt).ceil().max(1.0) as u64)
+                        .collect()
+                })
+                .collect(),
+        }
+    }
+
+    /// The grids to run with the index of their candidate, in the order
+    /// [`FramePlan::entries`] reads them.
+    pub(super) fn grids(&self, max_samples: u64) -> Vec<(usize, TimeGrid)> {
+        let mut out = Vec::new();
+        for (fi, &fps) in FRAME_RATES.iter().enumerate() {
+            let frame = 1.0 / fps;
+            for (pi, &n) in self.substeps[fi].iter().enumerate() {
+                out.push((pi, TimeGrid::new(frame, self.frames[fi], max_samples)));
+                out.push((
+                    pi,
+                    TimeGrid::new(frame / n as f64, self.frames[fi] * n, max_samples),
+                ));
+            }
+        }
+        out
+    }
+
+    /// The frame view from the results of [`FramePlan::grids`], before timing.
+    pub(super) fn entries(
+        &self,
+        methods: &Registry,
+        names: &[String],
+        res: &[CaseResult],
+        metric: AdviseMetric,
+        tolerance: f64,
+    ) -> Result<Vec<FrameRate>> {
+        let np = names.len();
+        FRAME_RATES
+            .iter()
+            .enumerate()
+            .map(|(fi, &fps)| {
+                let entries = names
+                    .iter()
+                    .enumerate()
+                    .map(|(pi, name)| {
+                        let one = &res[2 * (fi * np + pi)];
+                        let sub = &res[2 * (fi * np + pi) + 1];
+                        let se = error_of(sub, metric);
+                        let (cost, why) = force_evals_per_second(
+                            methods,
+                            name,
+                            sub.force_evals,
+                            sub.dt * sub.steps as f64,
+                        )?;
+                        let meets = se.is_some_and(|e| e <= tolerance);
+                        Ok(FrameEntry {
+                            integrator: name.clone(),
+                            one_step_status: one.status.clone(),
+                            one_step_error: error_of(one, metric),
+                            substeps: self.substeps[fi][pi],
+                            substep_error: se,
+                            meets_tolerance: meets,
+                            wall_per_second: None,
+                            wall_per_second_reason: (!meets).then(|| NOT_TIMED.to_string()),
+                            timing: None,
+                            cost_per_second: cost,
+                            cost_per_second_reason: why,
+                        })
+                    })
+                    .collect::<Result<_>>()?;
+                Ok(FrameRate {
+                    fps,
+                    frame_dt: 1.0 / fps,
+                    best: None,
+                    picked_by: None,
+                    entries,
+                })
+            })
+            .collect()
+    }
+
+    /// The substepped run of entry `pi` at frame rate `fi`.
+    fn run_of(&self, fi: usize, pi: usize, integrator: &str) -> TimedRun {
+        let n = self.substeps[fi][pi];
+        TimedRun {
+            integrator: integrator.to_string(),
+            dt: (1.0 / FRAME_RATES[fi]) / n as f64,
+            steps: self.frames[fi] * n,
+        }
+    }
+
+    /// The substepped runs to time: every entry that meets the tolerance, in view order.
+    pub(super) fn timed_runs(&self, view: &[FrameRate]) -> Vec<TimedRun> {
+        let mut out = Vec::new();
+        for (fi, fr) in view.iter().enumerate() {
+            for (pi, e) in fr.entries.iter().enumerate() {
+                if e.meets_tolerance {
+                    out.push(self.run_of(fi, pi, &e.integrator));
+                }
+            }
+        }
+        out
+    }
+
+    /// Fills in each timed entry's wall time from `timing_of` and ranks each frame rate's
+    /// entries that meet the tolerance by the advice's cost to choose `best`.
+    pub(super) fn apply_timings(
+        &self,
+        view: &mut [FrameRate],
+        timing_of: &dyn Fn(&TimedRun) -> Timing,
+        scenario: &str,
+    ) -> Result<()> {
+        for (fi, fr) in view.iter_mut().enumerate() {
+            let mut keys = Vec::new();
+            let mut which = Vec::new();
+            for (pi, e) in fr.entries.iter_mut().enumerate() {
+                if !e.meets_tolerance {
+                    continue;
+                }
+                let r = self.run_of(fi, pi, &e.integrator);
+                let t = timing_of(&r);
+                let w = t.median_seconds / (r.dt * r.steps as f64);
+                e.wall_per_second = Some(w);
+                e.timing = Some(t);
+                keys.push(CostKey {
+                    integrator: e.integrator.clone(),
+                    wall_per_second: w,
+                    force_evals_per_second: e.cost_per_second,
+                });
+                which.push(pi);
+            }
+            let (order, picked_by) = rank(&keys, scenario)?;
+            fr.best = order
+                .first()
+                .map(|&k| fr.entries[which[k]].integrator.clone());
+            fr.picked_by = picked_by;
+        }
+        Ok(())
+    }
+}
