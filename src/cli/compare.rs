@@ -22,6 +22,13 @@ pub struct Args {
     /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
     #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
     pub blowup_factor: f64,
+    /// Points per time series in summary.json (0: none).
+    #[arg(long, default_value_t = 2000)]
+    pub series_points: u64,
+    /// Also record the paths of the most-travelled particles and snapshots of chains and
+    /// cloths (what the report draws).
+    #[arg(long)]
+    pub trace: bool,
 }
 
 /// Runs the command.
@@ -34,6 +41,8 @@ pub fn run(a: Args) -> Result<()> {
         options: a.m.options()?,
         blowup_factor: super::measure_common::blowup_factor(a.blowup_factor)?,
         progress: true,
+        series_points: a.series_points,
+        trace: a.trace,
         ..Default::default()
     };
     let res = compare(&scene, &cfg)?;

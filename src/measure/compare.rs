@@ -168,6 +168,8 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         .flag("substeps", cfg.options.substeps)
         .flag("iterations", cfg.options.constraint_iterations)
         .flag("blowup-factor", cfg.blowup_factor)
+        .flag("series-points", cfg.series_points)
+        .switch("trace", cfg.trace)
         .render();
     Ok(CompareResult {
         command,
