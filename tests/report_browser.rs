@@ -61,9 +61,19 @@ fn report_opens_in_headless_chromium() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("reports");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // Two shipped scenes: a page with every kind of table and the overview linking them.
+    let scenes = tmp.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    for s in ["anchored_spring", "hanging_chain"] {
+        std::fs::copy(
+            root.join(format!("scenarios/{s}.toml")),
+            scenes.join(format!("{s}.toml")),
+        )
+        .unwrap();
+    }
     let st = Command::new(env!("CARGO_BIN_EXE_springlab"))
         .args(["report", "--quick", "--scenarios"])
-        .arg(root.join("scenarios"))
+        .arg(&scenes)
         .arg("--out")
         .arg(&out)
         .status()

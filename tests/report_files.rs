@@ -10,15 +10,34 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
+/// The shipped scenes this test reports: an exact oscillator, a blow-up, a bounce, a chain
+/// (snapshots) and two free bodies (every chart kind; the full set is the CI report's job).
+const SCENES: [&str; 5] = [
+    "anchored_spring",
+    "stiff_spring",
+    "bounce",
+    "hanging_chain",
+    "two_body",
+];
+
 fn report_dir() -> &'static Path {
     static DIR: OnceLock<(tempfile::TempDir, PathBuf)> = OnceLock::new();
     &DIR.get_or_init(|| {
         let tmp = tempfile::tempdir().unwrap();
         let out = tmp.path().join("reports");
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let scenes = tmp.path().join("scenes");
+        std::fs::create_dir(&scenes).unwrap();
+        for s in SCENES {
+            std::fs::copy(
+                root.join(format!("scenarios/{s}.toml")),
+                scenes.join(format!("{s}.toml")),
+            )
+            .unwrap();
+        }
         let st = Command::new(env!("CARGO_BIN_EXE_springlab"))
             .args(["report", "--quick", "--energy-terms", "--scenarios"])
-            .arg(root.join("scenarios"))
+            .arg(&scenes)
             .arg("--out")
             .arg(&out)
             .status()
@@ -80,16 +99,7 @@ fn every_referenced_file_exists_and_pages_are_offline() {
     for f in ["index.html", "README.md", "summary.json"] {
         assert!(dir.join(f).is_file(), "missing {f}");
     }
-    let scenes = std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios"))
-        .unwrap()
-        .filter(|e| {
-            e.as_ref()
-                .unwrap()
-                .path()
-                .extension()
-                .is_some_and(|x| x == "toml")
-        })
-        .count();
+    let scenes = SCENES.len();
     assert_eq!(
         pages().len(),
         scenes + 1,
@@ -152,7 +162,7 @@ fn axis_labels(stem: &str) -> &'static [&'static str] {
 #[test]
 fn every_svg_is_well_formed_with_axes_and_legend() {
     let svgs = files_with_ext("svg");
-    assert!(svgs.len() >= 8 * 6, "too few charts: {}", svgs.len());
+    assert!(svgs.len() >= 5 * 5, "too few charts: {}", svgs.len());
     for f in svgs {
         let text = read(&f);
         let doc = roxmltree::Document::parse(&text)

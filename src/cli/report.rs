@@ -22,11 +22,35 @@ pub struct Args {
     /// Also plot the individual energy terms (kinetic, gravity, elastic, …).
     #[arg(long)]
     pub energy_terms: bool,
+    /// Study only the scenes with index k ≡ I (mod N) (scene files in name order) and record
+    /// them in OUT/shards/; build the overview afterwards with --merge (a Slurm array's tasks).
+    #[arg(long, conflicts_with = "merge")]
+    pub shard: Option<springlab::measure::sweep::Shard>,
+    /// Build the overview (index.html, README.md, summary.json) from the shards in OUT/shards/.
+    #[arg(long)]
+    pub merge: bool,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
-    let files = scenario_files(&a.scenarios)?;
+    let generator = format!("springlab {} report", env!("CARGO_PKG_VERSION"));
+    if a.merge {
+        let sum = springlab::report::shard::merge_shards(&a.out, &generator, a.quick)?;
+        write_overview(&sum, &a.out)?;
+        println!(
+            "wrote {} ({} scenes, {} failed) from shards",
+            a.out.join("index.html").display(),
+            sum.scenes.len(),
+            sum.failed.len()
+        );
+        return Ok(());
+    }
+    let all = scenario_files(&a.scenarios)?;
+    let files: Vec<(usize, PathBuf)> = all
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| a.shard.is_none_or(|s| k % s.count == s.index))
+        .collect();
     if files.is_empty() {
         anyhow::bail!("{}: no scenario files (*.toml)", a.scenarios.display());
     }
@@ -45,13 +69,20 @@ pub fn run(a: Args) -> Result<()> {
         b
     });
     let start = Instant::now();
+    let mut rec = springlab::report::shard::ReportShard {
+        shard: a
+            .shard
+            .unwrap_or(springlab::measure::sweep::Shard { index: 0, count: 1 }),
+        scenes: Vec::new(),
+        failed: Vec::new(),
+    };
     let mut sum = Summary {
-        generator: format!("springlab {} report", env!("CARGO_PKG_VERSION")),
+        generator,
         quick: a.quick,
         scenes: Vec::new(),
         failed: Vec::new(),
     };
-    for f in &files {
+    for (k, f) in &files {
         let name = f
             .file_stem()
             .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
@@ -72,6 +103,7 @@ pub fn run(a: Args) -> Result<()> {
                     Some(b) => b.println(line),
                     None => eprintln!("{line}"),
                 }
+                rec.scenes.push((*k, s.scene.clone()));
                 sum.scenes.push(s);
             }
             Err(e) => {
@@ -80,6 +112,8 @@ pub fn run(a: Args) -> Result<()> {
                     Some(b) => b.println(&line),
                     None => eprintln!("{line}"),
                 }
+                rec.failed
+                    .push((*k, f.display().to_string(), e.to_string()));
                 sum.failed.push((f.display().to_string(), e.to_string()));
             }
         }
@@ -89,6 +123,16 @@ pub fn run(a: Args) -> Result<()> {
     }
     if let Some(b) = bar {
         b.finish_and_clear();
+    }
+    if a.shard.is_some() {
+        let p = springlab::report::shard::write_shard(&a.out, &rec)?;
+        println!(
+            "wrote {} scenes and {} in {:.1} s; build the overview with --merge",
+            rec.scenes.len(),
+            p.display(),
+            start.elapsed().as_secs_f64()
+        );
+        return Ok(());
     }
     write_overview(&sum, &a.out)?;
     println!(

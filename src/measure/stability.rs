@@ -146,7 +146,7 @@ fn rho(method: &Method, opts: &IntegratorOptions, m: Mode, h: f64) -> f64 {
 }
 
 /// A stability verdict.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
     /// Stable for every dt below `max_stable_dt`.

@@ -1,7 +1,7 @@
 //! The facts a method carries: its order, how its stability is judged and how its cost is
 //! counted. Commands, reports and the registry read these; nobody re-derives them by name.
 
-use serde::{Serialize, Serializer};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// Global order of accuracy in the step size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,6 +37,25 @@ impl Serialize for Order {
         match self {
             Order::Finite(p) => s.serialize_u32(*p),
             Order::Exact => s.serialize_str("exact"),
+        }
+    }
+}
+
+/// Reads what [`Order`]'s `Serialize` writes: a whole number ≥ 1 or `"exact"`.
+impl<'de> Deserialize<'de> for Order {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Number(u32),
+            Word(String),
+        }
+        match Raw::deserialize(d)? {
+            Raw::Number(p) if p >= 1 => Ok(Order::Finite(p)),
+            Raw::Word(w) if w == "exact" => Ok(Order::Exact),
+            _ => Err(serde::de::Error::custom(
+                "an order is a whole number ≥ 1 or \"exact\"",
+            )),
         }
     }
 }

@@ -13,6 +13,7 @@ pub mod generate;
 pub mod html;
 pub mod markdown;
 pub mod plots;
+pub mod shard;
 pub mod summary;
 pub mod verdict;
 

@@ -6,10 +6,10 @@ use super::finite::finite;
 use crate::measure::stability::Verdict;
 use crate::measure::study::SceneStudy;
 use crate::method::{Order, Registry};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One backend's row in a scene's table and in the overview.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BackendSummary {
     /// Integrator or backend name.
     pub backend: String,
@@ -56,7 +56,7 @@ pub struct BackendSummary {
 }
 
 /// What to use on a scene: the advice's pick, at its stated tolerance.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Pick {
     /// Position tolerance (m).
     pub tolerance: f64,
@@ -73,7 +73,7 @@ pub struct Pick {
 }
 
 /// A document of the scene folder, the command that re-creates it, and what it holds.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Document {
     /// File name in the scene folder.
     pub file: String,
@@ -82,7 +82,7 @@ pub struct Document {
 }
 
 /// One scene's summary.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SceneSummary {
     /// Scene name.
     pub scene: String,
@@ -113,7 +113,7 @@ pub struct SceneSummary {
 }
 
 /// The whole report's summary (`summary.json`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Summary {
     /// Which program wrote it.
     pub generator: String,
