@@ -34,7 +34,8 @@ pub struct Args {
     /// Run the base grid only.
     #[arg(long)]
     pub no_extend: bool,
-    /// Cost cap per method: steps × particles summed over its runs (default 4e6).
+    /// Cost cap per method: steps × particles summed over its runs (default 4e6). It counts
+    /// steps, not time: a costly backend (rapier_multibody on a large cloth) can still be slow.
     #[arg(long)]
     pub cost_cap: Option<f64>,
     /// Simulated time (s; default the scene's duration).

@@ -11,7 +11,8 @@
 //! must (a) have errors that fall strictly as dt shrinks and (b) have local slopes
 //! d log e / d log dt that agree within [`SLOPE_TOL`] (steady). The window then grows toward
 //! larger steps while each added point keeps the errors monotone, its local slope within
-//! [`SLOPE_TOL`] of the finest one, and the fit's R² ≥ [`MIN_R2`]. The order is the
+//! [`SLOPE_TOL`] of the finest one, and the fit's R² ≥ [`MIN_R2`] (the finest three must also fit a power law with R² ≥ [`MIN_R2`]
+//! and slope ≥ [`MIN_ORDER`]). The order is the
 //! least-squares slope over that window. When the method's theoretical order p is known, a
 //! steady slope more than [`ORDER_TOL`] away from p is not printed either: a slope that is
 //! steady over a factor of 4 in dt can still be a pre-asymptotic plateau (or a defect), and
@@ -26,7 +27,9 @@ pub const MIN_R2: f64 = 0.99;
 pub const SLOPE_TOL: f64 = 0.1;
 /// Largest distance of a steady slope from the theoretical order that is printed as the
 /// observed order.
-pub const ORDER_TOL: f64 = 0.1;
+pub const ORDER_TOL: f64 = 0.15;
+/// Smallest slope accepted as an order: a convergent method's error falls at least like dt.
+pub const MIN_ORDER: f64 = 0.5;
 
 /// Why an order fit gave no order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -40,6 +43,9 @@ pub enum FitReason {
     SlopesNotSteady,
     /// The slopes are steady but more than [`ORDER_TOL`] from the theoretical order.
     OrderMismatch,
+    /// The finest three points are not a power law (R² < [`MIN_R2`]) or their slope is below
+    /// [`MIN_ORDER`]: the error barely falls with the step.
+    NoConvergence,
 }
 
 /// The result of an order fit.
@@ -175,6 +181,14 @@ pub fn fit_order(
         fail(&mut f, FitReason::SlopesNotSteady, note);
         return f;
     }
+    let (s3, _, r3, _) = lsq(&x[..3], &y[..3]);
+    if r3 < MIN_R2 || s3 < MIN_ORDER {
+        let note = format!(
+            "no convergence at the small-step end: the finest three steps fit slope {s3:.2} with R² {r3:.3} (need slope ≥ {MIN_ORDER} and R² ≥ {MIN_R2}); finest step {finest:.3e} s"
+        );
+        fail(&mut f, FitReason::NoConvergence, note);
+        return f;
+    }
     let mut len = 3;
     while len < pts.len()
         && y[len] > y[len - 1]
@@ -297,6 +311,16 @@ mod tests {
         assert_eq!(f.reason, Some(FitReason::OrderMismatch), "{f:?}");
         let g = fit_order(&pts, 1.0, None);
         assert!((g.observed_order.unwrap() - 1.4).abs() < 1e-9);
+    }
+
+    #[test]
+    fn an_error_that_barely_falls_is_no_order() {
+        // Errors creeping up by 0.1 % per doubling: monotone and steady, but slope ≈ 0.001.
+        let pts: Vec<(f64, f64, bool, f64)> = (0..5)
+            .map(|i| (1e-3 * 2f64.powi(i), 0.05 * 1.001f64.powi(i), true, 0.0))
+            .collect();
+        let f = fit_order(&pts, 1.0, None);
+        assert_eq!(f.reason, Some(FitReason::NoConvergence), "{f:?}");
     }
 
     #[test]

@@ -21,7 +21,7 @@ pub enum Stop {
     CostCap,
     /// The next halving would pass the step limit or the most extension points.
     StepLimit,
-    /// The error of the finest step is not below half the error at an 8× larger step (all
+    /// The error of the finest step is not below half the error three refinements coarser (all
     /// four stable and above the floor): refining does not converge at an affordable cost
     /// (e.g. saturated errors of a chaotic scene, or a reference that misses the physics).
     NotConverging,
@@ -43,7 +43,7 @@ impl Stop {
             ),
             Stop::StepLimit => "no smaller step allowed (step limit)".into(),
             Stop::NotConverging => format!(
-                "the error fell by less than {STALL_FACTOR}× over the last 8× refinement (not converging)"
+                "the error fell by less than {STALL_FACTOR}× over the last three refinements (not converging)"
             ),
             Stop::FixedGrid => "grid fixed by --dt-min (no extension)".into(),
             Stop::Incomplete => "the sweep's rows end before the extension rule".into(),
@@ -51,7 +51,7 @@ impl Stop {
     }
 }
 
-/// Refinement stops when the finest error is above 1/STALL_FACTOR of the error 8× coarser.
+/// Refinement stops when the finest error is above 1/STALL_FACTOR of the error three refinements coarser.
 pub const STALL_FACTOR: f64 = 2.0;
 
 /// One run of a method as the rule sees it: grid index, max error, stable.

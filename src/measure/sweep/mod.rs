@@ -16,7 +16,13 @@
 //!   method's particle-steps (steps × particles, summed over its runs) stay within the cost
 //!   cap ([`plan::DEFAULT_COST_CAP`], `--cost-cap`). After the base grid each method runs the
 //!   next halving until its order fit succeeds at the small-step end (asymptotic), its finest
-//!   error is at the reference floor, or the cap is reached ([`extend::next_step`]).
+//!   error is at the reference floor, the cap is reached, or the error stopped falling (less
+//!   than [`extend::STALL_FACTOR`]× over the last three refinements: saturated, chaotic, or a
+//!   reference that misses the physics) ([`extend::next_step`]). The cap counts
+//!   particle-steps, not wall time (which would make the grid irreproducible): a backend
+//!   whose step costs far more than a native method's (Rapier's multibody solver on a large
+//!   cloth) is bounded in steps only; exclude it with `--integrators` or shorten the horizon
+//!   with `--duration` when that matters.
 //! - Overrides: `--dt-max`, `--dt-min` and `--points` replace their part of the rule exactly.
 //!   Giving `--dt-min` fixes the small end, so no extension runs unless `--extend` asks.
 //!
