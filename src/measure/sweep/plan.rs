@@ -300,9 +300,13 @@ fn finish(
         .unwrap_or_else(|| (hi / lo).log2().round().max(0.0) as usize + 1);
     let particles = scene.particles.len().max(1);
     let mut base = step_grid(lo, hi, points, duration);
-    // The base grid obeys the cost cap too: drop its smallest steps while one method's runs
-    // over it would exceed the cap (keeping at least the largest step).
-    while base.len() > 1 && base.iter().map(|g| g.1 as f64).sum::<f64>() * particles as f64 > cap {
+    // The default base grid obeys the cost cap too: drop its smallest steps while one
+    // method's runs over it would exceed the cap (keeping at least the largest step). A
+    // user's --dt-min is honoured exactly.
+    while cfg.dt_min.is_none()
+        && base.len() > 1
+        && base.iter().map(|g| g.1 as f64).sum::<f64>() * particles as f64 > cap
+    {
         base.remove(0);
     }
     let mut ext: Vec<(f64, u64)> = Vec::new();
