@@ -15,7 +15,7 @@ fn config(integrators: &[&str]) -> SweepConfig {
         integrators: integrators.iter().map(|s| s.to_string()).collect(),
         dt_min: Some(2e-4),
         dt_max: Some(2e-2),
-        points: 9,
+        points: Some(9),
         duration: Some(2.0),
         repeat_short: false,
         ..Default::default()
@@ -81,7 +81,7 @@ fn sweep_files(cfg: &SweepConfig, threads: usize) -> (String, String) {
 #[test]
 fn sweep_is_identical_with_one_and_two_threads() {
     let cfg = SweepConfig {
-        points: 5,
+        points: Some(5),
         ..config(&[
             "symplectic_euler",
             "rk4",
@@ -99,7 +99,7 @@ fn sweep_is_identical_with_one_and_two_threads() {
 #[test]
 fn sharded_then_merged_equals_unsharded() {
     let cfg = SweepConfig {
-        points: 5,
+        points: Some(5),
         ..config(&["symplectic_euler", "rk4", "velocity_verlet"])
     };
     let (c, s) = sweep_files(&cfg, 2);

@@ -1,4 +1,5 @@
-//! `springlab sweep`: every integrator over a log grid of steps; orders; shards.
+//! `springlab sweep`: every integrator over a grid of steps from the scene's dynamics, refined
+//! until asymptotic; orders (or why none); shards.
 
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
@@ -13,15 +14,30 @@ pub struct Args {
     pub scenario: PathBuf,
     #[command(flatten)]
     pub m: MeasureArgs,
-    /// Smallest step (s; default the scene's dt / 30).
+    /// Smallest step of the base grid (s). Default: the step at which the fastest linearised
+    /// mode has hω_max = 0.05. Giving it fixes the small end: no refinement below it unless
+    /// --extend.
     #[arg(long)]
     pub dt_min: Option<f64>,
-    /// Largest step (s; default 10 × the scene's dt).
+    /// Largest step (s). Default: 1.25 × the widest theoretical stability limit of the swept
+    /// methods (hω_max = 3 when none has one), at most a quarter of the duration.
     #[arg(long)]
     pub dt_max: Option<f64>,
-    /// Number of log-spaced steps.
-    #[arg(long, default_value_t = 12)]
-    pub points: usize,
+    /// Number of log-spaced steps in [dt-min, dt-max]. Default: halving-spaced.
+    #[arg(long)]
+    pub points: Option<usize>,
+    /// Refine each method by halving below the base grid until its error is asymptotic (the
+    /// local slopes at the finest steps steady), at the reference floor or at the cost cap.
+    /// Default: on, unless --dt-min is given.
+    #[arg(long, conflicts_with = "no_extend")]
+    pub extend: bool,
+    /// Run the base grid only.
+    #[arg(long)]
+    pub no_extend: bool,
+    /// Cost cap per method: steps × particles summed over its runs (default 4e6). It counts
+    /// steps, not time: a costly backend (rapier_multibody on a large cloth) can still be slow.
+    #[arg(long)]
+    pub cost_cap: Option<f64>,
     /// Simulated time (s; default the scene's duration).
     #[arg(long)]
     pub duration: Option<f64>,
@@ -41,6 +57,12 @@ pub fn run(a: Args) -> Result<()> {
         dt_min: a.dt_min,
         dt_max: a.dt_max,
         points: a.points,
+        extend: match (a.extend, a.no_extend) {
+            (true, _) => Some(true),
+            (_, true) => Some(false),
+            _ => None,
+        },
+        cost_cap: a.cost_cap,
         duration: a.duration,
         options: a.m.options()?,
         blowup_factor: super::measure_common::blowup_factor(a.blowup_factor)?,
@@ -68,12 +90,12 @@ pub fn run(a: Args) -> Result<()> {
     );
     if let Some(s) = &res.summary {
         println!(
-            "{:<20} {:>8} {:>8} {:>9} {:>8}  dt range",
-            "integrator", "theory", "observed", "R²", "points"
+            "{:<20} {:>8} {:>8} {:>9} {:>8} {:>10}  dt range (or why no order)",
+            "integrator", "theory", "observed", "R²", "points", "finest dt"
         );
         for i in &s.integrators {
             println!(
-                "{:<20} {:>8} {:>8} {:>9} {:>8}  {}",
+                "{:<20} {:>8} {:>8} {:>9} {:>8} {:>10}  {}",
                 i.integrator,
                 i.theoretical_order.map_or("-".into(), |o| o.to_string()),
                 i.observed_order.map_or("-".into(), |o| format!("{o:.3}")),
@@ -83,6 +105,7 @@ pub fn run(a: Args) -> Result<()> {
                     i.fit.points_used,
                     i.stable_points + i.unstable_points
                 ),
+                fmt_opt(Some(i.finest_dt)),
                 i.fit.dt_range.map_or_else(
                     || i.fit.note.clone().unwrap_or_default(),
                     |r| format!("{} .. {}", fmt_opt(Some(r[0])), fmt_opt(Some(r[1])))
@@ -92,6 +115,17 @@ pub fn run(a: Args) -> Result<()> {
         for (n, why) in &s.skipped {
             println!("{n:<20} skipped: {why}");
         }
+        let r = &s.grid_rule;
+        println!(
+            "grid: ω_max {:.4e} rad/s; dt_max {:.4e} s ({}); dt_min {:.4e} s ({}); refinement {}; cost cap {:e} particle-steps per method",
+            r.omega_max,
+            r.dt_max,
+            r.dt_max_source,
+            r.dt_min,
+            r.dt_min_source,
+            if r.extend { "on" } else { "off" },
+            r.cost_cap_particle_steps
+        );
     }
     for f in files {
         println!("wrote {}", f.display());

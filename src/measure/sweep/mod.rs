@@ -1,0 +1,344 @@
+//! Work-precision sweeps: every integrator over a grid of steps drawn from the scene's
+//! dynamics, refined per method until its error is asymptotic, against one reference; the
+//! observed order per integrator; deterministic sharding.
+//!
+//! # The default grid
+//! - ω_max is the highest natural frequency of the linearised scene ([`super::modes`]).
+//! - The largest step is [`plan::BEYOND_LIMIT`] × the widest theoretical stability limit
+//!   among the swept methods ([`super::stability::theory_limit`]), so the sweep shows where
+//!   each explicit method blows up; with no finite limit, hω_max = [`plan::H_OMEGA_MAX`]; never
+//!   more than [`plan::MAX_STEP_FRACTION`] of the horizon.
+//! - The smallest base step resolves the fastest mode at hω_max = [`plan::H_OMEGA_MIN`]
+//!   (about 125 steps per period); the base grid is halving-spaced, between
+//!   [`plan::MIN_BASE_POINTS`] and [`plan::MAX_BASE_POINTS`] points (without stiffness:
+//!   [`plan::MIN_BASE_POINTS`] halvings below the largest step).
+//! - Extension: below the base grid the plan lists halvings of its smallest step while one
+//!   method's particle-steps (steps × particles, summed over its runs) stay within the cost
+//!   cap ([`plan::DEFAULT_COST_CAP`], `--cost-cap`). After the base grid each method runs the
+//!   next halving until its order fit succeeds at the small-step end (asymptotic), its finest
+//!   error is at the reference floor, the cap is reached, or the error stopped falling (less
+//!   than [`extend::STALL_FACTOR`]× over the last three refinements: saturated, chaotic, or a
+//!   reference that misses the physics) ([`extend::next_step`]). The cap counts
+//!   particle-steps, not wall time (which would make the grid irreproducible): a backend
+//!   whose step costs far more than a native method's (Rapier's multibody solver on a large
+//!   cloth) is bounded in steps only; exclude it with `--integrators` or shorten the horizon
+//!   with `--duration` when that matters.
+//! - Overrides: `--dt-max`, `--dt-min` and `--points` replace their part of the rule exactly.
+//!   Giving `--dt-min` fixes the small end, so no extension runs unless `--extend` asks.
+//!
+//! # Sharding
+//! Case k is integrator i = k / P at candidate step j = k mod P (P = the plan's candidate
+//! steps, ascending). Shard I/N runs every case of the integrators with i mod N = I: the
+//! extension of a method depends only on that method's own errors, so the shard that owns it
+//! decides it alone, exactly as the unsharded sweep does. Every shard computes the reference
+//! on every candidate step over the same horizon (the solver takes the same steps; samples
+//! come from its dense output), so shards share reference and floors bit for bit. Cases run
+//! in parallel (rayon), in rounds (the base grid, then one halving per still-refining method),
+//! and are collected in case order, so every output except `wall_seconds` is bit-identical
+//! whatever the thread count, and a merge of all shards equals the unsharded sweep. At most
+//! one shard per integrator does work.
+
+pub mod extend;
+pub mod plan;
+pub mod shard;
+pub mod summary;
+
+pub use extend::Stop;
+pub use plan::{plan_sweep, step_grid, GridRule, SweepPlan};
+pub use shard::{merge, write_sweep, ShardFile};
+pub use summary::{summarise, IntegratorSummary, SweepSummary};
+
+use super::case::{run_case, CaseResult, CaseSettings};
+use super::grid::{TimeGrid, DEFAULT_BUDGET_BYTES};
+use super::reference::{Reference, ReferenceInfo};
+use crate::error::{Error, Result};
+use crate::integrate::IntegratorOptions;
+use crate::method::Registry;
+use crate::scenario::Scenario;
+use extend::{next_step, Run};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// The I-th of N deterministic slices of a sweep (0 ≤ I < N).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// Slice index, 0-based.
+    pub index: usize,
+    /// Number of slices.
+    pub count: usize,
+}
+
+impl Shard {
+    /// True when integrator `i` belongs to this shard.
+    pub fn owns(&self, i: usize) -> bool {
+        i % self.count == self.index
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        let bad = |m: &str| {
+            Error::option(
+                "--shard",
+                format!("{m}: expected I/N with 0 ≤ I < N, got '{s}'"),
+            )
+        };
+        let (i, n) = s.split_once('/').ok_or_else(|| bad("missing '/'"))?;
+        let index: usize = i.trim().parse().map_err(|_| bad("I is not a number"))?;
+        let count: usize = n.trim().parse().map_err(|_| bad("N is not a number"))?;
+        if count == 0 || index >= count {
+            return Err(bad("out of range"));
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+/// What to sweep. The grid fields are overrides of the dynamics-based default (module doc).
+#[derive(Debug, Clone)]
+pub struct SweepConfig {
+    /// Integrators (empty: every applicable native method and external backend).
+    pub integrators: Vec<String>,
+    /// Smallest base step (default: hω_max = 0.05); giving it turns extension off unless
+    /// `extend` is `Some(true)`.
+    pub dt_min: Option<f64>,
+    /// Largest step (default: 1.25 × the widest theoretical stability limit).
+    pub dt_max: Option<f64>,
+    /// Number of log-spaced steps in [dt_min, dt_max] (default: halving-spaced).
+    pub points: Option<usize>,
+    /// Refine each method toward smaller steps until asymptotic, at the floor or capped
+    /// (default: yes unless `dt_min` is given).
+    pub extend: Option<bool>,
+    /// Cost cap per method in particle-steps (default [`plan::DEFAULT_COST_CAP`]).
+    pub cost_cap: Option<f64>,
+    /// Simulated time (default: the scene's duration).
+    pub duration: Option<f64>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
+    /// Integrator options.
+    pub options: IntegratorOptions,
+    /// Blow-up factor of the runner.
+    pub blowup_factor: f64,
+    /// Run only one slice.
+    pub shard: Option<Shard>,
+    /// Memory budget for the reference samples (bytes).
+    pub budget_bytes: usize,
+    /// Show a progress bar on a terminal.
+    pub progress: bool,
+    /// Repeat short runs for the wall time.
+    pub repeat_short: bool,
+}
+
+impl Default for SweepConfig {
+    fn default() -> Self {
+        SweepConfig {
+            integrators: Vec::new(),
+            dt_min: None,
+            dt_max: None,
+            points: None,
+            extend: None,
+            cost_cap: None,
+            duration: None,
+            methods: Registry::builtin(),
+            options: IntegratorOptions::default(),
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            shard: None,
+            budget_bytes: DEFAULT_BUDGET_BYTES,
+            progress: false,
+            repeat_short: true,
+        }
+    }
+}
+
+/// One row of `sweep.csv`. Error and energy columns are empty for unstable runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepRow {
+    /// Integrator name.
+    pub integrator: String,
+    /// Step (s).
+    pub dt: f64,
+    /// Steps planned.
+    pub steps: u64,
+    /// Force evaluations.
+    pub force_evals: u64,
+    /// Integrator wall time (s): the one column that varies between identical runs.
+    pub wall_seconds: f64,
+    /// Final position error (m).
+    pub error_final: Option<f64>,
+    /// Max position error (m).
+    pub error_max: Option<f64>,
+    /// RMS position error (m).
+    pub error_rms: Option<f64>,
+    /// Relative energy drift (1/s).
+    pub energy_drift: Option<f64>,
+    /// `ok` or `unstable`.
+    pub status: String,
+}
+
+/// The CSV header of `sweep.csv`.
+pub const SWEEP_HEADER: &str =
+    "integrator,dt,steps,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,status";
+
+impl SweepRow {
+    fn from_case(c: &CaseResult) -> Self {
+        let ok = c.ok();
+        let m = &c.metrics;
+        SweepRow {
+            integrator: c.integrator.clone(),
+            dt: c.dt,
+            steps: c.steps,
+            force_evals: c.force_evals,
+            wall_seconds: c.wall_seconds,
+            error_final: ok.then_some(m.error_final),
+            error_max: ok.then_some(m.error_max),
+            error_rms: ok.then_some(m.error_rms),
+            energy_drift: ok.then_some(m.energy_drift),
+            status: c.status.clone(),
+        }
+    }
+    fn csv_line(&self) -> String {
+        let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
+        format!(
+            "{},{:e},{},{},{:e},{},{},{},{},{}",
+            self.integrator,
+            self.dt,
+            self.steps,
+            self.force_evals,
+            self.wall_seconds,
+            o(self.error_final),
+            o(self.error_max),
+            o(self.error_rms),
+            o(self.energy_drift),
+            self.status
+        )
+    }
+    fn run(&self, j: usize) -> Run {
+        Run {
+            j,
+            error: self.error_max,
+            ok: self.status == "ok",
+        }
+    }
+}
+
+/// A sweep's results: rows (CSV), full case results (for plots) and the summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct SweepResult {
+    /// The plan.
+    pub plan: SweepPlan,
+    /// Shard run, if any.
+    pub shard: Option<Shard>,
+    /// Case indices of `rows`, ascending.
+    pub case_indices: Vec<usize>,
+    /// `sweep.csv` rows.
+    pub rows: Vec<SweepRow>,
+    /// Full results with every metric (empty after a merge: rows only).
+    pub cases: Vec<CaseResult>,
+    /// Reference used.
+    pub reference: ReferenceInfo,
+    /// Per-candidate-step error floors (m).
+    pub floors: Vec<f64>,
+    /// Saturation bound (m).
+    pub saturation: f64,
+    /// The summary (None for a shard: merge computes it).
+    pub summary: Option<SweepSummary>,
+}
+
+/// Theoretical order of a method of the plan (None for exact methods and engines), as its
+/// registry entry stated it when the sweep was planned.
+pub fn theoretical_order(plan: &SweepPlan, name: &str) -> Option<u32> {
+    let i = plan.integrators.iter().position(|n| n == name)?;
+    plan.orders.get(i).copied().flatten()
+}
+
+/// Runs a sweep (or one shard of it): the base grid, then extension rounds.
+pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
+    let plan = plan_sweep(scene, cfg)?;
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let p = plan.dts.len();
+    let owned: Vec<usize> = (0..plan.integrators.len())
+        .filter(|&i| cfg.shard.is_none_or(|s| s.owns(i)))
+        .collect();
+    // Every candidate step, whatever this shard runs: shards share the reference exactly.
+    let grids: Vec<TimeGrid> = (0..p).map(|j| plan.grid(j)).collect();
+    let horizon = grids.iter().map(|g| g.time(g.steps)).fold(0.0, f64::max);
+    let reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    let scale = reference.motion_scale();
+    let floors: Vec<f64> = plan
+        .steps
+        .iter()
+        .map(|&n| {
+            (10.0 * reference.info.accuracy).max(4.0 * f64::EPSILON * scale * (n as f64).sqrt())
+        })
+        .collect();
+    let saturation = 0.1 * scale;
+    let set = CaseSettings {
+        methods: cfg.methods.clone(),
+        options: cfg.options,
+        blowup_factor: cfg.blowup_factor,
+        series_points: 0,
+        repeat_short: cfg.repeat_short,
+        trace: None,
+    };
+    let mut pending: Vec<usize> = owned
+        .iter()
+        .flat_map(|&i| (plan.base_from..p).map(move |j| i * p + j))
+        .collect();
+    let pb = super::progress::bar(
+        pending.len() as u64,
+        &format!("sweep {}", scene.name),
+        cfg.progress,
+    );
+    let mut done: Vec<CaseResult> = Vec::new();
+    let mut done_k: Vec<usize> = Vec::new();
+    while !pending.is_empty() {
+        let round: Vec<Result<CaseResult>> = pending
+            .par_iter()
+            .map(|&k| {
+                let r = run_case(&sys, &s0, &reference, k % p, &plan.integrators[k / p], &set);
+                pb.inc(1);
+                r
+            })
+            .collect();
+        for (k, r) in pending.iter().zip(round) {
+            done.push(r?);
+            done_k.push(*k);
+        }
+        pending = owned
+            .iter()
+            .filter_map(|&i| {
+                let runs: Vec<Run> = done
+                    .iter()
+                    .zip(&done_k)
+                    .filter(|(_, &k)| k / p == i)
+                    .map(|(c, &k)| SweepRow::from_case(c).run(k % p))
+                    .collect();
+                next_step(&plan, &floors, saturation, &plan.integrators[i], &runs)
+                    .ok()
+                    .map(|j| i * p + j)
+            })
+            .collect();
+        pb.inc_length(pending.len() as u64);
+    }
+    pb.finish_and_clear();
+    let mut order: Vec<usize> = (0..done.len()).collect();
+    order.sort_by_key(|&n| done_k[n]);
+    let cases: Vec<CaseResult> = order.iter().map(|&n| done[n].clone()).collect();
+    let case_indices: Vec<usize> = order.iter().map(|&n| done_k[n]).collect();
+    let mut res = SweepResult {
+        shard: cfg.shard,
+        case_indices,
+        rows: cases.iter().map(SweepRow::from_case).collect(),
+        cases,
+        reference: reference.info.clone(),
+        floors,
+        saturation,
+        summary: None,
+        plan,
+    };
+    if cfg.shard.is_none() {
+        res.summary = Some(summarise(&res));
+    }
+    Ok(res)
+}
