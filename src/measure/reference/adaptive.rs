@@ -42,7 +42,9 @@ pub(super) fn length_scale(s0: &State) -> f64 {
 }
 
 /// Solves `sys` from `s0` to `horizon` at rtol = atol = `rtol`; calls `sink(i, y)` with the
-/// state at each of the sorted `times` (the pre-event state at an event's own time).
+/// state at each of the sorted `times` (the pre-event state at an event's own time). With
+/// `max_steps`, gives up (None) once the solver has attempted more steps than that.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn solve(
     sys: &System,
     s0: &State,
@@ -50,8 +52,9 @@ pub(super) fn solve(
     horizon: f64,
     rtol: f64,
     tracked: Option<Tracked>,
+    max_steps: Option<u64>,
     sink: &mut dyn FnMut(usize, &[f64]),
-) -> Result<SolveOut> {
+) -> Result<Option<SolveOut>> {
     let n = sys.len();
     let rigid: Vec<usize> = (0..sys.constraints.len())
         .filter(|&c| sys.constraints[c].compliance == 0.0)
@@ -107,6 +110,9 @@ pub(super) fn solve(
             solver
                 .step(&mut |t, y, dy| st.eval(t, y, dy), bound)
                 .map_err(|e| Error::Step(format!("reference (DOP853): {e}")))?;
+            if max_steps.is_some_and(|m| solver.stats.steps + solver.stats.rejected > m) {
+                return Ok(None);
+            }
             if st.contact.is_some() {
                 event = find_event(&mut st, &mut solver);
             }
@@ -199,7 +205,7 @@ pub(super) fn solve(
         out.impacts = c.impacts;
         out.holds = c.holds;
     }
-    Ok(out)
+    Ok(Some(out))
 }
 
 /// Positions of the state vector `y`.

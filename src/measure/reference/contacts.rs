@@ -29,6 +29,10 @@ use crate::model::{System, Vec3};
 /// Points inside each accepted step where every particle's gaps are checked for an impact.
 pub const IMPACT_CHECKS: usize = 8;
 
+/// Relative margin by which the static force needed must exceed μN for a sticking particle to
+/// slip: without it a particle exactly at the threshold would stop and slip again forever.
+pub const STICK_SLIP_HYSTERESIS: f64 = 1e-6;
+
 /// Bisection iterations for an event time (2⁻⁶⁰ of a step: round-off).
 const BISECTIONS: usize = 60;
 
@@ -67,6 +71,8 @@ pub(super) struct ContactModel<'a> {
     pub(super) delta: f64,
     /// Tangential speed below which a slide is over (m/s).
     pub(super) speed_floor: f64,
+    /// Per particle: a slide that has reached the speed floor (only those can stop by it).
+    pub(super) moving: Vec<bool>,
     /// Impacts applied.
     pub(super) impacts: u64,
     /// Times a particle was put into held contact.
@@ -95,6 +101,7 @@ impl<'a> ContactModel<'a> {
             sys,
             contacts,
             modes: vec![Mode::Free; sys.len()],
+            moving: vec![false; sys.len()],
             delta,
             speed_floor: (2.0 * a_scale * delta).sqrt(),
             impacts: 0,
@@ -252,7 +259,7 @@ fn indicator(st: &mut RhsState<'_>, y: &[f64], ev: Event, d0: &[Vec3]) -> f64 {
             if matches!(ev, Event::Release(_)) {
                 h.push
             } else {
-                h.mu * h.push - h.a_t.norm()
+                h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS) - h.a_t.norm()
             }
         }
     }
@@ -273,9 +280,12 @@ pub(super) fn find_event(st: &mut RhsState<'_>, solver: &mut Dop853) -> Option<(
                 Mode::Slide(k) => {
                     let (x, v) = get(&solver.y_old, n, p);
                     let nrm = model.contacts.set.query(k, &x, sys.radius[p]).normal;
-                    (v - nrm * v.dot(&nrm))
-                        .try_normalize(0.0)
-                        .unwrap_or_default()
+                    let v_t = v - nrm * v.dot(&nrm);
+                    if v_t.norm() >= model.speed_floor {
+                        v_t.normalize()
+                    } else {
+                        Vec3::zeros()
+                    }
                 }
                 _ => Vec3::zeros(),
             })
@@ -327,10 +337,27 @@ pub(super) fn find_event(st: &mut RhsState<'_>, solver: &mut Dop853) -> Option<(
                     let k = model.held_on(p)?;
                     let nrm = model.contacts.set.query(k, &x, sys.radius[p]).normal;
                     let v_t = v - nrm * v.dot(&nrm);
+                    let q = 3 * n + 3 * p;
+                    let f = solver.derivative();
+                    let a = Vec3::new(f[q], f[q + 1], f[q + 2]);
+                    let moving = model.moving[p];
+                    if v_t.norm() >= floor {
+                        st.contact.as_mut()?.moving[p] = true;
+                    }
                     if v_t.dot(&d0[p]) < 0.0 {
                         cands.push((t0, t1, Event::Stop(p)));
-                    } else if v_t.norm() < floor {
-                        // Stopped at the step end (the step was landed there).
+                    } else if v_t.norm() < floor
+                        && a.dot(&v_t) < 0.0
+                        && (moving || {
+                            let a_free = st.free_accelerations(&y1);
+                            let m = st.contact.as_ref()?;
+                            let h = m.held(p, k, &x, &v, &a_free[p]);
+                            h.a_t.norm() <= h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS)
+                        })
+                    {
+                        // Decelerated to rest at the step end (the step was landed there). A
+                        // particle set sliding from rest is not stopped before it has moved
+                        // (at the slip threshold it would stop and slip again forever).
                         cands.push((t1, t1, Event::Stop(p)));
                     }
                 }
@@ -403,6 +430,7 @@ pub(super) fn apply_event(st: &mut RhsState<'_>, y: &mut [f64], ev: Event) {
                 } else {
                     Mode::Slide(k)
                 };
+                model.moving[p] = false;
                 model.holds += 1;
                 put(y, n, p, &x, &v);
             }
@@ -417,17 +445,19 @@ pub(super) fn apply_event(st: &mut RhsState<'_>, y: &mut [f64], ev: Event) {
             let (x, v) = get(y, n, p);
             let h = model.held(p, k, &x, &v, &a[p]);
             let v = v - h.v_t;
-            model.modes[p] = if h.a_t.norm() <= h.mu * h.push {
+            model.modes[p] = if h.a_t.norm() <= h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS) {
                 Mode::Stick(k)
             } else {
                 Mode::Slide(k)
             };
+            model.moving[p] = false;
             put(y, n, p, &x, &v);
         }
         Event::Slip(p) => {
             let model = st.contact.as_mut().expect("contact model");
             let k = model.held_on(p).expect("held");
             model.modes[p] = Mode::Slide(k);
+            model.moving[p] = false;
         }
     }
 }

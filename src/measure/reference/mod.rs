@@ -67,7 +67,9 @@ pub struct ReferenceInfo {
     /// floor, excluded from order fits.
     pub accuracy: f64,
     /// Measured uncertainty of the reference positions (m): the largest over the sample times
-    /// of max(|main − looser solve|, |main − perturbed solve|), at least the round-off level.
+    /// of max(|main − looser solve|, |main − perturbed solve|), at least the solver's
+    /// tolerance × the length scale (round-off for the closed form); infinite (null in JSON)
+    /// only when both companion solves were abandoned over their work budget.
     #[serde(default)]
     pub uncertainty: f64,
     /// First sample time (s) at which a round-off-sized perturbation of the initial positions
@@ -409,8 +411,10 @@ impl Reference {
             horizon,
             REFERENCE_TOL,
             self.tracked,
+            None,
             &mut |i, y| main[i] = unpack_x(y, n),
-        )?;
+        )?
+        .expect("no step limit");
         self.crossings = out.crossings;
         self.motion = out.motion;
         // Never below the tolerance the solver was asked for.
@@ -424,6 +428,7 @@ impl Reference {
             &main,
             floor,
             self.motion_scale(),
+            uncertainty::COMPANION_WORK_FACTOR * (out.stats.steps + out.stats.rejected).max(100),
         )?;
         for (e, x) in ents.iter().zip(main) {
             self.samples[e.grid][e.idx] = x;
@@ -432,9 +437,10 @@ impl Reference {
         self.info.predictability_horizon = comp.horizon;
         self.info.predictability_threshold = comp.threshold;
         self.info.uncertainty_method = format!(
-            "larger of the distances to a solve at {:e} x the tolerance and to a solve from initial positions moved by {:e} x the length scale",
+            "larger of the distances to a solve at {:e} x the tolerance and to a solve from initial positions moved by {:e} x the length scale{}",
             uncertainty::LOOSE_FACTOR,
-            uncertainty::PERTURBATION
+            uncertainty::PERTURBATION,
+            comp.note
         );
         self.info.solver_steps = out.stats.steps;
         self.info.solver_rejected = out.stats.rejected;

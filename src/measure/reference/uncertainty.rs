@@ -35,6 +35,10 @@ pub const PERTURBATION: f64 = 1e-12;
 /// range (a million-fold growth of the perturbation).
 pub const PREDICTABILITY_THRESHOLD: f64 = 1e-6;
 
+/// Most attempted steps of a companion, as a multiple of the main solve's: a companion that
+/// needs more (a contact sequence that grinds at its tolerance) is abandoned and said so.
+pub const COMPANION_WORK_FACTOR: u64 = 10;
+
 /// The companions' verdict at the main solve's sample times.
 #[derive(Debug, Clone)]
 pub(super) struct Companions {
@@ -44,6 +48,8 @@ pub(super) struct Companions {
     pub horizon: Option<f64>,
     /// The threshold used (m).
     pub threshold: f64,
+    /// Empty, or which companion was abandoned (over its work budget) and what that means.
+    pub note: String,
 }
 
 /// `s0` with every free particle's position moved by `PERTURBATION` × the length scale, in a
@@ -68,13 +74,23 @@ fn distances(
     horizon: f64,
     rtol: f64,
     main: &[Vec<Vec3>],
-) -> Result<Vec<f64>> {
+    max_steps: u64,
+) -> Result<Option<Vec<f64>>> {
     let n = sys.len();
     let mut d = vec![0.0; times.len()];
-    solve(sys, s0, times, horizon, rtol, None, &mut |i, y| {
-        d[i] = max_distance(&positions(y, n), &main[i]);
-    })?;
-    Ok(d)
+    let done = solve(
+        sys,
+        s0,
+        times,
+        horizon,
+        rtol,
+        None,
+        Some(max_steps),
+        &mut |i, y| {
+            d[i] = max_distance(&positions(y, n), &main[i]);
+        },
+    )?;
+    Ok(done.map(|_| d))
 }
 
 /// Runs both companions of a main solve at tolerance `rtol` whose positions at `times` are
@@ -89,28 +105,56 @@ pub(super) fn companions(
     main: &[Vec<Vec3>],
     floor: f64,
     motion: f64,
+    max_steps: u64,
 ) -> Result<Companions> {
     let sp = perturbed(sys, s0);
     let (loose, pert) = rayon::join(
-        || distances(sys, s0, times, horizon, rtol * LOOSE_FACTOR, main),
-        || distances(sys, &sp, times, horizon, rtol, main),
+        || {
+            distances(
+                sys,
+                s0,
+                times,
+                horizon,
+                rtol * LOOSE_FACTOR,
+                main,
+                max_steps,
+            )
+        },
+        || distances(sys, &sp, times, horizon, rtol, main, max_steps),
     );
     let (loose, pert) = (loose?, pert?);
     let threshold = PREDICTABILITY_THRESHOLD * motion;
-    let horizon = times
-        .iter()
-        .zip(&pert)
-        .find(|(_, &d)| d > threshold)
-        .map(|(&t, _)| t);
-    let uncertainty = loose
-        .iter()
-        .zip(&pert)
-        .map(|(a, b)| a.max(*b).max(floor))
+    let horizon = pert.as_ref().and_then(|pert| {
+        times
+            .iter()
+            .zip(pert)
+            .find(|(_, &d)| d > threshold)
+            .map(|(&t, _)| t)
+    });
+    let mut note = String::new();
+    if loose.is_none() {
+        note +=
+            "; the looser solve was abandoned over its work budget (only the perturbed one counts)";
+    }
+    if pert.is_none() {
+        note += "; the perturbed solve was abandoned over its work budget (no horizon measured)";
+    }
+    let uncertainty = (0..times.len())
+        .map(|i| {
+            let a = loose.as_ref().map_or(0.0, |d| d[i]);
+            let b = pert.as_ref().map_or(0.0, |d| d[i]);
+            if loose.is_none() && pert.is_none() {
+                f64::INFINITY
+            } else {
+                a.max(b).max(floor)
+            }
+        })
         .collect();
     Ok(Companions {
         uncertainty,
         horizon,
         threshold,
+        note,
     })
 }
 
