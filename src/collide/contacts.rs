@@ -118,25 +118,36 @@ impl Contacts {
         out
     }
 
+    /// The impulse response's velocity after an impact on obstacle `obstacle` with outward unit
+    /// normal `n`: an approaching normal velocity is reflected with the obstacle's restitution
+    /// and the tangential part loses up to μ × the normal velocity change (Coulomb friction
+    /// impulse, stopping it at most). A separating velocity is returned unchanged. The
+    /// adaptive reference applies the same law at its located impact times.
+    pub fn impulse_velocity(&self, obstacle: usize, n: &Vec3, v: Vec3) -> Vec3 {
+        let o = &self.set.obstacles()[obstacle];
+        let (e, mu) = (o.restitution, o.friction);
+        let vn = v.dot(n);
+        if vn >= 0.0 {
+            return v;
+        }
+        let dvn = -(1.0 + e) * vn;
+        let vt = v - n * vn;
+        let vtn = vt.norm();
+        let keep = if vtn > 0.0 {
+            (1.0 - mu * dvn / vtn).max(0.0)
+        } else {
+            0.0
+        };
+        vt * keep - n * (e * vn)
+    }
+
     /// Velocity response for particle `p` already moved onto the surface of contact `c`.
     fn respond(&self, c: &Contact, p: usize, x0: &[Vec3], s: &mut State, h: f64) {
         let o = &self.set.obstacles()[c.obstacle];
         let (e, mu, n) = (o.restitution, o.friction, c.normal);
         match self.response {
             Response::Impulse | Response::Penalty { .. } => {
-                let v = s.v[p];
-                let vn = v.dot(&n);
-                if vn < 0.0 {
-                    let dvn = -(1.0 + e) * vn;
-                    let vt = v - n * vn;
-                    let vtn = vt.norm();
-                    let keep = if vtn > 0.0 {
-                        (1.0 - mu * dvn / vtn).max(0.0)
-                    } else {
-                        0.0
-                    };
-                    s.v[p] = vt * keep - n * (e * vn);
-                }
+                s.v[p] = self.impulse_velocity(c.obstacle, &n, s.v[p]);
             }
             Response::Projection => {
                 // Position-level Coulomb friction: the tangential displacement of this step is

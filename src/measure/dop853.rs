@@ -286,6 +286,11 @@ impl Dop853 {
             .min((t_bound - t0).abs().max(f64::MIN_POSITIVE));
     }
 
+    /// The derivative f(t, y) at the current point (valid after `start`, `step` or `set_y`).
+    pub fn derivative(&self) -> &[f64] {
+        &self.f
+    }
+
     /// Replaces the current solution (after a projection) keeping the step size.
     pub fn set_y(&mut self, rhs: &mut Rhs<'_>, y: &[f64]) {
         self.y.copy_from_slice(y);

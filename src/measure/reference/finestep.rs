@@ -1,0 +1,170 @@
+//! The converged fine-step reference, for contact models with no continuous counterpart (the
+//! `projection` response: positions are pushed out and velocities re-derived after each step,
+//! a rule defined only for a discrete step).
+//!
+//! The scene is run with [`FINE_INTEGRATOR`] and the scene's own contact stage at steps
+//! h₀, h₀/2, h₀/4, … (h₀ = half the finest requested grid step, at most the horizon / 1000),
+//! landing exactly on every sample time and impulse. Refinement stops when two successive
+//! levels agree to [`FINE_AGREEMENT`] × the motion scale, after [`FINE_LEVELS_MAX`] levels, or
+//! before a level would pass [`FINE_STEP_BUDGET`] steps. The finest level is the reference; the
+//! per-sample distance between the last two levels is its uncertainty (the first-order contact
+//! rule makes the error roughly halve per level, so that distance is about the finest level's
+//! own error). The predictability horizon comes from a perturbed run (initial positions moved
+//! as in [`super::uncertainty`]) at h₀ against the unperturbed one at h₀.
+
+use super::uncertainty::{max_distance, perturbed, PREDICTABILITY_THRESHOLD};
+use crate::error::{Error, Result};
+use crate::integrate::{by_name, IntegratorOptions};
+use crate::model::{State, System, Vec3};
+
+/// The integrator of the fine-step reference.
+pub const FINE_INTEGRATOR: &str = "rk4";
+/// Agreement of two successive levels (relative to the motion scale) that ends refinement.
+pub const FINE_AGREEMENT: f64 = 1e-6;
+/// Most refinement levels.
+pub const FINE_LEVELS_MAX: usize = 4;
+/// Most steps of one level (the next level is not run past it).
+pub const FINE_STEP_BUDGET: f64 = 400_000.0;
+
+/// The fine-step reference at the sample times.
+#[derive(Debug, Clone)]
+pub(super) struct Fine {
+    /// Positions per sample time (finest level).
+    pub samples: Vec<Vec<Vec3>>,
+    /// Per sample time: distance between the last two levels, at least `floor` (m).
+    pub uncertainty: Vec<f64>,
+    /// First sample time where the perturbed run departs past the threshold.
+    pub horizon: Option<f64>,
+    /// Step of the finest level (s).
+    pub step: f64,
+    /// Levels run.
+    pub levels: usize,
+    /// Force evaluations in all levels.
+    pub evals: u64,
+    /// Largest displacement from the initial positions at the samples (m).
+    pub motion: f64,
+}
+
+/// One run at step `h`, positions at `times`.
+fn run_at(
+    sys: &System,
+    s0: &State,
+    times: &[f64],
+    horizon: f64,
+    h: f64,
+) -> Result<(Vec<Vec<Vec3>>, u64)> {
+    let mut integ = by_name(FINE_INTEGRATOR, &IntegratorOptions::default())?;
+    let mut s = s0.clone();
+    s.t = 0.0;
+    let mut out = vec![Vec::new(); times.len()];
+    let mut next = 0;
+    let mut imp = 0;
+    let mut evals = 0;
+    let eps = 1e-9 * h;
+    let mut x0 = s.x.clone();
+    integ.reset();
+    loop {
+        while next < times.len() && times[next] <= s.t + eps {
+            out[next] = s.x.clone();
+            next += 1;
+        }
+        while imp < sys.impulses.len() && sys.impulses[imp].time <= s.t + eps {
+            let im = sys.impulses[imp];
+            s.v[im.particle] += im.delta_v;
+            integ.reset();
+            imp += 1;
+        }
+        if s.t >= horizon - eps {
+            break;
+        }
+        let mut target = (s.t + h).min(horizon);
+        if let Some(&t) = times.get(next) {
+            target = target.min(t);
+        }
+        if let Some(im) = sys.impulses.get(imp) {
+            target = target.min(im.time);
+        }
+        let step = target - s.t;
+        x0.clone_from(&s.x);
+        evals += integ.step(sys, &mut s, step)?.force_evals;
+        if let Some(c) = &sys.contacts {
+            if c.apply(sys, &x0, &mut s, step).changed {
+                integ.reset();
+            }
+        }
+        s.t = target;
+        if !s.x.iter().all(|x| x.iter().all(|c| c.is_finite())) {
+            return Err(Error::Step(format!(
+                "fine-step reference ({FINE_INTEGRATOR} at {h:e} s) blew up at t = {}",
+                s.t
+            )));
+        }
+    }
+    while next < times.len() {
+        out[next] = s.x.clone();
+        next += 1;
+    }
+    Ok((out, evals))
+}
+
+/// The converged fine-step reference of `sys` from `s0` at `times`, starting at step `h0`.
+pub(super) fn fine_step(
+    sys: &System,
+    s0: &State,
+    times: &[f64],
+    horizon: f64,
+    h0: f64,
+    floor: f64,
+) -> Result<Fine> {
+    let h0 = h0.min(horizon / 1000.0);
+    let sp = perturbed(sys, s0);
+    let (first, pert) = rayon::join(
+        || run_at(sys, s0, times, horizon, h0),
+        || run_at(sys, &sp, times, horizon, h0),
+    );
+    let ((mut prev, mut evals), (pert, pe)) = (first?, pert?);
+    evals += pe;
+    let motion = prev
+        .iter()
+        .flat_map(|x| x.iter().zip(&s0.x).map(|(a, b)| (a - b).norm()))
+        .fold(0.0, f64::max);
+    let scale = if motion > 0.0 { motion } else { 1.0 };
+    let threshold = PREDICTABILITY_THRESHOLD * scale;
+    let horizon_t = times
+        .iter()
+        .zip(pert.iter().zip(&prev))
+        .find(|(_, (a, b))| max_distance(a, b) > threshold)
+        .map(|(&t, _)| t);
+    let mut h = h0;
+    let mut levels = 1;
+    let mut unc = vec![f64::INFINITY; times.len()];
+    loop {
+        let next_h = 0.5 * h;
+        if levels >= 2 && (levels >= FINE_LEVELS_MAX || horizon / next_h > FINE_STEP_BUDGET) {
+            break;
+        }
+        let (cur, e) = run_at(sys, s0, times, horizon, next_h)?;
+        evals += e;
+        unc = cur
+            .iter()
+            .zip(&prev)
+            .map(|(a, b)| max_distance(a, b).max(floor))
+            .collect();
+        prev = cur;
+        h = next_h;
+        levels += 1;
+        let worst = unc.iter().copied().fold(0.0, f64::max);
+        if worst <= FINE_AGREEMENT * scale {
+            break;
+        }
+    }
+    Ok(Fine {
+        samples: prev,
+        uncertainty: unc,
+        horizon: horizon_t,
+        step: h,
+        levels,
+        evals,
+        motion,
+    })
+}

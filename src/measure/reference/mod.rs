@@ -1,0 +1,512 @@
+//! Reference solutions, each knowing its own error.
+//!
+//! Which reference a scene gets:
+//! - **closed form** (`analytic`) when the scene has one (independent damped linear
+//!   oscillators, no obstacles): exact to round-off, uncertainty at the round-off level, no
+//!   predictability horizon;
+//! - **DOP853** (`dop853`, `dop853_constrained`) at rtol = atol = 1e-12 with dense output
+//!   otherwise: rigid constraints by index reduction and projection ([`rhs`]); impulses restart
+//!   the solver at their times; obstacles as the scene defines them ([`contacts`]): `impulse`
+//!   contacts as impacts located on the dense output and resolved by the scene's own impulse
+//!   law, Zeno sequences and resting or sliding contact as a unilateral constraint with
+//!   Coulomb friction; `penalty` contacts are a force term the right-hand side already
+//!   contains, integrated like any stiff force (the step-size control resolves each contact);
+//! - **converged fine steps** (`fine_step`) for the `projection` response, which has no
+//!   continuous counterpart ([`finestep`]).
+//!
+//! Every reference measures its own error ([`uncertainty`]): a looser and a perturbed
+//! companion solve give a per-sample [`Reference::uncertainty_at`], its maximum
+//! ([`ReferenceInfo::uncertainty`]) and the [`ReferenceInfo::predictability_horizon`]. An
+//! error at or below [`Reference::floor_at`] is at the reference floor: the reference cannot
+//! tell it from zero.
+//!
+//! A [`Reference`] is computed once per scene and set of output grids (a whole sweep at once)
+//! and stores only positions at the requested times, so memory stays bounded.
+
+mod adaptive;
+pub mod contacts;
+pub mod finestep;
+mod rhs;
+pub mod uncertainty;
+
+use super::grid::TimeGrid;
+use crate::collide::Response;
+use crate::error::Result;
+use crate::integrate::{Analytic, Integrator};
+use crate::model::{State, System, Vec3};
+use adaptive::{length_scale, solve};
+use rhs::{pack, unpack_x, RhsState};
+use serde::Serialize;
+
+/// Tolerance of the adaptive reference (relative and absolute).
+pub const REFERENCE_TOL: f64 = 1e-12;
+
+/// Which reference was used, recorded in every output.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct ReferenceInfo {
+    /// `analytic`, `dop853` or `dop853_constrained`.
+    pub kind: String,
+    /// One sentence: what it is and how accurate it is.
+    pub description: String,
+    /// Relative tolerance (adaptive kinds), else 0.
+    pub rtol: f64,
+    /// Absolute tolerance (adaptive kinds), else 0.
+    pub atol: f64,
+    /// Accepted steps of the adaptive solver (0 for analytic).
+    pub solver_steps: u64,
+    /// Rejected steps.
+    pub solver_rejected: u64,
+    /// Right-hand side evaluations.
+    pub solver_evals: u64,
+    /// Restarts at impulses.
+    pub restarts: usize,
+    /// End time of the reference (s).
+    pub horizon: f64,
+    /// The reference's own position error (m), kept for callers of the single-number floor:
+    /// equal to [`ReferenceInfo::uncertainty`]. Errors below ~10× this are the measurement
+    /// floor, excluded from order fits.
+    pub accuracy: f64,
+    /// Measured uncertainty of the reference positions (m): the largest over the sample times
+    /// of max(|main − looser solve|, |main − perturbed solve|), at least the solver's
+    /// tolerance × the length scale (round-off for the closed form); infinite (null in JSON)
+    /// only when both companion solves were abandoned over their work budget.
+    #[serde(default)]
+    pub uncertainty: f64,
+    /// First sample time (s) at which a round-off-sized perturbation of the initial positions
+    /// has grown past `predictability_threshold`; null when the whole horizon is predictable.
+    #[serde(default)]
+    pub predictability_horizon: Option<f64>,
+    /// The departure that ends the predictable range (m): 1e-6 × the motion scale.
+    #[serde(default)]
+    pub predictability_threshold: f64,
+    /// How the uncertainty was measured, in one sentence.
+    #[serde(default)]
+    pub uncertainty_method: String,
+    /// Obstacle impacts located and applied (adaptive reference with impulse contacts).
+    #[serde(default)]
+    pub impacts: u64,
+    /// Times a particle went into held (resting or sliding) contact.
+    #[serde(default)]
+    pub holds: u64,
+}
+
+/// How to compute the reference.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReferenceMethod {
+    /// The closed form when the scene has one, else the adaptive solver.
+    Auto,
+    /// Always the adaptive solver (DOP853, constrained where needed).
+    Adaptive,
+}
+
+/// The velocity component tracked for period and phase: particle and axis (0 = x).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Tracked {
+    /// Particle index.
+    pub particle: usize,
+    /// Axis 0, 1 or 2.
+    pub axis: usize,
+}
+
+/// Reference positions at the sample times of a set of grids, plus the upward zero
+/// crossings of one velocity component (for period and phase).
+#[derive(Debug, Clone)]
+pub struct Reference {
+    /// Which reference this is.
+    pub info: ReferenceInfo,
+    /// The grids it was sampled on.
+    pub grids: Vec<TimeGrid>,
+    samples: Vec<Vec<Vec<Vec3>>>,
+    /// Tracked velocity component (None when nothing moves).
+    pub tracked: Option<Tracked>,
+    /// Times where the tracked velocity crosses zero upwards.
+    pub crossings: Vec<f64>,
+    motion: f64,
+    /// Per grid, per compared step: the measured uncertainty (m).
+    unc: Vec<Vec<f64>>,
+}
+
+/// The velocity component whose sign changes mark the scene's oscillation: the free
+/// particle and axis with the largest initial acceleration (rigid-constraint forces included),
+/// preferring axes across gravity when any has one (a pendulum's swing, not its bob's
+/// up-and-down at twice the frequency); without acceleration, the largest initial velocity.
+pub fn tracked_component(sys: &System, s0: &State) -> Option<Tracked> {
+    let n = sys.len();
+    let rigid: Vec<usize> = (0..sys.constraints.len())
+        .filter(|&c| sys.constraints[c].compliance == 0.0)
+        .collect();
+    let mut st = RhsState::new(sys, rigid);
+    let y = pack(&s0.x, &s0.v);
+    let mut dy = vec![0.0; 6 * n];
+    st.eval(0.0, &y, &mut dy);
+    let a: Vec<Vec3> = (0..n)
+        .map(|p| {
+            Vec3::new(
+                dy[3 * n + 3 * p],
+                dy[3 * n + 3 * p + 1],
+                dy[3 * n + 3 * p + 2],
+            )
+        })
+        .collect();
+    let g_axis = sys
+        .gravity
+        .and_then(|g| (0..3).find(|&k| g[k] != 0.0 && g.norm() == g[k].abs()));
+    let pick = |vals: &[Vec3], skip: Option<usize>| {
+        let mut best: Option<(f64, Tracked)> = None;
+        for p in (0..n).filter(|&p| sys.free[p]) {
+            for axis in (0..3).filter(|&k| Some(k) != skip) {
+                let m = vals[p][axis].abs();
+                if m > 1e-12 * vals[p].norm() && m > 0.0 && best.is_none_or(|(b, _)| m > b) {
+                    best = Some((m, Tracked { particle: p, axis }));
+                }
+            }
+        }
+        best.map(|b| b.1)
+    };
+    pick(&a, g_axis)
+        .or_else(|| pick(&a, None))
+        .or_else(|| pick(&s0.v, None))
+}
+
+/// True when the scene has a closed form (the `analytic` integrator accepts it).
+pub fn has_closed_form(sys: &System) -> bool {
+    Analytic::default().check(sys).is_ok()
+}
+
+struct Entry {
+    t: f64,
+    grid: usize,
+    idx: usize,
+}
+
+fn entries(grids: &[TimeGrid]) -> Vec<Entry> {
+    let mut e = Vec::new();
+    for (g, grid) in grids.iter().enumerate() {
+        for (idx, n) in grid.sample_steps().enumerate() {
+            e.push(Entry {
+                t: grid.time(n),
+                grid: g,
+                idx,
+            });
+        }
+    }
+    e.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.grid.cmp(&b.grid)));
+    e
+}
+
+impl Reference {
+    /// Computes the reference of `sys` from `s0` at every sample time of `grids`, integrating
+    /// to `horizon` (≥ every sample time; pass the same horizon for every shard of a sweep so
+    /// the solver takes the same steps).
+    pub fn compute(sys: &System, s0: &State, grids: &[TimeGrid], horizon: f64) -> Result<Self> {
+        Self::compute_with(sys, s0, grids, horizon, ReferenceMethod::Auto)
+    }
+
+    /// As [`Reference::compute`], choosing the method explicitly.
+    pub fn compute_with(
+        sys: &System,
+        s0: &State,
+        grids: &[TimeGrid],
+        horizon: f64,
+        method: ReferenceMethod,
+    ) -> Result<Self> {
+        let horizon = entries(grids).last().map_or(horizon, |e| e.t.max(horizon));
+        let tracked = tracked_component(sys, s0);
+        let samples = grids
+            .iter()
+            .map(|g| vec![Vec::new(); g.sample_count()])
+            .collect();
+        let mut r = Reference {
+            info: ReferenceInfo {
+                kind: String::new(),
+                description: String::new(),
+                rtol: 0.0,
+                atol: 0.0,
+                solver_steps: 0,
+                solver_rejected: 0,
+                solver_evals: 0,
+                restarts: 0,
+                horizon,
+                accuracy: 0.0,
+                uncertainty: 0.0,
+                predictability_horizon: None,
+                predictability_threshold: 0.0,
+                uncertainty_method: String::new(),
+                impacts: 0,
+                holds: 0,
+            },
+            grids: grids.to_vec(),
+            samples,
+            tracked,
+            crossings: Vec::new(),
+            motion: 0.0,
+            unc: grids.iter().map(|g| vec![0.0; g.sample_count()]).collect(),
+        };
+        if method == ReferenceMethod::Auto
+            && has_closed_form(sys)
+            && r.fill_analytic(sys, s0).is_ok()
+        {
+            return Ok(r);
+        }
+        r.crossings.clear();
+        r.motion = 0.0;
+        let projection = sys
+            .contacts
+            .as_ref()
+            .is_some_and(|c| c.response == Response::Projection);
+        if projection {
+            r.fill_fine_step(sys, s0)?;
+        } else {
+            r.fill_dop853(sys, s0)?;
+        }
+        r.info.accuracy = r.info.uncertainty;
+        Ok(r)
+    }
+
+    /// Measured uncertainty of the reference positions at step `n` of grid `g` (m); between
+    /// compared steps, the larger of the two neighbouring samples'.
+    pub fn uncertainty_at(&self, g: usize, n: u64) -> f64 {
+        let grid = &self.grids[g];
+        let u = &self.unc[g];
+        if let Some(i) = grid.sample_index(n) {
+            return u[i];
+        }
+        let i = (n / grid.stride) as usize;
+        let lo = u.get(i).copied().unwrap_or(0.0);
+        let hi = u.get(i + 1).copied().unwrap_or(lo);
+        lo.max(hi)
+    }
+
+    /// The reference floor at step `n` of grid `g` (m): a measured error at or below it cannot
+    /// be told from zero (it is the reference's measured uncertainty there). Callers report
+    /// such an error as "at the reference floor" and keep it out of order fits.
+    pub fn floor_at(&self, g: usize, n: u64) -> f64 {
+        self.uncertainty_at(g, n)
+    }
+
+    /// True when `error` (m) at step `n` of grid `g` is at the reference floor.
+    pub fn at_floor(&self, g: usize, n: u64, error: f64) -> bool {
+        error <= self.floor_at(g, n)
+    }
+
+    /// True when time `t` (s) lies within the predictable range.
+    pub fn predictable_at(&self, t: f64) -> bool {
+        self.info.predictability_horizon.is_none_or(|h| t < h)
+    }
+
+    /// Stores per-entry values (entry order of [`entries`]) into the per-grid layout.
+    fn set_uncertainty(&mut self, ents: &[Entry], per_entry: &[f64]) {
+        for (e, &u) in ents.iter().zip(per_entry) {
+            self.unc[e.grid][e.idx] = u;
+        }
+        self.info.uncertainty = per_entry.iter().copied().fold(0.0, f64::max);
+    }
+
+    /// Reference positions at step `n` of grid `g` (None when `n` is not a sample step).
+    pub fn positions(&self, g: usize, n: u64) -> Option<&[Vec3]> {
+        let i = self.grids[g].sample_index(n)?;
+        self.samples[g].get(i).map(|v| v.as_slice())
+    }
+
+    /// Largest displacement of any particle from its initial position over the horizon (m),
+    /// or 1 when nothing moves: the scale errors are judged against. It is measured on the
+    /// solver's own steps (or a fixed grid for the closed form), so it does not depend on the
+    /// requested sample times (shards of one sweep agree).
+    pub fn motion_scale(&self) -> f64 {
+        if self.motion > 0.0 {
+            self.motion
+        } else {
+            1.0
+        }
+    }
+
+    /// Period of the tracked component from its crossings (None with fewer than two).
+    pub fn period(&self) -> Option<f64> {
+        period_of(&self.crossings)
+    }
+
+    fn fill_analytic(&mut self, sys: &System, s0: &State) -> std::result::Result<(), String> {
+        // State at time t from a segment start, exactly (a fresh closed form from there).
+        let eval = |start: &State, t: f64| -> std::result::Result<State, String> {
+            let mut s = start.clone();
+            if t > start.t {
+                let mut a = Analytic::default();
+                a.step(sys, &mut s, t - start.t)
+                    .map_err(|e| e.to_string())?;
+            }
+            s.t = t;
+            Ok(s)
+        };
+        let horizon = self.info.horizon;
+        // Segment starts: the initial state, then the state just after each impulse.
+        let mut starts = vec![s0.clone()];
+        let mut ends = Vec::new();
+        for im in sys.impulses.iter().filter(|im| im.time < horizon) {
+            let prev = starts.last().expect("one start");
+            let mut s = eval(prev, im.time)?;
+            s.v[im.particle] += im.delta_v;
+            ends.push(im.time);
+            starts.push(s);
+        }
+        ends.push(horizon);
+        for e in entries(&self.grids) {
+            // Impulse at τ acts on times > τ (the runner samples the pre-impulse state at τ).
+            let seg = ends
+                .iter()
+                .position(|&end| e.t <= end)
+                .unwrap_or(ends.len() - 1);
+            let s = eval(&starts[seg], e.t)?;
+            self.samples[e.grid][e.idx] = s.x;
+        }
+        if let Some(tr) = self.tracked {
+            // Scan each segment finely for sign changes, then bisect on the closed form.
+            for (seg, start) in starts.iter().enumerate() {
+                let (t0, t1) = (start.t, ends[seg]);
+                let n = ((t1 - t0) / horizon * 200_000.0).ceil().max(16.0) as u64;
+                let vel = |t: f64| eval(start, t).map(|s| s.v[tr.particle][tr.axis]);
+                let mut prev = (t0, vel(t0)?);
+                for k in 1..=n {
+                    let t = t0 + (t1 - t0) * k as f64 / n as f64;
+                    let v = vel(t)?;
+                    if prev.1 < 0.0 && v >= 0.0 {
+                        let (mut a, mut b) = (prev.0, t);
+                        for _ in 0..60 {
+                            let m = 0.5 * (a + b);
+                            if vel(m)? < 0.0 {
+                                a = m
+                            } else {
+                                b = m
+                            }
+                        }
+                        self.crossings.push(0.5 * (a + b));
+                    }
+                    prev = (t, v);
+                }
+            }
+        }
+        self.info.kind = "analytic".into();
+        self.info.description =
+            "closed-form solution of independent damped linear oscillators (exact to round-off)"
+                .into();
+        let floor = ROUND_OFF * length_scale(s0);
+        for u in &mut self.unc {
+            u.fill(floor);
+        }
+        self.info.uncertainty = floor;
+        self.info.uncertainty_method =
+            "round-off of the closed form (1e-14 x the length scale); no chaos: linear".into();
+        Ok(())
+    }
+
+    fn fill_dop853(&mut self, sys: &System, s0: &State) -> Result<()> {
+        let n = sys.len();
+        let ents = entries(&self.grids);
+        let times: Vec<f64> = ents.iter().map(|e| e.t).collect();
+        let horizon = self.info.horizon;
+        let mut main: Vec<Vec<Vec3>> = vec![Vec::new(); times.len()];
+        let out = solve(
+            sys,
+            s0,
+            &times,
+            horizon,
+            REFERENCE_TOL,
+            self.tracked,
+            None,
+            &mut |i, y| main[i] = unpack_x(y, n),
+        )?
+        .expect("no step limit");
+        self.crossings = out.crossings;
+        self.motion = out.motion;
+        // Never below the tolerance the solver was asked for.
+        let floor = REFERENCE_TOL * length_scale(s0);
+        let comp = uncertainty::companions(
+            sys,
+            s0,
+            &times,
+            horizon,
+            REFERENCE_TOL,
+            &main,
+            floor,
+            self.motion_scale(),
+            uncertainty::COMPANION_WORK_FACTOR * (out.stats.steps + out.stats.rejected).max(100),
+        )?;
+        for (e, x) in ents.iter().zip(main) {
+            self.samples[e.grid][e.idx] = x;
+        }
+        self.set_uncertainty(&ents, &comp.uncertainty);
+        self.info.predictability_horizon = comp.horizon;
+        self.info.predictability_threshold = comp.threshold;
+        self.info.uncertainty_method = format!(
+            "larger of the distances to a solve at {:e} x the tolerance and to a solve from initial positions moved by {:e} x the length scale{}",
+            uncertainty::LOOSE_FACTOR,
+            uncertainty::PERTURBATION,
+            comp.note
+        );
+        self.info.solver_steps = out.stats.steps;
+        self.info.solver_rejected = out.stats.rejected;
+        self.info.solver_evals = out.stats.evals;
+        self.info.restarts = out.restarts;
+        self.info.impacts = out.impacts;
+        self.info.holds = out.holds;
+        self.info.rtol = REFERENCE_TOL;
+        self.info.atol = REFERENCE_TOL;
+        let rigid = sys
+            .constraints
+            .iter()
+            .filter(|c| c.compliance == 0.0)
+            .count();
+        let contacts = match sys.contacts.as_ref().map(|c| c.response) {
+            Some(Response::Impulse) => ", impulse contacts as impacts located on the dense output (scene restitution and Coulomb friction impulse) and as held unilateral contact with Coulomb friction once bounces fall below the tolerance",
+            Some(Response::Penalty { .. }) => ", penalty contact forces integrated as a force term",
+            _ => "",
+        };
+        if rigid == 0 {
+            self.info.kind = "dop853".into();
+            self.info.description = format!("adaptive Dormand-Prince 8(5,3) (DOP853) at rtol = atol = 1e-12 with 7th-order dense output, restarted at each impulse{contacts}");
+        } else {
+            self.info.kind = "dop853_constrained".into();
+            self.info.description = format!("DOP853 at rtol = atol = 1e-12 on the index-reduced equations of motion ({rigid} rigid constraint(s) enforced at acceleration level by Lagrange multipliers), positions and velocities projected onto the constraint manifold after every step{contacts}");
+        }
+        Ok(())
+    }
+
+    fn fill_fine_step(&mut self, sys: &System, s0: &State) -> Result<()> {
+        let ents = entries(&self.grids);
+        let times: Vec<f64> = ents.iter().map(|e| e.t).collect();
+        let h0 = 0.5
+            * self
+                .grids
+                .iter()
+                .map(|g| g.dt)
+                .fold(f64::INFINITY, f64::min);
+        let floor = ROUND_OFF * length_scale(s0);
+        let fine = finestep::fine_step(sys, s0, &times, self.info.horizon, h0, floor)?;
+        self.motion = fine.motion;
+        for (e, x) in ents.iter().zip(fine.samples) {
+            self.samples[e.grid][e.idx] = x;
+        }
+        self.set_uncertainty(&ents, &fine.uncertainty);
+        self.info.predictability_horizon = fine.horizon;
+        self.info.predictability_threshold =
+            uncertainty::PREDICTABILITY_THRESHOLD * self.motion_scale();
+        self.info.uncertainty_method = format!(
+            "distance between the last two of {} halvings of the step (finest {:e} s)",
+            fine.levels, fine.step
+        );
+        self.info.solver_evals = fine.evals;
+        self.info.kind = "fine_step".into();
+        self.info.description = format!(
+            "the scene's projection contacts have no continuous counterpart: {} with the scene's contact stage at successively halved steps until two levels agree to {:e} x the motion scale (finest step {:e} s, {} levels)",
+            finestep::FINE_INTEGRATOR, finestep::FINE_AGREEMENT, fine.step, fine.levels
+        );
+        Ok(())
+    }
+}
+
+/// Round-off level of positions relative to the length scale.
+const ROUND_OFF: f64 = 1e-14;
+
+/// Period from a list of upward crossing times: mean spacing first to last.
+pub fn period_of(c: &[f64]) -> Option<f64> {
+    (c.len() >= 2).then(|| (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64)
+}

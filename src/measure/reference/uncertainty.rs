@@ -1,0 +1,167 @@
+//! The reference measures its own error. Besides the main solve, two companions run over the
+//! same sample times:
+//!
+//! - a **looser** solve at [`LOOSE_FACTOR`] × the main tolerance: its distance to the main
+//!   solve bounds the main solve's truncation error (the looser one's error dominates the
+//!   difference, so the estimate is conservative);
+//! - a **perturbed** solve at the main tolerance from initial positions moved by
+//!   [`PERTURBATION`] × the length scale (a round-off-sized change): its distance shows how
+//!   far the scene itself amplifies round-off.
+//!
+//! The per-sample uncertainty is the larger of the two distances (largest over particles, m),
+//! never below the round-off floor. The **predictability horizon** is the first sample time
+//! at which the perturbed solve departs from the main one by more than
+//! [`PREDICTABILITY_THRESHOLD`] × the motion scale: the perturbation has then grown a
+//! million-fold (10⁻¹² → 10⁻⁶), so tolerance-level differences between any two correct
+//! solvers grow to macroscopic ones and errors past that time measure the chaos, not the
+//! method. None when no sample departs that far.
+//!
+//! Cost: the companions run together (rayon::join, each one sequential, so the numbers do not
+//! depend on the thread count) after the main solve: about 1.8 main solves of work in all
+//! (the looser one takes ≈ 100^(1/8) ≈ 1.8× fewer steps), about one main solve of wall time
+//! on two cores.
+
+use super::adaptive::{length_scale, positions, solve};
+use crate::error::Result;
+use crate::model::{State, System, Vec3};
+
+/// Tolerance of the looser companion solve relative to the main one.
+pub const LOOSE_FACTOR: f64 = 100.0;
+
+/// Relative size of the initial-position perturbation of the perturbed companion.
+pub const PERTURBATION: f64 = 1e-12;
+
+/// Departure of the perturbed solve, relative to the motion scale, that ends the predictable
+/// range (a million-fold growth of the perturbation).
+pub const PREDICTABILITY_THRESHOLD: f64 = 1e-6;
+
+/// Most attempted steps of a companion, as a multiple of the main solve's: a companion that
+/// needs more (a contact sequence that grinds at its tolerance) is abandoned and said so.
+pub const COMPANION_WORK_FACTOR: u64 = 10;
+
+/// The companions' verdict at the main solve's sample times.
+#[derive(Debug, Clone)]
+pub(super) struct Companions {
+    /// Per sample time: max(loose distance, perturbed distance) (m).
+    pub uncertainty: Vec<f64>,
+    /// First sample time where the perturbed solve departs past the threshold (s).
+    pub horizon: Option<f64>,
+    /// The threshold used (m).
+    pub threshold: f64,
+    /// Empty, or which companion was abandoned (over its work budget) and what that means.
+    pub note: String,
+}
+
+/// `s0` with every free particle's position moved by `PERTURBATION` × the length scale, in a
+/// fixed alternating pattern of signs.
+pub(super) fn perturbed(sys: &System, s0: &State) -> State {
+    let eps = PERTURBATION * length_scale(s0);
+    let mut s = s0.clone();
+    for (p, x) in s.x.iter_mut().enumerate() {
+        if sys.free[p] {
+            for k in 0..3 {
+                x[k] += if (3 * p + k) % 2 == 0 { eps } else { -eps };
+            }
+        }
+    }
+    s
+}
+
+fn distances(
+    sys: &System,
+    s0: &State,
+    times: &[f64],
+    horizon: f64,
+    rtol: f64,
+    main: &[Vec<Vec3>],
+    max_steps: u64,
+) -> Result<Option<Vec<f64>>> {
+    let n = sys.len();
+    let mut d = vec![0.0; times.len()];
+    let done = solve(
+        sys,
+        s0,
+        times,
+        horizon,
+        rtol,
+        None,
+        Some(max_steps),
+        &mut |i, y| {
+            d[i] = max_distance(&positions(y, n), &main[i]);
+        },
+    )?;
+    Ok(done.map(|_| d))
+}
+
+/// Runs both companions of a main solve at tolerance `rtol` whose positions at `times` are
+/// `main`; `floor` is the round-off floor (m) and `motion` the motion scale (m).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn companions(
+    sys: &System,
+    s0: &State,
+    times: &[f64],
+    horizon: f64,
+    rtol: f64,
+    main: &[Vec<Vec3>],
+    floor: f64,
+    motion: f64,
+    max_steps: u64,
+) -> Result<Companions> {
+    let sp = perturbed(sys, s0);
+    let (loose, pert) = rayon::join(
+        || {
+            distances(
+                sys,
+                s0,
+                times,
+                horizon,
+                rtol * LOOSE_FACTOR,
+                main,
+                max_steps,
+            )
+        },
+        || distances(sys, &sp, times, horizon, rtol, main, max_steps),
+    );
+    let (loose, pert) = (loose?, pert?);
+    let threshold = PREDICTABILITY_THRESHOLD * motion;
+    let horizon = pert.as_ref().and_then(|pert| {
+        times
+            .iter()
+            .zip(pert)
+            .find(|(_, &d)| d > threshold)
+            .map(|(&t, _)| t)
+    });
+    let mut note = String::new();
+    if loose.is_none() {
+        note +=
+            "; the looser solve was abandoned over its work budget (only the perturbed one counts)";
+    }
+    if pert.is_none() {
+        note += "; the perturbed solve was abandoned over its work budget (no horizon measured)";
+    }
+    let uncertainty = (0..times.len())
+        .map(|i| {
+            let a = loose.as_ref().map_or(0.0, |d| d[i]);
+            let b = pert.as_ref().map_or(0.0, |d| d[i]);
+            if loose.is_none() && pert.is_none() {
+                f64::INFINITY
+            } else {
+                a.max(b).max(floor)
+            }
+        })
+        .collect();
+    Ok(Companions {
+        uncertainty,
+        horizon,
+        threshold,
+        note,
+    })
+}
+
+/// Largest distance between corresponding particles of two position lists (m).
+pub(super) fn max_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
+}
