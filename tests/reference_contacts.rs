@@ -7,7 +7,6 @@
 //! reference that sees the box must be centimetres at most, not the metres of a reference
 //! falling through it).
 
-use springlab::integrate;
 use springlab::measure::compare::{compare, CompareConfig};
 use springlab::measure::grid::TimeGrid;
 use springlab::measure::reference::Reference;
@@ -57,7 +56,7 @@ impl Observer for Record {
 
 fn run_rk4(scene: &Scenario, grid: TimeGrid) -> Vec<Vec<Vec3>> {
     let sys = scene.build();
-    let mut rk4 = integrate::by_name("rk4", &Default::default()).unwrap();
+    let mut rk4 = springlab::method::create("rk4", &Default::default()).unwrap();
     let mut rec = Record {
         grid,
         x: Vec::new(),

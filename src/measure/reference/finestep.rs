@@ -14,7 +14,8 @@
 
 use super::uncertainty::{max_distance, perturbed, PREDICTABILITY_THRESHOLD};
 use crate::error::{Error, Result};
-use crate::integrate::{by_name, IntegratorOptions};
+use crate::integrate::IntegratorOptions;
+use crate::method::create as by_name;
 use crate::model::{State, System, Vec3};
 
 /// The integrator of the fine-step reference.
