@@ -32,6 +32,22 @@ pub const ENGINE_BUDGET_SECONDS: f64 = 1.0;
 /// Default advice tolerance of a study: 1 mm of position error over the scene's duration.
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
 
+/// The sweep's cost cap per method (particle-steps) in a full study: a tenth of a default
+/// `springlab sweep`'s, so the 32×32 cloth's sweep stays within seconds.
+pub const STUDY_COST_CAP: f64 = 4e5;
+
+/// The sweep's cost cap per method (particle-steps) in a quick study.
+pub const QUICK_COST_CAP: f64 = 5e4;
+
+/// Advice's timing rule in a quick study: fewer repetitions (ranks are indicative only).
+pub const QUICK_TIMING: super::case::TimingRule = super::case::TimingRule {
+    min_repetitions: 3,
+    min_total_seconds: 0.005,
+    cap_seconds: 0.05,
+    cap_repetitions: 2,
+    max_repetitions: 1_000,
+};
+
 /// How thorough a study is and with which methods.
 #[derive(Debug, Clone)]
 pub struct StudyConfig {
@@ -150,6 +166,11 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             &SweepConfig {
                 methods: cfg.methods.clone(),
                 integrators: sweepable,
+                cost_cap: Some(if cfg.quick {
+                    QUICK_COST_CAP
+                } else {
+                    STUDY_COST_CAP
+                }),
                 options: cfg.options,
                 progress: cfg.progress,
                 ..Default::default()
@@ -196,8 +217,12 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
                 integrators: candidates,
                 options: cfg.options,
                 tolerance: cfg.tolerance,
-                points: if cfg.quick { 5 } else { 10 },
-                dt_min: None,
+                points: if cfg.quick { 4 } else { 8 },
+                timing: if cfg.quick {
+                    QUICK_TIMING
+                } else {
+                    super::advise::ADVICE_TIMING
+                },
                 progress: cfg.progress,
                 ..Default::default()
             },

@@ -101,7 +101,7 @@ pub fn methods() -> Vec<Method> {
         Method::new(
             native(
                 "verlet_constraints",
-                2,
+                1,
                 "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
             ),
             |o| Box::new(VerletConstraints::new(o.constraint_iterations)),
