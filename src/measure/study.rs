@@ -39,15 +39,6 @@ pub const STUDY_COST_CAP: f64 = 4e5;
 /// The sweep's cost cap per method (particle-steps) in a quick study.
 pub const QUICK_COST_CAP: f64 = 5e4;
 
-/// Advice's timing rule in a quick study: fewer repetitions (ranks are indicative only).
-pub const QUICK_TIMING: super::case::TimingRule = super::case::TimingRule {
-    min_repetitions: 3,
-    min_total_seconds: 0.005,
-    cap_seconds: 0.05,
-    cap_repetitions: 2,
-    max_repetitions: 1_000,
-};
-
 /// How thorough a study is and with which methods.
 #[derive(Debug, Clone)]
 pub struct StudyConfig {
@@ -218,11 +209,6 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
                 options: cfg.options,
                 tolerance: cfg.tolerance,
                 points: if cfg.quick { 4 } else { 8 },
-                timing: if cfg.quick {
-                    QUICK_TIMING
-                } else {
-                    super::advise::ADVICE_TIMING
-                },
                 progress: cfg.progress,
                 ..Default::default()
             },

@@ -3,7 +3,7 @@
 
 use super::finite::cell;
 use super::summary::{BackendSummary, SceneSummary, Summary};
-use super::verdict::{dt_words, limit_words};
+use super::verdict::{dt_words, front_row, limit_words};
 use crate::measure::stability::StabilityReport;
 use crate::measure::study::SceneStudy;
 
@@ -219,39 +219,22 @@ pub fn scene_page(
 }
 
 /// The answer line of a scene on the front page: what to use, limits, blow-ups.
-fn front_row(s: &SceneSummary) -> String {
-    let pick = match &s.pick {
-        Some(p) => match (&p.integrator, p.dt) {
-            (Some(m), Some(dt)) => format!(
-                "<strong>{}</strong> at dt = {} (error {} m ≤ {} m over {} s)",
-                esc(m),
-                esc(&dt_words(dt)),
-                cell(p.verified_error, 2),
-                cell(Some(p.tolerance), 2),
-                cell(Some(p.horizon), 3)
-            ),
-            _ => format!("nothing meets {} m on the grid", cell(Some(p.tolerance), 2)),
-        },
-        None => "no advice (no candidate applies)".into(),
+fn front_tr(s: &SceneSummary) -> String {
+    let r = front_row(s);
+    let lines = |v: &[String]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter().map(|x| esc(x)).collect::<Vec<_>>().join("<br>")
+        }
     };
-    let limits: Vec<String> = s
-        .backends
-        .iter()
-        .filter(|b| b.stability.is_some())
-        .map(|b| format!("{}: {}", esc(&b.backend), esc(&limit_words(b))))
-        .collect();
-    let blew: Vec<String> = s
-        .backends
-        .iter()
-        .filter(|b| b.status != "ok")
-        .map(|b| format!("{} at t = {} s", esc(&b.backend), cell(b.blowup_time, 3)))
-        .collect();
     format!(
-        "<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{pick}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
+        "<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
         esc(&s.page),
         esc(&s.scene),
-        limits.join("<br>"),
-        if blew.is_empty() { "none".into() } else { blew.join("<br>") }
+        esc(&r.pick),
+        lines(&r.limits),
+        lines(&r.blew)
     )
 }
 
@@ -264,7 +247,7 @@ pub fn index_page(sum: &Summary) -> String {
     }
     body += "<h2>What to use</h2>\n<table>\n<tr><th class=\"l\">scene</th><th class=\"l\">advised method and step (stated tolerance)</th><th class=\"l\">stable steps</th><th class=\"l\">blew up at the scene's step</th></tr>\n";
     for s in &sum.scenes {
-        body += &front_row(s);
+        body += &front_tr(s);
     }
     body += "</table>\n<h2>All methods at each scene's step</h2>\n";
     for s in &sum.scenes {

@@ -3,7 +3,7 @@
 use super::finite::cell;
 use super::html::{drift_cell, evals_cell, order_cell, stable_cell, status_cell};
 use super::summary::Summary;
-use super::verdict::{dt_words, limit_words};
+use super::verdict::front_row;
 
 fn md(s: &str) -> String {
     s.replace('|', "\\|")
@@ -17,42 +17,21 @@ pub fn readme(sum: &Summary) -> String {
     }
     out += "## What to use\n\n| scene | advised method and step (stated tolerance) | stable steps | blew up at the scene's step |\n|---|---|---|---|\n";
     for s in &sum.scenes {
-        let pick = match &s.pick {
-            Some(p) => match (&p.integrator, p.dt) {
-                (Some(m), Some(dt)) => format!(
-                    "**{}** at dt = {} (error {} m ≤ {} m over {} s)",
-                    md(m),
-                    dt_words(dt),
-                    cell(p.verified_error, 2),
-                    cell(Some(p.tolerance), 2),
-                    cell(Some(p.horizon), 3)
-                ),
-                _ => format!("nothing meets {} m on the grid", cell(Some(p.tolerance), 2)),
-            },
-            None => "no advice (no candidate applies)".into(),
+        let r = front_row(s);
+        let lines = |v: &[String]| {
+            if v.is_empty() {
+                "none".to_string()
+            } else {
+                v.iter().map(|x| md(x)).collect::<Vec<_>>().join("<br>")
+            }
         };
-        let limits: Vec<String> = s
-            .backends
-            .iter()
-            .filter(|b| b.stability.is_some())
-            .map(|b| format!("{}: {}", md(&b.backend), md(&limit_words(b))))
-            .collect();
-        let blew: Vec<String> = s
-            .backends
-            .iter()
-            .filter(|b| b.status != "ok")
-            .map(|b| format!("{} at t = {} s", md(&b.backend), cell(b.blowup_time, 3)))
-            .collect();
         out += &format!(
-            "| [{}]({}) | {pick} | {} | {} |\n",
+            "| [{}]({}) | {} | {} | {} |\n",
             md(&s.scene),
             s.page,
-            limits.join("<br>"),
-            if blew.is_empty() {
-                "none".into()
-            } else {
-                blew.join("<br>")
-            }
+            md(&r.pick),
+            lines(&r.limits),
+            lines(&r.blew)
         );
     }
     out += "\n## All methods at each scene's step\n\n";

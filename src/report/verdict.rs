@@ -49,6 +49,51 @@ pub fn pick_sentence(s: &SceneSummary) -> Option<String> {
     })
 }
 
+/// A scene's answer on the front page, as plain text: what to use, each analysed method's
+/// stable step, and what blew up at the scene's step. The HTML and Markdown overviews both
+/// render this one row.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrontRow {
+    /// The advised method and step at the stated tolerance, or why there is none.
+    pub pick: String,
+    /// `method: limit` per analysed method.
+    pub limits: Vec<String>,
+    /// `method at t = … s` per run that blew up.
+    pub blew: Vec<String>,
+}
+
+/// The front-page row of a scene.
+pub fn front_row(s: &SceneSummary) -> FrontRow {
+    let pick = match &s.pick {
+        Some(p) => match (&p.integrator, p.dt) {
+            (Some(m), Some(dt)) => format!(
+                "{m} at dt = {} (error {} m ≤ {} m over {} s)",
+                dt_words(dt),
+                cell(p.verified_error, 2),
+                cell(Some(p.tolerance), 2),
+                cell(Some(p.horizon), 3)
+            ),
+            _ => format!("nothing meets {} m on the grid", cell(Some(p.tolerance), 2)),
+        },
+        None => "no advice (no candidate applies)".into(),
+    };
+    FrontRow {
+        pick,
+        limits: s
+            .backends
+            .iter()
+            .filter(|b| b.stability.is_some())
+            .map(|b| format!("{}: {}", b.backend, limit_words(b)))
+            .collect(),
+        blew: s
+            .backends
+            .iter()
+            .filter(|b| b.status != "ok")
+            .map(|b| format!("{} at t = {} s", b.backend, cell(b.blowup_time, 3)))
+            .collect(),
+    }
+}
+
 /// The paragraph for one scene.
 pub fn verdict(s: &SceneSummary) -> String {
     let mut out = Vec::new();
