@@ -25,6 +25,10 @@ pub struct Args {
     /// Skip the empirical bisection.
     #[arg(long)]
     pub theory_only: bool,
+    /// Run the empirical bisection only for methods without linear theory (engines); where the
+    /// spectral radius applies it decides anyway, and the bisection is a costly cross-check.
+    #[arg(long, conflicts_with = "theory_only")]
+    pub empirical_where_no_theory: bool,
     /// Also sweep stiffness × dt into stability_map.csv.
     #[arg(long)]
     pub map: bool,
@@ -70,6 +74,7 @@ pub fn run(a: Args) -> Result<()> {
         horizon: a.horizon,
         blowup_factor: a.blowup_factor,
         theory_only: a.theory_only,
+        empirical_where_no_theory: a.empirical_where_no_theory,
         ..Default::default()
     };
     let rep = analyse(&scene, &cfg)?;

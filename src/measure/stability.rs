@@ -389,6 +389,9 @@ pub struct StabilityConfig {
     pub blowup_factor: f64,
     /// Skip the empirical search.
     pub theory_only: bool,
+    /// Run the empirical search only for methods without linear theory (where the spectral
+    /// radius decides the verdict, the search is a cross-check that costs many runs).
+    pub empirical_where_no_theory: bool,
 }
 
 /// The empirical search's blow-up factor: larger than a run's default, because a method
@@ -405,6 +408,7 @@ impl Default for StabilityConfig {
             horizon: None,
             blowup_factor: EMPIRICAL_BLOWUP_FACTOR,
             theory_only: false,
+            empirical_where_no_theory: false,
         }
     }
 }
@@ -461,7 +465,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
                 .and_then(|t| t.1)
                 .or(scene.run.dt)
                 .unwrap_or(horizon / 100.0);
-            let empirical = if cfg.theory_only {
+            let empirical = if cfg.theory_only || (cfg.empirical_where_no_theory && theory.is_some()) {
                 None
             } else {
                 Some(empirical_limit(&sys, &s0, method, &cfg.options, start, &crit)?)
@@ -504,6 +508,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         .flag("horizon", horizon)
         .flag("blowup-factor", cfg.blowup_factor)
         .switch("theory-only", cfg.theory_only)
+        .switch("empirical-where-no-theory", cfg.empirical_where_no_theory)
         .render();
     Ok(StabilityReport {
         command,

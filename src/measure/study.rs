@@ -12,6 +12,8 @@
 //!   run took at most [`ENGINE_BUDGET_SECONDS`] of wall time (an engine's empirical bisection
 //!   and advice grid cost hundreds of such runs; `springlab stability` and `advise` run any
 //!   engine on request). The documents' commands name exactly the methods that took part.
+//!   Stability runs the empirical bisection only where linear theory does not apply (the
+//!   spectral radius decides where it does); a quick study runs theory only.
 
 use super::advise::{advise, Advice, AdviseConfig};
 use super::compare::{compare, CompareConfig, CompareResult};
@@ -80,8 +82,10 @@ pub struct SceneStudy {
     pub sweep: Option<SweepResult>,
     /// `stability`'s result.
     pub stability: StabilityReport,
-    /// `advise`'s result, when a candidate applies.
+    /// `advise`'s result, when a candidate applies and the reference can verify the tolerance.
     pub advice: Option<Advice>,
+    /// Why there is no advice, when there is none.
+    pub advice_note: Option<String>,
     /// What took part where, and what was left out and why.
     pub notes: Vec<String>,
 }
@@ -175,6 +179,9 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             integrators: measured.clone(),
             options: cfg.options,
             theory_only: cfg.quick,
+            // Where the spectral radius applies it decides; the bisection would only
+            // cross-check it at the price of dozens of runs per method.
+            empirical_where_no_theory: !cfg.quick,
             ..Default::default()
         },
     )?;
@@ -198,7 +205,23 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             exact.join(", ")
         ));
     }
+    let uncertainty = compared.reference.uncertainty;
+    let mut advice_note = None;
     let advice = if candidates.is_empty() {
+        advice_note = Some("no candidate applies".to_string());
+        None
+    } else if uncertainty > cfg.tolerance {
+        // The reference cannot tell errors below its own uncertainty from zero, so no step
+        // can be verified to the tolerance (a chaotic scene past its predictable range).
+        advice_note = Some(format!(
+            "the reference cannot verify {} m: its own uncertainty over the scene's duration is {:.2e} m{}",
+            cfg.tolerance,
+            uncertainty,
+            compared
+                .reference
+                .predictability_horizon
+                .map_or(String::new(), |h| format!(" (predictable for {h} s)"))
+        ));
         None
     } else {
         Some(advise(
@@ -221,6 +244,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         sweep,
         stability,
         advice,
+        advice_note,
         notes,
     })
 }

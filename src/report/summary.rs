@@ -37,6 +37,9 @@ pub struct BackendSummary {
     pub stable_h_omega: Option<f64>,
     /// How the stability limit was decided (`spectral_radius`, `empirical_bisection`, ...).
     pub stability_method: Option<String>,
+    /// For an empirical "stable at every step", the largest step the search tried (s): the
+    /// claim holds up to there, not beyond.
+    pub stable_up_to_tried: Option<f64>,
     /// The sweep's observed order (null when the asymptotic range was not reached).
     pub observed_order: Option<f64>,
     /// Why there is no observed order, when the sweep ran this method.
@@ -98,6 +101,8 @@ pub struct SceneSummary {
     pub omega_max: Option<f64>,
     /// What to use.
     pub pick: Option<Pick>,
+    /// Why there is no advice, when there is none.
+    pub advice_note: Option<String>,
     /// One row per backend that ran.
     pub backends: Vec<BackendSummary>,
     /// Backends that refused the scene, with the reason.
@@ -173,6 +178,11 @@ pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document
             stable_dt: stab.and_then(|i| i.max_stable_dt),
             stable_h_omega: stab.and_then(|i| i.h_omega),
             stability_method: stab.map(|i| i.method.clone()),
+            stable_up_to_tried: stab
+                .filter(|i| {
+                    i.method == "empirical_bisection" && i.verdict == Verdict::UnconditionallyStable
+                })
+                .map(|_| s.stability.empirical_criterion.dt_max),
             observed_order: fit.and_then(|f| f.observed_order),
             order_note: fit.and_then(|f| f.fit.note.clone()),
             restitution_measured: contacts
@@ -207,6 +217,7 @@ pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document
         reference: reference_words(s),
         omega_max: (s.stability.omega_max > 0.0).then_some(s.stability.omega_max),
         pick,
+        advice_note: s.advice_note.clone(),
         backends,
         skipped,
         verdict: String::new(),

@@ -19,11 +19,15 @@ fn pct(v: f64) -> String {
     format!("{}%", cell(Some(100.0 * v), 2))
 }
 
-/// A stability limit in words: `dt ≤ 0.0249 s`, `any step`, `no step`, or `not analysed`.
+/// A stability limit in words: `dt ≤ 0.0249 s`, `any step` (theory), `every step tried (up to
+/// … s)` (an empirical search), `no step`, or `not analysed`.
 pub fn limit_words(b: &BackendSummary) -> String {
     match (b.stability, b.stable_dt) {
         (Some(Verdict::StableBelow), Some(dt)) => format!("dt ≤ {} s", cell(Some(dt), 3)),
-        (Some(Verdict::UnconditionallyStable), _) => "any step".into(),
+        (Some(Verdict::UnconditionallyStable), _) => match b.stable_up_to_tried {
+            Some(t) => format!("every step tried (up to {} s)", cell(Some(t), 3)),
+            None => "any step".into(),
+        },
         (Some(Verdict::UnstableForAllDt), _) => "no step".into(),
         _ => "not analysed".into(),
     }
@@ -31,7 +35,9 @@ pub fn limit_words(b: &BackendSummary) -> String {
 
 /// The sentence that answers "what should I use here?".
 pub fn pick_sentence(s: &SceneSummary) -> Option<String> {
-    let p = s.pick.as_ref()?;
+    let Some(p) = s.pick.as_ref() else {
+        return s.advice_note.as_ref().map(|n| format!("No advice: {n}."));
+    };
     Some(match (&p.integrator, p.dt) {
         (Some(m), Some(dt)) => format!(
             "Use {m} at dt = {} for a position error within {} m over {} s (verified: {} m, at {} s of wall time per simulated second).",
@@ -75,7 +81,10 @@ pub fn front_row(s: &SceneSummary) -> FrontRow {
             ),
             _ => format!("nothing meets {} m on the grid", cell(Some(p.tolerance), 2)),
         },
-        None => "no advice (no candidate applies)".into(),
+        None => format!(
+            "no advice: {}",
+            s.advice_note.as_deref().unwrap_or("none was measured")
+        ),
     };
     FrontRow {
         pick,
