@@ -203,6 +203,9 @@ pub struct CaseSettings {
     pub repeat_short: bool,
     /// Record paths and snapshots.
     pub trace: Option<TraceSpec>,
+    /// Measure collision metrics on scenes with obstacles (compare's `contacts.json`; sweeps
+    /// and advice leave them off: they would pay the per-step obstacle queries for nothing).
+    pub contacts: bool,
 }
 
 impl Default for CaseSettings {
@@ -214,6 +217,7 @@ impl Default for CaseSettings {
             series_points: 0,
             repeat_short: true,
             trace: None,
+            contacts: false,
         }
     }
 }
@@ -236,7 +240,10 @@ pub fn run_case(
     };
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
     let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));
-    let mut contacts = ContactMetrics::new(sys, g.dt);
+    let mut contacts = set
+        .contacts
+        .then(|| ContactMetrics::new(sys, g.dt))
+        .flatten();
     let out = run(
         sys,
         integ.as_mut(),
@@ -275,6 +282,16 @@ pub fn run_case(
     })
 }
 
+/// The methods asked for, or every registered one when none was named: what a measuring
+/// command runs, and what its `"command"` names.
+pub fn asked_or_all(methods: &Registry, asked: &[String]) -> Vec<String> {
+    if asked.is_empty() {
+        methods.names().into_iter().map(String::from).collect()
+    } else {
+        asked.to_vec()
+    }
+}
+
 /// The methods of `methods` that apply to `sys`: `asked` (or, when empty, every registered
 /// method), canonical names split into (applicable, skipped with the reason).
 #[allow(clippy::type_complexity)]
@@ -284,13 +301,8 @@ pub fn applicable(
     asked: &[String],
     opts: &IntegratorOptions,
 ) -> Result<(Vec<String>, Vec<(String, String)>)> {
-    let names: Vec<String> = if asked.is_empty() {
-        methods.names().into_iter().map(String::from).collect()
-    } else {
-        asked.to_vec()
-    };
     let (mut ok, mut skipped) = (Vec::new(), Vec::new());
-    for n in names {
+    for n in asked_or_all(methods, asked) {
         let integ = methods.create(&n, opts)?;
         let canon = integ.name().to_string();
         if ok.contains(&canon) || skipped.iter().any(|(s, _)| *s == canon) {

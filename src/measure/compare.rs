@@ -1,6 +1,6 @@
 //! Every applicable backend at one step against the reference, side by side.
 
-use super::case::{applicable, run_case, CaseResult, CaseSettings};
+use super::case::{applicable, asked_or_all, run_case, CaseResult, CaseSettings};
 use super::command::{with_out, CommandLine};
 use super::contacts::ContactReport;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
@@ -128,6 +128,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         series_points: cfg.series_points,
         repeat_short: true,
         trace,
+        contacts: true,
     };
     let pb = super::progress::bar(
         names.len() as u64,
@@ -181,15 +182,6 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         substeps: cfg.options.substeps,
         entries,
     })
-}
-
-/// The methods asked for, or every registered one when none was named.
-fn asked_or_all(methods: &Registry, asked: &[String]) -> Vec<String> {
-    if asked.is_empty() {
-        methods.names().into_iter().map(String::from).collect()
-    } else {
-        asked.to_vec()
-    }
 }
 
 /// The header of `compare.csv`.

@@ -497,10 +497,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
             })
         })
         .collect();
-    let mut asked = cfg.integrators.clone();
-    if asked.is_empty() {
-        asked = cfg.methods.names().into_iter().map(String::from).collect();
-    }
+    let asked = super::case::asked_or_all(&cfg.methods, &cfg.integrators);
     let command = super::command::CommandLine::new("stability", &scene.source)
         .list("integrators", &asked)
         .flag("substeps", cfg.options.substeps)

@@ -5,7 +5,6 @@
 use super::data::*;
 use crate::measure::case::CaseResult;
 use crate::measure::study::SceneStudy;
-use crate::method::Registry;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 
@@ -93,13 +92,13 @@ pub fn position_error(s: &SceneStudy) -> PositionErrorData {
     }
 }
 
-/// Convergence lines from the sweep's rows with the sweep's fitted orders, and reference
-/// slopes dt^p for the orders present.
-pub fn convergence(s: &SceneStudy, methods: &Registry) -> Option<ConvergenceData> {
+/// Convergence lines from the sweep's rows with the sweep's fitted orders and the theoretical
+/// orders its plan recorded, and reference slopes dt^p for the orders present.
+pub fn convergence(s: &SceneStudy) -> Option<ConvergenceData> {
     let sweep = s.sweep.as_ref()?;
     let summary = sweep.summary.as_ref()?;
     let mut lines = Vec::new();
-    for name in &sweep.plan.integrators {
+    for (name, order) in sweep.plan.integrators.iter().zip(&sweep.plan.orders) {
         let rows = sweep.rows.iter().filter(|r| &r.integrator == name);
         let points: Vec<[f64; 2]> = rows
             .clone()
@@ -117,7 +116,7 @@ pub fn convergence(s: &SceneStudy, methods: &Registry) -> Option<ConvergenceData
         let mut series = Series::new(name.clone(), points);
         series.blowup = unstable.map(|dt| BlowUp { x: dt, y: top });
         let fit = summary.integrators.iter().find(|i| &i.integrator == name);
-        let Some(order) = methods.info(name).ok().and_then(|m| m.order.finite()) else {
+        let Some(order) = *order else {
             continue;
         };
         lines.push(ConvergenceLine {

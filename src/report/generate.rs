@@ -136,7 +136,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
         ),
     );
     let mut notes = s.notes.clone();
-    if let Some(c) = charts::convergence(s, &opts.methods) {
+    if let Some(c) = charts::convergence(s) {
         write_chart(&dir, "convergence", plots::convergence(&c), &c)?;
         fig("convergence", "Convergence", format!("Largest position error against the step, log-log; the legend gives each method's observed order as the sweep fitted it on its asymptotic range (none when that range was not reached), dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step. {}", link("sweep/summary.json, sweep/sweep.csv")));
     }
@@ -161,7 +161,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
         notes.push("Collision validation: this scene has no obstacles.".to_string());
     }
     notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit from the command beside its document.".into());
-    let mut sum = scene_summary(s, &opts.methods, docs);
+    let mut sum = scene_summary(s, &opts.methods, docs)?;
     sum.verdict = super::verdict::verdict(&sum);
     write_atomic(
         dir.join("index.html"),

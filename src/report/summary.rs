@@ -137,7 +137,11 @@ pub fn reference_words(s: &SceneStudy) -> String {
 }
 
 /// The summary of one scene's study (the verdict is filled in by [`super::verdict`]).
-pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document>) -> SceneSummary {
+pub fn scene_summary(
+    s: &SceneStudy,
+    methods: &Registry,
+    documents: Vec<Document>,
+) -> crate::error::Result<SceneSummary> {
     let mut backends = Vec::new();
     let mut skipped = Vec::new();
     for e in &s.compare.entries {
@@ -148,7 +152,8 @@ pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document
             ));
             continue;
         };
-        let info = methods.info(&r.integrator).ok();
+        // Every compared method came from this registry; a mismatch is the caller's error.
+        let info = methods.info(&r.integrator)?;
         let ok = r.ok();
         let m = &r.metrics;
         let stab = s
@@ -166,7 +171,7 @@ pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document
         let contacts = r.contacts.as_ref();
         backends.push(BackendSummary {
             backend: r.integrator.clone(),
-            order: info.map_or(Order::Exact, |i| i.order),
+            order: info.order,
             status: r.status.clone(),
             blowup_time: r.unstable_time,
             blowup_reason: r.unstable_reason.clone(),
@@ -195,8 +200,7 @@ pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document
                 .filter(|c| c.penetration.count > 0)
                 .and_then(|c| finite(c.penetration.max)),
             tunnelling: contacts.map(|c| c.tunnelling_count),
-            force_evals: info
-                .is_some_and(|i| i.cost == crate::method::CostUnit::ForceEvaluations)
+            force_evals: (info.cost == crate::method::CostUnit::ForceEvaluations)
                 .then_some(r.force_evals),
             wall_seconds: r.wall_seconds,
         });
@@ -209,7 +213,7 @@ pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document
         verified_error: a.verified_error,
         wall_per_second: a.wall_per_second,
     });
-    SceneSummary {
+    Ok(SceneSummary {
         scene: s.scenario.clone(),
         description: s.description.clone(),
         dt: s.compare.dt,
@@ -224,5 +228,5 @@ pub fn scene_summary(s: &SceneStudy, methods: &Registry, documents: Vec<Document
         page: format!("{}/index.html", s.scenario),
         documents,
         notes: s.notes.clone(),
-    }
+    })
 }

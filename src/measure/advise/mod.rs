@@ -345,6 +345,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         // Advice times its candidates' runs itself, after the accuracy runs.
         repeat_short: false,
         trace: None,
+        contacts: false,
     };
     let jobs: Vec<(String, TimeGrid)> = names
         .iter()
@@ -459,10 +460,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         AdviseMetric::Position => "position",
         AdviseMetric::Energy => "energy",
     };
-    let mut asked = cfg.integrators.clone();
-    if asked.is_empty() {
-        asked = cfg.methods.names().into_iter().map(String::from).collect();
-    }
+    let asked = super::case::asked_or_all(&cfg.methods, &cfg.integrators);
     let command = super::command::CommandLine::new("advise", &scene.source)
         .flag("tolerance", cfg.tolerance)
         .flag("metric", metric)

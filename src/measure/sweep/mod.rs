@@ -280,6 +280,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         series_points: 0,
         repeat_short: cfg.repeat_short,
         trace: None,
+        contacts: false,
     };
     let mut pending: Vec<usize> = owned
         .iter()
