@@ -20,7 +20,7 @@ fn no_obstacles_no_queries() {
     assert!(scene.collision.is_none());
     let (q0, b0) = (query_count(), build_count());
     let sys = scene.build();
-    assert!(sys.contacts.is_none());
+    assert!(sys.post_step.is_none());
     for integ in [
         "symplectic_euler",
         "implicit_euler",

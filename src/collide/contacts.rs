@@ -5,7 +5,7 @@
 
 use super::def::Response;
 use super::obstacles::{Contact, ObstacleSet};
-use crate::model::{State, System, Vec3};
+use crate::model::{PostStep, StageStep, State, System, Vec3};
 use std::sync::Arc;
 
 /// What the contact stage did in one step.
@@ -24,8 +24,8 @@ pub struct ContactStep {
     pub max_penetration: f64,
 }
 
-/// A scene's obstacles and response, attached to [`System::contacts`] only when the scene has
-/// obstacles. For `penalty` the forces live in a force term and [`Contacts::apply`] does nothing.
+/// A scene's obstacles and response, attached to [`System::post_step`] only when the scene has
+/// obstacles (read it back with [`of`]). For `penalty` the forces live in a force term and [`Contacts::apply`] does nothing.
 #[derive(Debug, Clone)]
 pub struct Contacts {
     /// The obstacles with their broad phase (shared with the penalty term and the metrics).
@@ -41,7 +41,7 @@ impl Contacts {
     }
 
     /// Name listed by [`System::active_terms`]; `None` for penalty (its force term is listed).
-    pub fn stage_name(&self) -> Option<&'static str> {
+    fn stage_name(&self) -> Option<&'static str> {
         match self.response {
             Response::Impulse => Some("impulse_contacts"),
             Response::Projection => Some("projection_contacts"),
@@ -170,4 +170,25 @@ impl Contacts {
             }
         }
     }
+}
+
+impl PostStep for Contacts {
+    fn name(&self) -> Option<&'static str> {
+        self.stage_name()
+    }
+    fn apply(&self, sys: &System, x0: &[Vec3], s: &mut State, h: f64) -> StageStep {
+        let c = Contacts::apply(self, sys, x0, s, h);
+        StageStep {
+            changed: c.changed,
+            dissipated: c.dissipated,
+        }
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// The contact stage of `sys`, `None` for a scene without obstacles.
+pub fn of(sys: &System) -> Option<&Contacts> {
+    sys.post_step.as_ref()?.as_any().downcast_ref::<Contacts>()
 }

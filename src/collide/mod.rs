@@ -10,7 +10,7 @@ mod def;
 mod obstacles;
 mod penalty;
 
-pub use contacts::{ContactStep, Contacts};
+pub use contacts::{of, ContactStep, Contacts};
 pub use counter::{build_count, query_count};
 pub use def::{
     damping_ratio_for_restitution, restitution_for_damping_ratio, CollisionSetup, ObstacleDef,

@@ -64,7 +64,7 @@ impl Analytic {
         if !sys.constraints.is_empty() {
             return Err("the scene has rigid constraints".into());
         }
-        if sys.contacts.is_some() {
+        if sys.post_step.is_some() {
             return Err("the scene has obstacles: contacts have no closed form here".into());
         }
         if sys

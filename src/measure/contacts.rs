@@ -249,7 +249,7 @@ pub struct ContactMetrics {
 impl ContactMetrics {
     /// Metrics for `sys` sampled every `dt`; `None` when the system has no obstacles.
     pub fn new(sys: &System, dt: f64) -> Option<Self> {
-        let c = sys.contacts.as_ref()?;
+        let c = crate::collide::of(sys)?;
         let tracked: Vec<usize> = (0..sys.len())
             .filter(|&p| sys.free[p])
             .take(TRACKED_PARTICLES)

@@ -78,7 +78,7 @@ fn mode_system(m: Mode) -> System {
         drag: None,
         constraints: vec![],
         impulses: vec![],
-        contacts: None,
+        post_step: None,
         terms: vec![Box::new(LinearMode {
             k: m.omega2,
             c: m.damping,

@@ -2,12 +2,14 @@
 
 mod jacobian;
 pub mod parallel;
+mod post_step;
 mod springs;
 mod state;
 mod system;
 mod term;
 
 pub use jacobian::Jacobian;
+pub use post_step::{PostStep, StageStep};
 pub use springs::Springs;
 pub use state::{State, Vec3};
 pub use system::{DistanceConstraint, Energy, Impulse, System};

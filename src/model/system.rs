@@ -70,9 +70,9 @@ pub struct System {
     pub impulses: Vec<Impulse>,
     /// Active force terms other than the springs (gravity, drag, contacts...).
     pub terms: Vec<Box<dyn ForceTerm>>,
-    /// Post-step contact stage (issue 5), present only when the scene has obstacles: the
+    /// Post-step stage (the contact stage), present only when the scene has obstacles: the
     /// runner calls it after every accepted step. `None` means no collision work at all.
-    pub contacts: Option<crate::collide::Contacts>,
+    pub post_step: Option<Box<dyn super::PostStep>>,
 }
 
 impl System {
@@ -99,7 +99,7 @@ impl System {
         if !self.impulses.is_empty() {
             names.push("impulses");
         }
-        if let Some(name) = self.contacts.as_ref().and_then(|c| c.stage_name()) {
+        if let Some(name) = self.post_step.as_ref().and_then(|c| c.name()) {
             names.push(name);
         }
         names

@@ -125,7 +125,7 @@ impl Integrator for RapierBackend {
         self.prepare(sys, s, h);
         let p0 = damping_power(sys, &s.x, &s.v);
         let e0 = sys
-            .contacts
+            .post_step
             .as_ref()
             .map(|_| sys.energy(&s.x, &s.v).mechanical());
         let b = self.built.as_mut().expect("built in prepare");

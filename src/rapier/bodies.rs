@@ -63,7 +63,7 @@ pub fn pivot_body(x: Vector, eps: f64, r: f64) -> RigidBody {
 /// restitution and friction 0 combined by `Max` (so an obstacle's values act as given); it
 /// collides with the scene's obstacles only, never with other particles.
 pub fn particle_collider(sys: &System, p: usize) -> Collider {
-    let groups = if sys.contacts.is_some() {
+    let groups = if sys.post_step.is_some() {
         super::obstacles::particle_groups()
     } else {
         InteractionGroups::none()

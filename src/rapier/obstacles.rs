@@ -17,7 +17,7 @@ fn obstacle_groups() -> InteractionGroups {
 /// One standalone (fixed) collider per obstacle of `sys`, none without obstacles. The parry
 /// shapes are shared with springlab's own contact stage, so both sides see the same geometry.
 pub fn obstacle_colliders(sys: &System) -> Vec<Collider> {
-    let Some(c) = &sys.contacts else {
+    let Some(c) = crate::collide::of(sys) else {
         return Vec::new();
     };
     c.set

@@ -105,7 +105,7 @@ struct Loop<'a> {
 impl Loop<'_> {
     fn step(&mut self, s: &mut State, h: f64) -> Result<()> {
         let t0 = Instant::now();
-        if self.sys.contacts.is_some() {
+        if self.sys.post_step.is_some() {
             self.x0.clone_from(&s.x);
         }
         let stats = self.integ.step(self.sys, s, h)?;
@@ -114,7 +114,7 @@ impl Loop<'_> {
         // integrator's history.
         if let Some(c) = self
             .sys
-            .contacts
+            .post_step
             .as_ref()
             .filter(|_| !self.integ.handles_contacts())
         {

@@ -202,7 +202,8 @@ impl Scenario {
                     self.particles.iter().map(|p| !p.fixed).collect(),
                 )));
             }
-            crate::collide::Contacts::new(set, c.response)
+            Box::new(crate::collide::Contacts::new(set, c.response))
+                as Box<dyn crate::model::PostStep>
         });
         System {
             mass,
@@ -215,7 +216,7 @@ impl Scenario {
             constraints: self.constraints.clone(),
             impulses: self.impulses.clone(),
             terms,
-            contacts,
+            post_step: contacts,
         }
     }
 

@@ -60,11 +60,7 @@ pub(super) fn solve(
         .filter(|&c| sys.constraints[c].compliance == 0.0)
         .collect();
     let mut st = RhsState::new(sys, rigid.clone());
-    if let Some(c) = sys
-        .contacts
-        .as_ref()
-        .filter(|c| c.response == Response::Impulse)
-    {
+    if let Some(c) = crate::collide::of(sys).filter(|c| c.response == Response::Impulse) {
         st.contact = Some(ContactModel::new(sys, c, rtol, length_scale(s0)));
     }
     let h_max = if st.contact.is_some() {

@@ -88,7 +88,7 @@ fn run_at(
         let step = target - s.t;
         x0.clone_from(&s.x);
         evals += integ.step(sys, &mut s, step)?.force_evals;
-        if let Some(c) = &sys.contacts {
+        if let Some(c) = &sys.post_step {
             if c.apply(sys, &x0, &mut s, step).changed {
                 integ.reset();
             }

@@ -250,10 +250,8 @@ impl Reference {
         }
         r.crossings.clear();
         r.motion = 0.0;
-        let projection = sys
-            .contacts
-            .as_ref()
-            .is_some_and(|c| c.response == Response::Projection);
+        let projection =
+            crate::collide::of(sys).is_some_and(|c| c.response == Response::Projection);
         if projection {
             r.fill_fine_step(sys, s0)?;
         } else {
@@ -455,7 +453,7 @@ impl Reference {
             .iter()
             .filter(|c| c.compliance == 0.0)
             .count();
-        let contacts = match sys.contacts.as_ref().map(|c| c.response) {
+        let contacts = match crate::collide::of(sys).map(|c| c.response) {
             Some(Response::Impulse) => ", impulse contacts as impacts located on the dense output (scene restitution and Coulomb friction impulse) and as held unilateral contact with Coulomb friction once bounces fall below the tolerance",
             Some(Response::Penalty { .. }) => ", penalty contact forces integrated as a force term",
             _ => "",
