@@ -38,10 +38,19 @@ pub mod measure;
 pub mod method;
 pub mod model;
 pub mod output;
+/// Scenes and timings shared by the criterion benches and the bench commands (not a stable API).
+#[doc(hidden)]
 pub mod perf;
 pub mod rapier;
 pub mod report;
 pub mod run;
 pub mod scenario;
 
+// What a library user needs most, at the top: a scene, a method, a run, a study.
 pub use error::{Error, Result};
+pub use integrate::{Integrator, IntegratorOptions};
+pub use measure::study::{study, SceneStudy, StudyConfig};
+pub use method::{Method, MethodInfo, Registry};
+pub use model::{State, System, Vec3};
+pub use run::{run, RunOutcome, RunPlan, Status};
+pub use scenario::Scenario;

@@ -5,7 +5,7 @@
 
 mod common;
 
-use springlab::model::parallel::PARALLEL_MIN_SPRINGS;
+use springlab::model::PARALLEL_MIN_SPRINGS;
 use springlab::scenario::Scenario;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

@@ -402,6 +402,7 @@ impl Dop853 {
     }
 
     /// Takes one step of exactly `h` with no error control (for order tests).
+    #[cfg(test)]
     pub fn step_fixed(&mut self, rhs: &mut Rhs<'_>, h: f64) {
         self.attempt(rhs, h);
         self.accept(h);

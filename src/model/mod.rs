@@ -1,7 +1,8 @@
 //! The mass-spring model: state, force terms, Jacobians and the assembled [`System`].
 
 mod jacobian;
-pub mod parallel;
+pub(crate) mod parallel;
+pub use parallel::PARALLEL_MIN_SPRINGS;
 mod post_step;
 mod springs;
 mod state;

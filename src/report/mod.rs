@@ -6,16 +6,16 @@
 //! Data flows one way: study → [`charts`] (plain [`data`]) → [`plots`] (SVG) and [`summary`]
 //! → [`verdict`], [`html`], [`markdown`]; [`generate`] writes it all.
 
-pub mod charts;
+mod charts;
 pub mod data;
-pub mod finite;
+mod finite;
 pub mod generate;
-pub mod html;
-pub mod markdown;
+mod html;
+mod markdown;
 pub mod plots;
 pub mod shard;
 pub mod summary;
-pub mod verdict;
+mod verdict;
 
 pub use generate::{report_scene, scenario_files, write_overview, ReportOptions};
 pub use summary::Summary;

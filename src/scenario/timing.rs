@@ -45,13 +45,23 @@ impl Timing {
     /// The duration: `duration` (a `--duration` override), else `[run].duration`, else
     /// `[run].steps` × `[run].dt`.
     pub fn duration(scene: &Scenario, duration: Option<f64>) -> Result<f64> {
+        Self::length("--duration", scene, duration)
+    }
+
+    /// The horizon of a measurement (`advise --horizon`): resolved like [`Timing::duration`],
+    /// with errors naming `--horizon`.
+    pub fn horizon(scene: &Scenario, horizon: Option<f64>) -> Result<f64> {
+        Self::length("--horizon", scene, horizon)
+    }
+
+    fn length(flag: &str, scene: &Scenario, duration: Option<f64>) -> Result<f64> {
         let from_steps = scene.run.steps.zip(scene.run.dt).map(|(n, d)| n as f64 * d);
         match duration.or(scene.run.duration).or(from_steps) {
-            Some(v) => positive("--duration", v),
+            Some(v) => positive(flag, v),
             None => Err(Error::option(
-                "--duration",
+                flag,
                 format!(
-                    "{}: no duration: give --duration or set [run].duration or [run].steps",
+                    "{}: no duration: give {flag} or set [run].duration or [run].steps",
                     scene.source.display()
                 ),
             )),

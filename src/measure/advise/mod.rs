@@ -297,22 +297,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     }
     check_timing(&cfg.timing)?;
     let sys = scene.build();
-    let horizon = cfg
-        .horizon
-        .or(scene.run.duration)
-        .or_else(|| scene.run.steps.zip(scene.run.dt).map(|(n, d)| n as f64 * d))
-        .ok_or_else(|| {
-            Error::option(
-                "--horizon",
-                "no horizon: give --horizon or set [run].duration",
-            )
-        })?;
-    if !(horizon.is_finite() && horizon > 0.0) {
-        return Err(Error::option(
-            "--horizon",
-            format!("must be a finite number > 0, got {horizon}"),
-        ));
-    }
+    let horizon = crate::scenario::Timing::horizon(scene, cfg.horizon)?;
     let base = scene.run.dt.unwrap_or(horizon / 1000.0);
     let dt_max = cfg.dt_max.unwrap_or((10.0 * base).min(horizon / 4.0));
     let dt_min = cfg.dt_min.unwrap_or(base / 30.0);

@@ -236,24 +236,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
 /// The plan's grid and methods (`plan_sweep` adds the orders and the command).
 fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     let sys = scene.build();
-    let duration = match cfg.duration.or(scene.run.duration).or_else(|| {
-        scene
-            .run
-            .steps
-            .zip(scene.run.dt)
-            .map(|(n, dt)| n as f64 * dt)
-    }) {
-        Some(d) => positive("--duration", d)?,
-        None => {
-            return Err(Error::option(
-                "--duration",
-                format!(
-                    "{}: no duration: give --duration or set [run].duration",
-                    scene.source.display()
-                ),
-            ))
-        }
-    };
+    let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
     let cap = positive("--cost-cap", cfg.cost_cap.unwrap_or(DEFAULT_COST_CAP))?;
     if cfg.points == Some(0) {
         return Err(Error::option("--points", "must be at least 1"));
