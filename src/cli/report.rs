@@ -1,6 +1,7 @@
 //! `springlab report`: every scene through every backend, plots and pages under `reports/`.
 
 use anyhow::Result;
+use rayon::prelude::*;
 use springlab::report::{report_scene, scenario_files, write_overview, ReportOptions, Summary};
 use springlab::scenario::Scenario;
 use std::io::IsTerminal;
@@ -82,43 +83,50 @@ pub fn run(a: Args) -> Result<()> {
         scenes: Vec::new(),
         failed: Vec::new(),
     };
-    for (k, f) in &files {
-        let name = f
-            .file_stem()
-            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-        match &bar {
-            Some(b) => b.set_message(name.clone()),
-            None => eprintln!("report: {name} …"),
-        }
-        let t0 = Instant::now();
-        let res = Scenario::from_file(f).and_then(|scene| report_scene(&scene, &opts));
+    // Scenes are independent: they are studied concurrently (two at a time on two cores,
+    // sharing rayon's pool with their own inner loops) and gathered in file order, so the
+    // documents and the overview do not depend on which finished first.
+    let say = |line: &str| match &bar {
+        Some(b) => b.println(line),
+        None => eprintln!("{line}"),
+    };
+    let results: Vec<_> = files
+        .par_iter()
+        .with_max_len(1)
+        .map(|(k, f)| {
+            let t0 = Instant::now();
+            let res = Scenario::from_file(f).and_then(|scene| report_scene(&scene, &opts));
+            match &res {
+                Ok(s) => {
+                    let p = s.seconds;
+                    say(&format!(
+                        "report: {} done in {:.1} s (compare {:.1}, sweep {:.1}, stability {:.1}, advice {:.1})",
+                        s.scene,
+                        t0.elapsed().as_secs_f64(),
+                        p.compare,
+                        p.sweep,
+                        p.stability,
+                        p.advice
+                    ));
+                }
+                Err(e) => say(&format!("report: {}: {e}", f.display())),
+            }
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+            (*k, f, res)
+        })
+        .collect();
+    for (k, f, res) in results {
         match res {
             Ok(s) => {
-                let line = format!(
-                    "report: {} done in {:.1} s",
-                    s.scene,
-                    t0.elapsed().as_secs_f64()
-                );
-                match &bar {
-                    Some(b) => b.println(line),
-                    None => eprintln!("{line}"),
-                }
-                rec.scenes.push((*k, s.scene.clone()));
+                rec.scenes.push((k, s.scene.clone()));
                 sum.scenes.push(s);
             }
             Err(e) => {
-                let line = format!("report: {}: {e}", f.display());
-                match &bar {
-                    Some(b) => b.println(&line),
-                    None => eprintln!("{line}"),
-                }
-                rec.failed
-                    .push((*k, f.display().to_string(), e.to_string()));
+                rec.failed.push((k, f.display().to_string(), e.to_string()));
                 sum.failed.push((f.display().to_string(), e.to_string()));
             }
-        }
-        if let Some(b) = &bar {
-            b.inc(1);
         }
     }
     if let Some(b) = bar {

@@ -4,14 +4,15 @@
 //!
 //! Which methods take part where (stated in [`SceneStudy::notes`]):
 //! - compare: the scene's `[run].integrators` (else every registered method) next to every
-//!   engine, as `springlab compare` does by default; engines only on scenes of at most
-//!   [`ENGINE_MAX_PARTICLES`] particles (a Rapier run of the 32×32 cloth takes minutes);
+//!   engine, as `springlab compare` does by default; an engine only when a probe of
+//!   [`ENGINE_PROBE_STEPS`] steps projects its run at [`ENGINE_COMPARE_SECONDS`] or less (the
+//!   note gives its measured time per step otherwise);
 //! - sweep: the non-engine, finite-order methods of that list (an engine's cost per run is far
 //!   higher, and its order is not ours to fit);
-//! - stability and advice: the compared methods that ran, engines included when their compare
-//!   run took at most [`ENGINE_BUDGET_SECONDS`] of wall time (an engine's empirical bisection
-//!   and advice grid cost hundreds of such runs; `springlab stability` and `advise` run any
-//!   engine on request). The documents' commands name exactly the methods that took part.
+//! - stability and advice: the compared methods that ran; an engine joins stability when its
+//!   compare run took at most [`ENGINE_BUDGET_SECONDS`] (its empirical bisection costs dozens
+//!   of such runs) and advice when its runs over the advice grid project at most
+//!   [`ENGINE_ADVICE_SECONDS`] (`springlab stability` and `advise` run any engine on request). The documents' commands name exactly the methods that took part.
 //!   Stability runs the empirical bisection only where linear theory does not apply (the
 //!   spectral radius decides where it does); a quick study runs theory only.
 
@@ -25,11 +26,18 @@ use crate::method::Registry;
 use crate::scenario::Scenario;
 use serde::Serialize;
 
-/// Largest scene (particles) whose comparison includes the engines.
-pub const ENGINE_MAX_PARTICLES: usize = 64;
+/// Steps of the probe run that measures an engine's time per step before the comparison.
+pub const ENGINE_PROBE_STEPS: u64 = 40;
 
-/// Largest wall time (s) of an engine's compare run for it to join stability and advice.
+/// Largest projected wall time (s) of an engine's compare run for it to take part.
+pub const ENGINE_COMPARE_SECONDS: f64 = 2.0;
+
+/// Largest wall time (s) of an engine's compare run for it to join stability.
 pub const ENGINE_BUDGET_SECONDS: f64 = 1.0;
+
+/// Largest projected wall time (s) of an engine's runs over the advice grid for it to join
+/// the advice.
+pub const ENGINE_ADVICE_SECONDS: f64 = 0.25;
 
 /// Default advice tolerance of a study: 1 mm of position error over the scene's duration.
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
@@ -88,12 +96,33 @@ pub struct SceneStudy {
     pub advice_note: Option<String>,
     /// What took part where, and what was left out and why.
     pub notes: Vec<String>,
+    /// Wall time of each part (s), for the report's budget.
+    pub seconds: StudySeconds,
+}
+
+/// Wall time (s) each part of a study took: where a report's time goes.
+#[derive(Debug, Clone, Copy, Default, Serialize, serde::Deserialize)]
+pub struct StudySeconds {
+    /// `compare` (reference, every method, contact metrics, traces).
+    pub compare: f64,
+    /// `sweep`.
+    pub sweep: f64,
+    /// `stability`.
+    pub stability: f64,
+    /// `advise`.
+    pub advice: f64,
 }
 
 /// Runs the study of `scene`.
 pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let mut notes = Vec::new();
-    let small = scene.particles.len() <= ENGINE_MAX_PARTICLES;
+    let mut seconds = StudySeconds::default();
+    let timing = crate::scenario::Timing::resolve(scene, None, None)?;
+    let mut clock = std::time::Instant::now();
+    let mut lap = |slot: &mut f64| {
+        *slot = clock.elapsed().as_secs_f64();
+        clock = std::time::Instant::now();
+    };
     let is_engine = |n: &str| cfg.methods.info(n).is_ok_and(|m| m.engine);
     let asked: Vec<String> = if scene.run.integrators.is_empty() {
         cfg.methods.names().into_iter().map(String::from).collect()
@@ -102,15 +131,25 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         v.extend(cfg.methods.engine_names().into_iter().map(String::from));
         v
     };
-    let (asked, left): (Vec<String>, Vec<String>) =
-        asked.into_iter().partition(|n| small || !is_engine(n));
-    if !left.is_empty() {
-        notes.push(format!(
-            "Left out on {} particles (> {ENGINE_MAX_PARTICLES}): {}; `springlab compare` runs them on request.",
-            scene.particles.len(),
-            left.join(", ")
-        ));
+    let mut kept = Vec::new();
+    for n in asked {
+        if !is_engine(&n) {
+            kept.push(n);
+            continue;
+        }
+        match engine_probe(scene, cfg, &n, timing)? {
+            Some(per_step) if per_step * timing.steps as f64 > ENGINE_COMPARE_SECONDS => {
+                notes.push(format!(
+                    "Left out {n}: {:.3} ms per step measured over {ENGINE_PROBE_STEPS} steps, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --integrators {n}` runs it.",
+                    per_step * 1e3,
+                    timing.steps,
+                    per_step * timing.steps as f64
+                ));
+            }
+            _ => kept.push(n),
+        }
     }
+    let asked = kept;
     let compared = compare(
         scene,
         &CompareConfig {
@@ -123,6 +162,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             ..Default::default()
         },
     )?;
+    lap(&mut seconds.compare);
     let ran: Vec<(String, f64)> = compared
         .entries
         .iter()
@@ -142,14 +182,36 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         })
         .cloned()
         .collect();
+    let advice_cfg = AdviseConfig {
+        methods: cfg.methods.clone(),
+        options: cfg.options,
+        tolerance: cfg.tolerance,
+        points: if cfg.quick { 4 } else { 8 },
+        progress: cfg.progress,
+        ..Default::default()
+    };
+    let (_, advice_grid) = super::advise::step_grid_of(scene, &advice_cfg)?;
+    let grid_steps: u64 = advice_grid.iter().map(|&(_, s)| s).sum();
     let mut measured = Vec::new();
+    let mut advisable = Vec::new();
     for (n, wall) in &ran {
-        if is_engine(n) && *wall > ENGINE_BUDGET_SECONDS {
+        let engine = is_engine(n);
+        if engine && *wall > ENGINE_BUDGET_SECONDS {
             notes.push(format!(
-                "Stability and advice leave out {n}: its compare run took {wall:.2} s (> {ENGINE_BUDGET_SECONDS} s), and they cost hundreds of such runs."
+                "Stability leaves out {n}: its compare run took {wall:.2} s (> {ENGINE_BUDGET_SECONDS} s), and the empirical search costs dozens of such runs."
             ));
         } else {
             measured.push(n.clone());
+        }
+        let projected = wall / timing.steps as f64 * grid_steps as f64;
+        if engine && projected > ENGINE_ADVICE_SECONDS {
+            notes.push(format!(
+                "Advice leaves out {n}: its runs over the advice grid ({} steps, down to {:.2e} s) would take about {projected:.1} s (> {ENGINE_ADVICE_SECONDS} s); `springlab advise --integrators {n}` runs it.",
+                grid_steps,
+                advice_grid.first().map_or(0.0, |g| g.0)
+            ));
+        } else {
+            advisable.push(n.clone());
         }
     }
     let sweep = if sweepable.is_empty() {
@@ -172,6 +234,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             },
         )?)
     };
+    lap(&mut seconds.sweep);
     let stability = analyse(
         scene,
         &StabilityConfig {
@@ -185,6 +248,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             ..Default::default()
         },
     )?;
+    lap(&mut seconds.stability);
     let exact: Vec<String> = measured
         .iter()
         .filter(|n| {
@@ -194,7 +258,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         })
         .cloned()
         .collect();
-    let candidates: Vec<String> = measured
+    let candidates: Vec<String> = advisable
         .iter()
         .filter(|n| !exact.contains(n))
         .cloned()
@@ -227,17 +291,14 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         Some(advise(
             scene,
             &AdviseConfig {
-                methods: cfg.methods.clone(),
                 integrators: candidates,
-                options: cfg.options,
-                tolerance: cfg.tolerance,
-                points: if cfg.quick { 4 } else { 8 },
-                progress: cfg.progress,
-                ..Default::default()
+                ..advice_cfg
             },
         )?)
     };
+    lap(&mut seconds.advice);
     Ok(SceneStudy {
+        seconds,
         scenario: scene.name.clone(),
         description: scene.description.clone(),
         compare: compared,
@@ -247,4 +308,32 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         advice_note,
         notes,
     })
+}
+
+/// Wall time per step (s) of engine `name` on `scene` at the scene's step, measured over
+/// [`ENGINE_PROBE_STEPS`] steps; `None` when it does not apply or the probe blows up (the
+/// comparison then reports it as it does every method).
+fn engine_probe(
+    scene: &Scenario,
+    cfg: &StudyConfig,
+    name: &str,
+    timing: crate::scenario::Timing,
+) -> Result<Option<f64>> {
+    let sys = scene.build();
+    let Ok(mut integ) = cfg.methods.create(name, &cfg.options) else {
+        return Ok(None);
+    };
+    if integ.check(&sys).is_err() {
+        return Ok(None);
+    }
+    let steps = ENGINE_PROBE_STEPS.min(timing.steps);
+    let plan = crate::run::RunPlan::new(timing.dt, steps);
+    let out = crate::run::run(
+        &sys,
+        integ.as_mut(),
+        scene.initial_state(),
+        &plan,
+        &mut crate::run::NoObserver,
+    )?;
+    Ok((out.steps_done > 0).then(|| out.wall_seconds / out.steps_done as f64))
 }

@@ -115,6 +115,9 @@ pub struct SceneSummary {
     pub documents: Vec<Document>,
     /// What took part where, and what was left out.
     pub notes: Vec<String>,
+    /// Wall time of each part of the study (s): where the report's time went.
+    #[serde(default)]
+    pub seconds: crate::measure::study::StudySeconds,
 }
 
 /// The whole report's summary (`summary.json`).
@@ -228,5 +231,6 @@ pub fn scene_summary(
         page: format!("{}/index.html", s.scenario),
         documents,
         notes: s.notes.clone(),
+        seconds: s.seconds,
     })
 }

@@ -281,6 +281,26 @@ fn check_timing(r: &TimingRule) -> Result<()> {
     }
 }
 
+/// The horizon and the candidate steps (step, whole steps over the horizon) `advise` tries on
+/// `scene` with `cfg`: from `--dt-min` (default the scene's step / 30) to `--dt-max` (default
+/// min(10 × the scene's step, horizon / 4)), `--points` of them, log-spaced.
+pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f64, u64)>)> {
+    let horizon = crate::scenario::Timing::horizon(scene, cfg.horizon)?;
+    let base = scene.run.dt.unwrap_or(horizon / 1000.0);
+    let dt_max = cfg.dt_max.unwrap_or((10.0 * base).min(horizon / 4.0));
+    let dt_min = cfg.dt_min.unwrap_or(base / 30.0);
+    if !(dt_min > 0.0 && dt_min <= dt_max) {
+        return Err(Error::option(
+            "--dt-min",
+            format!("need 0 < dt-min ≤ dt-max, got {dt_min} and {dt_max}"),
+        ));
+    }
+    Ok((
+        horizon,
+        step_grid(dt_min, dt_max, cfg.points.max(2), horizon),
+    ))
+}
+
 /// Finds the cheapest verified integrator and step for the tolerance.
 pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
@@ -297,16 +317,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     }
     check_timing(&cfg.timing)?;
     let sys = scene.build();
-    let horizon = crate::scenario::Timing::horizon(scene, cfg.horizon)?;
-    let base = scene.run.dt.unwrap_or(horizon / 1000.0);
-    let dt_max = cfg.dt_max.unwrap_or((10.0 * base).min(horizon / 4.0));
-    let dt_min = cfg.dt_min.unwrap_or(base / 30.0);
-    if !(dt_min > 0.0 && dt_min <= dt_max) {
-        return Err(Error::option(
-            "--dt-min",
-            format!("need 0 < dt-min ≤ dt-max, got {dt_min} and {dt_max}"),
-        ));
-    }
+    let (horizon, grid) = step_grid_of(scene, cfg)?;
     let (mut names, mut unable) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Exact methods are closed forms for special scenes, not general integrators.
@@ -320,7 +331,6 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             unable.push((n, "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
         }
     }
-    let grid = step_grid(dt_min, dt_max, cfg.points.max(2), horizon);
     let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
     let set = CaseSettings {
         methods: cfg.methods.clone(),

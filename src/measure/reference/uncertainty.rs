@@ -35,9 +35,10 @@ pub const PERTURBATION: f64 = 1e-12;
 /// range (a million-fold growth of the perturbation).
 pub const PREDICTABILITY_THRESHOLD: f64 = 1e-6;
 
-/// Most attempted steps of a companion, as a multiple of the main solve's: a companion that
-/// needs more (a contact sequence that grinds at its tolerance) is abandoned and said so.
-pub const COMPANION_WORK_FACTOR: u64 = 10;
+/// Most attempted steps of a companion, as a multiple of the main solve's (the same problem
+/// at the same or a looser tolerance needs about as many): a companion that needs more (a
+/// contact sequence that grinds at its tolerance) is abandoned and said so.
+pub const COMPANION_WORK_FACTOR: u64 = 3;
 
 /// The companions' verdict at the main solve's sample times.
 #[derive(Debug, Clone)]
