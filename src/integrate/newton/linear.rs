@@ -11,18 +11,16 @@ use crate::error::{Error, Result};
 use crate::model::{System, Vec3};
 
 impl Newton {
-    /// One linearly implicit Euler step from (`x0`, `v0`) with step `h`; the result is in
-    /// [`Newton::x`], [`Newton::v`]. Returns the dissipated power at the new state (for the
-    /// energy account, as backward Euler books it) and the force evaluations made (2: the
-    /// linearisation point and the new state).
-    pub(crate) fn solve_linearized(
+    /// Writes the linearly implicit solution from (`x0`, `v0`) with step `h` into
+    /// [`Newton::x`], [`Newton::v`] (one force evaluation, one Jacobian, one linear solve).
+    /// `Err(())` when no clamping makes the matrix positive definite.
+    pub(super) fn linearized(
         &mut self,
         sys: &System,
         x0: &[Vec3],
         v0: &[Vec3],
         h: f64,
-        who: &'static str,
-    ) -> Result<(f64, u64)> {
+    ) -> std::result::Result<(), ()> {
         let n = x0.len();
         self.ensure(n);
         let mut jac = self.take_jacobian(sys);
@@ -48,19 +46,31 @@ impl Newton {
             &mut self.dv,
         );
         self.jac = Some(jac);
-        self.cg_iterations += solved.map_err(|_| {
+        self.cg_iterations += solved.map_err(|_| ())?;
+        for p in 0..n {
+            self.vn[p] = if sys.free[p] { v0[p] + self.dv[p] } else { v0[p] };
+            self.xn[p] = x0[p] + self.vn[p] * h;
+        }
+        Ok(())
+    }
+
+    /// One linearly implicit Euler step from (`x0`, `v0`) with step `h`; the result is in
+    /// [`Newton::x`], [`Newton::v`]. Returns the dissipated power at the new state (for the
+    /// energy account, as backward Euler books it) and the force evaluations made (2: the
+    /// linearisation point and the new state).
+    pub(crate) fn solve_linearized(
+        &mut self,
+        sys: &System,
+        x0: &[Vec3],
+        v0: &[Vec3],
+        h: f64,
+        who: &'static str,
+    ) -> Result<(f64, u64)> {
+        self.linearized(sys, x0, v0, h).map_err(|_| {
             Error::Step(format!(
                 "{who}: the linear system is not positive definite even after clamping"
             ))
         })?;
-        for p in 0..n {
-            self.vn[p] = if sys.free[p] {
-                v0[p] + self.dv[p]
-            } else {
-                v0[p]
-            };
-            self.xn[p] = x0[p] + self.vn[p] * h;
-        }
         let power = sys.forces(&self.xn, &self.vn, &mut self.f);
         if !power.is_finite() || self.vn.iter().any(|v| !v.iter().all(|c| c.is_finite())) {
             return Err(Error::Step(format!(
