@@ -48,8 +48,14 @@ impl Newton {
         self.jac = Some(jac);
         self.cg_iterations += solved.map_err(|_| ())?;
         for p in 0..n {
-            self.vn[p] = if sys.free[p] { v0[p] + self.dv[p] } else { v0[p] };
+            self.vn[p] = if sys.free[p] {
+                v0[p] + self.dv[p]
+            } else {
+                v0[p]
+            };
             self.xn[p] = x0[p] + self.vn[p] * h;
+            // The explicit Euler predictor, for the Newton stage's error estimate.
+            self.vpred[p] = v0[p] + self.f[p] * (h * sys.inv_mass[p]);
         }
         Ok(())
     }

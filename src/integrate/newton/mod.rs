@@ -9,8 +9,8 @@
 //! stage from the extrapolated base (4yₙ − yₙ₋₁)/3 at β = 2h/3.
 //!
 //! Newton stops when the residual is at the tolerance, when an update is below it or the
-//! round-off floor, or (first-order methods only, see [`ImplicitSettings::kappa`]) at 1 % of
-//! the stage's own error estimate; it backtracks when an update would raise the residual
+//! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
+//! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks when an update would raise the residual
 //! (or, for a clamped direction, the stage's incremental potential).
 
 mod cg;
@@ -35,9 +35,9 @@ pub struct ImplicitSettings {
     /// ½ |v' − v_pred| (v_pred: the first-order explicit predictor), both in the mass-weighted
     /// RMS norm √(Σ m |·|² / Σ m), so the solver error stays `kappa` times below the method's
     /// own error (Hairer & Wanner, Solving ODEs II, §IV.8, stop Newton at κ ∈ [0.01, 0.1] of
-    /// the error tolerance, in an RMS norm; we take 1 % of the error itself). Only first-order
-    /// methods use it: the estimate is first order, and a second-order method's error is
-    /// smaller by a factor hω, so its solver error must be held to `newton_tol` instead.
+    /// the error tolerance, in an RMS norm; we take 1 % of the error itself). The estimate is
+    /// first order; a second-order method's error is smaller by about hω, so second-order
+    /// methods stop at `kappa²` × the estimate (see `Stop::SecondOrder`).
     pub kappa: f64,
     /// CG stops at this relative residual (preconditioned norm).
     pub cg_tol: f64,
@@ -66,8 +66,11 @@ impl Default for ImplicitSettings {
 pub(crate) enum Stop {
     /// Tolerance, small update, or `kappa` × the stage's first-order error estimate.
     FirstOrder,
-    /// Tolerance or small update only (second-order methods).
-    Tight,
+    /// Tolerance, small update, or `kappa²` × the first-order estimate (second-order
+    /// methods): their local error is about hω times the first-order estimate, so `kappa²`
+    /// keeps the solver error below `kappa` of the method's own error wherever hω ≳ `kappa`
+    /// (below that, a linear problem converges in the first iteration anyway).
+    SecondOrder,
 }
 
 /// The shared Newton + block-Jacobi-PCG solver of one backward-Euler stage, with its counters.
@@ -210,7 +213,7 @@ impl Newton {
         // stays on the base's side of a spring's anchor instead of jumping to a root where
         // |d| folds the force law (found on the anchored spring at hω = 31.6).
         let mut evals = 0u64;
-        let guessed = stop == Stop::Tight && {
+        let guessed = stop == Stop::SecondOrder && {
             evals += 1;
             self.linearized(sys, x0, v0, h).is_ok()
         };
@@ -229,15 +232,33 @@ impl Newton {
         let free_mass = if free_mass > 0.0 { free_mass } else { 1.0 };
         let kappa = match stop {
             Stop::FirstOrder => self.settings.kappa,
-            Stop::Tight => 0.0,
+            Stop::SecondOrder => self.settings.kappa * self.settings.kappa,
         };
         let mut res = self.residual(sys, x0, v0, h, v_scale0);
         evals += 1;
-        // The explicit predictor v0 + h M⁻¹ f(x0 + h v0, v0) is first order, so ½|v' − v_pred|
-        // estimates backward Euler's local error in velocity at no extra force evaluation.
-        // (Only the first-order stop reads it, and only then is the start v̂.)
-        for p in 0..n {
-            self.vpred[p] = v0[p] - self.r[p] * sys.inv_mass[p];
+        if guessed {
+            // Keep the linearly implicit start only where it beats v̂: on a folding cloth the
+            // start-of-step linearisation can be far off.
+            self.vbase.copy_from_slice(&self.vn);
+            self.vn.copy_from_slice(v0);
+            let at_base = self.residual(sys, x0, v0, h, v_scale0);
+            evals += 1;
+            if at_base.merit <= res.merit || !res.merit.is_finite() {
+                res = at_base;
+                for p in 0..n {
+                    self.vpred[p] = v0[p] - self.r[p] * sys.inv_mass[p];
+                }
+            } else {
+                self.vn.copy_from_slice(&self.vbase);
+                res = self.residual(sys, x0, v0, h, v_scale0);
+                evals += 1;
+            }
+        } else {
+            // The explicit predictor v0 + h M⁻¹ f(x0 + h v0, v0) is first order, so ½|v' − v_pred|
+            // estimates backward Euler's local error in velocity at no extra force evaluation.
+            for p in 0..n {
+                self.vpred[p] = v0[p] - self.r[p] * sys.inv_mass[p];
+            }
         }
         for iter in 0..=self.settings.max_newton {
             if !res.max.is_finite() || !res.merit.is_finite() {
