@@ -116,6 +116,7 @@ struct Residual {
 /// residual below it is the rounding error of the force evaluation itself and cannot shrink.
 const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
 
+/// Largest component magnitude over all particles (the max norm of a velocity or position field).
 pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
     v.iter().map(|c| c.amax()).fold(0.0, f64::max)
 }
