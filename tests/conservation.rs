@@ -49,3 +49,37 @@ fn damped_energy_account_balances_to_the_methods_order() {
         "balance errors {e1:e} {e2:e}"
     );
 }
+
+#[test]
+fn implicit_methods_book_dissipation_to_their_order() {
+    // The energy account K + U + dissipated is constant for the exact flow; each method books
+    // the dissipated work with a quadrature of its own order (backward Euler's h·P(end) for
+    // linearly implicit Euler, the trapezoidal rule for BDF2 and RATTLE), so the balance error
+    // falls by 2ᵖ per halving of h (allow ±30 %).
+    let scene = Scenario::from_file("scenarios/damped_spring.toml").unwrap();
+    let err = |name: &str, h: f64| {
+        let out = run_steps(&scene, name, h, (1.0 / h).round() as u64);
+        (out.final_energy.total - out.initial_energy.total).abs()
+    };
+    for (name, p) in [("linear_implicit_euler", 1), ("bdf2", 2), ("rattle", 2)] {
+        let (e1, e2) = (err(name, 0.002), err(name, 0.001));
+        let want = 2f64.powi(p);
+        eprintln!("{name}: balance errors {e1:e} {e2:e}, ratio {}", e1 / e2);
+        assert!(
+            (e1 / e2 / want - 1.0).abs() < 0.3,
+            "{name}: balance errors {e1:e} {e2:e}"
+        );
+    }
+    // Implicit midpoint balances exactly on this (axially linear) scene: with u = (v + v')/2,
+    // E' − E = h u·f(x_½, u) + (elastic and gravity terms, exact for a quadratic energy) =
+    // −h P(x_½, u), which is precisely what it books. Up to the solver and rounding.
+    let scale = run_steps(&scene, "analytic", 1.0, 1)
+        .initial_energy
+        .total
+        .abs();
+    for h in [0.1, 0.01, 0.001] {
+        let e = err("implicit_midpoint", h);
+        eprintln!("implicit_midpoint h = {h}: balance error {e:e}");
+        assert!(e <= 1e-12 * scale, "h = {h}: {e:e}");
+    }
+}

@@ -108,6 +108,10 @@ fn expect_oscillator_limits(runs: &[(&str, RunOutcome)], hw: f64) {
         ("position_verlet", 2.0),
         ("rk4", 2.0 * 2f64.sqrt()),
         ("implicit_euler", f64::INFINITY),
+        ("linear_implicit_euler", f64::INFINITY),
+        ("implicit_midpoint", f64::INFINITY),
+        ("bdf2", f64::INFINITY),
+        ("rattle", 2.0),
         ("analytic", f64::INFINITY),
     ] {
         let st = status(runs, name);

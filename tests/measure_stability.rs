@@ -2,7 +2,9 @@
 //! Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §I.1): on the undamped
 //! oscillator, symplectic Euler and Störmer–Verlet are stable for hω < 2, classic RK4 for
 //! hω < 2√2, explicit Euler and explicit midpoint (RK2) for no h > 0, implicit Euler for every
-//! h; with damping ratio ζ, explicit Euler is stable for h < 2ζ/ω (|1 + hλ| < 1).
+//! h; with damping ratio ζ, explicit Euler is stable for h < 2ζ/ω (|1 + hλ| < 1). Implicit
+//! midpoint, BDF2 and linearly implicit Euler are A-stable (stable at every h: §IV.3, §V.1,
+//! §IV.7), and RATTLE without constraints is Störmer–Verlet (hω < 2).
 
 use springlab::measure::stability::{analyse, StabilityConfig, StabilityReport, Verdict};
 use springlab::scenario::Scenario;
@@ -25,6 +27,7 @@ fn anchored_spring_limits_match_theory() {
         ("velocity_verlet", 2.0),
         ("position_verlet", 2.0),
         ("rk4", 2.0 * 2f64.sqrt()),
+        ("rattle", 2.0),
     ] {
         let s = find(&r, name);
         assert_eq!(s.verdict, Verdict::StableBelow, "{name}");
@@ -49,10 +52,59 @@ fn anchored_spring_limits_match_theory() {
     for name in ["explicit_euler", "rk2"] {
         assert_eq!(find(&r, name).verdict, Verdict::UnstableForAllDt, "{name}");
     }
-    assert_eq!(
-        find(&r, "implicit_euler").verdict,
-        Verdict::UnconditionallyStable
-    );
+    for name in [
+        "implicit_euler",
+        "linear_implicit_euler",
+        "implicit_midpoint",
+        "bdf2",
+    ] {
+        let s = find(&r, name);
+        assert_eq!(s.verdict, Verdict::UnconditionallyStable, "{name}");
+        assert_eq!(s.method, "spectral_radius", "{name}: linear theory decides");
+    }
+}
+
+#[test]
+fn implicit_step_maps_have_the_textbook_spectral_radii() {
+    // Oracles, on the undamped mode ω = 2 (λ = ±2i) across hω ∈ [0.01, 1000]:
+    // implicit and linearly implicit Euler: |R| = 1/√(1 + (hω)²); implicit midpoint: the
+    // Cayley transform, |R| = 1 exactly; BDF2: the larger root of
+    // (1 − βλ) ζ² − (4/3) ζ + 1/3 = 0, β = 2h/3 (Hairer & Wanner, Solving ODEs II, §V.1),
+    // which the identification of its two-step recurrence must reproduce.
+    use nalgebra::Complex;
+    use springlab::measure::modes::Mode;
+    use springlab::measure::stability::step_radius;
+    let reg = springlab::method::Registry::builtin();
+    let opts = Default::default();
+    let mode = Mode {
+        omega2: 4.0,
+        damping: 0.0,
+    };
+    let bdf2 = |h: f64| {
+        let a = Complex::new(1.0, -2.0 * h / 3.0 * 2.0);
+        let disc = (Complex::new(16.0 / 9.0, 0.0) - a * (4.0 / 3.0)).sqrt();
+        let r1 = (Complex::new(4.0 / 3.0, 0.0) + disc) / (a * 2.0);
+        let r2 = (Complex::new(4.0 / 3.0, 0.0) - disc) / (a * 2.0);
+        r1.norm().max(r2.norm())
+    };
+    for hw in [0.01, 0.1, 0.5, 1.0, 2.0, 5.0, 30.0, 1000.0] {
+        let h = hw / 2.0;
+        let rho = |n: &str| step_radius(reg.get(n).unwrap(), &opts, mode, h).unwrap();
+        let be = 1.0 / (1.0 + hw * hw).sqrt();
+        for (name, want, tol) in [
+            ("implicit_euler", be, 1e-12),
+            ("linear_implicit_euler", be, 1e-12),
+            ("implicit_midpoint", 1.0, 1e-12),
+            ("bdf2", bdf2(h), 1e-9),
+        ] {
+            let got = rho(name);
+            assert!(
+                (got - want).abs() <= tol,
+                "{name} at hω = {hw}: ρ = {got}, theory {want}"
+            );
+            assert!(got <= 1.0 + 1e-12, "{name} at hω = {hw}: ρ = {got}");
+        }
+    }
 }
 
 #[test]

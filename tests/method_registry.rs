@@ -65,8 +65,23 @@ fn builtin_facts_are_the_textbook_ones() {
         ("rk4", 4),
         ("velocity_verlet", 2),
         ("position_verlet", 2),
+        // Linearly implicit Euler 1 (a W-method, Solving ODEs II §IV.7); implicit midpoint,
+        // BDF2 (§III.1) and RATTLE (GNI §VII.1) 2.
+        ("linear_implicit_euler", 1),
+        ("implicit_midpoint", 2),
+        ("bdf2", 2),
+        ("rattle", 2),
     ] {
         assert_eq!(order(n), Order::Finite(p), "{n}");
+    }
+    // Linear one-step theory judges every native method but the closed form.
+    for n in r.native_names() {
+        let want = if n == "analytic" {
+            StabilityTheory::Unconditional
+        } else {
+            StabilityTheory::SpectralRadius
+        };
+        assert_eq!(r.info(n).unwrap().stability, want, "{n}");
     }
     assert_eq!(order("analytic"), Order::Exact);
     assert_eq!(serde_json::to_string(&Order::Exact).unwrap(), "\"exact\"");

@@ -80,12 +80,12 @@ pub fn run(a: Args) -> Result<()> {
         None => println!("{}: nothing meets the tolerance on the grid", scene.name),
     }
     println!(
-        "{:<20} {:>12} {:>14} {:>12} {:>12} {:>12}",
+        "{:<22} {:>12} {:>14} {:>12} {:>12} {:>12}",
         "alternative", "wall s/s", "evals/s", "dt", "predicted", "verified"
     );
     for c in &adv.alternatives {
         println!(
-            "{:<20} {:>12} {:>14} {:>12} {:>12} {:>12}",
+            "{:<22} {:>12} {:>14} {:>12} {:>12} {:>12}",
             c.integrator,
             fmt_opt(Some(c.wall_per_second)),
             c.cost_per_second.map_or("-".into(), |e| format!("{e:.0}")),
@@ -95,7 +95,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     for (n, why) in &adv.unable {
-        println!("{n:<20} cannot: {why}");
+        println!("{n:<22} cannot: {why}");
     }
     for fr in &adv.frame_rates {
         println!(

@@ -53,20 +53,20 @@ pub fn run(a: Args) -> Result<()> {
         scene.name, res.dt, res.steps, res.reference.kind
     );
     println!(
-        "{:<20} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+        "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
         "backend", "status", "err final", "err max", "E drift/s", "E balance", "evals", "wall s"
     );
     for e in &res.entries {
         match &e.result {
             Some(r) if !r.ok() => println!(
-                "{:<20} unstable at t = {} s: {} ({} evals)",
+                "{:<22} unstable at t = {} s: {} ({} evals)",
                 e.integrator,
                 fmt_opt(r.unstable_time),
                 r.unstable_reason.as_deref().unwrap_or(""),
                 r.force_evals
             ),
             Some(r) => println!(
-                "{:<20} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+                "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
                 e.integrator,
                 e.status,
                 fmt_opt(Some(r.metrics.error_final)),
@@ -77,7 +77,7 @@ pub fn run(a: Args) -> Result<()> {
                 fmt_opt(Some(r.wall_seconds))
             ),
             None => println!(
-                "{:<20} skipped: {}",
+                "{:<22} skipped: {}",
                 e.integrator,
                 e.skip_reason.as_deref().unwrap_or("")
             ),

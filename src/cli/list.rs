@@ -23,7 +23,7 @@ pub fn run(a: Args) -> Result<()> {
             format!(" (alias {})", i.aliases.join(", "))
         };
         println!(
-            "  {:<20} order {:<5} {}{aliases}",
+            "  {:<22} order {:<5} {}{aliases}",
             i.name,
             i.order.to_string(),
             i.summary
@@ -35,13 +35,13 @@ pub fn run(a: Args) -> Result<()> {
             Ok(s) => {
                 let first = s.description.lines().next().unwrap_or("");
                 println!(
-                    "  {:<20} {} particles, {} springs — {first}",
+                    "  {:<22} {} particles, {} springs — {first}",
                     s.name,
                     s.particles.len(),
                     s.springs.len()
                 );
             }
-            Err(e) => println!("  {:<20} INVALID: {e}", path.display()),
+            Err(e) => println!("  {:<22} INVALID: {e}", path.display()),
         }
     }
     Ok(())

@@ -85,12 +85,12 @@ pub fn run(a: Args) -> Result<()> {
         scene.name, rep.omega_max, rep.modes.method
     );
     println!(
-        "{:<20} {:<24} {:>12} {:>9} {:<20} {:>12}",
+        "{:<22} {:<24} {:>12} {:>9} {:<22} {:>12}",
         "integrator", "verdict", "max dt", "hω", "method", "empirical dt"
     );
     for i in &rep.integrators {
         println!(
-            "{:<20} {:<24} {:>12} {:>9} {:<20} {:>12}",
+            "{:<22} {:<24} {:>12} {:>9} {:<22} {:>12}",
             i.integrator,
             serde_json::to_value(i.verdict)?.as_str().unwrap_or(""),
             fmt_opt(i.max_stable_dt),
@@ -100,7 +100,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     for (n, why) in &rep.skipped {
-        println!("{n:<20} skipped: {why}");
+        println!("{n:<22} skipped: {why}");
     }
     if a.map {
         let mut mc = MapConfig {

@@ -90,12 +90,12 @@ pub fn run(a: Args) -> Result<()> {
     );
     if let Some(s) = &res.summary {
         println!(
-            "{:<20} {:>8} {:>8} {:>9} {:>8} {:>10}  dt range (or why no order)",
+            "{:<22} {:>8} {:>8} {:>9} {:>8} {:>10}  dt range (or why no order)",
             "integrator", "theory", "observed", "R²", "points", "finest dt"
         );
         for i in &s.integrators {
             println!(
-                "{:<20} {:>8} {:>8} {:>9} {:>8} {:>10}  {}",
+                "{:<22} {:>8} {:>8} {:>9} {:>8} {:>10}  {}",
                 i.integrator,
                 i.theoretical_order.map_or("-".into(), |o| o.to_string()),
                 i.observed_order.map_or("-".into(), |o| format!("{o:.3}")),
@@ -113,7 +113,7 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
         for (n, why) in &s.skipped {
-            println!("{n:<20} skipped: {why}");
+            println!("{n:<22} skipped: {why}");
         }
         let r = &s.grid_rule;
         println!(

@@ -6,17 +6,28 @@
 //! exactly like the built-in ones (see `examples/custom_integrator.rs`).
 
 mod analytic;
+mod bdf2;
 mod euler;
 mod implicit_euler;
+mod implicit_midpoint;
+mod linear_implicit_euler;
+mod newton;
 mod options;
+mod rattle;
 mod rk;
+mod shake;
 mod verlet;
 mod verlet_constraints;
 
 pub use analytic::Analytic;
+pub use bdf2::Bdf2;
 pub use euler::{ExplicitEuler, SymplecticEuler};
 pub use implicit_euler::ImplicitEuler;
+pub use implicit_midpoint::ImplicitMidpoint;
+pub use linear_implicit_euler::LinearImplicitEuler;
+pub use newton::{ImplicitSettings, Newton};
 pub use options::IntegratorOptions;
+pub use rattle::{Rattle, RattleSettings};
 pub use rk::{RungeKutta, Tableau};
 pub use verlet::{PositionVerlet, VelocityVerlet};
 pub use verlet_constraints::VerletConstraints;
@@ -55,7 +66,7 @@ pub trait Integrator: Send {
             Ok(())
         } else {
             Err(format!(
-                "the scene has {} rigid constraint(s) this method cannot honour; use verlet_constraints or a Rapier backend",
+                "the scene has {} rigid constraint(s) this method cannot honour; use rattle, verlet_constraints or a Rapier backend",
                 sys.constraints.len()
             ))
         }
@@ -68,6 +79,12 @@ pub trait Integrator: Send {
     /// Forgets any history (cached forces, previous positions): the state was changed from
     /// outside (an impulse, a contact) or the step size changes.
     fn reset(&mut self) {}
+    /// k of a k-step (multistep) method: how many past states, the current one included, its
+    /// next step reads once started (2 for BDF2); 1 for one-step methods. The linear
+    /// stability analysis identifies a k-step recurrence from it.
+    fn recurrence_steps(&self) -> usize {
+        1
+    }
     /// Advances `s` from `s.t` to `s.t + h`. Fixed particles never move.
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats>;
 }

@@ -5,7 +5,9 @@
 //! Theory: for every mode q'' + c q' + ω² q = 0 (see [`super::modes`]) the integrator itself
 //! is stepped on a one-particle system with exactly that linear force, and its one-step map
 //! M(h) on (x, v) is identified from two consecutive steps of two independent trajectories
-//! (M = Y₂ Y₁⁻¹, which also covers methods with memory such as two-step Störmer). The method
+//! (M = Y₂ Y₁⁻¹, which also covers methods whose memory is a function of (x, v), such as
+//! two-step Störmer); a genuinely multistep method (BDF2) has its k-step recurrence identified
+//! instead, and its companion matrix decides (see [`step_radius`]). The method
 //! is stable at h when the spectral radius ρ(M(h)) ≤ 1 + [`RHO_TOL`] for every mode. The
 //! boundary is bracketed on a log grid hω ∈ [1e-2, 1e4] and bisected to machine precision.
 //!
@@ -128,6 +130,60 @@ pub fn one_step_map(
     mm.iter().flatten().all(|v| v.is_finite()).then_some(mm)
 }
 
+/// Spectral radius of the step map of `method` on mode `m` at step `h`: of the 2×2 one-step
+/// map ([`one_step_map`]) for one-step methods, and for a k-step method (say BDF2, k = 2) of
+/// the 2k×2k companion matrix of its recurrence yₙ₊₁ = Σⱼ Aⱼ yₙ₋ⱼ, identified from two
+/// independent trajectories of 2k − 1 steps (the first k − 1 of which are its start: k
+/// recurrence steps give the k unknown 2×2 blocks). None when the method fails or the
+/// identification is singular.
+pub fn step_radius(method: &Method, opts: &IntegratorOptions, m: Mode, h: f64) -> Option<f64> {
+    let k = method.create(opts).recurrence_steps();
+    if k <= 1 {
+        return one_step_map(method, opts, m, h).map(spectral_radius);
+    }
+    let sys = mode_system(m);
+    let traj = |x0: f64, v0: f64| -> Option<Vec<(f64, f64)>> {
+        let mut integ = method.create(opts);
+        integ.check(&sys).ok()?;
+        let mut s = State {
+            t: 0.0,
+            x: vec![Vec3::new(x0, 0.0, 0.0)],
+            v: vec![Vec3::new(v0, 0.0, 0.0)],
+        };
+        integ.reset();
+        let mut ys = vec![(x0, v0)];
+        for _ in 0..2 * k - 1 {
+            integ.step(&sys, &mut s, h).ok()?;
+            ys.push((s.x[0].x, s.v[0].x));
+        }
+        Some(ys)
+    };
+    let (a, b) = (traj(1.0, 0.0)?, traj(0.0, 1.0)?);
+    // Y_n: columns are the two trajectories at step n.
+    let y = |n: usize| nalgebra::Matrix2::new(a[n].0, b[n].0, a[n].1, b[n].1);
+    let mut w = nalgebra::DMatrix::<f64>::zeros(2 * k, 2 * k);
+    let mut r = nalgebra::DMatrix::<f64>::zeros(2, 2 * k);
+    for (col, n) in (k - 1..2 * k - 1).enumerate() {
+        r.view_mut((0, 2 * col), (2, 2)).copy_from(&y(n + 1));
+        for j in 0..k {
+            w.view_mut((2 * j, 2 * col), (2, 2)).copy_from(&y(n - j));
+        }
+    }
+    // [A₀ … A_{k−1}] W = R.
+    let blocks = w.transpose().lu().solve(&r.transpose())?.transpose();
+    let mut c = nalgebra::DMatrix::<f64>::zeros(2 * k, 2 * k);
+    c.view_mut((0, 0), (2, 2 * k)).copy_from(&blocks);
+    for i in 2..2 * k {
+        c[(i, i - 2)] = 1.0;
+    }
+    let radius = c
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max);
+    radius.is_finite().then_some(radius)
+}
+
 /// Spectral radius of a 2×2 matrix.
 pub fn spectral_radius(m: [[f64; 2]; 2]) -> f64 {
     let tr = m[0][0] + m[1][1];
@@ -142,7 +198,7 @@ pub fn spectral_radius(m: [[f64; 2]; 2]) -> f64 {
 }
 
 fn rho(method: &Method, opts: &IntegratorOptions, m: Mode, h: f64) -> f64 {
-    one_step_map(method, opts, m, h).map_or(f64::INFINITY, spectral_radius)
+    step_radius(method, opts, m, h).unwrap_or(f64::INFINITY)
 }
 
 /// A stability verdict.
@@ -174,8 +230,7 @@ pub fn mode_limit(method: &Method, opts: &IntegratorOptions, m: Mode) -> (Verdic
         .collect();
     // A step the method cannot take (say, Newton fails at enormous hω) ends the scan: it
     // says nothing about stability, so the verdict rests on the steps that ran.
-    let state =
-        |h: f64| one_step_map(method, opts, m, h).map(|mm| spectral_radius(mm) <= 1.0 + RHO_TOL);
+    let state = |h: f64| step_radius(method, opts, m, h).map(|r| r <= 1.0 + RHO_TOL);
     let stable = |h: f64| state(h).unwrap_or(false);
     match state(hs[0]) {
         Some(true) => {}

@@ -5,8 +5,9 @@
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
 use super::registry::Method;
 use crate::integrate::{
-    Analytic, ExplicitEuler, ImplicitEuler, PositionVerlet, RungeKutta, SymplecticEuler, Tableau,
-    VelocityVerlet, VerletConstraints,
+    Analytic, Bdf2, ExplicitEuler, ImplicitEuler, ImplicitMidpoint, LinearImplicitEuler,
+    PositionVerlet, Rattle, RungeKutta, SymplecticEuler, Tableau, VelocityVerlet,
+    VerletConstraints,
 };
 use crate::rapier::{Mode, RapierBackend, IMPULSE, MULTIBODY};
 
@@ -68,6 +69,30 @@ pub fn methods() -> Vec<Method> {
         ),
         Method::new(
             native(
+                "linear_implicit_euler",
+                1,
+                "Baraff-Witkin linearly implicit Euler: one CG solve per step; stable at any step, damps",
+            ),
+            |_| Box::new(LinearImplicitEuler::default()),
+        ),
+        Method::new(
+            native(
+                "implicit_midpoint",
+                2,
+                "implicit midpoint, Newton + block-Jacobi CG; symplectic, stable at any step, keeps linear-spring energy",
+            ),
+            |_| Box::new(ImplicitMidpoint::default()),
+        ),
+        Method::new(
+            native(
+                "bdf2",
+                2,
+                "two-step BDF (backward-Euler start), Newton + block-Jacobi CG; stable at any step, damps",
+            ),
+            |_| Box::new(Bdf2::default()),
+        ),
+        Method::new(
+            native(
                 "rk2",
                 2,
                 "explicit midpoint Runge-Kutta; unstable on undamped oscillators",
@@ -105,6 +130,14 @@ pub fn methods() -> Vec<Method> {
                 "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
             ),
             |o| Box::new(VerletConstraints::new(o.constraint_iterations)),
+        ),
+        Method::new(
+            native(
+                "rattle",
+                2,
+                "velocity Verlet with SHAKE/RATTLE rigid constraints, symplectic; stable for hω < 2",
+            ),
+            |_| Box::new(Rattle::default()),
         ),
         Method::new(
             MethodInfo {

@@ -116,8 +116,8 @@ pub fn implicit_cost(
     Ok(ImplicitCost {
         steps,
         seconds_per_step: t0.elapsed().as_secs_f64() / n,
-        newton_per_step: ie.newton_iterations as f64 / n,
-        cg_per_newton: ie.cg_iterations as f64 / ie.newton_iterations.max(1) as f64,
+        newton_per_step: ie.newton.newton_iterations as f64 / n,
+        cg_per_newton: ie.newton.cg_iterations as f64 / ie.newton.newton_iterations.max(1) as f64,
         force_evals_per_step: evals as f64 / n,
     })
 }

@@ -1,0 +1,51 @@
+//! The implicit midpoint rule, y' = y + h F((y + y')/2), on the full nonlinear system.
+//!
+//! Written in the midpoint velocity u = (v + v')/2 it is a backward-Euler stage of step h/2,
+//! x_½ = x + (h/2) u, M (u − v) = (h/2) f(x_½, u), followed by the extrapolation x' = 2x_½ − x,
+//! v' = 2u − v; so it runs the shared implicit core ([`Newton`]) at h/2, started from the
+//! linearly implicit solution and stopped at 0.01 % of the stage's first-order error estimate
+//! (a second-order method's error is about hω times smaller than that estimate).
+//! Order 2, symplectic and A-stable: the one-step map on an undamped oscillator is the Cayley
+//! transform, a rotation, so a linear spring's energy (a quadratic invariant) is kept to solver
+//! tolerance at every h (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.2).
+//! Dissipated work is booked by the midpoint rule, h·P(x_½, u).
+
+use super::newton::{Newton, Stop};
+use super::{Integrator, StepStats};
+use crate::error::Result;
+use crate::model::{State, System};
+
+/// Implicit midpoint with the shared Newton + block-Jacobi-preconditioned CG core.
+#[derive(Debug, Default)]
+pub struct ImplicitMidpoint {
+    /// The solver, its settings and its iteration counters.
+    pub newton: Newton,
+}
+
+impl Integrator for ImplicitMidpoint {
+    fn name(&self) -> &str {
+        "implicit_midpoint"
+    }
+    fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
+        let (power, evals) = self.newton.solve(
+            sys,
+            &s.x,
+            &s.v,
+            0.5 * h,
+            Stop::SecondOrder,
+            "implicit_midpoint",
+        )?;
+        let (xm, u) = (self.newton.x(), self.newton.v());
+        for p in 0..s.len() {
+            if sys.free[p] {
+                s.x[p] = xm[p] * 2.0 - s.x[p];
+                s.v[p] = u[p] * 2.0 - s.v[p];
+            }
+        }
+        s.t += h;
+        Ok(StepStats {
+            force_evals: evals,
+            dissipated: power * h,
+        })
+    }
+}

@@ -1,0 +1,142 @@
+//! The linear-solve half of the shared implicit core: conjugate gradients on the Newton matrix
+//! A = M − h ∂f/∂v − h² ∂f/∂x, preconditioned by its inverse 3×3 diagonal blocks (block
+//! Jacobi), matrix-free, so one iteration costs one pass over particles and springs.
+//!
+//! A compressed spring makes the exact Jacobian indefinite; [`solve_clamped`] then redoes the
+//! solve with more and more of the compressed springs' negative stiffness dropped (50 %,
+//! 87.5 %, 100 %: the last is SPD). Large systems run the products and vector updates in
+//! parallel over fixed chunks, and dot products sum fixed chunk partials in order, so results
+//! are bit-identical for any thread count.
+
+use super::ImplicitSettings;
+use crate::integrate::ensure_len;
+use crate::model::parallel::{dot, each_particle, each_particle2, each_particle3};
+use crate::model::{Jacobian, System, Vec3};
+use nalgebra::Matrix3;
+
+/// Fractions of compressed springs' indefinite stiffness dropped in successive attempts at
+/// one linear solve (see [`Jacobian::clamp`]).
+pub(super) const CLAMPS: [f64; 4] = [0.0, 0.5, 0.875, 1.0];
+
+/// Scratch of the preconditioned CG iteration.
+#[derive(Debug, Default)]
+pub(super) struct Cg {
+    diag_inv: Vec<Matrix3<f64>>,
+    r: Vec<Vec3>,
+    z: Vec<Vec3>,
+    p: Vec<Vec3>,
+    ap: Vec<Vec3>,
+    /// Chunk sums of the dot products.
+    parts: Vec<f64>,
+}
+
+/// How one CG solve ended (with its iteration count).
+pub(super) enum CgOutcome {
+    Converged(usize),
+    NegativeCurvature(usize),
+    NotConverged,
+}
+
+impl Cg {
+    /// Solves A x = b for the Newton matrix prepared in `jac`; x starts at zero.
+    pub(super) fn solve(
+        &mut self,
+        jac: &Jacobian,
+        sys: &System,
+        b: &[Vec3],
+        x: &mut [Vec3],
+        set: &ImplicitSettings,
+    ) -> CgOutcome {
+        let n = b.len();
+        for buf in [&mut self.r, &mut self.z, &mut self.p, &mut self.ap] {
+            ensure_len(buf, n);
+        }
+        ensure_len(&mut self.diag_inv, n);
+        jac.newton_diagonal(&sys.free, &mut self.diag_inv);
+        each_particle(&mut self.diag_inv, |_, d| {
+            *d = d.try_inverse().unwrap_or_else(Matrix3::identity)
+        });
+        let free = &sys.free;
+        each_particle2(x, &mut self.r, |i, xi, ri| {
+            *xi = Vec3::zeros();
+            *ri = if free[i] { b[i] } else { Vec3::zeros() };
+        });
+        let (r, d) = (&self.r, &self.diag_inv);
+        each_particle2(&mut self.z, &mut self.p, |i, zi, pi| {
+            *zi = d[i] * r[i];
+            *pi = *zi;
+        });
+        let mut rz = dot(&self.r, &self.z, &mut self.parts);
+        let rz0 = rz;
+        if rz0 == 0.0 {
+            return CgOutcome::Converged(0);
+        }
+        for it in 0..set.max_cg {
+            jac.newton_matvec(free, &self.p, &mut self.ap);
+            each_particle(&mut self.ap, |i, a| {
+                if !free[i] {
+                    *a = Vec3::zeros();
+                }
+            });
+            let pap = dot(&self.p, &self.ap, &mut self.parts);
+            if pap <= 0.0 || !pap.is_finite() {
+                return CgOutcome::NegativeCurvature(it);
+            }
+            let alpha = rz / pap;
+            let (p, ap, d) = (&self.p, &self.ap, &self.diag_inv);
+            each_particle3(x, &mut self.r, &mut self.z, |i, xi, ri, zi| {
+                *xi += p[i] * alpha;
+                *ri -= ap[i] * alpha;
+                *zi = d[i] * *ri;
+            });
+            let rz_new = dot(&self.r, &self.z, &mut self.parts);
+            if rz_new <= set.cg_tol * set.cg_tol * rz0 {
+                return CgOutcome::Converged(it + 1);
+            }
+            let beta = rz_new / rz;
+            rz = rz_new;
+            let z = &self.z;
+            each_particle(&mut self.p, |i, pi| *pi = z[i] + *pi * beta);
+        }
+        CgOutcome::NotConverged
+    }
+}
+
+/// The Newton matrix could not be made positive definite even with every compressed spring's
+/// negative stiffness dropped (a force term with an indefinite Jacobian of its own).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Indefinite;
+
+/// Fills `jac` at (x, v), prepares A for step `h` and solves A dv = b: exact Jacobian first,
+/// then more and more clamped (see [`CLAMPS`]) while CG meets non-positive curvature.
+/// `rhs(jac, b)` writes the right-hand side for the Jacobian as filled (it may depend on it).
+/// A solve that runs out of CG iterations leaves its partial solution (the caller's residual
+/// check decides). Returns the CG iterations spent.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn solve_clamped(
+    cg: &mut Cg,
+    jac: &mut Jacobian,
+    sys: &System,
+    x: &[Vec3],
+    v: &[Vec3],
+    h: f64,
+    set: &ImplicitSettings,
+    mut rhs: impl FnMut(&Jacobian, &mut [Vec3]),
+    b: &mut [Vec3],
+    dv: &mut [Vec3],
+) -> Result<u64, Indefinite> {
+    let mut spent = 0u64;
+    for (attempt, &clamp) in CLAMPS.iter().enumerate() {
+        jac.clamp = clamp;
+        sys.jacobian(x, v, jac);
+        jac.prepare_newton(&sys.mass, &sys.free, h);
+        rhs(jac, b);
+        match cg.solve(jac, sys, b, dv, set) {
+            CgOutcome::Converged(it) => return Ok(spent + it as u64),
+            CgOutcome::NotConverged => return Ok(spent + set.max_cg as u64),
+            CgOutcome::NegativeCurvature(it) if attempt + 1 < CLAMPS.len() => spent += it as u64,
+            CgOutcome::NegativeCurvature(_) => break,
+        }
+    }
+    Err(Indefinite)
+}

@@ -1,0 +1,374 @@
+//! The implicit core shared by every implicit method: one backward-Euler stage
+//!
+//!   x' = x̂ + β v',  M (v' − v̂) = β f(x', v'),
+//!
+//! from a base state (x̂, v̂) with step β, solved for v' by Newton's method with the analytic
+//! spring, damper and drag Jacobians, and a linearly implicit variant (one linear solve with
+//! the Jacobian at the start). Backward Euler is the stage itself (x̂, v̂ = x, v; β = h);
+//! implicit midpoint is the stage at β = h/2 followed by a linear extrapolation; BDF2 is the
+//! stage from the extrapolated base (4yₙ − yₙ₋₁)/3 at β = 2h/3.
+//!
+//! Newton stops when the residual is at the tolerance, when an update is below it or the
+//! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
+//! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks when an update would raise the residual
+//! (or, for a clamped direction, the stage's incremental potential).
+
+mod cg;
+mod linear;
+mod potential;
+
+use crate::error::{Error, Result};
+use crate::integrate::ensure_len;
+use crate::model::{Jacobian, System, Vec3};
+use cg::{solve_clamped, Cg};
+use potential::{potential, PotentialScratch};
+
+/// Settings of the implicit solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImplicitSettings {
+    /// Newton iterations before giving up.
+    pub max_newton: usize,
+    /// Newton stops when max |M⁻¹ G| ≤ `newton_tol` × the velocity scale, or when an update
+    /// is below `newton_tol` × |v| plus the round-off floor 16ε·max|x|/h.
+    pub newton_tol: f64,
+    /// Newton also stops when |M⁻¹ G| ≤ `kappa` × the step's truncation-error estimate
+    /// ½ |v' − v_pred| (v_pred: the first-order explicit predictor), both in the mass-weighted
+    /// RMS norm √(Σ m |·|² / Σ m), so the solver error stays `kappa` times below the method's
+    /// own error (Hairer & Wanner, Solving ODEs II, §IV.8, stop Newton at κ ∈ [0.01, 0.1] of
+    /// the error tolerance, in an RMS norm; we take 1 % of the error itself). The estimate is
+    /// first order; a second-order method's error is smaller by about hω, so second-order
+    /// methods stop at `kappa²` × the estimate (see `Stop::SecondOrder`).
+    pub kappa: f64,
+    /// CG stops at this relative residual (preconditioned norm).
+    pub cg_tol: f64,
+    /// CG iterations before giving up on one linear solve.
+    pub max_cg: usize,
+    /// Halvings of a Newton update tried when it would raise the residual (line search on
+    /// GᵀM⁻¹G); the last trial is taken if none lowers it.
+    pub max_halvings: usize,
+}
+
+impl Default for ImplicitSettings {
+    fn default() -> Self {
+        ImplicitSettings {
+            max_newton: 50,
+            newton_tol: 1e-10,
+            kappa: 1e-2,
+            cg_tol: 1e-8,
+            max_cg: 2000,
+            max_halvings: 4,
+        }
+    }
+}
+
+/// Which Newton stop an implicit method may use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Stop {
+    /// Tolerance, small update, or `kappa` × the stage's first-order error estimate.
+    FirstOrder,
+    /// Tolerance, small update, or `kappa²` × the first-order estimate (second-order
+    /// methods): their local error is about hω times the first-order estimate, so `kappa²`
+    /// keeps the solver error below `kappa` of the method's own error wherever hω ≳ `kappa`
+    /// (below that, a linear problem converges in the first iteration anyway).
+    SecondOrder,
+}
+
+/// The shared Newton + block-Jacobi-PCG solver of one backward-Euler stage, with its counters.
+#[derive(Debug, Default)]
+pub struct Newton {
+    /// Solver settings.
+    pub settings: ImplicitSettings,
+    /// Total Newton iterations (linear solves) so far, for cost reports.
+    pub newton_iterations: u64,
+    /// Total CG iterations so far, for cost reports.
+    pub cg_iterations: u64,
+    /// Stages that stopped on the truncation-error tolerance (`kappa`) before `newton_tol`.
+    pub error_limited_steps: u64,
+    /// Newton updates shortened by the line search.
+    pub damped_updates: u64,
+    jac: Option<Jacobian>,
+    f: Vec<Vec3>,
+    xn: Vec<Vec3>,
+    vn: Vec<Vec3>,
+    vbase: Vec<Vec3>,
+    vpred: Vec<Vec3>,
+    pot: PotentialScratch,
+    r: Vec<Vec3>,
+    dv: Vec<Vec3>,
+    floor: Vec<f64>,
+    cg: Cg,
+}
+
+/// What one evaluation of the stage residual G(v') found.
+#[derive(Debug, Clone, Copy)]
+struct Residual {
+    /// max |M⁻¹G| above the rounding floor (velocity units).
+    max: f64,
+    /// GᵀM⁻¹G, the line-search merit.
+    merit: f64,
+    /// Velocity scale for relative tolerances.
+    scale: f64,
+    /// Dissipated power at the iterate.
+    power: f64,
+}
+
+/// Rounding floor of the Newton residual, as a multiple of ε·h/m·Σ k(|x_i| + |x_j| + l0): a
+/// residual below it is the rounding error of the force evaluation itself and cannot shrink.
+const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
+
+/// Largest component magnitude over all particles (the max norm of a velocity or position field).
+pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
+    v.iter().map(|c| c.amax()).fold(0.0, f64::max)
+}
+
+impl Newton {
+    /// Positions x' of the last solved stage.
+    pub(crate) fn x(&self) -> &[Vec3] {
+        &self.xn
+    }
+    /// Velocities v' of the last solved stage.
+    pub(crate) fn v(&self) -> &[Vec3] {
+        &self.vn
+    }
+
+    fn ensure(&mut self, n: usize) {
+        for buf in [
+            &mut self.f,
+            &mut self.xn,
+            &mut self.vn,
+            &mut self.vbase,
+            &mut self.vpred,
+            &mut self.pot.x_new,
+            &mut self.pot.x_frozen,
+            &mut self.pot.f,
+            &mut self.r,
+            &mut self.dv,
+        ] {
+            ensure_len(buf, n);
+        }
+        ensure_len(&mut self.floor, n);
+    }
+
+    /// The cached Jacobian when its topology still fits `sys`, else a fresh one.
+    fn take_jacobian(&mut self, sys: &System) -> Jacobian {
+        match self.jac.take() {
+            Some(j) if j.diag_x.len() == sys.len() && j.pairs.len() == sys.springs.len() => j,
+            _ => sys.new_jacobian(),
+        }
+    }
+
+    /// Sets x' = x̂ + β v', evaluates the forces there and G(v') = M (v' − v̂) − β f(x', v')
+    /// into `self.r`; the max norm counts only what is above the force evaluation's own
+    /// rounding floor at each particle.
+    fn residual(
+        &mut self,
+        sys: &System,
+        x0: &[Vec3],
+        v0: &[Vec3],
+        h: f64,
+        v_scale0: f64,
+    ) -> Residual {
+        for p in 0..x0.len() {
+            self.xn[p] = x0[p] + self.vn[p] * h;
+        }
+        let power = sys.forces(&self.xn, &self.vn, &mut self.f);
+        self.floor.iter_mut().for_each(|r| *r = 0.0);
+        sys.springs.add_rounding_scale(&self.xn, &mut self.floor);
+        let (mut max, mut merit) = (0.0f64, 0.0f64);
+        let mut scale = v_scale0.max(max_abs(&self.vn));
+        for p in 0..x0.len() {
+            if sys.free[p] {
+                self.r[p] = (self.vn[p] - v0[p]) * sys.mass[p] - self.f[p] * h;
+                let noise = ROUNDING_FLOOR * h * sys.inv_mass[p] * self.floor[p];
+                max = max.max((self.r[p] * sys.inv_mass[p]).amax() - noise);
+                merit += self.r[p].norm_squared() * sys.inv_mass[p];
+                scale = scale.max((self.f[p] * (h * sys.inv_mass[p])).amax());
+            } else {
+                self.r[p] = Vec3::zeros();
+            }
+        }
+        Residual {
+            max,
+            merit,
+            scale,
+            power,
+        }
+    }
+
+    /// Solves the backward-Euler stage from (x̂, v̂) = (`x0`, `v0`) with step `h` (β above);
+    /// the result is in [`Newton::x`], [`Newton::v`]. Returns the dissipated power at the
+    /// solution and the force evaluations made. `who` names the method in errors.
+    pub(crate) fn solve(
+        &mut self,
+        sys: &System,
+        x0: &[Vec3],
+        v0: &[Vec3],
+        h: f64,
+        stop: Stop,
+        who: &'static str,
+    ) -> Result<(f64, u64)> {
+        let n = x0.len();
+        self.ensure(n);
+        // Start: the first-order methods at v̂; the second-order ones at the linearly implicit
+        // solution (Jacobian at the base), exact for linear forces, so that at hω ≫ 1 Newton
+        // stays on the base's side of a spring's anchor instead of jumping to a root where
+        // |d| folds the force law (found on the anchored spring at hω = 31.6).
+        let mut evals = 0u64;
+        let guessed = stop == Stop::SecondOrder && {
+            evals += 1;
+            self.linearized(sys, x0, v0, h).is_ok()
+        };
+        if !guessed {
+            self.vn.copy_from_slice(v0);
+        }
+        let mut jac = self.take_jacobian(sys);
+        let v_scale0 = max_abs(v0);
+        // Errors are built only on failure: a step must not allocate.
+        // Err(true): non-finite residual; Err(false): no convergence.
+        let mut result: std::result::Result<f64, bool> = Err(false);
+        // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
+        let x_floor = 16.0 * f64::EPSILON * max_abs(x0) / h;
+        let mut small_update = false;
+        let free_mass: f64 = (0..n).filter(|&p| sys.free[p]).map(|p| sys.mass[p]).sum();
+        let free_mass = if free_mass > 0.0 { free_mass } else { 1.0 };
+        let kappa = match stop {
+            Stop::FirstOrder => self.settings.kappa,
+            Stop::SecondOrder => self.settings.kappa * self.settings.kappa,
+        };
+        let mut res = self.residual(sys, x0, v0, h, v_scale0);
+        evals += 1;
+        if guessed {
+            // Keep the linearly implicit start only where it beats v̂: on a folding cloth the
+            // start-of-step linearisation can be far off.
+            self.vbase.copy_from_slice(&self.vn);
+            self.vn.copy_from_slice(v0);
+            let at_base = self.residual(sys, x0, v0, h, v_scale0);
+            evals += 1;
+            if at_base.merit <= res.merit || !res.merit.is_finite() {
+                res = at_base;
+                for p in 0..n {
+                    self.vpred[p] = v0[p] - self.r[p] * sys.inv_mass[p];
+                }
+            } else {
+                self.vn.copy_from_slice(&self.vbase);
+                res = self.residual(sys, x0, v0, h, v_scale0);
+                evals += 1;
+            }
+        } else {
+            // The explicit predictor v0 + h M⁻¹ f(x0 + h v0, v0) is first order, so ½|v' − v_pred|
+            // estimates backward Euler's local error in velocity at no extra force evaluation.
+            for p in 0..n {
+                self.vpred[p] = v0[p] - self.r[p] * sys.inv_mass[p];
+            }
+        }
+        for iter in 0..=self.settings.max_newton {
+            if !res.max.is_finite() || !res.merit.is_finite() {
+                result = Err(true);
+                break;
+            }
+            let tight = res.max <= self.settings.newton_tol * res.scale || res.scale == 0.0;
+            // Mass-weighted RMS norms (velocity units) for the error-based stop: a max norm
+            // would let a few particles at a pinned corner decide for the whole cloth.
+            let mut lte2 = 0.0;
+            for p in 0..n {
+                if sys.free[p] {
+                    lte2 += sys.mass[p] * (self.vn[p] - self.vpred[p]).norm_squared();
+                }
+            }
+            let lte = 0.5 * (lte2 / free_mass).sqrt();
+            let res_rms = (res.merit / free_mass).sqrt();
+            let loose = iter > 0 && kappa > 0.0 && res_rms <= kappa * lte;
+            if tight || small_update || loose {
+                if loose && !tight && !small_update {
+                    self.error_limited_steps += 1;
+                }
+                result = Ok(res.power);
+                break;
+            }
+            if iter == self.settings.max_newton {
+                break;
+            }
+            self.newton_iterations += 1;
+            for p in 0..n {
+                self.r[p] = -self.r[p];
+            }
+            // Exact Jacobian first; on negative curvature drop more and more of the compressed
+            // springs' indefinite stiffness, ending with the SPD clamped matrix.
+            let mut rhs = std::mem::take(&mut self.r);
+            let solved = solve_clamped(
+                &mut self.cg,
+                &mut jac,
+                sys,
+                &self.xn,
+                &self.vn,
+                h,
+                &self.settings,
+                |_, _| {},
+                &mut rhs,
+                &mut self.dv,
+            );
+            self.r = rhs;
+            match solved {
+                Ok(it) => self.cg_iterations += it,
+                Err(_) => {
+                    self.jac = Some(jac);
+                    return Err(Error::Step(format!(
+                        "{who}: Newton matrix is not positive definite even after clamping"
+                    )));
+                }
+            }
+            // Backtracking: a folding cloth makes the (clamped) Jacobian a poor model, and a
+            // full update can raise the residual; halve it until GᵀM⁻¹G falls.
+            self.vbase.copy_from_slice(&self.vn);
+            let mut alpha = 1.0;
+            let mut phi_base = f64::NAN; // the base's potential, computed only if needed
+            for halving in 0..=self.settings.max_halvings {
+                for p in 0..n {
+                    self.vn[p] = self.vbase[p] + self.dv[p] * alpha;
+                }
+                let trial = self.residual(sys, x0, v0, h, v_scale0);
+                evals += 1;
+                let mut done = trial.merit <= res.merit
+                    || !trial.merit.is_finite()
+                    || halving == self.settings.max_halvings;
+                if !done {
+                    // The residual rose: accept the update anyway if it lowers the stage's
+                    // incremental potential (the clamped Newton direction is a descent
+                    // direction for it, not for the residual).
+                    if phi_base.is_nan() {
+                        for p in 0..n {
+                            self.pot.x_frozen[p] = x0[p] + self.vbase[p] * h;
+                        }
+                        phi_base = potential(sys, x0, v0, &self.vbase, h, &mut self.pot);
+                        evals += 1;
+                    }
+                    done = potential(sys, x0, v0, &self.vn, h, &mut self.pot) < phi_base;
+                    evals += 1; // each potential evaluates the dampers' power: a force pass
+                }
+                if done {
+                    if halving > 0 {
+                        self.damped_updates += 1;
+                    }
+                    res = trial;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            // Converged when the update is below the tolerance or the round-off floor.
+            small_update = alpha * max_abs(&self.dv)
+                <= self.settings.newton_tol * v_scale0.max(max_abs(&self.vn)) + x_floor;
+        }
+        self.jac = Some(jac);
+        let power = result.map_err(|non_finite| {
+            Error::Step(if non_finite {
+                format!("{who}: non-finite residual in Newton iteration")
+            } else {
+                format!(
+                    "{who}: Newton did not converge in {} iterations",
+                    self.settings.max_newton
+                )
+            })
+        })?;
+        Ok((power, evals))
+    }
+}
