@@ -18,9 +18,8 @@ pub struct StepArgs {
     /// Simulated time in seconds (overrides [run].steps / duration).
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
-    /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
-    pub blowup_factor: f64,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
     /// Constraint projection sweeps per step for verlet_constraints.
     #[arg(long, default_value_t = 20)]
     pub iterations: usize,
@@ -50,7 +49,7 @@ impl StepArgs {
         if self.steps == Some(0) {
             bail!("--steps: must be at least 1");
         }
-        super::measure_common::blowup_factor(self.blowup_factor)?;
+        let blowup_factor = self.blowup.value()?;
         if self.iterations == 0 {
             bail!("--iterations: must be at least 1");
         }
@@ -73,7 +72,7 @@ impl StepArgs {
                 springlab::scenario::MAX_STEPS
             );
         }
-        plan.blowup_factor = self.blowup_factor;
+        plan.blowup_factor = blowup_factor;
         Ok(plan)
     }
 

@@ -29,6 +29,8 @@ pub struct Args {
     /// Build the overview (index.html, README.md, summary.json) from the shards in OUT/shards/.
     #[arg(long)]
     pub merge: bool,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
 }
 
 /// Runs the command.
@@ -59,6 +61,7 @@ pub fn run(a: Args) -> Result<()> {
         quick: a.quick,
         energy_terms: a.energy_terms,
         methods: springlab::method::Registry::builtin(),
+        blowup_factor: a.blowup.value()?,
     };
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(files.len() as u64);

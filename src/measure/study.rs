@@ -55,6 +55,8 @@ pub struct StudyConfig {
     pub quick: bool,
     /// Progress bars on a terminal.
     pub progress: bool,
+    /// Blow-up factor of every run (see [`crate::run::verdict`]).
+    pub blowup_factor: f64,
 }
 
 impl Default for StudyConfig {
@@ -65,6 +67,7 @@ impl Default for StudyConfig {
             tolerance: DEFAULT_TOLERANCE,
             quick: false,
             progress: false,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
         }
     }
 }
@@ -119,6 +122,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             options: cfg.options,
             series_points: if cfg.quick { 120 } else { 250 },
             progress: cfg.progress,
+            blowup_factor: cfg.blowup_factor,
             trace: true,
             ..Default::default()
         },
@@ -168,6 +172,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
                 }),
                 options: cfg.options,
                 progress: cfg.progress,
+                blowup_factor: cfg.blowup_factor,
                 ..Default::default()
             },
         )?)
@@ -179,6 +184,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             integrators: measured.clone(),
             options: cfg.options,
             theory_only: cfg.quick,
+            blowup_factor: cfg.blowup_factor,
             // Where the spectral radius applies it decides; the bisection would only
             // cross-check it at the price of dozens of runs per method.
             empirical_where_no_theory: !cfg.quick,
@@ -233,6 +239,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
                 tolerance: cfg.tolerance,
                 points: if cfg.quick { 4 } else { 8 },
                 progress: cfg.progress,
+                blowup_factor: cfg.blowup_factor,
                 ..Default::default()
             },
         )?)
