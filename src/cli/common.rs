@@ -3,7 +3,7 @@
 use anyhow::{bail, Result};
 use springlab::integrate::IntegratorOptions;
 use springlab::run::RunPlan;
-use springlab::scenario::Scenario;
+use springlab::scenario::{Scenario, Timing};
 use std::path::PathBuf;
 
 /// Step and length flags; each overrides the scenario's `[run]` table.
@@ -59,6 +59,7 @@ impl StepArgs {
         let mut plan = if let Some(n) = self.steps {
             RunPlan::new(dt, n)
         } else if let Some(d) = self.duration.or(scene.run.duration) {
+            Timing::step_fits(scene, dt, self.dt.is_some(), d)?;
             RunPlan::for_duration(dt, d)
         } else if let Some(n) = scene.run.steps {
             RunPlan::new(dt, n)
@@ -72,6 +73,7 @@ impl StepArgs {
                 springlab::scenario::MAX_STEPS
             );
         }
+        Timing::check_impulses(scene, plan.duration())?;
         plan.blowup_factor = blowup_factor;
         Ok(plan)
     }

@@ -254,6 +254,7 @@ fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
             ))
         }
     };
+    crate::scenario::Timing::check_impulses(scene, duration)?;
     let cap = positive("--cost-cap", cfg.cost_cap.unwrap_or(DEFAULT_COST_CAP))?;
     if cfg.points == Some(0) {
         return Err(Error::option("--points", "must be at least 1"));
