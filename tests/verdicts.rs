@@ -9,9 +9,13 @@
 //!   trades potential for kinetic energy. Either way a correct verdict says ok.
 //! - The map: on a linear oscillator the energy of a mode grows like ρ²ⁿ over n steps, so a
 //!   cell whose one-step spectral radius exceeds 1.01 cannot stay bounded over the map's
-//!   ≥ 1389 steps (1.01^2778 > 1e12).
+//!   ≥ 1389 steps (1.01^2778 > 1e12) from a seed holding ~1e-8 of the energy. Exact on a
+//!   linear scene; on the issue's nonlinear hanging spring only for the modes that keep
+//!   their stiffness (see the test).
 
-use springlab::measure::stability::{stability_map, MapConfig, MAP_MIN_STEPS};
+use springlab::measure::stability::{
+    stability_map, MapConfig, GROWTH_SHOWN, MAP_MIN_STEPS, RHO_SHOWN,
+};
 use springlab::run::{run, NoObserver, RunPlan, Status};
 use springlab::scenario::Scenario;
 
@@ -104,12 +108,27 @@ fn a_particle_on_an_incline_is_ok_for_every_backend() {
     }
 }
 
-#[test]
-fn no_map_cell_with_a_spectral_radius_above_1_01_is_stable() {
-    // The issue's damped spring: 1 kg, k = 1e4 N/m, c = 20 N·s/m, hanging under gravity.
-    let scene = Scenario::from_toml_str(
-        r#"
-name = "damped_spring_stiff"
+/// Rows of the default map of `scene` whose spectral radius exceeds `rho_min`, with how
+/// many of them were called stable (printed).
+fn map_cells_above(scene: &Scenario, rho_min: f64) -> (usize, usize) {
+    let rows = stability_map(scene, &MapConfig::default()).unwrap();
+    let (mut above, mut stable) = (0, 0);
+    for r in &rows {
+        if r.spectral_radius.is_some_and(|rho| rho > rho_min) {
+            above += 1;
+            if r.stable {
+                stable += 1;
+                eprintln!(
+                    "{} at k×{}, hω = {}: ρ = {:?} called stable",
+                    r.integrator, r.stiffness_scale, r.h_omega, r.spectral_radius
+                );
+            }
+        }
+    }
+    (above, stable)
+}
+
+const SPRING: &str = r#"
 [world]
 gravity = [0.0, -9.81, 0.0]
 [[particle]]
@@ -127,28 +146,37 @@ damping = 20.0
 [run]
 dt = 0.001
 duration = 1.0
-"#,
-        "damped_spring_stiff.toml",
-    )
-    .unwrap();
+"#;
+
+#[test]
+fn no_map_cell_with_a_spectral_radius_above_1_01_is_stable() {
     assert_eq!(
         MAP_MIN_STEPS,
-        (1e12f64.ln() / (2.0 * 1.01f64.ln())).ceil() as u64
+        (GROWTH_SHOWN.ln() / (2.0 * RHO_SHOWN.ln())).ceil() as u64
     );
-    let rows = stability_map(&scene, &MapConfig::default()).unwrap();
-    let mut above = 0;
-    for r in &rows {
-        let Some(rho) = r.spectral_radius else {
-            continue;
-        };
-        if rho > 1.01 {
-            above += 1;
-            assert!(
-                !r.stable,
-                "{} at k×{}, hω = {}: ρ = {rho} called stable",
-                r.integrator, r.stiffness_scale, r.h_omega
-            );
-        }
-    }
+    // The issue's damped spring (1 kg, k = 1e4 N/m, c = 20 N·s/m) made exactly linear, where
+    // the theory applies to the whole run: zero rest length (f = −k d in every direction) and
+    // the damping as isotropic drag.
+    let linear = SPRING
+        .replace("rest_length = 1.0\ndamping = 20.0", "rest_length = 0.0")
+        .replace("[world]\n", "[world]\ndrag = 20.0\n");
+    assert!(linear.contains("drag = 20.0") && linear.contains("rest_length = 0.0"));
+    let scene = Scenario::from_toml_str(&linear, "linear_damped_spring.toml").unwrap();
+    let (above, stable) = map_cells_above(&scene, RHO_SHOWN);
     assert!(above > 50, "the map must reach unstable cells: {above}");
+    assert_eq!(stable, 0, "cells with ρ > {RHO_SHOWN} called stable");
+}
+
+#[test]
+fn the_issues_hanging_spring_map_calls_no_growing_cell_stable() {
+    // The issue's scene as written: a 1 m spring hanging 0.5 m stretched. Linearised at that
+    // stretched start, its transverse mode is stiff (ω² = T/(mL) ≈ 3300 /s² at k×1), but the
+    // tension relaxes within about 1/(ζω) = 0.1 s and the mode with it, so cells whose only
+    // ρ > 1 is that mode's (ρ ≤ 1.04) can stay bounded: the theory at t = 0 does not apply
+    // there. The cells the issue saw called stable (ρ 1.13 to 1.75) grow on the axial mode,
+    // which keeps its stiffness: none may read stable.
+    let scene = Scenario::from_toml_str(SPRING, "damped_spring_stiff.toml").unwrap();
+    let (above, stable) = map_cells_above(&scene, 1.05);
+    assert!(above > 50, "the map must reach unstable cells: {above}");
+    assert_eq!(stable, 0, "cells with ρ > 1.05 called stable");
 }

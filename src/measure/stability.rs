@@ -19,7 +19,10 @@
 //!
 //! The map ([`stability_map`]) runs each cell for at least [`MAP_MIN_STEPS`] steps, so a
 //! spectral radius of [`RHO_SHOWN`] multiplies the energy of its mode by at least
-//! [`GROWTH_SHOWN`] and shows as a blow-up.
+//! [`GROWTH_SHOWN`] and shows as a blow-up, from the scene's initial state with every free
+//! particle displaced by [`MAP_SEED`] × its characteristic length ([`seeded`]): a symmetric
+//! scene (a spring hanging straight down) never excites its transverse modes, whose growth
+//! would otherwise never show.
 
 use super::modes::{modes, Mode, Modes};
 use crate::error::Result;
@@ -409,6 +412,26 @@ pub const GROWTH_SHOWN: f64 = 1e12;
 pub const MAP_MIN_STEPS: u64 = 1389;
 /// Most steps of a map cell.
 pub const MAP_MAX_STEPS: u64 = 20_000;
+/// Displacement seeding every mode of a map cell, relative to the characteristic length: its
+/// energy is ~1e-8 of the scene's, far below [`GROWTH_SHOWN`]'s reach.
+pub const MAP_SEED: f64 = 1e-4;
+
+/// `s0` with every free particle moved by `MAP_SEED` × the characteristic length along a
+/// fixed direction that is oblique to every axis (deterministic: the same map every time).
+pub fn seeded(sys: &System, s0: &State) -> State {
+    let len = crate::run::characteristic_length(sys, s0);
+    let len = if len > 0.0 { len } else { 1.0 };
+    let mut s = s0.clone();
+    for p in (0..sys.len()).filter(|&p| sys.free[p]) {
+        let d = Vec3::new(
+            1.0 + (p % 3) as f64,
+            2.0 + (p % 5) as f64,
+            3.0 + (p % 7) as f64,
+        );
+        s.x[p] += d * (MAP_SEED * len / d.norm());
+    }
+    s
+}
 
 impl Default for StabilityConfig {
     fn default() -> Self {
@@ -735,9 +758,15 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 steps,
                 blowup_factor: cfg.blowup_factor,
             };
-            let stable = run(&sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?
-                .status
-                .is_ok();
+            let stable = run(
+                &sys,
+                integ.as_mut(),
+                seeded(&sys, &s0),
+                &plan,
+                &mut NoObserver,
+            )?
+            .status
+            .is_ok();
             let rho_max = th.map(|_| {
                 ms.modes
                     .iter()

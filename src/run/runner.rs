@@ -1,9 +1,9 @@
 //! The run loop (argmin's Executor pattern): integrators only step; this owns everything else.
 
 use super::energy::EnergyRecord;
+use super::observer::Observer;
 use super::scale::energy_scale;
 use super::verdict::{judge, DEFAULT_BLOWUP_FACTOR};
-use super::observer::Observer;
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
 use crate::model::{State, System};

@@ -33,7 +33,13 @@ pub fn check_factor(f: f64) -> std::result::Result<f64, String> {
 
 /// Why the state `s` with energy account `e` (balance `e0_total` at t = 0) is a blow-up, or
 /// `None` when it is fine. `scale` is the scene's energy scale (J), `factor` the threshold.
-pub fn judge(s: &State, e: &EnergyRecord, e0_total: f64, scale: f64, factor: f64) -> Option<String> {
+pub fn judge(
+    s: &State,
+    e: &EnergyRecord,
+    e0_total: f64,
+    scale: f64,
+    factor: f64,
+) -> Option<String> {
     if let Some(p) = s.first_non_finite() {
         return Some(format!(
             "diverged: non-finite position or velocity of particle {p}"
@@ -43,11 +49,8 @@ pub fn judge(s: &State, e: &EnergyRecord, e0_total: f64, scale: f64, factor: f64
         return Some("diverged: non-finite energy".into());
     }
     let rise = e.total - e0_total;
-    let terms = e.kinetic.abs()
-        + e.gravity.abs()
-        + e.elastic.abs()
-        + e.dissipated.abs()
-        + e.injected.abs();
+    let terms =
+        e.kinetic.abs() + e.gravity.abs() + e.elastic.abs() + e.dissipated.abs() + e.injected.abs();
     if rise > factor * scale + ROUNDOFF * terms {
         return Some(format!(
             "energy balance rose by {rise:.3e} J (mechanical {:+.3e} J, dissipated {:.3e} J, injected {:.3e} J), above {factor} × the scene's energy scale of {scale:.3e} J",
