@@ -63,14 +63,9 @@ pub fn run(a: Args) -> Result<()> {
         methods: springlab::method::Registry::builtin(),
         blowup_factor: a.blowup.value()?,
     };
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = indicatif::ProgressBar::new(files.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {msg}")
-                .expect("valid template"),
-        );
-        b
-    });
+    let bar = std::io::stderr()
+        .is_terminal()
+        .then(|| springlab::measure::progress::bar(files.len() as u64, "report", true));
     let start = Instant::now();
     let mut rec = springlab::report::shard::ReportShard {
         shard: a

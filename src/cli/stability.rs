@@ -74,6 +74,7 @@ pub fn run(a: Args) -> Result<()> {
         blowup_factor,
         theory_only: a.theory_only,
         empirical_where_no_theory: a.empirical_where_no_theory,
+        progress: true,
         ..Default::default()
     };
     let rep = analyse(&scene, &cfg)?;

@@ -402,6 +402,8 @@ pub struct StabilityConfig {
     /// Run the empirical search only for methods without linear theory (where the spectral
     /// radius decides the verdict, the search is a cross-check that costs many runs).
     pub empirical_where_no_theory: bool,
+    /// Progress bar (one tick per method) on a terminal.
+    pub progress: bool,
 }
 
 /// A one-step spectral radius the map must always show as a blow-up.
@@ -443,6 +445,7 @@ impl Default for StabilityConfig {
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             theory_only: false,
             empirical_where_no_theory: false,
+            progress: false,
         }
     }
 }
@@ -466,6 +469,11 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         dt_min: horizon / 1e6,
         dt_max: horizon / 2.0,
     };
+    let pb = super::progress::bar(
+        names.len() as u64,
+        &format!("stability {}", scene.name),
+        cfg.progress,
+    );
     let results: Vec<Result<IntegratorStability>> = names
         .par_iter()
         .map(|name| {
@@ -530,7 +538,9 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
                 note,
             })
         })
+        .inspect(|_| pb.inc(1))
         .collect();
+    pb.finish_and_clear();
     let asked = super::case::asked_or_all(&cfg.methods, &cfg.integrators);
     let command = super::command::CommandLine::new("stability", &scene.source)
         .list("integrators", &asked)

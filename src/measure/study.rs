@@ -184,6 +184,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             integrators: measured.clone(),
             options: cfg.options,
             theory_only: cfg.quick,
+            progress: cfg.progress,
             blowup_factor: cfg.blowup_factor,
             // Where the spectral radius applies it decides; the bisection would only
             // cross-check it at the price of dozens of runs per method.
