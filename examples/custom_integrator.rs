@@ -180,6 +180,7 @@ fn main() -> springlab::Result<()> {
         quick: true,
         energy_terms: false,
         methods,
+        blowup_factor: springlab::run::DEFAULT_BLOWUP_FACTOR,
     };
     let page = springlab::report::report_scene(&scene, &opts)?;
     println!("report: out/custom/{}", page.page);

@@ -305,3 +305,65 @@ fn bad_flags_of_stability_and_bench_ratios() {
         );
     }
 }
+
+/// Nothing clipped or ignored silently (issue 12, part 6). Oracle: the scene's own numbers;
+/// a run never goes past its duration, and an impulse acts at the start of the step
+/// containing its time, so one at or after the end would never act.
+#[test]
+fn a_step_longer_than_the_duration_is_refused() {
+    // In the file: dt = 0.5 s over a 0.1 s duration.
+    rejects(
+        GOOD.replacen("steps = 10", "duration = 0.1", 1)
+            .replacen("dt = 0.01", "dt = 0.5", 1)
+            .as_bytes(),
+        &["run.dt", "0.5 s is longer than run.duration = 0.1 s"],
+    );
+    // On the command line: --dt 0.5 over the file's 0.1 s (steps = 10 of 0.01 s).
+    flag_rejected(
+        &["-i", "rk4", "--dt", "0.5", "--duration", "0.1"],
+        "--dt: 0.5 s is longer than the duration 0.1 s",
+    );
+}
+
+#[test]
+fn an_impulse_outside_the_run_is_refused_by_name() {
+    let kick = "[[impulse]]\ntime = 0.02\nparticle = 1\ndelta_v = [0.0, 1.0, 0.0]\n\
+                [[impulse]]\ntime = 0.05\nparticle = 1\ndelta_v = [0.0, 1.0, 0.0]\n\
+                [[impulse]]\ntime = 5.0\nparticle = 1\ndelta_v = [0.0, 1.0, 0.0]\n";
+    // The scene runs 10 steps of 0.01 s: the third kick, at 5 s, would never act.
+    let text = format!("{GOOD}{kick}");
+    rejects(
+        text.as_bytes(),
+        &[
+            "impulse[2].time",
+            "5 s is at or after the end of the run at 0.1 s",
+        ],
+    );
+    // A valid file whose run is shortened on the command line: the error still names the
+    // impulse in the file.
+    let ok = format!("{GOOD}{}", &kick[..kick.rfind("[[impulse]]").unwrap()]);
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "scene.toml", ok.as_bytes());
+    let out = bin()
+        .args(["run"])
+        .arg(&f)
+        .args(["-i", "rk4", "--steps", "3", "--out"])
+        .arg(dir.path().join("o"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "accepted");
+    assert!(
+        !err.contains("panicked")
+            && err.contains("scene.toml")
+            && err.contains("impulse[1].time")
+            && err.contains("at or after the end of the run at 0.03"),
+        "{err}"
+    );
+    // Negative times were refused before; they still are.
+    rejects(
+        format!("{GOOD}[[impulse]]\ntime = -1.0\nparticle = 1\ndelta_v = [0.0, 1.0, 0.0]\n")
+            .as_bytes(),
+        &["impulse[0].time", "must be >= 0"],
+    );
+}

@@ -17,7 +17,18 @@ fn momentum_is_conserved_on_two_free_masses() {
         .filter(|n| **n != "analytic")
     {
         let out = run_steps(&scene, name, 0.01, 500);
-        assert!(out.status.is_ok(), "{name}: {:?}", out.status);
+        // Explicit Euler grows an undamped oscillator's energy at every step (|1 + ihω| > 1):
+        // over 500 steps it doubles, a blow-up by the runner's verdict. Momentum is still
+        // conserved over the steps it took.
+        if name == "explicit_euler" {
+            assert!(
+                !out.status.is_ok() && out.steps_done > 100,
+                "{name}: {:?}",
+                out.status
+            );
+        } else {
+            assert!(out.status.is_ok(), "{name}: {:?}", out.status);
+        }
         let p = sys.momentum(&out.final_state.v);
         // Implicit Euler's Newton solve is symmetric too, but its CG stops at a tolerance.
         let tol = if name == "implicit_euler" {

@@ -34,6 +34,8 @@ pub struct Args {
     /// Steps tried per integrator.
     #[arg(long, default_value_t = 10)]
     pub points: usize,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
 }
 
 /// Runs the command.
@@ -50,6 +52,7 @@ pub fn run(a: Args) -> Result<()> {
         dt_min: a.dt_min,
         dt_max: a.dt_max,
         progress: true,
+        blowup_factor: a.blowup.value()?,
         ..Default::default()
     };
     let adv = advise(&scene, &cfg)?;

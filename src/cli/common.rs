@@ -3,7 +3,7 @@
 use anyhow::{bail, Result};
 use springlab::integrate::IntegratorOptions;
 use springlab::run::RunPlan;
-use springlab::scenario::Scenario;
+use springlab::scenario::{Scenario, Timing};
 use std::path::PathBuf;
 
 /// Step and length flags; each overrides the scenario's `[run]` table.
@@ -18,9 +18,8 @@ pub struct StepArgs {
     /// Simulated time in seconds (overrides [run].steps / duration).
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
-    /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
-    pub blowup_factor: f64,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
     /// Constraint projection sweeps per step for verlet_constraints.
     #[arg(long, default_value_t = 20)]
     pub iterations: usize,
@@ -50,7 +49,7 @@ impl StepArgs {
         if self.steps == Some(0) {
             bail!("--steps: must be at least 1");
         }
-        super::measure_common::blowup_factor(self.blowup_factor)?;
+        let blowup_factor = self.blowup.value()?;
         if self.iterations == 0 {
             bail!("--iterations: must be at least 1");
         }
@@ -60,6 +59,7 @@ impl StepArgs {
         let mut plan = if let Some(n) = self.steps {
             RunPlan::new(dt, n)
         } else if let Some(d) = self.duration.or(scene.run.duration) {
+            Timing::step_fits(scene, dt, self.dt.is_some(), d)?;
             RunPlan::for_duration(dt, d)
         } else if let Some(n) = scene.run.steps {
             RunPlan::new(dt, n)
@@ -73,7 +73,8 @@ impl StepArgs {
                 springlab::scenario::MAX_STEPS
             );
         }
-        plan.blowup_factor = self.blowup_factor;
+        Timing::check_impulses(scene, plan.duration())?;
+        plan.blowup_factor = blowup_factor;
         Ok(plan)
     }
 

@@ -19,9 +19,8 @@ pub struct Args {
     /// Simulated time (s; default the scene's).
     #[arg(long)]
     pub duration: Option<f64>,
-    /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
-    pub blowup_factor: f64,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
     /// Points per time series in summary.json (0: none).
     #[arg(long, default_value_t = 2000)]
     pub series_points: u64,
@@ -39,7 +38,7 @@ pub fn run(a: Args) -> Result<()> {
         dt: a.dt,
         duration: a.duration,
         options: a.m.options()?,
-        blowup_factor: super::measure_common::blowup_factor(a.blowup_factor)?,
+        blowup_factor: a.blowup.value()?,
         progress: true,
         series_points: a.series_points,
         trace: a.trace,

@@ -4,12 +4,24 @@ use anyhow::{bail, Result};
 use springlab::integrate::IntegratorOptions;
 use std::path::{Path, PathBuf};
 
-/// Validates a `--blowup-factor` value: finite and above 1.
-pub fn blowup_factor(f: f64) -> Result<f64> {
-    if !(f.is_finite() && f > 1.0) {
-        bail!("--blowup-factor: must be a finite number > 1, got {f}");
+/// `--blowup-factor`: one flag, one default and one help text for every command.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct BlowupArg {
+    #[arg(
+        long,
+        default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR,
+        allow_negative_numbers = true,
+        help = springlab::run::verdict::BLOWUP_FACTOR_HELP
+    )]
+    blowup_factor: f64,
+}
+
+impl BlowupArg {
+    /// The validated factor.
+    pub fn value(&self) -> Result<f64> {
+        springlab::run::verdict::check_factor(self.blowup_factor)
+            .map_err(|why| anyhow::anyhow!("--blowup-factor: {why}"))
     }
-    Ok(f)
 }
 
 /// Integrator selection and options.

@@ -30,6 +30,8 @@ pub struct Args {
     /// Build the overview (index.html, README.md, summary.json) from the shards in OUT/shards/.
     #[arg(long)]
     pub merge: bool,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
 }
 
 /// Runs the command.
@@ -60,15 +62,11 @@ pub fn run(a: Args) -> Result<()> {
         quick: a.quick,
         energy_terms: a.energy_terms,
         methods: springlab::method::Registry::builtin(),
+        blowup_factor: a.blowup.value()?,
     };
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = indicatif::ProgressBar::new(files.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {msg}")
-                .expect("valid template"),
-        );
-        b
-    });
+    let bar = std::io::stderr()
+        .is_terminal()
+        .then(|| springlab::run::progress_bar(files.len() as u64, "report", true));
     let start = Instant::now();
     let mut rec = springlab::report::shard::ReportShard {
         shard: a

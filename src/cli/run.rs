@@ -47,22 +47,18 @@ pub fn run(a: Args) -> Result<()> {
     let mut files = RunFiles::create(&dir, a.every, plan.dt)?;
     // Collision metrics only when the scene has obstacles (contacts.json).
     let mut metrics = springlab::measure::contacts::ContactMetrics::new(&sys, plan.dt);
-    let out = match metrics.as_mut() {
-        Some(m) => springlab::run::run(
-            &sys,
-            integ.as_mut(),
-            scene.initial_state(),
-            &plan,
-            &mut (&mut files, m),
-        )?,
-        None => springlab::run::run(
-            &sys,
-            integ.as_mut(),
-            scene.initial_state(),
-            &plan,
-            &mut files,
-        )?,
-    };
+    let mut bar = springlab::run::ProgressObserver::new(
+        plan.steps,
+        &format!("{} with {name}", scene.name),
+        true,
+    );
+    let out = springlab::run::run(
+        &sys,
+        integ.as_mut(),
+        scene.initial_state(),
+        &plan,
+        &mut (&mut files, (metrics.as_mut(), &mut bar)),
+    )?;
     files.commit()?;
     if let Some(m) = &metrics {
         let r = m.report();
@@ -90,9 +86,12 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     let (e0, e1) = (out.initial_energy, out.final_energy);
+    let relative = summary
+        .energy_error
+        .map_or(String::new(), |r| format!(", relative {r:.3e}"));
     println!(
-        "energy: total {:.6e} J -> {:.6e} J (relative change {:.3e}); kinetic {:.4e}, gravity {:.4e}, elastic {:.4e}, dissipated {:.4e}, injected {:.4e}",
-        e0.total, e1.total, summary.energy_error, e1.kinetic, e1.gravity, e1.elastic, e1.dissipated, e1.injected
+        "energy: total {:.6e} J -> {:.6e} J (change {:.3e} J{relative}); kinetic {:.4e}, gravity {:.4e}, elastic {:.4e}, dissipated {:.4e}, injected {:.4e}",
+        e0.total, e1.total, summary.energy_change, e1.kinetic, e1.gravity, e1.elastic, e1.dissipated, e1.injected
     );
     println!("wrote {}", dir.display());
     Ok(())

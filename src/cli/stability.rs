@@ -19,9 +19,8 @@ pub struct Args {
     /// Horizon of each empirical trial run (s; default 100 periods of the highest mode).
     #[arg(long)]
     pub horizon: Option<f64>,
-    /// Empirical criterion: unstable once the energy gain exceeds this multiple of the scene's scale.
-    #[arg(long, default_value_t = springlab::measure::stability::EMPIRICAL_BLOWUP_FACTOR)]
-    pub blowup_factor: f64,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
     /// Skip the empirical bisection.
     #[arg(long)]
     pub theory_only: bool,
@@ -52,7 +51,7 @@ pub fn run(a: Args) -> Result<()> {
             bail!("--horizon: must be a finite number > 0, got {h}");
         }
     }
-    super::measure_common::blowup_factor(a.blowup_factor)?;
+    let blowup_factor = a.blowup.value()?;
     for v in &a.stiffness_scales {
         if !(v.is_finite() && *v > 0.0) {
             bail!("--stiffness-scales: values must be finite and > 0, got {v}");
@@ -72,9 +71,10 @@ pub fn run(a: Args) -> Result<()> {
         integrators: a.m.integrators.clone(),
         options: a.m.options()?,
         horizon: a.horizon,
-        blowup_factor: a.blowup_factor,
+        blowup_factor,
         theory_only: a.theory_only,
         empirical_where_no_theory: a.empirical_where_no_theory,
+        progress: true,
         ..Default::default()
     };
     let rep = analyse(&scene, &cfg)?;
@@ -106,7 +106,7 @@ pub fn run(a: Args) -> Result<()> {
         let mut mc = MapConfig {
             integrators: a.m.integrators.clone(),
             options: a.m.options()?,
-            blowup_factor: a.blowup_factor,
+            blowup_factor,
             progress: true,
             ..Default::default()
         };

@@ -44,9 +44,8 @@ pub struct Args {
     /// Run only slice I of N (0 ≤ I < N); join the slices with `springlab merge`.
     #[arg(long)]
     pub shard: Option<Shard>,
-    /// Call a run unstable when its energy exceeds this multiple of the scene's energy scale.
-    #[arg(long, default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR, allow_negative_numbers = true)]
-    pub blowup_factor: f64,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
 }
 
 /// Runs the command.
@@ -65,7 +64,7 @@ pub fn run(a: Args) -> Result<()> {
         cost_cap: a.cost_cap,
         duration: a.duration,
         options: a.m.options()?,
-        blowup_factor: super::measure_common::blowup_factor(a.blowup_factor)?,
+        blowup_factor: a.blowup.value()?,
         shard: a.shard,
         progress: true,
         ..Default::default()

@@ -130,7 +130,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         trace,
         contacts: true,
     };
-    let pb = super::progress::bar(
+    let pb = crate::run::progress_bar(
         names.len() as u64,
         &format!("compare {}", scene.name),
         cfg.progress,

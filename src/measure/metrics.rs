@@ -180,7 +180,7 @@ impl<'a> MetricsObserver<'a> {
         let e = sys.state_energy(s0);
         let mut e_scale = e.kinetic.abs() + e.gravity.abs() + e.elastic.abs();
         if e_scale <= 0.0 {
-            e_scale = energy_scale(sys, s0);
+            e_scale = energy_scale(sys, s0, g.time(g.steps));
         }
         if e_scale <= 0.0 {
             e_scale = 1.0;

@@ -10,7 +10,6 @@ mod fit;
 pub mod grid;
 pub(crate) mod metrics;
 mod modes;
-mod progress;
 pub mod reference;
 pub mod stability;
 pub mod study;

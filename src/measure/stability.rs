@@ -11,12 +11,23 @@
 //! is stable at h when the spectral radius ρ(M(h)) ≤ 1 + [`RHO_TOL`] for every mode. The
 //! boundary is bracketed on a log grid hω ∈ [1e-2, 1e4] and bisected to machine precision.
 //!
-//! Empirical: a run is stable when it finishes the horizon with finite states and mechanical
-//! energy within `blowup_factor` × the scene's energy scale (the runner's criterion); the
-//! step is doubled or halved to a bracket, then bisected to 0.1 %. Bisection assumes that
-//! stability is monotone in dt.
+//! Empirical: a run is stable when the runner's one verdict ([`crate::run::verdict`]) calls
+//! it ok over the horizon: finite states, and an energy balance that never rose by more than
+//! `blowup_factor` × the scene's energy scale. The step is doubled or halved to a bracket,
+//! then bisected to 0.1 %. Bisection assumes that stability is monotone in dt. A method just
+//! inside its linear limit can swing its energy by more than the threshold without growing
+//! (symplectic Euler from rest reaches 1/(1 − hω/2) times its energy): the empirical limit is
+//! then below the theoretical one, never above it.
+//!
+//! The map ([`stability_map`]) runs each cell for at least [`MAP_MIN_STEPS`] steps, so a
+//! spectral radius of [`RHO_SHOWN`] multiplies the energy of its mode by at least
+//! [`GROWTH_SHOWN`] and shows as a blow-up, from the scene's initial state with every free
+//! particle displaced by [`MAP_SEED`] × its characteristic length ([`seeded`]): a symmetric
+//! scene (a spring hanging straight down) never excites its transverse modes, whose growth
+//! would otherwise never show.
 
-use super::modes::{modes, Mode, Modes};
+pub use super::modes::Mode;
+use super::modes::{modes, Modes};
 use crate::error::Result;
 use crate::integrate::IntegratorOptions;
 use crate::method::{Method, Registry, StabilityTheory};
@@ -289,8 +300,8 @@ pub fn theory_limit(
 pub struct EmpiricalCriterion {
     /// Simulated time of each trial run (s).
     pub horizon: f64,
-    /// A run is unstable once its mechanical energy exceeds this multiple of the scene's
-    /// energy scale, or a state is non-finite.
+    /// A run is unstable once its energy balance rises by more than this multiple of the
+    /// scene's energy scale, or a state is non-finite (the runner's verdict).
     pub blowup_factor: f64,
     /// Smallest step tried (s).
     pub dt_min: f64,
@@ -440,19 +451,45 @@ pub struct StabilityConfig {
     pub options: IntegratorOptions,
     /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
     pub horizon: Option<f64>,
-    /// Empirical blow-up factor (default: the runner's, 1e3).
+    /// Empirical blow-up factor (default: every command's, [`crate::run::DEFAULT_BLOWUP_FACTOR`]).
     pub blowup_factor: f64,
     /// Skip the empirical search.
     pub theory_only: bool,
     /// Run the empirical search only for methods without linear theory (where the spectral
     /// radius decides the verdict, the search is a cross-check that costs many runs).
     pub empirical_where_no_theory: bool,
+    /// Progress bar (one tick per method) on a terminal.
+    pub progress: bool,
 }
 
-/// The empirical search's blow-up factor: larger than a run's default, because a method
-/// just inside its stability limit has large but bounded energy excursions (symplectic Euler
-/// reaches 1/(1 − hω/2) times its energy), and the search must not mistake them for growth.
-pub const EMPIRICAL_BLOWUP_FACTOR: f64 = 1e4;
+/// A one-step spectral radius the map must always show as a blow-up.
+pub const RHO_SHOWN: f64 = 1.01;
+/// The energy growth a radius of [`RHO_SHOWN`] reaches within [`MAP_MIN_STEPS`] steps.
+pub const GROWTH_SHOWN: f64 = 1e12;
+/// Fewest steps of a map cell: ρ²ⁿ ≥ [`GROWTH_SHOWN`] at ρ = [`RHO_SHOWN`] (n = 1389).
+pub const MAP_MIN_STEPS: u64 = 1389;
+/// Most steps of a map cell.
+pub const MAP_MAX_STEPS: u64 = 20_000;
+/// Displacement seeding every mode of a map cell, relative to the characteristic length: its
+/// energy is ~1e-8 of the scene's, far below [`GROWTH_SHOWN`]'s reach.
+pub const MAP_SEED: f64 = 1e-4;
+
+/// `s0` with every free particle moved by `MAP_SEED` × the characteristic length along a
+/// fixed direction that is oblique to every axis (deterministic: the same map every time).
+pub fn seeded(sys: &System, s0: &State) -> State {
+    let len = crate::run::characteristic_length(sys, s0);
+    let len = if len > 0.0 { len } else { 1.0 };
+    let mut s = s0.clone();
+    for p in (0..sys.len()).filter(|&p| sys.free[p]) {
+        let d = Vec3::new(
+            1.0 + (p % 3) as f64,
+            2.0 + (p % 5) as f64,
+            3.0 + (p % 7) as f64,
+        );
+        s.x[p] += d * (MAP_SEED * len / d.norm());
+    }
+    s
+}
 
 impl Default for StabilityConfig {
     fn default() -> Self {
@@ -461,9 +498,10 @@ impl Default for StabilityConfig {
             methods: Registry::builtin(),
             options: IntegratorOptions::default(),
             horizon: None,
-            blowup_factor: EMPIRICAL_BLOWUP_FACTOR,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             theory_only: false,
             empirical_where_no_theory: false,
+            progress: false,
         }
     }
 }
@@ -487,6 +525,11 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         dt_min: horizon / 1e6,
         dt_max: horizon / 2.0,
     };
+    let pb = crate::run::progress_bar(
+        names.len() as u64,
+        &format!("stability {}", scene.name),
+        cfg.progress,
+    );
     let results: Vec<Result<IntegratorStability>> = names
         .par_iter()
         .map(|name| {
@@ -551,7 +594,9 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
                 note,
             })
         })
+        .inspect(|_| pb.inc(1))
         .collect();
+    pb.finish_and_clear();
     let asked = super::case::asked_or_all(&cfg.methods, &cfg.integrators);
     let command = super::command::CommandLine::new("stability", &scene.source)
         .list("integrators", &asked)
@@ -603,7 +648,8 @@ pub struct MapConfig {
     /// Absolute steps (s); when non-empty they replace `h_omega` (for maps spanning many
     /// decades of stiffness, where one relative axis cannot cover every scale).
     pub dts: Vec<f64>,
-    /// Periods of the scaled ω_max per empirical run (default 50, at most 20 000 steps).
+    /// Periods of the scaled ω_max per empirical run (default 50; at least [`MAP_MIN_STEPS`]
+    /// and at most [`MAP_MAX_STEPS`] steps).
     pub periods: f64,
     /// Blow-up factor of the empirical runs.
     pub blowup_factor: f64,
@@ -628,7 +674,7 @@ impl Default for MapConfig {
             h_omega: logspace(0.02, 20.0, 16),
             dts: vec![],
             periods: 50.0,
-            blowup_factor: EMPIRICAL_BLOWUP_FACTOR,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             progress: false,
         }
     }
@@ -751,7 +797,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 .collect()
         })
         .collect();
-    let pb = super::progress::bar(
+    let pb = crate::run::progress_bar(
         cells.len() as u64,
         &format!("stability map {}", scene.name),
         cfg.progress,
@@ -769,8 +815,8 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             let w = if ms.omega_max > 0.0 { ms.omega_max } else { w0 };
             let sc = scaled(scene, *ks, *cs);
             let sys = sc.build();
-            let steps =
-                ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64).clamp(1, 20_000);
+            let steps = ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64)
+                .clamp(MAP_MIN_STEPS, MAP_MAX_STEPS);
             let method = methods[ni];
             let mut integ = method.create(&cfg.options);
             let plan = RunPlan {
@@ -778,9 +824,15 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 steps,
                 blowup_factor: cfg.blowup_factor,
             };
-            let stable = run(&sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?
-                .status
-                .is_ok();
+            let stable = run(
+                &sys,
+                integ.as_mut(),
+                seeded(&sys, &s0),
+                &plan,
+                &mut NoObserver,
+            )?
+            .status
+            .is_ok();
             let rho_max = th.map(|_| {
                 ms.modes
                     .iter()

@@ -63,6 +63,8 @@ pub struct StudyConfig {
     pub quick: bool,
     /// Progress bars on a terminal.
     pub progress: bool,
+    /// Blow-up factor of every run (see [`crate::run::verdict`]).
+    pub blowup_factor: f64,
 }
 
 impl Default for StudyConfig {
@@ -73,6 +75,7 @@ impl Default for StudyConfig {
             tolerance: DEFAULT_TOLERANCE,
             quick: false,
             progress: false,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
         }
     }
 }
@@ -158,6 +161,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             options: cfg.options,
             series_points: if cfg.quick { 120 } else { 250 },
             progress: cfg.progress,
+            blowup_factor: cfg.blowup_factor,
             trace: true,
             ..Default::default()
         },
@@ -188,6 +192,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         tolerance: cfg.tolerance,
         points: if cfg.quick { 4 } else { 8 },
         progress: cfg.progress,
+        blowup_factor: cfg.blowup_factor,
         ..Default::default()
     };
     let (_, advice_grid) = super::advise::step_grid_of(scene, &advice_cfg)?;
@@ -230,6 +235,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
                 }),
                 options: cfg.options,
                 progress: cfg.progress,
+                blowup_factor: cfg.blowup_factor,
                 ..Default::default()
             },
         )?)
@@ -242,6 +248,8 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             integrators: measured.clone(),
             options: cfg.options,
             theory_only: cfg.quick,
+            progress: cfg.progress,
+            blowup_factor: cfg.blowup_factor,
             // Where the spectral radius applies it decides; the bisection would only
             // cross-check it at the price of dozens of runs per method.
             empirical_where_no_theory: !cfg.quick,

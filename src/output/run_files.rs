@@ -121,8 +121,12 @@ pub struct RunSummary {
     pub initial_energy: EnergyRecord,
     /// Energy account at the last accepted step.
     pub final_energy: EnergyRecord,
-    /// Relative change of the total energy account over the run.
-    pub energy_error: f64,
+    /// Change of the energy balance (`total`) over the run (J).
+    pub energy_change: f64,
+    /// `energy_change` relative to the initial |kinetic| + |gravity| + |elastic|; `None` when
+    /// those are all 0 (a scene starting at rest at the origin of its potentials), where only
+    /// the change in joules means anything.
+    pub energy_error: Option<f64>,
 }
 
 impl RunSummary {
@@ -143,7 +147,8 @@ impl RunSummary {
             unstable: (!out.status.is_ok()).then(|| out.status.clone()),
             initial_energy: e0,
             final_energy: out.final_energy,
-            energy_error: if scale > 0.0 { d / scale } else { d },
+            energy_change: d,
+            energy_error: (scale > 0.0).then(|| d / scale),
         }
     }
 }

@@ -151,12 +151,14 @@ impl Integrator for RapierBackend {
         // Rapier's contacts remove energy we cannot see term by term: in a step where some
         // contact was active, book the mechanical energy lost beyond the dampers' work as
         // dissipated by contacts (this also absorbs Rapier's integration error in that step).
+        // Contacts never give energy back: a gain in such a step stays a gain, so the run's
+        // verdict sees it.
         let touching = e0.is_some() && b.world.contact_pairs().any(|c| c.has_any_active_contact());
         s.t += h;
         let p1 = damping_power(sys, &s.x, &s.v);
         let damper = 0.5 * (p0 + p1) * h;
         let contact = match e0 {
-            Some(e0) if touching => e0 - sys.energy(&s.x, &s.v).mechanical() - damper,
+            Some(e0) if touching => (e0 - sys.energy(&s.x, &s.v).mechanical() - damper).max(0.0),
             _ => 0.0,
         };
         Ok(StepStats {

@@ -26,6 +26,8 @@ pub struct ReportOptions {
     pub energy_terms: bool,
     /// The methods (built-ins unless a library user added theirs).
     pub methods: Registry,
+    /// Blow-up factor of every run (see [`crate::run::verdict`]).
+    pub blowup_factor: f64,
 }
 
 /// The scenario files of a directory (`*.toml`), sorted by name.
@@ -184,6 +186,7 @@ pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<SceneSumma
     let cfg = StudyConfig {
         methods: opts.methods.clone(),
         quick: opts.quick,
+        blowup_factor: opts.blowup_factor,
         ..Default::default()
     };
     let s = study(scene, &cfg)?;

@@ -2,8 +2,14 @@
 
 mod energy;
 mod observer;
+pub mod progress;
 mod runner;
+mod scale;
+pub mod verdict;
 
-pub use energy::{energy_scale, EnergyRecord};
+pub use energy::EnergyRecord;
 pub use observer::{NoObserver, Observer};
-pub use runner::{run, RunOutcome, RunPlan, Status, DEFAULT_BLOWUP_FACTOR};
+pub use progress::{bar as progress_bar, ProgressObserver};
+pub use runner::{run, RunOutcome, RunPlan, Status};
+pub use scale::{characteristic_length, energy_scale};
+pub use verdict::DEFAULT_BLOWUP_FACTOR;

@@ -1,7 +1,9 @@
 //! The run loop (argmin's Executor pattern): integrators only step; this owns everything else.
 
-use super::energy::{energy_scale, EnergyRecord};
+use super::energy::EnergyRecord;
 use super::observer::Observer;
+use super::scale::energy_scale;
+use super::verdict::{judge, DEFAULT_BLOWUP_FACTOR};
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
 use crate::model::{State, System};
@@ -15,13 +17,10 @@ pub struct RunPlan {
     pub dt: f64,
     /// Number of steps.
     pub steps: u64,
-    /// A run is unstable once its mechanical energy has grown, beyond what impulses injected,
-    /// by more than this multiple of [`energy_scale`] (physical runs never gain energy).
+    /// A run is unstable once its energy balance (mechanical + dissipated − injected) has
+    /// risen by more than this multiple of [`energy_scale`]; see [`super::verdict`].
     pub blowup_factor: f64,
 }
-
-/// Default blow-up factor: a gain of a hundred times the scene's energy scale.
-pub const DEFAULT_BLOWUP_FACTOR: f64 = 100.0;
 
 impl RunPlan {
     /// A plan of `steps` steps of `dt` with the default blow-up factor.
@@ -111,7 +110,8 @@ impl Loop<'_> {
         let stats = self.integ.step(self.sys, s, h)?;
         // Contact stage (obstacles only): resolve contacts after the accepted step, before the
         // energy account; what it removes joins `dissipated`, and a changed state resets the
-        // integrator's history.
+        // integrator's history. A contact never gives energy back: energy the stage created
+        // (a negative loss) stays in the mechanical terms, where the verdict sees it as a gain.
         if let Some(c) = self
             .sys
             .post_step
@@ -119,7 +119,7 @@ impl Loop<'_> {
             .filter(|_| !self.integ.handles_contacts())
         {
             let cs = c.apply(self.sys, &self.x0, s, h);
-            self.dissipated += cs.dissipated;
+            self.dissipated += cs.dissipated.max(0.0);
             if cs.changed {
                 self.integ.reset();
             }
@@ -140,7 +140,7 @@ pub fn run(
     plan: &RunPlan,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome> {
-    let bound = plan.blowup_factor * energy_scale(sys, &s0);
+    let scale = energy_scale(sys, &s0, plan.duration());
     let mut s = s0;
     let mut prev = s.clone();
     let mut injected = 0.0;
@@ -195,7 +195,7 @@ pub fn run(
         let reason = match failure {
             Some(Error::Step(why)) => Some(why),
             Some(other) => return Err(other),
-            None => blowup_reason(&s, &rec, initial.mechanical(), bound, plan.blowup_factor),
+            None => judge(&s, &rec, initial.total, scale, plan.blowup_factor),
         };
         if let Some(reason) = reason {
             status = Status::Unstable {
@@ -220,23 +220,4 @@ pub fn run(
         final_energy: last,
         final_state: s,
     })
-}
-
-fn blowup_reason(s: &State, e: &EnergyRecord, e0: f64, bound: f64, factor: f64) -> Option<String> {
-    if let Some(p) = s.first_non_finite() {
-        return Some(format!("non-finite position or velocity of particle {p}"));
-    }
-    if !e.is_finite() {
-        return Some("non-finite energy".into());
-    }
-    let gain = e.mechanical() - e0 - e.injected;
-    // The relative term keeps round-off in large kinetic and potential terms from counting.
-    let roundoff = 1e-9 * factor * (e.kinetic.abs() + e.gravity.abs() + e.elastic.abs());
-    if gain > bound + roundoff {
-        return Some(format!(
-            "energy gain {gain:.3e} J exceeds {factor} × the scene's energy scale ({:.3e} J)",
-            bound / factor
-        ));
-    }
-    None
 }

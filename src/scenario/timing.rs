@@ -1,6 +1,10 @@
 //! The one place a scene's step, duration and command-line overrides are resolved: every
 //! command and the study call [`Timing::resolve`], so they agree on what "the scene's step"
 //! and "the scene's duration" are, and fail the same way when one is missing.
+//!
+//! Nothing is clipped silently: a step longer than the duration is an error (a run never
+//! goes past its duration), and so is an impulse the run would never apply (at or after its
+//! end, [`Timing::check_impulses`]).
 
 use super::Scenario;
 use crate::error::{Error, Result};
@@ -69,9 +73,12 @@ impl Timing {
     }
 
     /// Step and duration with their overrides, and the whole number of steps between them.
+    /// A step longer than the duration, or an impulse at or after the run's end, is an error.
     pub fn resolve(scene: &Scenario, dt: Option<f64>, duration: Option<f64>) -> Result<Self> {
+        let dt_flag = dt.is_some();
         let dt = Self::step(scene, dt)?;
         let duration = Self::duration(scene, duration)?;
+        Self::step_fits(scene, dt, dt_flag, duration)?;
         let steps = ((duration / dt).round() as u64).max(1);
         if steps > super::MAX_STEPS {
             return Err(Error::option(
@@ -82,10 +89,47 @@ impl Timing {
                 ),
             ));
         }
+        Self::check_impulses(scene, dt * steps as f64)?;
         Ok(Timing {
             dt,
             steps,
             duration,
         })
+    }
+
+    /// Refuses a step `dt` longer than the `duration` it must cover: the run would end after
+    /// its duration. `dt_flag`: the step came from `--dt` (else from `[run].dt`).
+    pub fn step_fits(scene: &Scenario, dt: f64, dt_flag: bool, duration: f64) -> Result<()> {
+        if dt <= duration * (1.0 + 1e-12) {
+            return Ok(());
+        }
+        let msg = format!(
+            "{dt} s is longer than the duration {duration} s: one step would end the run at {dt} s, after its duration; give a step ≤ the duration"
+        );
+        Err(if dt_flag {
+            Error::option("--dt", msg)
+        } else {
+            Error::invalid(&scene.source, "run.dt", msg)
+        })
+    }
+
+    /// Refuses impulses a run ending at `end` s would never apply: an impulse acts at the
+    /// start of the step that contains its time, so one at or after the end changes nothing.
+    /// The error names the impulse as written in the file (`impulse[k].time`).
+    pub fn check_impulses(scene: &Scenario, end: f64) -> Result<()> {
+        let eps = 1e-9 * end;
+        for (k, im) in scene.raw.impulse.iter().enumerate() {
+            if im.time >= end - eps {
+                return Err(Error::invalid(
+                    &scene.source,
+                    format!("impulse[{k}].time"),
+                    format!(
+                        "{} s is at or after the end of the run at {end} s; impulses must act within [0, {end}) s",
+                        im.time
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 }

@@ -290,6 +290,23 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
         None => None,
     };
     let run = validate_run(&ck, &raw)?;
+    // The file's own run length: no impulse may fall outside it (it would never act).
+    let end = run
+        .duration
+        .or_else(|| run.steps.zip(run.dt).map(|(n, dt)| n as f64 * dt));
+    if let Some(end) = end {
+        for (k, im) in raw.impulse.iter().enumerate() {
+            if im.time >= end * (1.0 - 1e-9) {
+                return Err(ck.err(
+                    format!("impulse[{k}].time"),
+                    format!(
+                        "{} s is at or after the end of the run at {end} s; impulses must act within [0, {end}) s",
+                        im.time
+                    ),
+                ));
+            }
+        }
+    }
     let collision = super::obstacle_validate::validate_collision(&raw, file)?;
     let name = raw.name.clone().unwrap_or_else(|| {
         file.file_stem()
@@ -356,6 +373,12 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
         _ => {}
     }
     if let (Some(dt), Some(d)) = (dt, duration) {
+        if dt > d * (1.0 + 1e-12) {
+            return Err(ck.err(
+                "run.dt",
+                format!("{dt} s is longer than run.duration = {d} s: one step would end the run at {dt} s, after its duration; give a step ≤ the duration"),
+            ));
+        }
         if d / dt > MAX_STEPS as f64 {
             return Err(ck.err(
                 "run.duration",

@@ -84,6 +84,8 @@ pub struct AdviseConfig {
     pub dt_max: Option<f64>,
     /// Progress bar on a terminal.
     pub progress: bool,
+    /// Blow-up factor of every run (see [`crate::run::verdict`]).
+    pub blowup_factor: f64,
     /// How often each candidate's run is repeated to time it (default [`ADVICE_TIMING`]).
     pub timing: TimingRule,
 }
@@ -102,6 +104,7 @@ impl Default for AdviseConfig {
             dt_min: None,
             dt_max: None,
             progress: false,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             timing: ADVICE_TIMING,
         }
     }
@@ -203,7 +206,7 @@ fn run_grids(
         })
         .collect();
     let reference = Reference::compute(&sys, &s0, &grids, horizon)?;
-    let pb = super::progress::bar(
+    let pb = crate::run::progress_bar(
         jobs.len() as u64,
         &format!("advise {}", scene.name),
         progress,
@@ -335,7 +338,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let set = CaseSettings {
         methods: cfg.methods.clone(),
         options: cfg.options,
-        blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+        blowup_factor: cfg.blowup_factor,
         series_points: 0,
         // Advice times its candidates' runs itself, after the accuracy runs.
         repeat_short: false,

@@ -286,7 +286,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         .iter()
         .flat_map(|&i| (plan.base_from..p).map(move |j| i * p + j))
         .collect();
-    let pb = super::progress::bar(
+    let pb = crate::run::progress_bar(
         pending.len() as u64,
         &format!("sweep {}", scene.name),
         cfg.progress,

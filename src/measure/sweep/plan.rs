@@ -237,6 +237,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
 fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     let sys = scene.build();
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
+    crate::scenario::Timing::check_impulses(scene, duration)?;
     let cap = positive("--cost-cap", cfg.cost_cap.unwrap_or(DEFAULT_COST_CAP))?;
     if cfg.points == Some(0) {
         return Err(Error::option("--points", "must be at least 1"));
