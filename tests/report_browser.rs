@@ -1,5 +1,6 @@
 //! Opens the generated report in a real headless browser (Debian's chromium): the overview
-//! and a scene page load with no missing resource, and their screenshots are not blank.
+//! and a scene page load with no missing resource, and their screenshots are not blank; the
+//! hanging chain's playback plays (its frame counter advances and the drawn frames differ).
 //! Without chromium the test fails under CI=true (CI installs it) and is skipped otherwise.
 
 use std::path::{Path, PathBuf};
@@ -104,4 +105,29 @@ fn report_opens_in_headless_chromium() {
         let n = distinct_colours(&shot);
         assert!(n > 20, "{url}: screenshot looks blank ({n} colours)");
     }
+    // Playback: after 3 s of virtual time the page has advanced frames, and the checksums of
+    // the drawn particle positions differ between frames (the chain falls).
+    let page = out.join("hanging_chain/index.html");
+    assert!(out.join("hanging_chain/playback.js").is_file());
+    let url = format!("file://{}", page.display());
+    let dom = chromium(
+        &tmp.path().join("profile-playback"),
+        &["--dump-dom".into(), "--virtual-time-budget=3000".into()],
+        &url,
+    );
+    assert!(dom.status.success(), "chromium failed on {url}");
+    let html = String::from_utf8_lossy(&dom.stdout);
+    let attr = |name: &str| -> String {
+        let key = format!("{name}=\"");
+        let i = html
+            .find(&key)
+            .unwrap_or_else(|| panic!("{url}: no {name}"));
+        let rest = &html[i + key.len()..];
+        rest[..rest.find('"').unwrap()].to_string()
+    };
+    let frame: usize = attr("data-frame").parse().unwrap();
+    assert!(frame > 0, "{url}: playback did not advance");
+    let drawn: std::collections::HashSet<String> =
+        attr("data-drawn").split(',').map(String::from).collect();
+    assert!(drawn.len() >= 3, "{url}: frames do not change: {drawn:?}");
 }

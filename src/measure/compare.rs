@@ -120,6 +120,11 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         } else {
             vec![0, steps / 3, 2 * steps / 3, steps]
         },
+        frame_stride: if sys.len() > 1 {
+            playback_stride(dt, steps)
+        } else {
+            0
+        },
     });
     let set = CaseSettings {
         methods: cfg.methods.clone(),
@@ -302,4 +307,17 @@ pub fn contacts_doc(res: &CompareResult) -> Option<ContactsDoc<'_>> {
         dt: res.dt,
         backends,
     })
+}
+
+/// Frames per simulated second of a compare run's playback frames.
+pub const PLAYBACK_FPS: f64 = 30.0;
+
+/// Most playback frames of one run (longer scenes play time-lapsed).
+pub const PLAYBACK_MAX_FRAMES: u64 = 150;
+
+/// Steps between playback frames of a run of `steps` steps of `dt`: one frame per
+/// 1/[`PLAYBACK_FPS`] s of simulated time, at most [`PLAYBACK_MAX_FRAMES`] frames.
+pub fn playback_stride(dt: f64, steps: u64) -> u64 {
+    let per_frame = (1.0 / (PLAYBACK_FPS * dt)).round().max(1.0) as u64;
+    per_frame.max(steps.div_ceil(PLAYBACK_MAX_FRAMES)).max(1)
 }

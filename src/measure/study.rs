@@ -19,7 +19,7 @@
 use super::advise::{advise, Advice, AdviseConfig};
 use super::compare::{compare, CompareConfig, CompareResult};
 use super::stability::{analyse, StabilityConfig, StabilityReport};
-use super::sweep::{run_sweep, SweepConfig, SweepResult};
+use super::sweep::{plan_sweep, run_sweep, SweepConfig, SweepResult};
 use crate::error::Result;
 use crate::integrate::IntegratorOptions;
 use crate::method::Registry;
@@ -45,6 +45,9 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-3;
 /// The sweep's cost cap per method (particle-steps) in a full study: a tenth of a default
 /// `springlab sweep`'s, so the 32×32 cloth's sweep stays within seconds.
 pub const STUDY_COST_CAP: f64 = 4e5;
+
+/// Fewest step sizes a study's sweep must afford to be run (an order fit needs three).
+pub const MIN_SWEEP_STEPS: usize = 3;
 
 /// The sweep's cost cap per method (particle-steps) in a quick study.
 pub const QUICK_COST_CAP: f64 = 5e4;
@@ -219,26 +222,38 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             advisable.push(n.clone());
         }
     }
+    let sweep_cfg = SweepConfig {
+        methods: cfg.methods.clone(),
+        integrators: sweepable.clone(),
+        cost_cap: Some(if cfg.quick {
+            QUICK_COST_CAP
+        } else {
+            STUDY_COST_CAP
+        }),
+        options: cfg.options,
+        progress: cfg.progress,
+        blowup_factor: cfg.blowup_factor,
+        ..Default::default()
+    };
     let sweep = if sweepable.is_empty() {
         notes.push("No sweep: no non-engine method of finite order applies to this scene.".into());
         None
     } else {
-        Some(run_sweep(
-            scene,
-            &SweepConfig {
-                methods: cfg.methods.clone(),
-                integrators: sweepable,
-                cost_cap: Some(if cfg.quick {
-                    QUICK_COST_CAP
-                } else {
-                    STUDY_COST_CAP
-                }),
-                options: cfg.options,
-                progress: cfg.progress,
-                blowup_factor: cfg.blowup_factor,
-                ..Default::default()
-            },
-        )?)
+        let plan = plan_sweep(scene, &sweep_cfg)?;
+        if plan.dts.len() < MIN_SWEEP_STEPS {
+            // One or two steps fit no order: not worth a reference solve and every method.
+            notes.push(format!(
+                "No sweep: at the study's cost cap ({:.0e} particle-steps per method) this scene of {} particles affords {} step size(s), too few to fit an order; `springlab sweep {}` (cap {:.0e}) measures it.",
+                sweep_cfg.cost_cap.unwrap_or_default(),
+                plan.particles,
+                plan.dts.len(),
+                scene.source.display(),
+                super::sweep::DEFAULT_COST_CAP
+            ));
+            None
+        } else {
+            Some(run_sweep(scene, &sweep_cfg)?)
+        }
     };
     lap(&mut seconds.sweep);
     let stability = analyse(

@@ -16,6 +16,9 @@ pub struct TraceSpec {
     pub stride: u64,
     /// Steps at which the whole scene is kept (the last accepted state is always added).
     pub snapshot_steps: Vec<u64>,
+    /// Keep every particle's position every this many steps for playback (0: none).
+    #[serde(default)]
+    pub frame_stride: u64,
 }
 
 /// A run's trace.
@@ -29,6 +32,11 @@ pub struct Trace {
     pub paths: Vec<Vec<[f64; 3]>>,
     /// Whole-scene snapshots (time, every particle's position).
     pub snapshots: Vec<(f64, Vec<[f64; 3]>)>,
+    /// Playback frames (time, every particle's position), every `frame_stride` steps up to
+    /// the last accepted step. Kept in memory for the report's playback file, not written
+    /// into compare's documents (they would grow by the whole trajectory).
+    #[serde(skip)]
+    pub frames: Vec<(f64, Vec<[f64; 3]>)>,
 }
 
 /// Records a [`Trace`] of a run of step `dt`.
@@ -74,6 +82,12 @@ impl Observer for TraceObserver {
     fn observe(&mut self, step: u64, s: &State, _e: &EnergyRecord) -> Result<()> {
         if step % self.spec.stride == 0 {
             self.point(step, &s.x);
+        }
+        if self.spec.frame_stride > 0 && step % self.spec.frame_stride == 0 {
+            self.trace.frames.push((
+                step as f64 * self.dt,
+                s.x.iter().map(|&v| v.into()).collect(),
+            ));
         }
         if self.spec.snapshot_steps.contains(&step) {
             let t = step as f64 * self.dt;

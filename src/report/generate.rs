@@ -163,11 +163,22 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
         notes.push("Collision validation: this scene has no obstacles.".to_string());
     }
     notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit from the command beside its document.".into());
+    let mut sections = Vec::new();
+    match super::playback::playback(s, scene, plane) {
+        Some((js, html)) => {
+            write_atomic(dir.join("playback.js"), js.as_bytes())?;
+            sections.push(html);
+        }
+        None => notes.push(
+            "Playback: a scene of one particle has nothing to watch beyond its trajectory above."
+                .to_string(),
+        ),
+    }
     let mut sum = scene_summary(s, &opts.methods, docs)?;
     sum.verdict = super::verdict::verdict(&sum);
     write_atomic(
         dir.join("index.html"),
-        scene_page(&sum, s, &figs, &notes).as_bytes(),
+        scene_page(&sum, s, &figs, &sections, &notes).as_bytes(),
     )?;
     write_atomic(
         dir.join("results.json"),

@@ -32,6 +32,7 @@ table{border-collapse:collapse;margin:.8em 0;font-size:.92em}th,td{border:1px so
 th{background:#f2f2f2}td.l,th.l{text-align:left}tr.unstable td{background:#fde8e6}
 p.verdict{background:#f5f8ff;border-left:4px solid #4a7bd0;padding:.7em 1em}
 figure{margin:1.2em 0}figure img{max-width:100%;border:1px solid #e3e3e3}figcaption{font-size:.9em;color:#444;margin-top:.3em}
+figure.pb{display:inline-block;margin:.3em;vertical-align:top;width:242px}figure.pb canvas{border:1px solid #e3e3e3}
 .note{color:#555;font-size:.9em}code{background:#f3f3f3;padding:0 .2em}";
 
 fn page(title: &str, body: &str) -> String {
@@ -160,6 +161,7 @@ pub fn scene_page(
     s: &SceneSummary,
     st: &SceneStudy,
     figures: &[Figure],
+    sections: &[String],
     notes: &[String],
 ) -> String {
     let mut body = format!(
@@ -197,6 +199,9 @@ pub fn scene_page(
             body += &format!("<li><code>{}</code>: {}</li>\n", esc(n), esc(why));
         }
         body += "</ul>\n";
+    }
+    for sec in sections {
+        body += sec;
     }
     for f in figures {
         body += &format!(

@@ -12,6 +12,7 @@ mod finite;
 pub mod generate;
 mod html;
 mod markdown;
+mod playback;
 pub mod plots;
 pub mod shard;
 pub mod summary;

@@ -44,7 +44,7 @@ pub mod shard;
 pub mod summary;
 
 pub use extend::Stop;
-pub use plan::{plan_sweep, step_grid, GridRule, SweepPlan};
+pub use plan::{plan_sweep, step_grid, GridRule, SweepPlan, DEFAULT_COST_CAP};
 pub use shard::{merge, write_sweep, ShardFile};
 pub use summary::{summarise, IntegratorSummary, SweepSummary};
 
