@@ -13,6 +13,7 @@ mod report;
 mod run;
 mod stability;
 mod sweep;
+mod xpbd_args;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
