@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::process::Command;
 
-const COMMANDS: [&str; 11] = [
+const COMMANDS: [&str; 12] = [
     "run",
     "check",
     "list",
@@ -17,6 +17,7 @@ const COMMANDS: [&str; 11] = [
     "advise",
     "compare",
     "merge",
+    "small-steps",
 ];
 
 fn help(cmd: &str) -> String {

@@ -71,19 +71,24 @@ fn builtin_facts_are_the_textbook_ones() {
         ("implicit_midpoint", 2),
         ("bdf2", 2),
         ("rattle", 2),
+        // XPBD: backward Euler on each constraint per substep (Macklin et al. 2016).
+        ("xpbd", 1),
     ] {
         assert_eq!(order(n), Order::Finite(p), "{n}");
     }
-    // Linear one-step theory judges every native method but the closed form.
+    // Linear one-step theory judges every native method but the closed form and xpbd (a
+    // constraint projection, not a linear one-step map: empirical search only).
     for n in r.native_names() {
-        let want = if n == "analytic" {
-            StabilityTheory::Unconditional
-        } else {
-            StabilityTheory::SpectralRadius
+        let want = match n {
+            "analytic" => StabilityTheory::Unconditional,
+            "xpbd" => StabilityTheory::Empirical,
+            _ => StabilityTheory::SpectralRadius,
         };
         assert_eq!(r.info(n).unwrap().stability, want, "{n}");
     }
     assert_eq!(order("analytic"), Order::Exact);
+    // xpbd never evaluates the spring force model (springs become constraints).
+    assert_eq!(r.info("xpbd").unwrap().cost, CostUnit::WallTime);
     assert_eq!(serde_json::to_string(&Order::Exact).unwrap(), "\"exact\"");
     assert_eq!(serde_json::to_string(&Order::Finite(4)).unwrap(), "4");
     assert_eq!(r.canonical("semi_implicit_euler"), Some("symplectic_euler"));

@@ -1,5 +1,5 @@
 //! Whole steps give the same bits with 1 and 2 threads (symplectic Euler, RK4, implicit Euler
-//! with its parallel CG). Oracle: the one-thread run — the tool promises the same bits
+//! with its parallel CG, xpbd with its coloured sweep). Oracle: the one-thread run — the tool promises the same bits
 //! whatever the thread count.
 
 use springlab::{method, scenario::Scenario};
@@ -28,7 +28,7 @@ fn stepping_is_bit_identical_across_thread_counts() {
         let scene = cloth(n);
         let sys = scene.build();
         assert!(sys.springs.is_parallel(sys.len()));
-        for name in ["symplectic_euler", "rk4", "implicit_euler"] {
+        for name in ["symplectic_euler", "rk4", "implicit_euler", "xpbd"] {
             let run = |threads| {
                 in_pool(threads, || {
                     let mut integ = method::create(name, &Default::default()).unwrap();

@@ -26,6 +26,8 @@ pub struct StepArgs {
     /// Solver substeps per frame for Rapier backends.
     #[arg(long, default_value_t = 4)]
     pub substeps: usize,
+    #[command(flatten)]
+    pub xpbd: super::xpbd_args::XpbdArgs,
 }
 
 impl StepArgs {
@@ -56,6 +58,7 @@ impl StepArgs {
         if self.substeps == 0 {
             bail!("--substeps: must be at least 1");
         }
+        self.xpbd.values()?;
         let mut plan = if let Some(n) = self.steps {
             RunPlan::new(dt, n)
         } else if let Some(d) = self.duration.or(scene.run.duration) {
@@ -83,6 +86,8 @@ impl StepArgs {
         IntegratorOptions {
             constraint_iterations: self.iterations,
             substeps: self.substeps,
+            xpbd_substeps: self.xpbd.xpbd_substeps,
+            xpbd_iterations: self.xpbd.xpbd_iterations,
         }
     }
 }

@@ -36,6 +36,8 @@ pub struct MeasureArgs {
     /// Solver substeps per frame for Rapier backends.
     #[arg(long, default_value_t = 4)]
     pub substeps: usize,
+    #[command(flatten)]
+    pub xpbd: super::xpbd_args::XpbdArgs,
     /// Output directory (default: out/<scenario>/<command>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -50,9 +52,12 @@ impl MeasureArgs {
         if self.substeps == 0 {
             bail!("--substeps: must be at least 1");
         }
+        let (xpbd_substeps, xpbd_iterations) = self.xpbd.values()?;
         Ok(IntegratorOptions {
             constraint_iterations: self.iterations,
             substeps: self.substeps,
+            xpbd_substeps,
+            xpbd_iterations,
         })
     }
     /// The output directory for `command` on `scenario`.

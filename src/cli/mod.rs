@@ -11,8 +11,10 @@ mod measure_common;
 mod merge;
 mod report;
 mod run;
+mod small_steps;
 mod stability;
 mod sweep;
+mod xpbd_args;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -50,6 +52,9 @@ enum Command {
     Compare(compare::Args),
     /// Join the shard directories of one sweep.
     Merge(merge::Args),
+    /// Small Steps replicated: xpbd's n substeps × 1 iteration against 1 step × n iterations
+    /// at a frame step (small_steps.json + small_steps.csv).
+    SmallSteps(small_steps::Args),
 }
 
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
@@ -67,6 +72,7 @@ pub fn main() -> ExitCode {
         Command::Advise(a) => advise::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::SmallSteps(a) => small_steps::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

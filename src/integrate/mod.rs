@@ -18,6 +18,7 @@ mod rk;
 mod shake;
 mod verlet;
 mod verlet_constraints;
+mod xpbd;
 
 pub use analytic::Analytic;
 pub use bdf2::Bdf2;
@@ -31,6 +32,7 @@ pub use rattle::{Rattle, RattleSettings};
 pub use rk::{RungeKutta, Tableau};
 pub use verlet::{PositionVerlet, VelocityVerlet};
 pub use verlet_constraints::VerletConstraints;
+pub use xpbd::Xpbd;
 
 use crate::error::Result;
 use crate::model::{State, System};

@@ -7,6 +7,11 @@ pub struct IntegratorOptions {
     pub constraint_iterations: usize,
     /// Solver substeps per frame for physics-engine backends (Rapier's `num_solver_iterations`).
     pub substeps: usize,
+    /// Substeps per step for `xpbd` (its own: one `xpbd` step of h is this many XPBD
+    /// substeps of h / n, whatever the runner does with the frame).
+    pub xpbd_substeps: usize,
+    /// Constraint sweeps per substep for `xpbd`.
+    pub xpbd_iterations: usize,
 }
 
 impl Default for IntegratorOptions {
@@ -14,6 +19,8 @@ impl Default for IntegratorOptions {
         IntegratorOptions {
             constraint_iterations: 20,
             substeps: 4,
+            xpbd_substeps: 1,
+            xpbd_iterations: 1,
         }
     }
 }

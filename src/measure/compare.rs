@@ -173,6 +173,8 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         .list("integrators", &asked_or_all(&cfg.methods, &asked))
         .flag("substeps", cfg.options.substeps)
         .flag("iterations", cfg.options.constraint_iterations)
+        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
+        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag("series-points", cfg.series_points)
         .switch("trace", cfg.trace)

@@ -11,6 +11,7 @@ pub mod grid;
 pub(crate) mod metrics;
 mod modes;
 pub mod reference;
+pub mod small_steps;
 pub mod stability;
 pub mod study;
 pub mod sweep;

@@ -543,6 +543,10 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
                     note = Some("the linearised scene has no stiffness or damping (constraints are projected, not linearised): empirical only".to_string());
                 } else if exact {
                     note = Some("exact closed form: stable at any step".to_string());
+                } else if !method.info.linear_theory() {
+                    note = Some(format!(
+                        "no linear one-step theory applies to {name} (registered stability: empirical; a constraint projection or an engine's solver, not a linear map of the ODE): empirical bisection on the scene only"
+                    ));
                 }
                 None
             };
@@ -602,6 +606,8 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         .list("integrators", &asked)
         .flag("substeps", cfg.options.substeps)
         .flag("iterations", cfg.options.constraint_iterations)
+        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
+        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
         .flag("horizon", horizon)
         .flag("blowup-factor", cfg.blowup_factor)
         .switch("theory-only", cfg.theory_only)

@@ -7,7 +7,7 @@ use super::registry::Method;
 use crate::integrate::{
     Analytic, Bdf2, ExplicitEuler, ImplicitEuler, ImplicitMidpoint, LinearImplicitEuler,
     PositionVerlet, Rattle, RungeKutta, SymplecticEuler, Tableau, VelocityVerlet,
-    VerletConstraints,
+    VerletConstraints, Xpbd,
 };
 use crate::rapier::{Mode, RapierBackend, IMPULSE, MULTIBODY};
 
@@ -130,6 +130,22 @@ pub fn methods() -> Vec<Method> {
                 "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
             ),
             |o| Box::new(VerletConstraints::new(o.constraint_iterations)),
+        ),
+        Method::new(
+            MethodInfo {
+                // XPBD is a projection, not a one-step map of an ODE right-hand side: the
+                // linear spectral-radius theory does not describe it, so its stability is
+                // found by the empirical search on the scene. It never evaluates the spring
+                // force model (springs become constraints): costed in wall time.
+                stability: StabilityTheory::Empirical,
+                cost: CostUnit::WallTime,
+                ..native(
+                    "xpbd",
+                    1,
+                    "XPBD (Macklin et al. 2016): springs as compliant constraints with XPBD damping, --xpbd-substeps x --xpbd-iterations Gauss-Seidel",
+                )
+            },
+            |o| Box::new(Xpbd::new(o.xpbd_substeps, o.xpbd_iterations)),
         ),
         Method::new(
             native(

@@ -111,7 +111,7 @@ pub struct ConstraintSpec {
     pub between: [i64; 2],
     /// Rod length in m (default: initial distance).
     pub length: Option<f64>,
-    /// XPBD compliance in m/N (default 0: rigid); used by `verlet_constraints`.
+    /// XPBD compliance in m/N (default 0: rigid); used by `verlet_constraints` and `xpbd`.
     #[serde(default)]
     pub compliance: f64,
 }

@@ -470,6 +470,8 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .flag_opt("dt-max", cfg.dt_max)
         .flag("substeps", cfg.options.substeps)
         .flag("iterations", cfg.options.constraint_iterations)
+        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
+        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
         .render();
     Ok(Advice {
         command,

@@ -228,6 +228,8 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .flag("duration", plan.duration)
         .flag("substeps", cfg.options.substeps)
         .flag("iterations", cfg.options.constraint_iterations)
+        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
+        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
         .flag("blowup-factor", cfg.blowup_factor)
         .render();
     Ok(plan)

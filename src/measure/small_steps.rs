@@ -1,0 +1,385 @@
+//! "Small Steps in Physics Simulation" (Macklin et al., SCA 2019), replicated: at a fixed
+//! frame step, does XPBD with n substeps × 1 iteration beat 1 step × n iterations at equal
+//! cost (n constraint sweeps per frame)?
+//!
+//! For each scene and each budget n, both splits run the scene's duration at the frame step
+//! and are compared at every frame with the scene's reference solution
+//! ([`Reference::compute`]: DOP853 at 1e-12 for spring scenes, with its own uncertainty):
+//! position error (max over particles, then over the frames within the reference's
+//! predictable range), stretch error (the largest relative spring extension (|d| − L)/L of a
+//! frame against the reference's at the same frame: a compliant scene stretches physically,
+//! so less stretch is not better, closer is), the energy the position solve removed (numerical
+//! dissipation: E₀ − E_end − booked dissipation), and cost (constraint sweeps and wall time).
+//! Each budget gets a verdict per measure, and the scene a sentence saying where the paper's
+//! claim holds and where it does not.
+
+use crate::error::{Error, Result};
+use crate::integrate::{Integrator, Xpbd};
+use crate::measure::grid::TimeGrid;
+use crate::measure::reference::{Reference, ReferenceInfo};
+use crate::model::{State, System, Vec3};
+use crate::scenario::Scenario;
+use serde::Serialize;
+use std::time::Instant;
+
+/// The paper's frame rate: 60 Hz.
+pub const FRAME_DT: f64 = 1.0 / 60.0;
+
+/// Default budgets n (sweeps per frame).
+pub const DEFAULT_BUDGETS: [usize; 7] = [1, 2, 4, 8, 16, 32, 64];
+
+/// What to measure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmallStepsConfig {
+    /// Frame step (s).
+    pub frame_dt: f64,
+    /// Simulated time (s); `None`: the scene's `[run]` duration.
+    pub duration: Option<f64>,
+    /// Budgets n: sweeps per frame, each run as n substeps × 1 iteration and 1 step × n
+    /// iterations.
+    pub budgets: Vec<usize>,
+}
+
+impl Default for SmallStepsConfig {
+    fn default() -> Self {
+        SmallStepsConfig {
+            frame_dt: FRAME_DT,
+            duration: None,
+            budgets: DEFAULT_BUDGETS.to_vec(),
+        }
+    }
+}
+
+/// One split of a budget: `substeps` × `iterations` per frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SplitRun {
+    /// Substeps per frame.
+    pub substeps: usize,
+    /// Gauss–Seidel sweeps per substep.
+    pub iterations: usize,
+    /// Constraint sweeps over the whole run (substeps × iterations × frames).
+    pub sweeps: u64,
+    /// Wall time of the steps alone (s).
+    pub wall_seconds: f64,
+    /// Largest position error (m): max over particles, then over the compared frames.
+    pub error_max: Option<f64>,
+    /// Position error at the last compared frame (m).
+    pub error_final: Option<f64>,
+    /// Largest relative spring extension (|d| − L)/L over springs and frames.
+    pub stretch_max: Option<f64>,
+    /// Mean over frames of the largest relative extension.
+    pub stretch_mean: Option<f64>,
+    /// Largest |stretch − reference stretch| over the compared frames, where stretch is a
+    /// frame's largest relative extension.
+    pub stretch_error: Option<f64>,
+    /// Energy the position solve removed (J): E₀ − E_end − booked dissipation.
+    pub numerical_dissipation: Option<f64>,
+    /// `ok`, or why the run stopped (non-finite state).
+    pub status: String,
+}
+
+/// Both splits of one budget and which is better on each measure.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Budget {
+    /// Sweeps per frame.
+    pub n: usize,
+    /// n substeps × 1 iteration.
+    pub substeps: SplitRun,
+    /// 1 step × n iterations.
+    pub iterations: SplitRun,
+    /// Substeps have the smaller error (None when either run failed).
+    pub substeps_lower_error: Option<bool>,
+    /// Substeps have the smaller stretch error.
+    pub substeps_lower_stretch_error: Option<bool>,
+    /// Wall time of the substeps split over that of the iterations split: equal sweeps are
+    /// not equal wall time (each substep also predicts, updates velocities and sums the
+    /// dampers' power).
+    pub wall_ratio: f64,
+}
+
+/// One scene's comparison.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneSmallSteps {
+    /// Scene name.
+    pub scene: String,
+    /// Frame step (s).
+    pub frame_dt: f64,
+    /// Simulated time (s).
+    pub duration: f64,
+    /// Frames compared with the reference (those before its predictability horizon).
+    pub compared_frames: u64,
+    /// The reference used.
+    pub reference: ReferenceInfo,
+    /// Largest relative spring extension of the reference over the frames.
+    pub reference_stretch_max: f64,
+    /// One entry per budget.
+    pub budgets: Vec<Budget>,
+    /// True when substeps win on position error and on stretch error at every budget n > 1.
+    pub claim_holds: bool,
+    /// Where the claim holds and where it does not, in words.
+    pub verdict: String,
+}
+
+/// The whole document.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SmallSteps {
+    /// The command line that re-creates it.
+    pub command: String,
+    /// One entry per scene.
+    pub scenes: Vec<SceneSmallSteps>,
+}
+
+/// Largest relative extension (|d| − L)/L over the springs of `sys` (0 without springs).
+pub fn stretch(sys: &System, x: &[Vec3]) -> f64 {
+    let sp = &sys.springs;
+    (0..sp.len())
+        .filter(|&s| sp.l0[s] > 0.0)
+        .map(|s| ((x[sp.j[s] as usize] - x[sp.i[s] as usize]).norm() - sp.l0[s]) / sp.l0[s])
+        .fold(0.0, f64::max)
+}
+
+fn max_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
+}
+
+/// Runs one split against the reference.
+fn run_split(
+    sys: &System,
+    s0: &State,
+    reference: &Reference,
+    frames: u64,
+    compared: u64,
+    frame_dt: f64,
+    (substeps, iterations): (usize, usize),
+) -> SplitRun {
+    let mut integ = Xpbd::new(substeps, iterations);
+    let mut s = s0.clone();
+    let e0 = sys.state_energy(&s).mechanical();
+    let (mut wall, mut dissipated) = (0.0, 0.0);
+    let (mut err_max, mut err_final, mut st_max, mut st_sum) = (0.0f64, 0.0, 0.0f64, 0.0);
+    let mut st_err = 0.0f64;
+    let mut status = "ok".to_string();
+    for f in 1..=frames {
+        let t0 = Instant::now();
+        let r = integ.step(sys, &mut s, frame_dt);
+        wall += t0.elapsed().as_secs_f64();
+        match r {
+            Ok(st) => dissipated += st.dissipated,
+            Err(e) => {
+                status = e.to_string();
+                break;
+            }
+        }
+        if let Some(p) = s.first_non_finite() {
+            status = format!("particle {p} not finite at frame {f}");
+            break;
+        }
+        let st = stretch(sys, &s.x);
+        st_max = st_max.max(st);
+        st_sum += st;
+        if f <= compared {
+            if let Some(xr) = reference.positions(0, f) {
+                let e = max_distance(&s.x, xr);
+                err_max = err_max.max(e);
+                err_final = e;
+                st_err = st_err.max((st - stretch(sys, xr)).abs());
+            }
+        }
+    }
+    let ok = status == "ok";
+    let e_end = sys.state_energy(&s).mechanical();
+    SplitRun {
+        substeps,
+        iterations,
+        sweeps: integ.sweeps,
+        wall_seconds: wall,
+        error_max: ok.then_some(err_max),
+        error_final: ok.then_some(err_final),
+        stretch_max: ok.then_some(st_max),
+        stretch_mean: ok.then_some(st_sum / frames as f64),
+        stretch_error: ok.then_some(st_err),
+        numerical_dissipation: ok.then_some(e0 - e_end - dissipated),
+        status,
+    }
+}
+
+fn lower(a: Option<f64>, b: Option<f64>) -> Option<bool> {
+    Some(a? < b?)
+}
+
+/// In words: at which budgets substeps win or lose on each measure.
+fn verdict(budgets: &[Budget]) -> (bool, String) {
+    let mut lose = Vec::new();
+    let mut unknown = Vec::new();
+    for b in budgets.iter().filter(|b| b.n > 1) {
+        match (b.substeps_lower_error, b.substeps_lower_stretch_error) {
+            (Some(true), Some(true)) => {}
+            (Some(e), Some(s)) => {
+                let what = match (e, s) {
+                    (false, false) => "position and stretch error",
+                    (false, true) => "position error",
+                    _ => "stretch error",
+                };
+                lose.push(format!("n = {} ({what})", b.n));
+            }
+            _ => unknown.push(format!("n = {}", b.n)),
+        }
+    }
+    let holds = lose.is_empty() && unknown.is_empty();
+    let ratios: Vec<f64> = budgets
+        .iter()
+        .filter(|b| b.n > 1)
+        .map(|b| b.wall_ratio)
+        .collect();
+    let cost = if ratios.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " (at equal constraint sweeps; the substeps split took {:.2}–{:.2}× the wall time)",
+            ratios.iter().copied().fold(f64::INFINITY, f64::min),
+            ratios.iter().copied().fold(0.0, f64::max)
+        )
+    };
+    let text = if holds {
+        "the claim holds: at every budget n > 1, n substeps × 1 iteration have a smaller position error and a smaller stretch error than 1 step × n iterations".to_string()
+    } else {
+        let mut parts = Vec::new();
+        if !lose.is_empty() {
+            parts.push(format!(
+                "1 step × n iterations does as well or better at {}",
+                lose.join(", ")
+            ));
+        }
+        if !unknown.is_empty() {
+            parts.push(format!(
+                "a run failed (no comparison) at {}",
+                unknown.join(", ")
+            ));
+        }
+        format!("the claim does not hold everywhere: {}", parts.join("; "))
+    };
+    (holds, text + &cost)
+}
+
+/// The comparison on one scene.
+pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<SceneSmallSteps> {
+    if !(cfg.frame_dt.is_finite() && cfg.frame_dt > 0.0) {
+        return Err(Error::option(
+            "--dt",
+            format!("must be a finite number > 0, got {}", cfg.frame_dt),
+        ));
+    }
+    if cfg.budgets.is_empty() || cfg.budgets.contains(&0) {
+        return Err(Error::option(
+            "--budgets",
+            "must be a non-empty list of whole numbers ≥ 1",
+        ));
+    }
+    let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
+    let frames = ((duration / cfg.frame_dt).round() as u64).max(1);
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let grid = TimeGrid::new(cfg.frame_dt, frames, frames);
+    let reference = Reference::compute(&sys, &s0, &[grid], grid.time(frames))?;
+    let compared = match reference.info.predictability_horizon {
+        Some(h) => (1..=frames)
+            .take_while(|&f| grid.time(f) < h)
+            .last()
+            .unwrap_or(0),
+        None => frames,
+    };
+    let reference_stretch_max = (1..=frames)
+        .filter_map(|f| reference.positions(0, f))
+        .map(|x| stretch(&sys, x))
+        .fold(0.0, f64::max);
+    let budgets: Vec<Budget> = cfg
+        .budgets
+        .iter()
+        .map(|&n| {
+            let run =
+                |split| run_split(&sys, &s0, &reference, frames, compared, cfg.frame_dt, split);
+            let (sub, it) = (run((n, 1)), run((1, n)));
+            Budget {
+                n,
+                substeps_lower_error: lower(sub.error_max, it.error_max),
+                substeps_lower_stretch_error: lower(sub.stretch_error, it.stretch_error),
+                wall_ratio: sub.wall_seconds / it.wall_seconds.max(f64::MIN_POSITIVE),
+                substeps: sub,
+                iterations: it,
+            }
+        })
+        .collect();
+    let (claim_holds, verdict) = verdict(&budgets);
+    Ok(SceneSmallSteps {
+        scene: scene.name.clone(),
+        frame_dt: cfg.frame_dt,
+        duration: grid.time(frames),
+        compared_frames: compared,
+        reference: reference.info.clone(),
+        reference_stretch_max,
+        budgets,
+        claim_holds,
+        verdict,
+    })
+}
+
+/// The comparison on every scene, with the command line that re-creates it.
+pub fn small_steps(scenes: &[Scenario], cfg: &SmallStepsConfig) -> Result<SmallSteps> {
+    let mut words = vec!["springlab".to_string(), "small-steps".to_string()];
+    words.extend(scenes.iter().map(|s| s.source.display().to_string()));
+    let mut cmd = words
+        .iter()
+        .map(|w| super::command::shell_word(w))
+        .collect::<Vec<_>>()
+        .join(" ");
+    cmd += &format!(" --dt {}", cfg.frame_dt);
+    if let Some(d) = cfg.duration {
+        cmd += &format!(" --duration {d}");
+    }
+    let b: Vec<String> = cfg.budgets.iter().map(|n| n.to_string()).collect();
+    cmd += &format!(" --budgets {}", b.join(","));
+    Ok(SmallSteps {
+        command: cmd,
+        scenes: scenes
+            .iter()
+            .map(|s| small_steps_scene(s, cfg))
+            .collect::<Result<_>>()?,
+    })
+}
+
+/// CSV header of [`to_csv`].
+pub const CSV_HEADER: &str = "scene,n,substeps,iterations,sweeps,wall_seconds,error_max,error_final,stretch_max,stretch_mean,stretch_error,numerical_dissipation,status";
+
+/// One row per run (both splits of every budget of every scene); empty cells where a run
+/// failed.
+pub fn to_csv(doc: &SmallSteps) -> String {
+    let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
+    let mut out = String::from(CSV_HEADER);
+    out.push('\n');
+    for sc in &doc.scenes {
+        for b in &sc.budgets {
+            for r in [&b.substeps, &b.iterations] {
+                out += &format!(
+                    "{},{},{},{},{},{:e},{},{},{},{},{},{},{}\n",
+                    sc.scene,
+                    b.n,
+                    r.substeps,
+                    r.iterations,
+                    r.sweeps,
+                    r.wall_seconds,
+                    opt(r.error_max),
+                    opt(r.error_final),
+                    opt(r.stretch_max),
+                    opt(r.stretch_mean),
+                    opt(r.stretch_error),
+                    opt(r.numerical_dissipation),
+                    super::command::shell_word(&r.status).replace(',', ";"),
+                );
+            }
+        }
+    }
+    out
+}
