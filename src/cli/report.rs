@@ -80,6 +80,7 @@ pub fn run(a: Args) -> Result<()> {
         quick: a.quick,
         scenes: Vec::new(),
         failed: Vec::new(),
+        small_steps: None,
     };
     // Scenes are independent: they are studied concurrently (two at a time on two cores,
     // sharing rayon's pool with their own inner loops) and gathered in file order, so the
@@ -88,33 +89,48 @@ pub fn run(a: Args) -> Result<()> {
         Some(b) => b.println(line),
         None => eprintln!("{line}"),
     };
-    let results: Vec<_> = files
-        .par_iter()
-        .with_max_len(1)
-        .map(|(k, f)| {
-            let t0 = Instant::now();
-            let res = Scenario::from_file(f).and_then(|scene| report_scene(&scene, &opts));
-            match &res {
-                Ok(s) => {
-                    let p = s.seconds;
-                    say(&format!(
-                        "report: {} done in {:.1} s (compare {:.1}, sweep {:.1}, stability {:.1}, advice {:.1})",
-                        s.scene,
-                        t0.elapsed().as_secs_f64(),
-                        p.compare,
-                        p.sweep,
-                        p.stability,
-                        p.advice
-                    ));
+    // The report-level Small Steps page (shard 0 of a sharded report) runs beside the scenes.
+    let small_steps_here = a.shard.is_none_or(|s| s.index == 0) && !a.quick;
+    let (results, small_steps) = rayon::join(
+        || {
+            files
+            .par_iter()
+            .with_max_len(1)
+            .map(|(k, f)| {
+                let t0 = Instant::now();
+                let res = Scenario::from_file(f).and_then(|scene| report_scene(&scene, &opts));
+                match &res {
+                    Ok(s) => {
+                        let p = s.seconds;
+                        say(&format!(
+                            "report: {} done in {:.1} s (compare {:.1}, sweep {:.1}, stability {:.1}, advice {:.1})",
+                            s.scene,
+                            t0.elapsed().as_secs_f64(),
+                            p.compare,
+                            p.sweep,
+                            p.stability,
+                            p.advice
+                        ));
+                    }
+                    Err(e) => say(&format!("report: {}: {e}", f.display())),
                 }
-                Err(e) => say(&format!("report: {}: {e}", f.display())),
-            }
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
-            (*k, f, res)
-        })
-        .collect();
+                if let Some(b) = &bar {
+                    b.inc(1);
+                }
+                (*k, f, res)
+            })
+                .collect::<Vec<_>>()
+        },
+        || {
+            small_steps_here
+                .then(|| springlab::report::small_steps::write_page(&a.scenarios, &a.out))
+                .transpose()
+        },
+    );
+    match small_steps {
+        Ok(link) => sum.small_steps = link.flatten(),
+        Err(e) => say(&format!("report: small steps: {e}")),
+    }
     for (k, f, res) in results {
         match res {
             Ok(s) => {

@@ -3,8 +3,7 @@
 
 use super::common::load;
 use anyhow::Result;
-use springlab::measure::small_steps::{small_steps, to_csv, SmallStepsConfig, DEFAULT_BUDGETS};
-use springlab::output::write_atomic;
+use springlab::measure::small_steps::{small_steps, SmallStepsConfig, DEFAULT_BUDGETS};
 use std::path::PathBuf;
 
 /// Flags of `springlab small-steps`.
@@ -52,8 +51,7 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     let out = a.out.unwrap_or_else(|| PathBuf::from("out/small_steps"));
-    let mut doc = small_steps(&scenes, &cfg)?;
-    doc.command = springlab::measure::command::with_out(&doc.command, &out);
+    let doc = small_steps(&scenes, &cfg)?;
     let fmt = |v: Option<f64>| v.map_or("-".into(), |x| format!("{x:.3e}"));
     for sc in &doc.scenes {
         println!(
@@ -80,12 +78,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         println!("  {}", sc.verdict);
     }
-    std::fs::create_dir_all(&out)?;
-    write_atomic(
-        out.join("small_steps.json"),
-        serde_json::to_string_pretty(&doc)?.as_bytes(),
-    )?;
-    write_atomic(out.join("small_steps.csv"), to_csv(&doc).as_bytes())?;
+    springlab::measure::small_steps::write_small_steps(&out, &doc)?;
     println!("wrote {}", out.display());
     Ok(())
 }

@@ -383,3 +383,25 @@ pub fn to_csv(doc: &SmallSteps) -> String {
     }
     out
 }
+
+/// Writes `small_steps.json` (with its `"command"` naming `dir` as `--out`) and
+/// `small_steps.csv` into `dir`, atomically; returns the two paths.
+pub fn write_small_steps(
+    dir: &std::path::Path,
+    doc: &SmallSteps,
+) -> Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|e| crate::error::Error::Write {
+        file: dir.to_path_buf(),
+        source: e,
+    })?;
+    let doc = SmallSteps {
+        command: super::command::with_out(&doc.command, dir),
+        ..doc.clone()
+    };
+    let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
+    json.push(b'\n');
+    Ok(vec![
+        crate::output::write_atomic(dir.join("small_steps.json"), &json)?,
+        crate::output::write_atomic(dir.join("small_steps.csv"), to_csv(&doc).as_bytes())?,
+    ])
+}

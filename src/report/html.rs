@@ -35,7 +35,7 @@ figure{margin:1.2em 0}figure img{max-width:100%;border:1px solid #e3e3e3}figcapt
 figure.pb{display:inline-block;margin:.3em;vertical-align:top;width:242px}figure.pb canvas{border:1px solid #e3e3e3}
 .note{color:#555;font-size:.9em}code{background:#f3f3f3;padding:0 .2em}";
 
-fn page(title: &str, body: &str) -> String {
+pub(crate) fn page(title: &str, body: &str) -> String {
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n<style>\n{CSS}\n</style>\n</head>\n<body>\n{body}\n</body>\n</html>\n",
         esc(title)
@@ -254,7 +254,18 @@ pub fn index_page(sum: &Summary) -> String {
     for s in &sum.scenes {
         body += &front_tr(s);
     }
-    body += "</table>\n<h2>All methods at each scene's step</h2>\n";
+    body += "</table>\n";
+    if let Some(ss) = &sum.small_steps {
+        body += &format!(
+            "<h2>Small Steps, replicated</h2>\n<p>n XPBD substeps × 1 iteration against 1 step × n iterations at 60 Hz: <a href=\"{}\">the page</a>.</p>\n<ul>\n",
+            esc(&ss.page)
+        );
+        for v in &ss.verdicts {
+            body += &format!("<li>{}</li>\n", esc(v));
+        }
+        body += "</ul>\n";
+    }
+    body += "<h2>All methods at each scene's step</h2>\n";
     for s in &sum.scenes {
         body += &format!(
             "<h3><a href=\"{}\">{}</a></h3>\n<p>{}</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",

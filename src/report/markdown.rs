@@ -34,6 +34,15 @@ pub fn readme(sum: &Summary) -> String {
             lines(&r.blew)
         );
     }
+    if let Some(ss) = &sum.small_steps {
+        out += &format!(
+            "\n## Small Steps, replicated\n\nn XPBD substeps × 1 iteration against 1 step × n iterations at 60 Hz: [the page]({}).\n\n",
+            ss.page
+        );
+        for v in &ss.verdicts {
+            out += &format!("- {}\n", md(v));
+        }
+    }
     out += "\n## All methods at each scene's step\n\n";
     for s in &sum.scenes {
         out += &format!("### [{}]({})\n\n{}\n\n", md(&s.scene), s.page, s.verdict);

@@ -15,6 +15,7 @@ mod markdown;
 mod playback;
 pub mod plots;
 pub mod shard;
+pub mod small_steps;
 pub mod summary;
 mod verdict;
 

@@ -106,5 +106,6 @@ pub fn merge_shards(out: &Path, generator: &str, quick: bool) -> Result<Summary>
         quick,
         scenes: scenes.into_iter().map(|(_, s)| s).collect(),
         failed: failed.into_iter().map(|(_, f, e)| (f, e)).collect(),
+        small_steps: super::small_steps::read_link(out),
     })
 }

@@ -131,6 +131,9 @@ pub struct Summary {
     pub scenes: Vec<SceneSummary>,
     /// Scenario files that could not be loaded, with the error.
     pub failed: Vec<(String, String)>,
+    /// The Small Steps page, when the report has one.
+    #[serde(default)]
+    pub small_steps: Option<super::small_steps::SmallStepsLink>,
 }
 
 /// The reference of a comparison in words: its kind and description.
