@@ -167,6 +167,7 @@ impl FramePlan {
             integrator: integrator.to_string(),
             dt: (1.0 / FRAME_RATES[fi]) / n as f64,
             steps: self.frames[fi] * n,
+            substeps: None,
         }
     }
 
