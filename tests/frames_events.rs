@@ -126,14 +126,15 @@ fn frame_events_follow_the_closed_form_with_kicks_moved_to_the_next_frame() {
         // The game loop's lag is visible: millimetres to centimetres, far above 1e-9.
         assert!(lag > 1e-3, "lag {lag}");
     }
-    // The row at the frame a kick moved to (frame 3) still shows the state before it: the
-    // velocity there is the flow's, not the flow's plus the kick.
+    // The row at the frame the first kick moved to (frame 3) still shows the state before
+    // it: the slide is still at rest there, and moving one frame later.
     let rows = frames_of("frame", hz, 1, "analytic");
-    let exact_rows = frames_of("exact", hz, 1, "analytic");
-    assert!(
-        rows[3].v[1].x > exact_rows[3].v[1].x + 0.5,
-        "kick not yet applied at frame 3"
+    assert_eq!(
+        rows[3].v[1].x, 0.0,
+        "kick not yet applied in the row at its frame"
     );
+    assert_eq!(rows[3].x[1].x, 0.2);
+    assert!(rows[4].v[1].x < -0.1, "applied by the next row");
 }
 
 #[test]
