@@ -390,7 +390,7 @@ fn study_framerate(
     let duration = crate::scenario::Timing::duration(scene, None)?;
     let frames: f64 = rates
         .iter()
-        .map(|hz| ((duration * hz).round()).max(1.0))
+        .map(|&hz| super::framerate::frames_at(duration, hz) as f64)
         .sum();
     // Doubling to the limit (2·max − 1 substeps in all) and bisecting below it (< max more).
     let worst = frames * (3 * max_substeps) as f64;

@@ -75,7 +75,7 @@ impl FramePlan {
         FramePlan {
             frames: FRAME_RATES
                 .iter()
-                .map(|f| ((horizon * f).round() as u64).max(1))
+                .map(|&f| crate::measure::framerate::frames_at(horizon, f))
                 .collect(),
             substeps: FRAME_RATES
                 .iter()

@@ -194,6 +194,12 @@ pub struct Framerate {
     pub skipped: Vec<(String, String)>,
 }
 
+/// Whole frames at `hz` covering `duration` s (the nearest count, at least 1): how every
+/// frame-rate view (this one and advice's) turns a duration into frames.
+pub fn frames_at(duration: f64, hz: f64) -> u64 {
+    ((duration * hz).round() as u64).max(1)
+}
+
 fn check(cfg: &FramerateConfig) -> Result<()> {
     if cfg.rates.is_empty() {
         return Err(Error::option("--hz", "give at least one frame rate"));
@@ -260,7 +266,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let frames: Vec<u64> = cfg
         .rates
         .iter()
-        .map(|hz| ((duration * hz).round() as u64).max(1))
+        .map(|&hz| frames_at(duration, hz))
         .collect();
     for (&hz, &n) in cfg.rates.iter().zip(&frames) {
         let end = n as f64 / hz;
