@@ -110,6 +110,9 @@ pub fn run(a: Args) -> Result<()> {
             evals
         );
     }
+    if let Some(note) = &fr.reference_note {
+        println!("note: {note}");
+    }
     for (n, why) in &fr.skipped {
         println!("skipped {n}: {why}");
     }

@@ -15,14 +15,15 @@
 //! except `wall_seconds_per_frame` and `timing`.
 
 pub mod search;
+mod timing;
 mod write;
+
+pub use timing::FRAMERATE_TIMING;
 
 pub use write::{write_framerate, FRAMERATE_HEADER};
 
 use super::advise::cost::force_evals_per_second;
-use super::case::{
-    applicable, run_case, time_interleaved, CaseResult, CaseSettings, TimedRun, Timing, TimingRule,
-};
+use super::case::{applicable, run_case, CaseResult, CaseSettings, Timing, TimingRule};
 use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -41,16 +42,6 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-2;
 
 /// Default largest substep count searched per frame.
 pub const DEFAULT_MAX_SUBSTEPS: u64 = 64;
-
-/// The timing rule of the table's runs: at least 3 runs and 0.02 s in total; a run whose
-/// total passes 0.2 s stops after 1; never more than 1000 runs.
-pub const FRAMERATE_TIMING: TimingRule = TimingRule {
-    min_repetitions: 3,
-    min_total_seconds: 0.02,
-    cap_seconds: 0.2,
-    cap_repetitions: 1,
-    max_repetitions: 1000,
-};
 
 /// Options of [`framerate`].
 #[derive(Debug, Clone)]
@@ -192,6 +183,9 @@ pub struct Framerate {
     pub entries: Vec<RateEntry>,
     /// Backends that cannot run the scene, with the reason.
     pub skipped: Vec<(String, String)>,
+    /// Set when the reference's own uncertainty exceeds the tolerance: then no run can be
+    /// verified to it (a chaotic scene past its predictable range), and "none" means that.
+    pub reference_note: Option<String>,
 }
 
 /// Whole frames at `hz` covering `duration` s (the nearest count, at least 1): how every
@@ -376,7 +370,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .collect();
     pb.finish_and_clear();
     let mut entries = searched.into_iter().collect::<Result<Vec<_>>>()?;
-    time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
+    timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
     let command = CommandLine::new("framerate", &scene.source)
         .list("hz", &cfg.rates)
         .flag("tolerance", cfg.tolerance)
@@ -394,7 +388,15 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .flag("iterations", cfg.options.constraint_iterations)
         .flag("blowup-factor", cfg.blowup_factor)
         .render();
+    let u = reference.info.uncertainty;
+    let reference_note = (u > cfg.tolerance).then(|| {
+        format!(
+            "the reference's own uncertainty over the run is {u:.2e} m, above the tolerance {} m: no run can be verified to it; try a shorter --duration",
+            cfg.tolerance
+        )
+    });
     Ok(Framerate {
+        reference_note,
         command,
         scenario: scene.name.clone(),
         reference: reference.info,
@@ -408,48 +410,4 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         entries,
         skipped,
     })
-}
-
-/// Times every stable run of the table once per repetition rule, interleaved on this thread
-/// after all accuracy runs, and fills in its wall time per frame.
-fn time_entries(
-    sys: &crate::model::System,
-    s0: &crate::model::State,
-    entries: &mut [RateEntry],
-    set: &CaseSettings,
-    rule: &TimingRule,
-) -> Result<()> {
-    let run_of = |e: &RateEntry, r: &FrameRun| TimedRun {
-        integrator: e.backend.clone(),
-        dt: e.frame_dt,
-        steps: e.frames,
-        substeps: Some(r.substeps),
-    };
-    let mut runs: Vec<TimedRun> = Vec::new();
-    for e in entries.iter() {
-        for r in std::iter::once(&e.one_substep).chain(e.fewest.as_ref()) {
-            let t = run_of(e, r);
-            if r.status == "ok" && !runs.contains(&t) {
-                runs.push(t);
-            }
-        }
-    }
-    let timings = time_interleaved(sys, s0, &runs, set, rule)?;
-    for e in entries.iter_mut() {
-        let frames = e.frames as f64;
-        let (one, fewest) = (&mut e.one_substep, &mut e.fewest);
-        for r in std::iter::once(one).chain(fewest.as_mut()) {
-            let t = TimedRun {
-                integrator: e.backend.clone(),
-                dt: e.frame_dt,
-                steps: e.frames,
-                substeps: Some(r.substeps),
-            };
-            if let Some(k) = runs.iter().position(|x| *x == t) {
-                r.wall_seconds_per_frame = Some(timings[k].median_seconds / frames);
-                r.timing = Some(timings[k].clone());
-            }
-        }
-    }
-    Ok(())
 }
