@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::process::Command;
 
-const COMMANDS: [&str; 12] = [
+const COMMANDS: [&str; 13] = [
     "run",
     "check",
     "list",
@@ -16,6 +16,7 @@ const COMMANDS: [&str; 12] = [
     "stability",
     "advise",
     "compare",
+    "framerate",
     "merge",
     "small-steps",
 ];

@@ -6,12 +6,34 @@ use springlab::run::RunPlan;
 use springlab::scenario::{Scenario, Timing};
 use std::path::PathBuf;
 
+/// A step in seconds as typed: a number (`0.01`, `1e-3`) or a fraction (`1/60`).
+pub fn parse_seconds(s: &str) -> std::result::Result<f64, String> {
+    let number = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("expected a number of seconds such as 0.01 or 1/60, got '{s}'"))
+    };
+    match s.split_once('/') {
+        Some((a, b)) => {
+            let (a, b) = (number(a)?, number(b)?);
+            if b == 0.0 {
+                return Err(format!("'{s}' divides by zero"));
+            }
+            Ok(a / b)
+        }
+        None => number(s),
+    }
+}
+
 /// Step and length flags; each overrides the scenario's `[run]` table.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StepArgs {
-    /// Time step in seconds (overrides [run].dt).
-    #[arg(long, allow_negative_numbers = true)]
+    /// Frame step in seconds, a number or a fraction such as 1/60 (overrides [run].dt).
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_seconds, conflicts_with = "hz")]
     pub dt: Option<f64>,
+    /// Frame rate in Hz: the frame step is 1/HZ s (instead of --dt).
+    #[arg(long, allow_negative_numbers = true)]
+    pub hz: Option<f64>,
     /// Number of steps (overrides [run].steps / duration).
     #[arg(long, conflicts_with = "duration")]
     pub steps: Option<u64>,
@@ -23,9 +45,11 @@ pub struct StepArgs {
     /// Constraint projection sweeps per step for verlet_constraints.
     #[arg(long, default_value_t = 20)]
     pub iterations: usize,
-    /// Solver substeps per frame for Rapier backends.
-    #[arg(long, default_value_t = 4)]
-    pub substeps: usize,
+    /// Substeps per frame: native methods take N equal steps of dt/N per frame (bit for bit
+    /// the run at dt/N, every N-th state written), Rapier backends N solver substeps.
+    /// Default: 1 for native methods, Rapier's own 4 for Rapier backends.
+    #[arg(long)]
+    pub substeps: Option<u64>,
     #[command(flatten)]
     pub xpbd: super::xpbd_args::XpbdArgs,
 }
@@ -33,15 +57,23 @@ pub struct StepArgs {
 impl StepArgs {
     /// The run plan: flags first, then the scenario's `[run]`, else an error saying what to add.
     pub fn plan(&self, scene: &Scenario) -> Result<RunPlan> {
-        let dt = match self.dt.or(scene.run.dt) {
+        let hz_dt = match self.hz {
+            Some(f) if !(f.is_finite() && f > 0.0) => {
+                bail!("--hz: must be a finite frame rate > 0, got {f}")
+            }
+            Some(f) => Some(1.0 / f),
+            None => None,
+        };
+        let flag = if self.hz.is_some() { "--hz" } else { "--dt" };
+        let dt = match self.dt.or(hz_dt).or(scene.run.dt) {
             Some(dt) => dt,
             None => bail!(
-                "{}: no time step: give --dt or set [run].dt",
+                "{}: no time step: give --dt or --hz, or set [run].dt",
                 scene.source.display()
             ),
         };
         if !(dt.is_finite() && dt > 0.0) {
-            bail!("--dt: must be a finite number > 0, got {dt}");
+            bail!("{flag}: must give a finite step > 0, got {dt} s");
         }
         if let Some(d) = self.duration {
             if !(d.is_finite() && d > 0.0) {
@@ -55,14 +87,15 @@ impl StepArgs {
         if self.iterations == 0 {
             bail!("--iterations: must be at least 1");
         }
-        if self.substeps == 0 {
+        if self.substeps == Some(0) {
             bail!("--substeps: must be at least 1");
         }
         self.xpbd.values()?;
+        let dt_flag = self.dt.is_some() || self.hz.is_some();
         let mut plan = if let Some(n) = self.steps {
             RunPlan::new(dt, n)
         } else if let Some(d) = self.duration.or(scene.run.duration) {
-            Timing::step_fits(scene, dt, self.dt.is_some(), d)?;
+            Timing::step_fits(scene, dt, dt_flag, d)?;
             RunPlan::for_duration(dt, d)
         } else if let Some(n) = scene.run.steps {
             RunPlan::new(dt, n)
@@ -77,7 +110,9 @@ impl StepArgs {
             );
         }
         Timing::check_impulses(scene, plan.duration())?;
+        Timing::check_frame_impulses(scene, plan.dt, plan.duration())?;
         plan.blowup_factor = blowup_factor;
+        plan.substeps = self.substeps.unwrap_or(1);
         Ok(plan)
     }
 
@@ -85,7 +120,9 @@ impl StepArgs {
     pub fn options(&self) -> IntegratorOptions {
         IntegratorOptions {
             constraint_iterations: self.iterations,
-            substeps: self.substeps,
+            substeps: self
+                .substeps
+                .map_or(IntegratorOptions::default().substeps, |n| n as usize),
             xpbd_substeps: self.xpbd.xpbd_substeps,
             xpbd_iterations: self.xpbd.xpbd_iterations,
         }

@@ -13,8 +13,8 @@ pub struct Args {
     pub scenario: PathBuf,
     #[command(flatten)]
     pub m: MeasureArgs,
-    /// Step (s; default the scene's).
-    #[arg(long)]
+    /// Step (s, a number or a fraction such as 1/60; default the scene's).
+    #[arg(long, value_parser = super::common::parse_seconds)]
     pub dt: Option<f64>,
     /// Simulated time (s; default the scene's).
     #[arg(long)]

@@ -6,6 +6,7 @@ mod bench_scaling;
 mod check;
 mod common;
 mod compare;
+mod framerate;
 mod list;
 mod measure_common;
 mod merge;
@@ -50,6 +51,9 @@ enum Command {
     Advise(advise::Args),
     /// Every applicable backend at one step against the reference, side by side.
     Compare(compare::Args),
+    /// Each backend at game frame rates: the run at one substep, the fewest substeps meeting a
+    /// tolerance, and the cost per frame (framerate.csv, framerate.json).
+    Framerate(framerate::Args),
     /// Join the shard directories of one sweep.
     Merge(merge::Args),
     /// Small Steps replicated: xpbd's n substeps × 1 iteration against 1 step × n iterations
@@ -71,6 +75,7 @@ pub fn main() -> ExitCode {
         Command::Stability(a) => stability::run(a),
         Command::Advise(a) => advise::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::Framerate(a) => framerate::run(a),
         Command::Merge(a) => merge::run(a),
         Command::SmallSteps(a) => small_steps::run(a),
     };

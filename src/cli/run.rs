@@ -69,15 +69,27 @@ pub fn run(a: Args) -> Result<()> {
             r.restitution.count, r.penetration.max, r.tunnelling_count
         );
     }
-    let summary = RunSummary::new(&scene.name, &name, plan.dt, plan.steps, &out);
+    // Rapier splits frames itself with its solver substeps (the options'); native methods
+    // with the plan's.
+    let substeps = if integ.splits_frames() {
+        a.step.options().substeps as u64
+    } else {
+        plan.substeps
+    };
+    let summary = RunSummary {
+        substeps,
+        events: sys.events.label(),
+        ..RunSummary::new(&scene.name, &name, plan.dt, plan.steps, &out)
+    };
     write_run(&dir, &summary)?;
     println!(
-        "{} with {name}: dt = {} s, {} steps, {} force evaluations, {:.3} ms in the integrator",
+        "{} with {name}: dt = {} s per frame, {substeps} substep(s) per frame, {} frames, {} force evaluations, {:.3} ms in the integrator ({:.3e} s per frame)",
         scene.name,
         plan.dt,
         out.steps_done,
         out.force_evals,
-        out.wall_seconds * 1e3
+        out.wall_seconds * 1e3,
+        summary.wall_seconds_per_frame
     );
     match &out.status {
         springlab::run::Status::Ok => println!("status: ok"),

@@ -78,6 +78,12 @@ pub trait Integrator: Send {
     fn handles_contacts(&self) -> bool {
         false
     }
+    /// True for a backend that splits each frame into substeps itself (a physics engine's
+    /// solver substeps, [`IntegratorOptions::substeps`]): the runner then passes it whole
+    /// frames instead of splitting them into `RunPlan::substeps` steps.
+    fn splits_frames(&self) -> bool {
+        false
+    }
     /// Forgets any history (cached forces, previous positions): the state was changed from
     /// outside (an impulse, a contact) or the step size changes.
     fn reset(&mut self) {}

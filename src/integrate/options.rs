@@ -5,7 +5,9 @@
 pub struct IntegratorOptions {
     /// Constraint projection sweeps per step (`verlet_constraints`).
     pub constraint_iterations: usize,
-    /// Solver substeps per frame for physics-engine backends (Rapier's `num_solver_iterations`).
+    /// Solver substeps per frame for physics-engine backends (Rapier's `num_solver_iterations`;
+    /// 4 is Rapier's own default). Native methods are split by the runner instead
+    /// (`RunPlan::substeps`); the command line sets both from one `--substeps`.
     pub substeps: usize,
     /// Substeps per step for `xpbd` (its own: one `xpbd` step of h is this many XPBD
     /// substeps of h / n, whatever the runner does with the frame).

@@ -103,10 +103,34 @@ impl Timing {
 pub struct TimedRun {
     /// Integrator or backend name.
     pub integrator: String,
-    /// Step (s).
+    /// Step (s): the frame step when `substeps` is set.
     pub dt: f64,
-    /// Steps.
+    /// Steps (frames).
     pub steps: u64,
+    /// Substeps per frame for every backend ([`CaseSettings::substeps`]); `None`: one step
+    /// per frame for native methods, the options' substeps for engines.
+    pub substeps: Option<u64>,
+}
+
+/// The run plan and integrator options of `steps` frames of `dt` with `substeps` per frame
+/// (see [`CaseSettings::substeps`]): one place decides what a frame's substeps mean.
+pub fn frame_setup(
+    set: &CaseSettings,
+    dt: f64,
+    steps: u64,
+    substeps: Option<u64>,
+) -> (RunPlan, IntegratorOptions) {
+    let plan = RunPlan {
+        dt,
+        steps,
+        substeps: substeps.unwrap_or(1).max(1),
+        blowup_factor: set.blowup_factor,
+    };
+    let mut options = set.options;
+    if let Some(n) = substeps {
+        options.substeps = n.max(1) as usize;
+    }
+    (plan, options)
 }
 
 /// Times every run in `runs` on this thread, interleaved round-robin (A, B, C, A, B, C, …)
@@ -130,12 +154,8 @@ pub fn time_interleaved(
             }
             any = true;
             let started = std::time::Instant::now();
-            let mut integ = set.methods.create(&r.integrator, &set.options)?;
-            let plan = RunPlan {
-                dt: r.dt,
-                steps: r.steps,
-                blowup_factor: set.blowup_factor,
-            };
+            let (plan, options) = frame_setup(set, r.dt, r.steps, r.substeps);
+            let mut integ = set.methods.create(&r.integrator, &options)?;
             let o = run(sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             samples[i].push(o.wall_seconds);
             totals[i] += started.elapsed().as_secs_f64();
@@ -206,6 +226,10 @@ pub struct CaseSettings {
     /// Measure collision metrics on scenes with obstacles (compare's `contacts.json`; sweeps
     /// and advice leave them off: they would pay the per-step obstacle queries for nothing).
     pub contacts: bool,
+    /// Substeps per frame (a grid step is a frame) for every backend: native methods take
+    /// that many equal steps per frame, engines that many solver substeps. `None`: one step
+    /// per frame for native methods, `options.substeps` for engines.
+    pub substeps: Option<u64>,
 }
 
 impl Default for CaseSettings {
@@ -218,6 +242,7 @@ impl Default for CaseSettings {
             repeat_short: true,
             trace: None,
             contacts: false,
+            substeps: None,
         }
     }
 }
@@ -232,12 +257,8 @@ pub fn run_case(
     set: &CaseSettings,
 ) -> Result<CaseResult> {
     let g: TimeGrid = reference.grids[grid];
-    let mut integ = set.methods.create(name, &set.options)?;
-    let plan = RunPlan {
-        dt: g.dt,
-        steps: g.steps,
-        blowup_factor: set.blowup_factor,
-    };
+    let (plan, options) = frame_setup(set, g.dt, g.steps, set.substeps);
+    let mut integ = set.methods.create(name, &options)?;
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
     let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));
     let mut contacts = set
@@ -255,7 +276,7 @@ pub fn run_case(
     if set.repeat_short && out.wall_seconds < SHORT_RUN_SECONDS {
         let mut samples = vec![out.wall_seconds];
         while !SHORT_RUN_RULE.satisfied(samples.len(), samples.iter().sum()) {
-            let mut again = set.methods.create(name, &set.options)?;
+            let mut again = set.methods.create(name, &options)?;
             let o = run(sys, again.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             samples.push(o.wall_seconds);
         }

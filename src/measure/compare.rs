@@ -134,6 +134,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         repeat_short: true,
         trace,
         contacts: true,
+        substeps: None,
     };
     let pb = crate::run::progress_bar(
         names.len() as u64,

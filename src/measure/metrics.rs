@@ -284,7 +284,7 @@ impl Observer for MetricsObserver<'_> {
                 .sys
                 .impulses
                 .iter()
-                .filter(|im| im.time < t - 1e-9 * self.dt)
+                .filter(|im| self.sys.events.applied_at(im.time, self.dt) < t - 1e-9 * self.dt)
                 .map(|im| im.delta_v * self.sys.mass[im.particle])
                 .sum();
             let d = (p - p0 - kicks).norm();

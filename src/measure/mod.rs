@@ -7,6 +7,7 @@ pub mod compare;
 pub mod contacts;
 mod dop853;
 mod fit;
+pub mod framerate;
 pub mod grid;
 pub(crate) mod metrics;
 mod modes;

@@ -91,6 +91,7 @@ fn mode_system(m: Mode) -> System {
         drag: None,
         constraints: vec![],
         impulses: vec![],
+        events: Default::default(),
         post_step: None,
         terms: vec![Box::new(LinearMode {
             k: m.omega2,
@@ -336,6 +337,7 @@ pub fn empirical_limit(
         let plan = RunPlan {
             dt: h,
             steps: ((crit.horizon / h).ceil() as u64).max(1),
+            substeps: 1,
             blowup_factor: crit.blowup_factor,
         };
         Ok(
@@ -828,6 +830,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             let plan = RunPlan {
                 dt: *dt,
                 steps,
+                substeps: 1,
                 blowup_factor: cfg.blowup_factor,
             };
             let stable = run(

@@ -15,9 +15,16 @@
 //!   [`ENGINE_ADVICE_SECONDS`] (`springlab stability` and `advise` run any engine on request). The documents' commands name exactly the methods that took part.
 //!   Stability runs the empirical bisection only where linear theory does not apply (the
 //!   spectral radius decides where it does); a quick study runs theory only.
+//! - framerate: the compared methods that ran (closed forms aside) at
+//!   [`crate::measure::framerate::DEFAULT_RATES`] with a 1 cm tolerance, up to
+//!   [`FRAMERATE_MAX_SUBSTEPS`] substeps per frame; a method (engine or not) takes part when
+//!   its compare run's time per (sub)step projects the worst-case search at
+//!   [`FRAMERATE_METHOD_SECONDS`] or less (the note gives its measured time per frame
+//!   otherwise; `springlab framerate` runs it). Each table run is timed once.
 
 use super::advise::{advise, Advice, AdviseConfig};
 use super::compare::{compare, CompareConfig, CompareResult};
+use super::framerate::{framerate, Framerate, FramerateConfig};
 use super::stability::{analyse, StabilityConfig, StabilityReport};
 use super::sweep::{plan_sweep, run_sweep, SweepConfig, SweepResult};
 use crate::error::Result;
@@ -38,6 +45,13 @@ pub const ENGINE_BUDGET_SECONDS: f64 = 1.0;
 /// Largest projected wall time (s) of an engine's runs over the advice grid for it to join
 /// the advice.
 pub const ENGINE_ADVICE_SECONDS: f64 = 0.25;
+
+/// Largest substep count per frame the study's frame-rate search tries (a quick study: 4).
+pub const FRAMERATE_MAX_SUBSTEPS: u64 = 16;
+
+/// Largest projected wall time (s) of one method's worst-case frame-rate search (every rate,
+/// doubling to [`FRAMERATE_MAX_SUBSTEPS`] and bisecting) for it to take part.
+pub const FRAMERATE_METHOD_SECONDS: f64 = 2.0;
 
 /// Default advice tolerance of a study: 1 mm of position error over the scene's duration.
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
@@ -100,6 +114,10 @@ pub struct SceneStudy {
     pub advice: Option<Advice>,
     /// Why there is no advice, when there is none.
     pub advice_note: Option<String>,
+    /// `framerate`'s result (1 cm tolerance), when a method fits the budget.
+    pub framerate: Option<Framerate>,
+    /// Why there is no frame-rate table, when there is none.
+    pub framerate_note: Option<String>,
     /// What took part where, and what was left out and why.
     pub notes: Vec<String>,
     /// Wall time of each part (s), for the report's budget.
@@ -117,6 +135,9 @@ pub struct StudySeconds {
     pub stability: f64,
     /// `advise`.
     pub advice: f64,
+    /// `framerate`.
+    #[serde(default)]
+    pub framerate: f64,
 }
 
 /// Runs the study of `scene`.
@@ -320,7 +341,11 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         )?)
     };
     lap(&mut seconds.advice);
+    let (framerate, framerate_note) = study_framerate(scene, cfg, &compared, &mut notes)?;
+    lap(&mut seconds.framerate);
     Ok(SceneStudy {
+        framerate,
+        framerate_note,
         seconds,
         scenario: scene.name.clone(),
         description: scene.description.clone(),
@@ -359,4 +384,96 @@ fn engine_probe(
         &mut crate::run::NoObserver,
     )?;
     Ok((out.steps_done > 0).then(|| out.wall_seconds / out.steps_done as f64))
+}
+
+/// The study's frame-rate table: every compared method that ran (closed forms aside) whose
+/// worst-case search projects within [`FRAMERATE_METHOD_SECONDS`], from its compare run's
+/// wall time per step (an engine's per solver substep: its compare run used
+/// `options.substeps`).
+fn study_framerate(
+    scene: &Scenario,
+    cfg: &StudyConfig,
+    compared: &CompareResult,
+    notes: &mut Vec<String>,
+) -> Result<(Option<Framerate>, Option<String>)> {
+    let rates: Vec<f64> = if cfg.quick {
+        vec![60.0]
+    } else {
+        super::framerate::DEFAULT_RATES.to_vec()
+    };
+    let max_substeps = if cfg.quick { 4 } else { FRAMERATE_MAX_SUBSTEPS };
+    let mut duration = crate::scenario::Timing::duration(scene, None)?;
+    // Past the reference's predictable range no backend can be verified to the tolerance:
+    // the table covers the range the reference vouches for (its command says so).
+    let tolerance = FramerateConfig::default().tolerance;
+    let horizon = compared
+        .reference
+        .predictability_horizon
+        .filter(|_| compared.reference.uncertainty > tolerance);
+    if let Some(h) = horizon {
+        notes.push(format!(
+            "Frame rates over the first {h} s: the reference's uncertainty over the whole {duration} s ({:.2e} m) exceeds the {tolerance} m tolerance, and it is predictable for {h} s.",
+            compared.reference.uncertainty
+        ));
+        duration = h;
+    }
+    let frames: f64 = rates
+        .iter()
+        .map(|&hz| super::framerate::frames_at(duration, hz) as f64)
+        .sum();
+    // Doubling to the limit (2·max − 1 substeps in all) and bisecting below it (< max more).
+    let worst = frames * (3 * max_substeps) as f64;
+    let mut chosen = Vec::new();
+    for r in compared.entries.iter().filter_map(|e| e.result.as_ref()) {
+        let Ok(info) = cfg.methods.info(&r.integrator) else {
+            continue;
+        };
+        if info.order == crate::method::Order::Exact {
+            continue;
+        }
+        let per_step = r.wall_seconds / r.steps_done.max(1) as f64;
+        let per_substep = if info.engine {
+            per_step / cfg.options.substeps.max(1) as f64
+        } else {
+            per_step
+        };
+        let projected = per_substep * worst;
+        if projected > FRAMERATE_METHOD_SECONDS {
+            notes.push(format!(
+                "Frame rates leave out {}: {:.3} ms per {} measured in compare, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {FRAMERATE_METHOD_SECONDS} s); `springlab framerate --integrators {}` runs it.",
+                r.integrator,
+                per_substep * 1e3,
+                if info.engine { "solver substep" } else { "step" },
+                rates.len(),
+                r.integrator
+            ));
+        } else {
+            chosen.push(r.integrator.clone());
+        }
+    }
+    if chosen.is_empty() {
+        return Ok((None, Some("no method fits the frame-rate budget".into())));
+    }
+    let fr = framerate(
+        scene,
+        &FramerateConfig {
+            rates,
+            integrators: chosen,
+            methods: cfg.methods.clone(),
+            options: cfg.options,
+            max_substeps,
+            duration: horizon,
+            blowup_factor: cfg.blowup_factor,
+            progress: cfg.progress,
+            timing: super::case::TimingRule {
+                min_repetitions: 1,
+                min_total_seconds: 0.0,
+                cap_seconds: f64::INFINITY,
+                cap_repetitions: 1,
+                max_repetitions: 1,
+            },
+            ..Default::default()
+        },
+    )?;
+    Ok((Some(fr), None))
 }

@@ -1,5 +1,6 @@
 //! The mass-spring model: state, force terms, Jacobians and the assembled [`System`].
 
+mod events;
 mod jacobian;
 pub(crate) mod parallel;
 pub use parallel::PARALLEL_MIN_SPRINGS;
@@ -9,6 +10,7 @@ mod state;
 mod system;
 mod term;
 
+pub use events::Events;
 pub use jacobian::Jacobian;
 pub use post_step::{PostStep, StageStep};
 pub use springs::Springs;

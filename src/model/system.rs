@@ -68,6 +68,8 @@ pub struct System {
     pub constraints: Vec<DistanceConstraint>,
     /// Impulses sorted by time.
     pub impulses: Vec<Impulse>,
+    /// When the impulses take effect relative to a run's frames (`[run] events`).
+    pub events: super::Events,
     /// Active force terms other than the springs (gravity, drag, contacts...).
     pub terms: Vec<Box<dyn ForceTerm>>,
     /// Post-step stage (the contact stage), present only when the scene has obstacles: the

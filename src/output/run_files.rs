@@ -103,16 +103,23 @@ pub struct RunSummary {
     pub scenario: String,
     /// Integrator or backend name.
     pub integrator: String,
-    /// Step (s).
+    /// Frame step (s): the step of every output row.
     pub dt: f64,
-    /// Steps asked for.
+    /// Frames asked for.
     pub steps: u64,
-    /// Steps completed.
+    /// Substeps per frame (native methods: equal steps of dt/substeps; Rapier: its solver
+    /// substeps).
+    pub substeps: u64,
+    /// When impulses took effect: `exact` or `frame` (the scene's `[run] events`).
+    pub events: &'static str,
+    /// Frames completed.
     pub steps_done: u64,
-    /// Force evaluations.
+    /// Force evaluations (every substep's).
     pub force_evals: u64,
     /// Wall time inside the integrator (s).
     pub wall_seconds: f64,
+    /// Wall time inside the integrator per completed frame (s).
+    pub wall_seconds_per_frame: f64,
     /// `ok` or `unstable`.
     pub status: &'static str,
     /// For unstable runs: step, time and reason.
@@ -130,7 +137,8 @@ pub struct RunSummary {
 }
 
 impl RunSummary {
-    /// Summarises an outcome.
+    /// Summarises an outcome of one step per frame with exact events (set `substeps` and
+    /// `events` afterwards for other runs).
     pub fn new(scenario: &str, integrator: &str, dt: f64, steps: u64, out: &RunOutcome) -> Self {
         let e0 = out.initial_energy;
         let scale = e0.kinetic.abs() + e0.gravity.abs() + e0.elastic.abs();
@@ -140,9 +148,12 @@ impl RunSummary {
             integrator: integrator.into(),
             dt,
             steps,
+            substeps: 1,
+            events: "exact",
             steps_done: out.steps_done,
             force_evals: out.force_evals,
             wall_seconds: out.wall_seconds,
+            wall_seconds_per_frame: out.wall_seconds / out.steps_done.max(1) as f64,
             status: out.status.label(),
             unstable: (!out.status.is_ok()).then(|| out.status.clone()),
             initial_energy: e0,

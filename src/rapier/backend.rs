@@ -118,6 +118,9 @@ impl Integrator for RapierBackend {
         }
         Ok(())
     }
+    fn splits_frames(&self) -> bool {
+        true // `substeps` solver substeps per frame (Rapier's num_solver_iterations)
+    }
     fn reset(&mut self) {
         self.dirty = true;
     }

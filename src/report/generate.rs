@@ -88,6 +88,11 @@ pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
         )?],
         &s.stability.command,
     );
+    if let Some(fr) = &s.framerate {
+        let d = dir.join("framerate");
+        let files = crate::measure::framerate::write_framerate(&d, fr)?;
+        add("framerate", files, &fr.command);
+    }
     if let Some(a) = &s.advice {
         let d = dir.join("advise");
         add(
@@ -164,6 +169,19 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     }
     notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit from the command beside its document.".into());
     let mut sections = Vec::new();
+    match &s.framerate {
+        Some(fr) => {
+            write_atomic(
+                dir.join("framerate.svg"),
+                super::framerate::chart(fr)?.as_bytes(),
+            )?;
+            sections.push(super::framerate::section(fr, s.framerate_note.as_deref()));
+        }
+        None => notes.push(format!(
+            "Frame rates: {}.",
+            s.framerate_note.as_deref().unwrap_or("not measured")
+        )),
+    }
     match super::playback::playback(s, scene, plane) {
         Some((js, html)) => {
             write_atomic(dir.join("playback.js"), js.as_bytes())?;

@@ -9,6 +9,7 @@
 mod charts;
 pub mod data;
 mod finite;
+mod framerate;
 pub mod generate;
 mod html;
 mod markdown;

@@ -6,34 +6,51 @@ use super::scale::energy_scale;
 use super::verdict::{judge, DEFAULT_BLOWUP_FACTOR};
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
-use crate::model::{State, System};
+use crate::model::{Impulse, State, System};
 use serde::Serialize;
 use std::time::Instant;
 
-/// How long to run, with which step, and when to call a run unstable.
+/// How long to run, with which frame step and substeps, and when to call a run unstable.
+///
+/// A run is `steps` frames of `dt`; observers see the state at the end of every frame.
+/// Each frame is `substeps` equal steps of `dt / substeps` for a native method — bit for bit
+/// the run at `dt / substeps` with every `substeps`-th state kept. A backend that substeps
+/// itself ([`Integrator::splits_frames`], Rapier) gets whole frames instead and splits them
+/// with its own setting ([`crate::integrate::IntegratorOptions::substeps`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunPlan {
-    /// Output step in s (impulses inside a step split it; the output grid stays uniform).
+    /// Frame (output) step in s (impulses inside a step split it; the output grid stays
+    /// uniform).
     pub dt: f64,
-    /// Number of steps.
+    /// Number of frames.
     pub steps: u64,
+    /// Equal substeps per frame for native methods (≥ 1; 1: one step per frame).
+    pub substeps: u64,
     /// A run is unstable once its energy balance (mechanical + dissipated − injected) has
     /// risen by more than this multiple of [`energy_scale`]; see [`super::verdict`].
     pub blowup_factor: f64,
 }
 
 impl RunPlan {
-    /// A plan of `steps` steps of `dt` with the default blow-up factor.
+    /// A plan of `steps` frames of `dt`, one step per frame, with the default blow-up factor.
     pub fn new(dt: f64, steps: u64) -> Self {
         RunPlan {
             dt,
             steps,
+            substeps: 1,
             blowup_factor: DEFAULT_BLOWUP_FACTOR,
         }
     }
     /// A plan covering `duration` (rounded to the nearest whole number of steps, at least 1).
     pub fn for_duration(dt: f64, duration: f64) -> Self {
         Self::new(dt, ((duration / dt).round() as u64).max(1))
+    }
+    /// The same plan with `n` substeps per frame (at least 1).
+    pub fn with_substeps(self, n: u64) -> Self {
+        RunPlan {
+            substeps: n.max(1),
+            ..self
+        }
     }
     /// Simulated time covered.
     pub fn duration(&self) -> f64 {
@@ -131,8 +148,12 @@ impl Loop<'_> {
     }
 }
 
-/// Runs `integ` on `sys` from `s0` for `plan`, feeding `obs`. A numerical blow-up is a
-/// [`Status::Unstable`] outcome, not an error; errors are only the observers' (I/O).
+/// Runs `integ` on `sys` from `s0` for `plan`, feeding `obs` once per frame. A numerical
+/// blow-up is a [`Status::Unstable`] outcome (its step is the frame, its time the substep's
+/// end), not an error; errors are only the observers' (I/O).
+///
+/// Impulses take effect when the scene's [`crate::model::Events`] says, relative to the
+/// frames of `plan.dt`; `steps_done` counts frames, and the cost counts every substep.
 pub fn run(
     sys: &System,
     integ: &mut dyn Integrator,
@@ -148,6 +169,21 @@ pub fn run(
     let mut last = initial;
     obs.observe(0, &s, &initial)?;
     integ.reset();
+    let n = if integ.splits_frames() {
+        1
+    } else {
+        plan.substeps.max(1)
+    };
+    // The step of a substep, computed as a caller running at dt / n would: bit-identical.
+    let h = if n == 1 { plan.dt } else { plan.dt / n as f64 };
+    let impulses: Vec<Impulse> = sys
+        .impulses
+        .iter()
+        .map(|im| Impulse {
+            time: sys.events.applied_at(im.time, plan.dt),
+            ..*im
+        })
+        .collect();
     let mut lp = Loop {
         sys,
         integ,
@@ -156,58 +192,61 @@ pub fn run(
         wall: 0.0,
         x0: Vec::new(),
     };
-    let eps = 1e-9 * plan.dt;
+    let eps = 1e-9 * h;
     let mut next_imp = 0;
     let mut status = Status::Ok;
     let mut done = 0;
-    for n in 0..plan.steps {
+    'frames: for frame in 0..plan.steps {
         prev.clone_from(&s);
-        let t_end = (n + 1) as f64 * plan.dt;
-        let imp_at_start = next_imp;
-        let mut failure = None;
-        while next_imp < sys.impulses.len() && sys.impulses[next_imp].time < t_end - eps {
-            let im = sys.impulses[next_imp];
-            if im.time > s.t + eps {
-                let h = im.time - s.t;
-                if let Err(e) = lp.step(&mut s, h) {
+        let mut rec = last;
+        for m in frame * n..(frame + 1) * n {
+            let t_end = (m + 1) as f64 * h;
+            let imp_at_start = next_imp;
+            let mut failure = None;
+            while next_imp < impulses.len() && impulses[next_imp].time < t_end - eps {
+                let im = impulses[next_imp];
+                if im.time > s.t + eps {
+                    let hi = im.time - s.t;
+                    if let Err(e) = lp.step(&mut s, hi) {
+                        failure = Some(e);
+                        break;
+                    }
+                }
+                let p = im.particle;
+                let before = s.v[p].norm_squared();
+                s.v[p] += im.delta_v;
+                injected += 0.5 * sys.mass[p] * (s.v[p].norm_squared() - before);
+                lp.integ.reset();
+                next_imp += 1;
+            }
+            let split = next_imp > imp_at_start;
+            if failure.is_none() && t_end - s.t > eps {
+                // An unsplit step is exactly `h`: t_end − t would differ from it by round-off
+                // and make history-keeping methods (position Verlet) restart.
+                let hs = if split { t_end - s.t } else { h };
+                if let Err(e) = lp.step(&mut s, hs) {
                     failure = Some(e);
-                    break;
                 }
             }
-            let p = im.particle;
-            let before = s.v[p].norm_squared();
-            s.v[p] += im.delta_v;
-            injected += 0.5 * sys.mass[p] * (s.v[p].norm_squared() - before);
-            lp.integ.reset();
-            next_imp += 1;
-        }
-        let split = next_imp > imp_at_start;
-        if failure.is_none() && t_end - s.t > eps {
-            // An unsplit step is exactly `dt`: t_end − t would differ from it by round-off and
-            // make history-keeping methods (position Verlet) restart.
-            let h = if split { t_end - s.t } else { plan.dt };
-            if let Err(e) = lp.step(&mut s, h) {
-                failure = Some(e);
+            s.t = t_end;
+            rec = EnergyRecord::new(sys.state_energy(&s), lp.dissipated, injected);
+            let reason = match failure {
+                Some(Error::Step(why)) => Some(why),
+                Some(other) => return Err(other),
+                None => judge(&s, &rec, initial.total, scale, plan.blowup_factor),
+            };
+            if let Some(reason) = reason {
+                status = Status::Unstable {
+                    step: frame + 1,
+                    time: t_end,
+                    reason,
+                };
+                std::mem::swap(&mut s, &mut prev);
+                break 'frames;
             }
         }
-        s.t = t_end;
-        let rec = EnergyRecord::new(sys.state_energy(&s), lp.dissipated, injected);
-        let reason = match failure {
-            Some(Error::Step(why)) => Some(why),
-            Some(other) => return Err(other),
-            None => judge(&s, &rec, initial.total, scale, plan.blowup_factor),
-        };
-        if let Some(reason) = reason {
-            status = Status::Unstable {
-                step: n + 1,
-                time: t_end,
-                reason,
-            };
-            std::mem::swap(&mut s, &mut prev);
-            break;
-        }
         last = rec;
-        done = n + 1;
+        done = frame + 1;
         obs.observe(done, &s, &rec)?;
     }
     obs.finish(done, &s, &last)?;

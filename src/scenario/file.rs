@@ -190,4 +190,6 @@ pub struct RunSpec {
     pub duration: Option<f64>,
     /// Integrators `compare` uses by default.
     pub integrators: Option<Vec<String>>,
+    /// When impulses take effect: "exact" (default) or "frame".
+    pub events: Option<String>,
 }

@@ -100,6 +100,8 @@ pub struct RunSettings {
     pub duration: Option<f64>,
     /// Integrators `compare` uses by default (empty: all that apply).
     pub integrators: Vec<String>,
+    /// When impulses take effect: at their time, or at the next frame boundary.
+    pub events: crate::model::Events,
 }
 
 /// A validated scene: everything needed to build a [`System`] and its initial [`State`].
@@ -215,6 +217,7 @@ impl Scenario {
             drag: self.drag,
             constraints: self.constraints.clone(),
             impulses: self.impulses.clone(),
+            events: self.run.events,
             terms,
             post_step: contacts,
         }

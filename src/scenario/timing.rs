@@ -90,6 +90,7 @@ impl Timing {
             ));
         }
         Self::check_impulses(scene, dt * steps as f64)?;
+        Self::check_frame_impulses(scene, dt, dt * steps as f64)?;
         Ok(Timing {
             dt,
             steps,
@@ -125,6 +126,28 @@ impl Timing {
                     format!("impulse[{k}].time"),
                     format!(
                         "{} s is at or after the end of the run at {end} s; impulses must act within [0, {end}) s",
+                        im.time
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// With `[run] events = "frame"`, refuses an impulse that the frames of `frame` s would
+    /// move to the run's end at `end` s or later, where it would never act (the error names
+    /// the impulse and the frame it would move to). Exact events pass.
+    pub fn check_frame_impulses(scene: &Scenario, frame: f64, end: f64) -> Result<()> {
+        let eps = 1e-9 * end;
+        let events = scene.run.events;
+        for (k, im) in scene.raw.impulse.iter().enumerate() {
+            let at = events.applied_at(im.time, frame);
+            if at >= end - eps {
+                return Err(Error::invalid(
+                    &scene.source,
+                    format!("impulse[{k}].time"),
+                    format!(
+                        "{} s moves to the frame boundary at {at} s with events = \"frame\" and {frame} s frames, at or after the end of the run at {end} s, so it would never act",
                         im.time
                     ),
                 ));

@@ -342,6 +342,7 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
             steps: None,
             duration: None,
             integrators: Vec::new(),
+            events: Default::default(),
         });
     };
     let dt = match r.dt {
@@ -398,10 +399,15 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
             ));
         }
     }
+    let events = match &r.events {
+        Some(e) => crate::model::Events::parse(e).map_err(|why| ck.err("run.events", why))?,
+        None => Default::default(),
+    };
     Ok(RunSettings {
         dt,
         steps,
         duration,
         integrators,
+        events,
     })
 }

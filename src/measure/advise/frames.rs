@@ -75,7 +75,7 @@ impl FramePlan {
         FramePlan {
             frames: FRAME_RATES
                 .iter()
-                .map(|f| ((horizon * f).round() as u64).max(1))
+                .map(|&f| crate::measure::framerate::frames_at(horizon, f))
                 .collect(),
             substeps: FRAME_RATES
                 .iter()
@@ -167,6 +167,7 @@ impl FramePlan {
             integrator: integrator.to_string(),
             dt: (1.0 / FRAME_RATES[fi]) / n as f64,
             steps: self.frames[fi] * n,
+            substeps: None,
         }
     }
 

@@ -344,6 +344,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         repeat_short: false,
         trace: None,
         contacts: false,
+        substeps: None,
     };
     let jobs: Vec<(String, TimeGrid)> = names
         .iter()
@@ -428,6 +429,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         integrator: c.integrator.clone(),
         dt: c.dt,
         steps: c.steps,
+        substeps: None,
     };
     let mut runs: Vec<TimedRun> = Vec::new();
     for r in chosen

@@ -281,6 +281,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         repeat_short: cfg.repeat_short,
         trace: None,
         contacts: false,
+        substeps: None,
     };
     let mut pending: Vec<usize> = owned
         .iter()

@@ -1,0 +1,123 @@
+//! `springlab framerate`: each backend at game frame rates, with one substep and with the
+//! fewest substeps that meet a tolerance, and the cost per frame.
+
+use super::common::load;
+use anyhow::Result;
+use springlab::integrate::IntegratorOptions;
+use springlab::measure::framerate::{
+    framerate, write_framerate, FramerateConfig, DEFAULT_MAX_SUBSTEPS, DEFAULT_TOLERANCE,
+};
+use std::path::{Path, PathBuf};
+
+/// Flags of `springlab framerate`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scenario file (TOML).
+    pub scenario: PathBuf,
+    /// Frame rates in Hz, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        default_value = "30,60,120,144,240"
+    )]
+    pub hz: Vec<f64>,
+    /// Largest acceptable maximum position error over the run (m).
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE, allow_negative_numbers = true)]
+    pub tolerance: f64,
+    /// Integrators or backends, comma-separated (default: every one that applies, except
+    /// closed forms).
+    #[arg(long, value_delimiter = ',')]
+    pub integrators: Vec<String>,
+    /// Simulated time (s; default the scene's duration).
+    #[arg(long, allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+    /// Largest number of substeps per frame tried.
+    #[arg(long, default_value_t = DEFAULT_MAX_SUBSTEPS)]
+    pub max_substeps: u64,
+    /// Largest run tried, in particle-steps (particles × frames × substeps); default no cap.
+    #[arg(long)]
+    pub cost_cap: Option<f64>,
+    /// Constraint projection sweeps per step for verlet_constraints.
+    #[arg(long, default_value_t = 20)]
+    pub iterations: usize,
+    #[command(flatten)]
+    pub blowup: super::measure_common::BlowupArg,
+    /// Output directory (default: out/<scenario>/framerate/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs the command.
+pub fn run(a: Args) -> Result<()> {
+    let scene = load(&a.scenario)?;
+    if a.iterations == 0 {
+        anyhow::bail!("--iterations: must be at least 1");
+    }
+    if let Some(d) = a.duration.filter(|d| !(d.is_finite() && *d > 0.0)) {
+        anyhow::bail!("--duration: must be a finite number > 0, got {d}");
+    }
+    let cfg = FramerateConfig {
+        rates: a.hz.clone(),
+        tolerance: a.tolerance,
+        integrators: a.integrators.clone(),
+        options: IntegratorOptions {
+            constraint_iterations: a.iterations,
+            ..Default::default()
+        },
+        duration: a.duration,
+        max_substeps: a.max_substeps,
+        cost_cap: a.cost_cap,
+        blowup_factor: a.blowup.value()?,
+        progress: true,
+        ..Default::default()
+    };
+    let fr = framerate(&scene, &cfg)?;
+    let dir = a
+        .out
+        .unwrap_or_else(|| Path::new("out").join(&scene.name).join("framerate"));
+    let files = write_framerate(&dir, &fr)?;
+    println!(
+        "{}: tolerance {} m over {} s, reference {}, events {}",
+        scene.name, fr.tolerance, fr.duration, fr.reference.kind, fr.events
+    );
+    println!(
+        "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>10}",
+        "backend", "hz", "1 substep", "err 1 (m)", "needed", "err (m)", "wall/frame", "evals/fr"
+    );
+    let e3 = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.3e}"));
+    for e in &fr.entries {
+        let one = &e.one_substep;
+        let (needed, err, wall, evals) = match &e.fewest {
+            Some(f) => (
+                f.substeps.to_string(),
+                e3(Some(f.max_position_error)),
+                e3(f.wall_seconds_per_frame),
+                f.force_evals_per_frame
+                    .map_or("-".to_string(), |x| format!("{x:.0}")),
+            ),
+            None => ("none".into(), "-".into(), "-".into(), "-".into()),
+        };
+        println!(
+            "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>10}",
+            e.backend,
+            e.hz,
+            one.status,
+            e3(Some(one.max_position_error)),
+            needed,
+            err,
+            wall,
+            evals
+        );
+    }
+    if let Some(note) = &fr.reference_note {
+        println!("note: {note}");
+    }
+    for (n, why) in &fr.skipped {
+        println!("skipped {n}: {why}");
+    }
+    for f in files {
+        println!("wrote {}", f.display());
+    }
+    Ok(())
+}

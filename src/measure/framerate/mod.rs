@@ -1,0 +1,413 @@
+//! The game question: at each frame rate, how does each backend fare with one step per frame,
+//! and how many substeps per frame does it need to stay stable and within a position
+//! tolerance — at what cost per frame?
+//!
+//! Method: one reference (exact impulses, [`super::reference`]) sampled on every rate's frame
+//! grid; per backend and rate, the run at 1 substep, then the fewest substeps that is stable
+//! and meets the tolerance ([`search::fewest_substeps`]: doubling, then bisection, up to
+//! `max_substeps`, and in a budgeted study up to a cost cap in particle-steps). A substep
+//! means the same for every backend ([`crate::run::RunPlan`]): native methods take n equal
+//! steps per frame, Rapier backends n solver substeps. Position error and energy drift are
+//! compare's metrics ([`super::metrics`]); the runs of the table are then timed like advice's
+//! candidates ([`super::case::time_interleaved`], on one thread after every accuracy run).
+//!
+//! Every number in [`Framerate`] is reproducible bit for bit, regardless of thread count,
+//! except `wall_seconds_per_frame` and `timing`.
+
+pub mod search;
+mod timing;
+mod write;
+
+pub use timing::FRAMERATE_TIMING;
+
+pub use write::{write_framerate, FRAMERATE_HEADER};
+
+use super::advise::cost::force_evals_per_second;
+use super::case::{applicable, run_case, CaseResult, CaseSettings, Timing, TimingRule};
+use super::command::CommandLine;
+use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use super::reference::{Reference, ReferenceInfo};
+use crate::error::{Error, Result};
+use crate::integrate::IntegratorOptions;
+use crate::method::{Order, Registry};
+use crate::scenario::Scenario;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Frame rates asked by default (Hz): the common game and display rates.
+pub const DEFAULT_RATES: [f64; 5] = [30.0, 60.0, 120.0, 144.0, 240.0];
+
+/// Default position tolerance (m): 1 cm, about what a player sees on a metre-sized object.
+pub const DEFAULT_TOLERANCE: f64 = 1e-2;
+
+/// Default largest substep count searched per frame.
+pub const DEFAULT_MAX_SUBSTEPS: u64 = 64;
+
+/// Options of [`framerate`].
+#[derive(Debug, Clone)]
+pub struct FramerateConfig {
+    /// Frame rates (Hz).
+    pub rates: Vec<f64>,
+    /// Largest acceptable maximum position error over the run (m).
+    pub tolerance: f64,
+    /// Backends (empty: every applicable one except closed forms).
+    pub integrators: Vec<String>,
+    /// The methods to choose from.
+    pub methods: Registry,
+    /// Integrator options (`substeps` is searched, not read).
+    pub options: IntegratorOptions,
+    /// Simulated time (s; default the scene's duration).
+    pub duration: Option<f64>,
+    /// Largest substep count tried.
+    pub max_substeps: u64,
+    /// Largest run tried, in particle-steps (particles × frames × substeps); `None`: no cap.
+    pub cost_cap: Option<f64>,
+    /// Blow-up factor of every run.
+    pub blowup_factor: f64,
+    /// Progress bar on a terminal.
+    pub progress: bool,
+    /// How the table's runs are timed.
+    pub timing: TimingRule,
+}
+
+impl Default for FramerateConfig {
+    fn default() -> Self {
+        FramerateConfig {
+            rates: DEFAULT_RATES.to_vec(),
+            tolerance: DEFAULT_TOLERANCE,
+            integrators: vec![],
+            methods: Registry::builtin(),
+            options: IntegratorOptions::default(),
+            duration: None,
+            max_substeps: DEFAULT_MAX_SUBSTEPS,
+            cost_cap: None,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            progress: false,
+            timing: FRAMERATE_TIMING,
+        }
+    }
+}
+
+/// Which run of a backend at a rate a row is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RowKind {
+    /// One substep per frame.
+    OneSubstep,
+    /// The fewest substeps that is stable and meets the tolerance.
+    Fewest,
+}
+
+impl RowKind {
+    /// The CSV spelling.
+    pub fn label(self) -> &'static str {
+        match self {
+            RowKind::OneSubstep => "one_substep",
+            RowKind::Fewest => "fewest",
+        }
+    }
+}
+
+/// One measured run: a backend at a frame rate with some substeps per frame.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameRun {
+    /// Substeps per frame.
+    pub substeps: u64,
+    /// `ok` or `unstable`.
+    pub status: String,
+    /// Stable and within the tolerance.
+    pub meets_tolerance: bool,
+    /// Maximum position error over the accepted frames (m), compare's `error_max`.
+    pub max_position_error: f64,
+    /// Slope of the relative energy error (1/s), compare's `energy_drift`.
+    pub energy_drift: f64,
+    /// Median integrator wall time per frame (s); null for an unstable run (not timed).
+    pub wall_seconds_per_frame: Option<f64>,
+    /// The repeated timing behind it.
+    pub timing: Option<Timing>,
+    /// Force evaluations per frame; null for a backend without such a count.
+    pub force_evals_per_frame: Option<f64>,
+    /// Why `force_evals_per_frame` is null.
+    pub force_evals_reason: Option<String>,
+    /// Time of the blow-up (s), for an unstable run.
+    pub unstable_time: Option<f64>,
+    /// What tripped, for an unstable run.
+    pub unstable_reason: Option<String>,
+}
+
+/// One backend at one frame rate.
+#[derive(Debug, Clone, Serialize)]
+pub struct RateEntry {
+    /// Backend name.
+    pub backend: String,
+    /// Frame rate (Hz).
+    pub hz: f64,
+    /// Frame step (s).
+    pub frame_dt: f64,
+    /// Frames run.
+    pub frames: u64,
+    /// The run at one substep per frame.
+    pub one_substep: FrameRun,
+    /// The run at the fewest substeps meeting the tolerance (null when none up to the limit).
+    pub fewest: Option<FrameRun>,
+    /// Why `fewest` is null.
+    pub fewest_note: Option<String>,
+    /// Every substep count tried, with whether it met the tolerance.
+    pub tried: Vec<(u64, bool)>,
+}
+
+/// `framerate.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Framerate {
+    /// The command that re-creates this document (`--out DIR` is added where it is written).
+    pub command: String,
+    /// Scenario name.
+    pub scenario: String,
+    /// Reference used (impulses at their exact times).
+    pub reference: ReferenceInfo,
+    /// When impulses took effect in the runs (`exact` or `frame`).
+    pub events: &'static str,
+    /// Position tolerance (m).
+    pub tolerance: f64,
+    /// Simulated time asked (s); each rate runs the nearest whole number of frames.
+    pub duration: f64,
+    /// Frame rates (Hz).
+    pub rates: Vec<f64>,
+    /// Largest substep count tried.
+    pub max_substeps: u64,
+    /// Largest run tried in particle-steps, if capped.
+    pub cost_cap: Option<f64>,
+    /// How the runs were timed.
+    pub timing: TimingRule,
+    /// Per backend, per rate (backends in the order asked, rates as given).
+    pub entries: Vec<RateEntry>,
+    /// Backends that cannot run the scene, with the reason.
+    pub skipped: Vec<(String, String)>,
+    /// Set when the reference's own uncertainty exceeds the tolerance: then no run can be
+    /// verified to it (a chaotic scene past its predictable range), and "none" means that.
+    pub reference_note: Option<String>,
+}
+
+/// Whole frames at `hz` covering `duration` s (the nearest count, at least 1): how every
+/// frame-rate view (this one and advice's) turns a duration into frames.
+pub fn frames_at(duration: f64, hz: f64) -> u64 {
+    ((duration * hz).round() as u64).max(1)
+}
+
+fn check(cfg: &FramerateConfig) -> Result<()> {
+    if cfg.rates.is_empty() {
+        return Err(Error::option("--hz", "give at least one frame rate"));
+    }
+    if let Some(f) = cfg.rates.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
+        return Err(Error::option(
+            "--hz",
+            format!("every frame rate must be a finite number > 0 Hz, got {f}"),
+        ));
+    }
+    if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
+        return Err(Error::option(
+            "--tolerance",
+            format!("must be a finite number > 0 m, got {}", cfg.tolerance),
+        ));
+    }
+    if cfg.max_substeps == 0 {
+        return Err(Error::option("--max-substeps", "must be at least 1"));
+    }
+    if let Some(c) = cfg.cost_cap.filter(|c| !(c.is_finite() && *c > 0.0)) {
+        return Err(Error::option(
+            "--cost-cap",
+            format!("must be a finite number > 0, got {c}"),
+        ));
+    }
+    Ok(())
+}
+
+/// The measured part of a run (timing filled in later).
+fn frame_run(
+    methods: &Registry,
+    c: &CaseResult,
+    substeps: u64,
+    tolerance: f64,
+) -> Result<FrameRun> {
+    let (evals, why) =
+        force_evals_per_second(methods, &c.integrator, c.force_evals, c.steps as f64)?;
+    Ok(FrameRun {
+        substeps,
+        status: c.status.clone(),
+        meets_tolerance: meets(c, tolerance),
+        max_position_error: c.metrics.error_max,
+        energy_drift: c.metrics.energy_drift,
+        wall_seconds_per_frame: None,
+        timing: None,
+        force_evals_per_frame: evals,
+        force_evals_reason: why,
+        unstable_time: c.unstable_time,
+        unstable_reason: c.unstable_reason.clone(),
+    })
+}
+
+/// Stable and within `tolerance`: what the search asks of a substep count.
+fn meets(c: &CaseResult, tolerance: f64) -> bool {
+    c.ok() && c.metrics.error_max <= tolerance
+}
+
+/// Measures every backend at every frame rate.
+pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
+    check(cfg)?;
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
+    let frames: Vec<u64> = cfg
+        .rates
+        .iter()
+        .map(|&hz| frames_at(duration, hz))
+        .collect();
+    for (&hz, &n) in cfg.rates.iter().zip(&frames) {
+        let end = n as f64 / hz;
+        if n.saturating_mul(cfg.max_substeps) > crate::scenario::MAX_STEPS {
+            return Err(Error::option(
+                "--max-substeps",
+                format!(
+                    "{n} frames at {hz} Hz × {} substeps exceeds the limit of {} steps",
+                    cfg.max_substeps,
+                    crate::scenario::MAX_STEPS
+                ),
+            ));
+        }
+        crate::scenario::Timing::check_impulses(scene, end)?;
+        crate::scenario::Timing::check_frame_impulses(scene, 1.0 / hz, end)?;
+    }
+    let (mut names, skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+    if cfg.integrators.is_empty() {
+        // Closed forms solve special scenes exactly; they are not a frame-rate choice.
+        names.retain(|n| cfg.methods.info(n).is_ok_and(|m| m.order != Order::Exact));
+    }
+    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, cfg.rates.len(), sys.len());
+    let grids: Vec<TimeGrid> = cfg
+        .rates
+        .iter()
+        .zip(&frames)
+        .map(|(hz, &n)| TimeGrid::new(1.0 / hz, n, max_samples))
+        .collect();
+    let horizon = grids.iter().map(|g| g.time(g.steps)).fold(0.0, f64::max);
+    let reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    let set = CaseSettings {
+        methods: cfg.methods.clone(),
+        options: cfg.options,
+        blowup_factor: cfg.blowup_factor,
+        series_points: 0,
+        repeat_short: false,
+        trace: None,
+        contacts: false,
+        substeps: None,
+    };
+    let jobs: Vec<(usize, usize)> = (0..names.len())
+        .flat_map(|b| (0..cfg.rates.len()).map(move |r| (b, r)))
+        .collect();
+    let pb = crate::run::progress_bar(
+        jobs.len() as u64,
+        &format!("framerate {}", scene.name),
+        cfg.progress,
+    );
+    let particles = sys.len().max(1) as f64;
+    let searched: Vec<Result<RateEntry>> = jobs
+        .par_iter()
+        .map(|&(b, r)| {
+            let name = &names[b];
+            let mut runs: Vec<(u64, CaseResult)> = Vec::new();
+            let mut trial = |n: u64| -> Result<Option<bool>> {
+                if let Some(cap) = cfg.cost_cap {
+                    if n > 1 && particles * frames[r] as f64 * n as f64 > cap {
+                        return Ok(None);
+                    }
+                }
+                let s = CaseSettings {
+                    substeps: Some(n),
+                    ..set.clone()
+                };
+                let c = run_case(&sys, &s0, &reference, r, name, &s)?;
+                let ok = meets(&c, cfg.tolerance);
+                runs.push((n, c));
+                Ok(Some(ok))
+            };
+            let found = search::fewest_substeps(cfg.max_substeps, &mut trial)?;
+            let of = |n: u64| {
+                runs.iter()
+                    .find(|(m, _)| *m == n)
+                    .map(|(_, c)| c)
+                    .expect("every tried count has its run")
+            };
+            let one = frame_run(&cfg.methods, of(1), 1, cfg.tolerance)?;
+            let fewest = match found.fewest {
+                Some(n) => Some(frame_run(&cfg.methods, of(n), n, cfg.tolerance)?),
+                None => None,
+            };
+            let largest = found.tried.iter().map(|t| t.0).max().unwrap_or(1);
+            let fewest_note = fewest.is_none().then(|| {
+                let capped = largest < cfg.max_substeps;
+                if capped {
+                    format!(
+                        "none up to {largest} substeps; {} would pass the cost cap of {:e} particle-steps",
+                        2 * largest,
+                        cfg.cost_cap.unwrap_or(f64::INFINITY)
+                    )
+                } else {
+                    format!("none up to --max-substeps {}", cfg.max_substeps)
+                }
+            });
+            pb.inc(1);
+            Ok(RateEntry {
+                backend: name.clone(),
+                hz: cfg.rates[r],
+                frame_dt: 1.0 / cfg.rates[r],
+                frames: frames[r],
+                one_substep: one,
+                fewest,
+                fewest_note,
+                tried: found.tried,
+            })
+        })
+        .collect();
+    pb.finish_and_clear();
+    let mut entries = searched.into_iter().collect::<Result<Vec<_>>>()?;
+    timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
+    let command = CommandLine::new("framerate", &scene.source)
+        .list("hz", &cfg.rates)
+        .flag("tolerance", cfg.tolerance)
+        .list(
+            "integrators",
+            &names
+                .iter()
+                .chain(skipped.iter().map(|s| &s.0))
+                .cloned()
+                .collect::<Vec<_>>(),
+        )
+        .flag("duration", duration)
+        .flag("max-substeps", cfg.max_substeps)
+        .flag_opt("cost-cap", cfg.cost_cap)
+        .flag("iterations", cfg.options.constraint_iterations)
+        .flag("blowup-factor", cfg.blowup_factor)
+        .render();
+    let u = reference.info.uncertainty;
+    let reference_note = (u > cfg.tolerance).then(|| {
+        format!(
+            "the reference's own uncertainty over the run is {u:.2e} m, above the tolerance {} m: no run can be verified to it; try a shorter --duration",
+            cfg.tolerance
+        )
+    });
+    Ok(Framerate {
+        reference_note,
+        command,
+        scenario: scene.name.clone(),
+        reference: reference.info,
+        events: sys.events.label(),
+        tolerance: cfg.tolerance,
+        duration,
+        rates: cfg.rates.clone(),
+        max_substeps: cfg.max_substeps,
+        cost_cap: cfg.cost_cap,
+        timing: cfg.timing,
+        entries,
+        skipped,
+    })
+}

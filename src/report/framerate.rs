@@ -1,0 +1,148 @@
+//! The frame-rate section of a scene page: per backend, the error of one step per frame and
+//! the cost per frame of the fewest substeps that meet the tolerance, against the frame rate,
+//! from the very `framerate.json` that `springlab framerate` writes.
+
+use super::html::esc;
+use super::plots::common::{svg_grid, Axis, Panel};
+use crate::error::Result;
+use crate::measure::framerate::Framerate;
+use crate::report::data::{BlowUp, Series};
+
+/// One line per backend: (x = Hz, y) for each rate where `pick` gives a value; a rate where
+/// the run at one substep blew up ends the line with a marker at the last point.
+fn lines(
+    fr: &Framerate,
+    pick: impl Fn(&crate::measure::framerate::RateEntry) -> Option<f64>,
+) -> Vec<Series> {
+    let mut names: Vec<&str> = Vec::new();
+    for e in &fr.entries {
+        if !names.contains(&e.backend.as_str()) {
+            names.push(&e.backend);
+        }
+    }
+    names
+        .iter()
+        .map(|n| {
+            let points: Vec<[f64; 2]> = fr
+                .entries
+                .iter()
+                .filter(|e| e.backend == *n)
+                .filter_map(|e| pick(e).map(|v| [e.hz, v]))
+                .collect();
+            Series {
+                label: n.to_string(),
+                points,
+                blowup: None::<BlowUp>,
+            }
+        })
+        .filter(|s| !s.points.is_empty())
+        .collect()
+}
+
+/// The chart (SVG) of `fr`: error at one substep, and wall time per frame at the fewest
+/// substeps meeting the tolerance, both against the frame rate.
+pub fn chart(fr: &Framerate) -> Result<String> {
+    let err = lines(fr, |e| {
+        (e.one_substep.status == "ok").then_some(e.one_substep.max_position_error)
+    });
+    let cost = lines(fr, |e| {
+        e.fewest.as_ref().and_then(|f| f.wall_seconds_per_frame)
+    });
+    let panel = |title: String, y: &str, series| Panel {
+        title,
+        x: Axis::log("frame rate (Hz)"),
+        y: Axis::log(y),
+        series,
+        guides: &[],
+        dots: true,
+        equal_aspect: false,
+        legend: plotters::prelude::SeriesLabelPosition::UpperRight,
+    };
+    svg_grid(
+        (1200, 520),
+        2,
+        &[
+            panel(
+                "Error at one step per frame (stable runs)".into(),
+                "max position error (m)",
+                &err,
+            ),
+            panel(
+                format!("Cost per frame meeting {} m", fr.tolerance),
+                "wall time per frame (s)",
+                &cost,
+            ),
+        ],
+    )
+}
+
+/// The page section: chart, then per backend and rate the run at one substep and the fewest
+/// substeps meeting the tolerance with its cost per frame.
+pub fn section(fr: &Framerate, note: Option<&str>) -> String {
+    let mut rates: Vec<f64> = Vec::new();
+    for e in &fr.entries {
+        if !rates.contains(&e.hz) {
+            rates.push(e.hz);
+        }
+    }
+    let mut names: Vec<&str> = Vec::new();
+    for e in &fr.entries {
+        if !names.contains(&e.backend.as_str()) {
+            names.push(&e.backend);
+        }
+    }
+    let mut body = format!(
+        "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each backend at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · wall time per frame</em>; “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: wall time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">backend</th>",
+        esc(&fr.command),
+        fr.duration,
+        fr.max_substeps,
+        fr.tolerance,
+        fr.events,
+        note.map_or(String::new(), |n| format!(" {}", esc(n)))
+    );
+    for hz in &rates {
+        body += &format!(
+            "<th>{hz} Hz: 1 step</th><th>{hz} Hz: for {} m</th>",
+            fr.tolerance
+        );
+    }
+    body += "</tr>\n";
+    for n in &names {
+        body += &format!("<tr><td class=\"l\">{}</td>", esc(n));
+        for hz in &rates {
+            let Some(e) = fr.entries.iter().find(|e| e.backend == *n && e.hz == *hz) else {
+                body += "<td>—</td><td>—</td>";
+                continue;
+            };
+            let one = if e.one_substep.status == "ok" {
+                format!("{:.2e} m", e.one_substep.max_position_error)
+            } else {
+                format!(
+                    "unstable at t = {}",
+                    e.one_substep
+                        .unstable_time
+                        .map_or("?".into(), |t| format!("{t:.3}"))
+                )
+            };
+            let fewest = e.fewest.as_ref().map_or("—".to_string(), |f| {
+                format!(
+                    "{} · {}",
+                    f.substeps,
+                    f.wall_seconds_per_frame
+                        .map_or("—".into(), |w| format!("{:.3} ms", w * 1e3))
+                )
+            });
+            body += &format!("<td>{}</td><td>{}</td>", esc(&one), esc(&fewest));
+        }
+        body += "</tr>\n";
+    }
+    body += "</table>\n";
+    if !fr.skipped.is_empty() {
+        body += "<ul class=\"note\">\n";
+        for (n, why) in &fr.skipped {
+            body += &format!("<li><code>{}</code>: {}</li>\n", esc(n), esc(why));
+        }
+        body += "</ul>\n";
+    }
+    body
+}
