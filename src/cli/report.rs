@@ -103,13 +103,14 @@ pub fn run(a: Args) -> Result<()> {
                     Ok(s) => {
                         let p = s.seconds;
                         say(&format!(
-                            "report: {} done in {:.1} s (compare {:.1}, sweep {:.1}, stability {:.1}, advice {:.1})",
+                            "report: {} done in {:.1} s (compare {:.1}, sweep {:.1}, stability {:.1}, advice {:.1}, frame rates {:.1})",
                             s.scene,
                             t0.elapsed().as_secs_f64(),
                             p.compare,
                             p.sweep,
                             p.stability,
-                            p.advice
+                            p.advice,
+                            p.framerate
                         ));
                     }
                     Err(e) => say(&format!("report: {}: {e}", f.display())),
