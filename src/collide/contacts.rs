@@ -11,7 +11,7 @@
 //! decelerates at μ·g, sticks when the cone holds it, and never creeps.
 
 use super::def::Response;
-use super::obstacles::{Contact, ObstacleSet};
+use super::obstacles::{Contact, ObstacleSet, SHEET_CLEARANCE};
 use crate::model::{PostStep, StageStep, State, System, Vec3};
 use std::sync::Arc;
 
@@ -101,7 +101,8 @@ impl Contacts {
                         normal: hit.normal,
                         point: hit.point,
                     };
-                    s.x[p] += hit.normal * depth.max(0.0);
+                    let lift = depth.max(0.0) + self.clearance(c.obstacle, &s.x[p]);
+                    s.x[p] += hit.normal * lift;
                     self.respond(&c, p, x0, v0, s, h);
                     touched = true;
                     out.resolved += 1;
@@ -129,7 +130,8 @@ impl Contacts {
                     continue;
                 }
                 elastic_before.get_or_insert_with(|| sys.energy(&s.x, &s.v).elastic);
-                s.x[p] += c.normal * (-c.gap);
+                let lift = self.clearance(c.obstacle, &s.x[p]) - c.gap;
+                s.x[p] += c.normal * lift;
                 self.respond(&c, p, x0, v0, s, h);
                 touched = true;
                 out.resolved += 1;
@@ -148,6 +150,16 @@ impl Contacts {
             book(&mut out, sys.energy(&s.x, &s.v).elastic - e0);
         }
         out
+    }
+
+    /// How far off the surface a response leaves a particle at `x` against obstacle `k`:
+    /// [`SHEET_CLEARANCE`] for a two-sided sheet (so the particle keeps its side), else 0.
+    fn clearance(&self, k: usize, x: &Vec3) -> f64 {
+        if self.set.obstacles()[k].two_sided {
+            SHEET_CLEARANCE * (1.0 + x.norm())
+        } else {
+            0.0
+        }
     }
 
     /// The impulse response's velocity after an impact on obstacle `obstacle` with outward unit

@@ -7,6 +7,7 @@
 mod contacts;
 mod counter;
 mod def;
+pub mod mesh;
 mod obstacles;
 mod penalty;
 
@@ -16,5 +17,5 @@ pub use def::{
     damping_ratio_for_restitution, restitution_for_damping_ratio, CollisionSetup, ObstacleDef,
     PenaltyDamping, Response, ShapeDef,
 };
-pub use obstacles::{Contact, Obstacle, ObstacleSet, SweepHit};
+pub use obstacles::{Contact, Obstacle, ObstacleSet, SweepHit, SHEET_CLEARANCE};
 pub use penalty::{Penalty, FRICTION_REGULARISATION};
