@@ -29,6 +29,10 @@ pub const MAX_LISTED_EVENTS: usize = 10_000;
 /// A contact of at most this many accepted states, left through the face opposite the one it
 /// entered by, is a tunnelling event (the particle went through, not off).
 pub const THROUGH_SAMPLES: u32 = 3;
+/// Gap (m) below which a particle counts as touching an obstacle: it covers the gap at which
+/// an engine holds a resting contact (Rapier: 3e-5 to 2e-4 m, from its speculative and soft
+/// contacts; springlab's own responses hold 0).
+pub const CONTACT_GAP: f64 = 5e-4;
 /// Most points of each height-over-time series (evenly decimated at the end).
 pub const MAX_SERIES_POINTS: usize = 4_000;
 
