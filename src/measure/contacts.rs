@@ -12,6 +12,8 @@
 //!   near the obstacle without a sample in contact (an engine's speculative contact);
 //! - a summary over the impacts faster than [`IMPACT_SPEED_SHARE`] of the fastest approach:
 //!   mean and worst deviation of the measured restitution from the expected one;
+//! - per tracked particle: slides in resting contact, their mean acceleration against the
+//!   point-mass Coulomb law and their stopping distance against v0²/(2|a|) ([`Slide`]);
 //! - per tracked particle: apex heights after each bounce against h0·e^(2n), energy lost per
 //!   bounce against 1 − e², and the height over time;
 //! - per run: penetration statistics and tunnelling events: a path between two accepted states
@@ -29,6 +31,10 @@ use crate::model::{State, System, Vec3};
 use crate::run::{EnergyRecord, Observer};
 use serde::Serialize;
 use std::sync::Arc;
+
+mod slides;
+use slides::OpenSlide;
+pub use slides::{Slide, MIN_SLIDE_SAMPLES, STOP_SPEED};
 
 /// Particles whose apex heights and height-over-time series are recorded (the first free ones).
 pub const TRACKED_PARTICLES: usize = 8;
@@ -80,6 +86,11 @@ pub struct ContactEvent {
     /// Expected largest penetration (m): 0 for impulse and projection, the contact ODE's for
     /// penalty.
     pub expected_penetration: f64,
+    /// Energy the run booked as dissipated from the sample before touching to the sample
+    /// after leaving (J; the whole system's account over that interval).
+    pub energy_dissipated: f64,
+    /// Energy the run booked as created by contacts over the same interval (J).
+    pub energy_created: f64,
 }
 
 /// One apex between bounces of a tracked particle.
@@ -212,6 +223,8 @@ pub struct ContactReport {
     pub tunnelling: Vec<Tunnelling>,
     /// Apexes and heights of the tracked particles.
     pub bounces: Vec<ParticleBounces>,
+    /// Slides of the tracked particles in resting contact (friction against Coulomb's law).
+    pub slides: Vec<Slide>,
     /// Parry narrow-phase queries made on this thread during the run (responses and metrics).
     pub parry_queries: u64,
 }
@@ -232,6 +245,8 @@ struct Open {
     t_in: f64,
     v_in: f64,
     max_pen: f64,
+    /// The run's (dissipated, created) accounts at the sample before touching.
+    books: (f64, f64),
 }
 
 #[derive(Debug, Default)]
@@ -242,6 +257,7 @@ struct Track {
     last_e: Option<f64>,
     apexes: Vec<Apex>,
     heights: Vec<[f64; 2]>,
+    slide: Option<OpenSlide>,
 }
 
 /// The metrics observer; attach it to a run of a system with obstacles and call
@@ -270,6 +286,10 @@ pub struct ContactMetrics {
     tunnel_count: u64,
     q0: u64,
     q1: u64,
+    /// The run's (dissipated, created) accounts at the previous and the current sample.
+    books_before: (f64, f64),
+    books: (f64, f64),
+    slides: Vec<Slide>,
 }
 
 impl ContactMetrics {
@@ -302,6 +322,9 @@ impl ContactMetrics {
             tunnel_count: 0,
             q0: crate::collide::query_count(),
             q1: 0,
+            books_before: (0.0, 0.0),
+            books: (0.0, 0.0),
+            slides: Vec::new(),
         })
     }
 
@@ -431,6 +454,7 @@ impl ContactMetrics {
                         t_in,
                         v_in,
                         max_pen: pen,
+                        books: self.books_before,
                     });
                 }
             }
@@ -488,6 +512,7 @@ impl ContactMetrics {
                     t_in: t_in.clamp(pr.t, s.t),
                     v_in,
                     max_pen: 0.0,
+                    books: self.books_before,
                 };
                 let t_out = if a_n != 0.0 {
                     s.t - (un - v_out) / a_n
@@ -496,6 +521,9 @@ impl ContactMetrics {
                 };
                 self.close(p, &o, t_out.clamp(o.t_in, s.t), v_out, a_n, false);
             }
+        }
+        if is_tracked {
+            self.follow_slide(p, s.t, x, v, near.filter(|_| in_contact));
         }
         if is_tracked {
             let track = &mut self.tracks[p];
@@ -541,6 +569,26 @@ impl ContactMetrics {
         });
     }
 
+    /// Slide bookkeeping of tracked particle `p` at (t, x, v), in contact `c` or not: a slide
+    /// runs while the particle stays on one obstacle without a normal speed above the grazing
+    /// speed (a bounce ends it).
+    fn follow_slide(&mut self, p: usize, t: f64, x: Vec3, v: Vec3, c: Option<Contact>) {
+        let resting = c.filter(|c| v.dot(&c.normal).abs() < self.grazing_speed());
+        let open = &mut self.tracks[p].slide;
+        match (resting, open.as_mut()) {
+            (Some(c), Some(sl)) if sl.obstacle() == c.obstacle => sl.push(t, x, v),
+            (rest, _) => {
+                if let Some(done) = open.take().and_then(|sl| sl.finish(p, self.gravity)) {
+                    self.slides.push(done);
+                }
+                *open = rest.and_then(|c| {
+                    let mu = self.set.obstacles()[c.obstacle].friction;
+                    OpenSlide::start(t, x, v, c.obstacle, c.normal, mu, self.gravity)
+                });
+            }
+        }
+    }
+
     /// Books the event of particle `p` on the open contact `o`, left at `t_out` with normal
     /// speed `u` (carried to the surface); `a_n` is gravity along the normal.
     fn close(&mut self, p: usize, o: &Open, t_out: f64, u: f64, a_n: f64, through: bool) {
@@ -563,6 +611,8 @@ impl ContactMetrics {
                 .map(|w| a_n.abs() / (w * o.v_in.abs().max(f64::MIN_POSITIVE))),
             max_penetration: o.max_pen,
             expected_penetration: pen_exp,
+            energy_dissipated: self.books.0 - o.books.0,
+            energy_created: self.books.1 - o.books.1,
         };
         self.events_total += 1;
         if let Some(e) = restitution {
@@ -651,13 +701,26 @@ impl ContactMetrics {
             tunnelling_count: self.tunnel_count,
             tunnelling: self.tunnels.clone(),
             bounces,
+            slides: self
+                .slides
+                .iter()
+                .cloned()
+                .chain(self.tracked.iter().filter_map(|&p| {
+                    self.tracks[p]
+                        .slide
+                        .as_ref()
+                        .and_then(|sl| sl.finish(p, self.gravity))
+                }))
+                .collect(),
             parry_queries: self.q1.saturating_sub(self.q0),
         }
     }
 }
 
 impl Observer for ContactMetrics {
-    fn observe(&mut self, _step: u64, s: &State, _e: &EnergyRecord) -> Result<()> {
+    fn observe(&mut self, _step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
+        self.books_before = self.books;
+        self.books = (e.dissipated, e.created);
         for p in 0..s.len() {
             if self.free[p] {
                 self.sample(p, s);
