@@ -163,7 +163,7 @@ fn stopping_distance_is_v0_squared_over_two_mu_g_for_every_response_and_integrat
                 if collision == PENALTY && name == "explicit_euler" {
                     continue; // unstable on the contact spring at any step
                 }
-                let out = go(&scene, &name, 1.2 * t_exp);
+                let out = go(&scene, name, 1.2 * t_exp);
                 let d = out.final_state.x[0].x;
                 // The penalty's regularised friction (1 mm/s) and its sink of m g / k leave it
                 // creeping at far below 1 mm over the rest of the run.
@@ -188,7 +188,7 @@ fn a_particle_sticks_when_mu_exceeds_tan_theta() {
                 if name == "explicit_euler" {
                     continue;
                 }
-                let out = go(&scene, &name, 1.0);
+                let out = go(&scene, name, 1.0);
                 let moved = (out.final_state.x[0] - x0).norm();
                 assert!(
                     moved < 1e-12,
