@@ -138,3 +138,77 @@ fn difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m() {
     assert!(worst < 2e-4, "resting gap {worst} m");
     assert!(worst < springlab::measure::contacts::CONTACT_GAP);
 }
+
+/// Velocities of particle 0 just before and after its first velocity change larger than
+/// `jump` (m/s) under `rapier_impulse` at dt = 1e-4 s.
+fn first_kick(scene: &Scenario, jump: f64) -> (springlab::model::Vec3, springlab::model::Vec3) {
+    let sys = scene.build();
+    let mut integ =
+        springlab::method::create("rapier_impulse", &IntegratorOptions::default()).unwrap();
+    let mut s = scene.initial_state();
+    let g = sys.gravity.unwrap();
+    for _ in 0..20000 {
+        let v0 = s.v[0];
+        integ.step(&sys, &mut s, 1e-4).unwrap();
+        if (s.v[0] - v0 - g * 1e-4).norm() > jump {
+            return (v0, s.v[0]);
+        }
+    }
+    panic!("no impact");
+}
+
+#[test]
+fn difference_impact_friction_and_restitution_on_an_oblique_impact() {
+    // Newton + Coulomb impulse law (springlab's impulse response): on a plane with e = 0.5,
+    // μ = 0.1, an impact at (3, −3) m/s leaves v_n = 1.5 and v_t = 3 − μ(1 + e)·3 = 2.55 m/s.
+    let scene = Scenario::from_toml_str(
+        &format!(
+            "[world]\ngravity = [0.0, -{G}, 0.0]\n[[particle]]\nposition = [0.0, 0.3, 0.0]\nvelocity = [3.0, -3.0, 0.0]\nmass = 0.1\nradius = {R}\n\
+             [[obstacle]]\nshape = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\nfriction = 0.1\nrestitution = 0.5\n"
+        ),
+        "oblique.toml",
+    )
+    .unwrap();
+    let (v0, v1) = first_kick(&scene, 0.5);
+    let e = -v1.y / v0.y;
+    let keep = v1.x / v0.x;
+    let coulomb = 1.0 - 0.1 * (1.0 + 0.5) * -v0.y / v0.x;
+    eprintln!("rapier_impulse oblique impact: e = {e:.4} (0.5), tangential kept {keep:.4} (Coulomb {coulomb:.4})");
+    assert!((e / 0.5 - 1.0).abs() < 0.02, "e = {e}");
+    // The difference, measured: Rapier bounds the friction impulse by the normal impulse that
+    // stops the approach, without the restitution part, so it takes at most μ·|v_n| off v_t
+    // (0.321 m/s here, 0.58 of the Newton–Coulomb μ(1 + e)|v_n| = 0.55 m/s at this step's
+    // approach speed of 3.68 m/s).
+    let taken = v0.x - v1.x;
+    let share = taken / (0.1 * 1.5 * -v0.y);
+    eprintln!("rapier_impulse impact friction: {taken:.4} m/s taken, {share:.3} of μ(1 + e)|v_n|");
+    assert!(share > 0.5 && share < 1.0 / 1.5 + 1e-9, "share {share}");
+    assert!(keep - coulomb > 0.05, "kept {keep}, Coulomb {coulomb}");
+}
+
+#[test]
+fn difference_frictionless_capsule_pushes_along_the_normal() {
+    // A frictionless contact can only push along the surface normal: a ball dropped beside
+    // a horizontal capsule's axis must change velocity in the plane through the axis, along
+    // the normal at the contact (the issue measured 1.85° off it while the ball could turn).
+    let scene = Scenario::from_toml_str(
+        &format!(
+            "[world]\ngravity = [0.0, -{G}, 0.0]\n[[particle]]\nposition = [0.1, 0.8, 0.0]\nmass = 0.1\nradius = {R}\n\
+             [[obstacle]]\nshape = \"capsule\"\na = [0.0, 0.0, -1.0]\nb = [0.0, 0.0, 1.0]\nradius = 0.3\nrestitution = 0.5\n"
+        ),
+        "capsule.toml",
+    )
+    .unwrap();
+    let (v0, v1) = first_kick(&scene, 0.5);
+    let dv = v1 - v0;
+    // Normal at the contact: from the axis point (0, 0, 0) towards the ball centre (x = 0.1).
+    let n = springlab::model::Vec3::new(0.1, (0.35f64.powi(2) - 0.01).sqrt(), 0.0).normalize();
+    let angle = (dv.normalize().dot(&n))
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees();
+    let e = v1.dot(&n) / -v0.dot(&n);
+    eprintln!("rapier_impulse capsule: Δv {angle:.3}° off the normal, e = {e:.4} (0.5)");
+    assert!(angle < 0.5, "{angle}°");
+    assert!((e / 0.5 - 1.0).abs() < 0.02, "e = {e}");
+}

@@ -20,7 +20,11 @@
 //!   (0.02 m) and constrains the approach velocity so the ball stops at the surface in the
 //!   step it would cross it, so a resting ball sits on a gap of up to about 1e-4 m instead of 0;
 //! - its friction cone is solved by projected Gauss-Seidel over `num_solver_iterations`
-//!   with friction left out of the biased pass (`friction_in_bias_pass = false`).
+//!   with friction left out of the biased pass (`friction_in_bias_pass = false`), and bounded
+//!   by μ × the normal impulse that stops the approach, without the restitution part: at an
+//!   impact it takes at most μ·|v_n| off the tangential speed (measured: 0.58 of the
+//!   Newton–Coulomb μ(1 + e)|v_n| that springlab's impulse law takes, for e = 0.5).
+//!   Sliding and sticking in resting contact match Coulomb (incline, stopping distance).
 
 use crate::model::System;
 use rapier3d_f64::prelude::*;
