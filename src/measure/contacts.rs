@@ -486,7 +486,7 @@ impl ContactMetrics {
                 s.t
             };
             // The surface may lie before the last sample in the contact band.
-            let t_out = t_out.clamp(o.t_in, s.t);
+            let t_out = t_out.clamp(o.t_in.min(s.t), s.t);
             let a_n = self.gravity.dot(&o.normal);
             self.close(p, &o, t_out, u, a_n, through);
         } else if let (Some(pr), Some(c)) = (prev, near) {
