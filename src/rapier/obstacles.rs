@@ -24,7 +24,10 @@
 //!   by μ × the normal impulse that stops the approach, without the restitution part: at an
 //!   impact it takes at most μ·|v_n| off the tangential speed (measured: 0.58 of the
 //!   Newton–Coulomb μ(1 + e)|v_n| that springlab's impulse law takes, for e = 0.5).
-//!   Sliding and sticking in resting contact match Coulomb (incline, stopping distance).
+//!   Sliding and sticking in resting contact match Coulomb (incline, stopping distance);
+//! - an open mesh is one-sided in Rapier: a ball hitting it from the side its triangles face
+//!   bounces (no sideways kick on a shared edge now that it cannot turn), one coming from the
+//!   back passes through (springlab's own responses treat it as a two-sided sheet).
 
 use crate::model::System;
 use rapier3d_f64::prelude::*;
