@@ -50,11 +50,12 @@ pub fn run(a: Args) -> Result<()> {
     for (i, p) in scene.particles.iter().enumerate().take(limit) {
         let x = p.position;
         println!(
-            "  [{i}] x = ({}, {}, {}) m, m = {} kg{}",
+            "  [{i}] x = ({}, {}, {}) m, m = {} kg, radius = {} m{}",
             x.x,
             x.y,
             x.z,
             p.mass,
+            p.radius,
             if p.fixed { ", fixed" } else { "" }
         );
     }
@@ -82,39 +83,92 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     left_out(sys.impulses.len(), limit);
-    let obstacles = &scene.raw.obstacle;
-    println!("obstacles: {}", obstacles.len());
-    for (k, o) in obstacles.iter().enumerate().take(limit) {
-        let v = |t: Option<[f64; 3]>| t.map(|t| format!("({}, {}, {})", t[0], t[1], t[2]));
-        let geometry = [
-            ("point", v(o.point)),
-            ("normal", v(o.normal)),
-            ("center", v(o.center)),
-            ("radius", o.radius.map(|r| format!("{r} m"))),
-            ("half_extents", v(o.half_extents)),
-            ("rotation", v(o.rotation)),
-            ("a", v(o.a)),
-            ("b", v(o.b)),
-            ("file", o.file.clone()),
-            ("vertices", o.vertices.as_ref().map(|x| x.len().to_string())),
-            (
-                "triangles",
-                o.triangles.as_ref().map(|x| x.len().to_string()),
-            ),
-        ]
-        .into_iter()
-        .filter_map(|(n, x)| x.map(|x| format!("{n} = {x}")))
-        .collect::<Vec<_>>()
-        .join(", ");
-        println!("  [{k}] {}: {geometry}", o.shape);
-    }
-    left_out(obstacles.len(), limit);
+    print_collision(&scene, limit);
     println!("active terms: {}", sys.active_terms().join(", "));
-    let applicable: Vec<&str> = springlab::method::Registry::builtin()
-        .iter()
-        .filter(|m| m.create(&Default::default()).check(&sys).is_ok())
-        .map(|m| m.info.name)
-        .collect();
-    println!("integrators that apply: {}", applicable.join(", "));
+    let mut applicable = Vec::new();
+    let mut refused = Vec::new();
+    for m in springlab::method::Registry::builtin().iter() {
+        match m.create(&Default::default()).check(&sys) {
+            Ok(()) => applicable.push(m.info.name),
+            Err(why) => refused.push((m.info.name, why)),
+        }
+    }
+    println!(
+        "integrators and engines that apply: {}",
+        applicable.join(", ")
+    );
+    for (name, why) in refused {
+        println!("  not {name}: {why}");
+    }
     Ok(())
+}
+
+/// A vector as `(x, y, z)`.
+fn v3(v: &springlab::model::Vec3) -> String {
+    format!("({}, {}, {})", v.x, v.y, v.z)
+}
+
+/// Lists the obstacles (shape, pose, restitution, friction) and the contact response.
+fn print_collision(scene: &springlab::scenario::Scenario, limit: usize) {
+    use springlab::collide::{mesh, PenaltyDamping, Response, ShapeDef};
+    let Some(c) = &scene.collision else {
+        println!("obstacles: 0");
+        return;
+    };
+    println!("obstacles: {}", c.obstacles.len());
+    for (k, o) in c.obstacles.iter().enumerate().take(limit) {
+        let geometry = match &o.shape {
+            ShapeDef::Plane { point, normal } => {
+                format!("point = {}, normal = {}", v3(point), v3(normal))
+            }
+            ShapeDef::Sphere { center, radius } => {
+                format!("center = {}, radius = {radius} m", v3(center))
+            }
+            ShapeDef::Box {
+                center,
+                half_extents,
+                rotation,
+            } => format!(
+                "center = {}, half_extents = {}, rotation = {} (axis·angle, rad)",
+                v3(center),
+                v3(half_extents),
+                v3(rotation)
+            ),
+            ShapeDef::Capsule { a, b, radius } => {
+                format!("a = {}, b = {}, radius = {radius} m", v3(a), v3(b))
+            }
+            ShapeDef::Mesh {
+                vertices,
+                triangles,
+            } => format!(
+                "{} vertices, {} triangles, {}",
+                vertices.len(),
+                triangles.len(),
+                if mesh::is_closed(vertices, triangles) {
+                    "closed (solid inside)"
+                } else {
+                    "open (two-sided sheet)"
+                }
+            ),
+        };
+        println!(
+            "  [{k}] {}: {geometry}; restitution = {}, friction = {}",
+            o.shape.kind(),
+            o.restitution,
+            o.friction
+        );
+    }
+    left_out(c.obstacles.len(), limit);
+    let response = match c.response {
+        Response::Penalty { stiffness, damping } => format!(
+            "penalty, stiffness = {stiffness} N/m, {}",
+            match damping {
+                PenaltyDamping::Coefficient(d) => format!("damping = {d} N·s/m"),
+                PenaltyDamping::Restitution(e) => format!("damping from restitution = {e}"),
+                PenaltyDamping::PerObstacle => "damping from each obstacle's restitution".into(),
+            }
+        ),
+        r => r.name().to_string(),
+    };
+    println!("contact response: {response}");
 }

@@ -1,10 +1,17 @@
 //! The post-step contact stage for the `impulse` and `projection` responses: after each
 //! accepted integrator step, the runner calls [`Contacts::apply`], which resolves every
 //! particle's contacts (including crossings between steps found by a swept test) and reports
-//! the mechanical energy the response removed, so the run's energy account stays a balance.
+//! the mechanical energy the response removed and, apart, the energy it created, so the run's
+//! energy account stays a balance that cannot hide a gain behind a loss.
+//!
+//! Coulomb friction acts at both levels, with the same cone for every integrator: the
+//! tangential velocity loses at most μ·Δv_n (Δv_n the normal velocity change the contact
+//! makes, which is the integrator's own approach speed times 1 + e), and the step's tangential
+//! displacement is made consistent with it (see [`Response`]), so a sliding particle
+//! decelerates at μ·g, sticks when the cone holds it, and never creeps.
 
 use super::def::Response;
-use super::obstacles::{Contact, ObstacleSet};
+use super::obstacles::{Contact, ObstacleSet, SHEET_CLEARANCE};
 use crate::model::{PostStep, StageStep, State, System, Vec3};
 use std::sync::Arc;
 
@@ -13,9 +20,13 @@ use std::sync::Arc;
 pub struct ContactStep {
     /// True when some position or velocity changed (the integrator must then be reset).
     pub changed: bool,
-    /// Mechanical energy removed by the responses (J); negative when pushing a particle out
-    /// raised its potential energy more than the impulse removed.
+    /// Mechanical energy the responses removed (J, ≥ 0): per particle, the drop of its kinetic
+    /// plus gravitational energy, plus any drop of the system's elastic energy.
     pub dissipated: f64,
+    /// Mechanical energy the responses created (J, ≥ 0): per particle, the rise of its kinetic
+    /// plus gravitational energy (pushing it out against gravity after the integrator moved it
+    /// in), plus any rise of the elastic energy. Never netted against `dissipated`.
+    pub created: f64,
     /// Contacts resolved.
     pub resolved: u64,
     /// Of those, crossings found by the swept test (the particle had passed the surface).
@@ -49,26 +60,39 @@ impl Contacts {
         }
     }
 
-    /// Resolves contacts after a step of length `h` that moved the particles from `x0` to
-    /// `s.x`. Fixed particles are never touched.
-    pub fn apply(&self, sys: &System, x0: &[Vec3], s: &mut State, h: f64) -> ContactStep {
+    /// Resolves contacts after a step of length `h` that took the particles from positions
+    /// `x0` and velocities `v0` to `s`. Fixed particles are never touched.
+    pub fn apply(
+        &self,
+        sys: &System,
+        x0: &[Vec3],
+        v0: &[Vec3],
+        s: &mut State,
+        h: f64,
+    ) -> ContactStep {
         let mut out = ContactStep::default();
         if matches!(self.response, Response::Penalty { .. }) {
             return out;
         }
-        let mut e_before = None;
+        let g = sys.gravity.unwrap_or_else(Vec3::zeros);
+        let mut elastic_before = None;
         for p in 0..s.x.len() {
             // Fixed particles never move; a non-finite state is the runner's to report.
             if !sys.free[p] || !s.x[p].iter().all(|c| c.is_finite()) {
                 continue;
             }
+            let (x_in, v_in) = (s.x[p], s.v[p]);
             let r = sys.radius[p];
-            // 1. A crossing between steps: the path entered an obstacle's surface.
+            let mut touched = false;
+            // 1. A crossing between steps: the path entered an obstacle's surface. The particle
+            // goes back onto the entry face's tangent plane (its travel along the face kept),
+            // never back to where the path met the surface.
             if let Some(hit) = self.set.sweep(&x0[p], &s.x[p]) {
                 let end = self.set.query(hit.obstacle, &s.x[p], 0.0);
                 // Only a real crossing: the end is behind the entry face (inside, or through).
-                if (s.x[p] - hit.point).dot(&hit.normal) < 0.0 || end.distance < 0.0 {
-                    e_before.get_or_insert_with(|| sys.energy(&s.x, &s.v).mechanical());
+                let behind = (s.x[p] - hit.point).dot(&hit.normal) < 0.0;
+                if behind || end.distance < 0.0 {
+                    elastic_before.get_or_insert_with(|| sys.energy(&s.x, &s.v).elastic);
                     let depth = -(s.x[p] - hit.point).dot(&hit.normal) + r;
                     let c = Contact {
                         obstacle: hit.obstacle,
@@ -77,12 +101,13 @@ impl Contacts {
                         normal: hit.normal,
                         point: hit.point,
                     };
-                    s.x[p] = hit.point + hit.normal * r;
-                    self.respond(&c, p, x0, s, h);
+                    let lift = depth.max(0.0) + self.clearance(c.obstacle, &s.x[p]);
+                    s.x[p] += hit.normal * lift;
+                    self.respond(&c, p, x0, v0, s, h);
+                    touched = true;
                     out.resolved += 1;
                     out.swept += 1;
                     out.max_penetration = out.max_penetration.max(depth);
-                    continue;
                 }
             }
             // 2. Overlaps at the new position, resolved one obstacle after another.
@@ -96,7 +121,7 @@ impl Contacts {
             });
             for c in overlaps.iter().take(n).flatten() {
                 // Re-query after earlier corrections moved the particle.
-                let c = if n > 1 {
+                let c = if n > 1 || touched {
                     self.set.query(c.obstacle, &s.x[p], r)
                 } else {
                     *c
@@ -104,18 +129,37 @@ impl Contacts {
                 if c.gap >= 0.0 {
                     continue;
                 }
-                e_before.get_or_insert_with(|| sys.energy(&s.x, &s.v).mechanical());
-                s.x[p] += c.normal * (-c.gap);
-                self.respond(&c, p, x0, s, h);
+                elastic_before.get_or_insert_with(|| sys.energy(&s.x, &s.v).elastic);
+                let lift = self.clearance(c.obstacle, &s.x[p]) - c.gap;
+                s.x[p] += c.normal * lift;
+                self.respond(&c, p, x0, v0, s, h);
+                touched = true;
                 out.resolved += 1;
                 out.max_penetration = out.max_penetration.max(-c.gap);
             }
+            if touched {
+                // This particle's own energy change: kinetic plus gravitational.
+                let m = sys.mass[p];
+                let de = 0.5 * m * (s.v[p].norm_squared() - v_in.norm_squared())
+                    - m * g.dot(&(s.x[p] - x_in));
+                book(&mut out, de);
+            }
         }
-        if let Some(e0) = e_before {
+        if let Some(e0) = elastic_before {
             out.changed = true;
-            out.dissipated = e0 - sys.energy(&s.x, &s.v).mechanical();
+            book(&mut out, sys.energy(&s.x, &s.v).elastic - e0);
         }
         out
+    }
+
+    /// How far off the surface a response leaves a particle at `x` against obstacle `k`:
+    /// [`SHEET_CLEARANCE`] for a two-sided sheet (so the particle keeps its side), else 0.
+    fn clearance(&self, k: usize, x: &Vec3) -> f64 {
+        if self.set.obstacles()[k].two_sided {
+            SHEET_CLEARANCE * (1.0 + x.norm())
+        } else {
+            0.0
+        }
     }
 
     /// The impulse response's velocity after an impact on obstacle `obstacle` with outward unit
@@ -141,34 +185,60 @@ impl Contacts {
         vt * keep - n * (e * vn)
     }
 
-    /// Velocity response for particle `p` already moved onto the surface of contact `c`.
-    fn respond(&self, c: &Contact, p: usize, x0: &[Vec3], s: &mut State, h: f64) {
+    /// Velocity response for particle `p` already moved onto the surface of contact `c`, with
+    /// the friction's effect on the step's tangential displacement (see [`Response`]).
+    fn respond(&self, c: &Contact, p: usize, x0: &[Vec3], v0: &[Vec3], s: &mut State, h: f64) {
         let o = &self.set.obstacles()[c.obstacle];
         let (e, mu, n) = (o.restitution, o.friction, c.normal);
+        let tangential = |v: Vec3| v - n * v.dot(&n);
+        let v_in = s.v[p];
+        let vn_in = v_in.dot(&n);
         match self.response {
             Response::Impulse | Response::Penalty { .. } => {
-                s.v[p] = self.impulse_velocity(c.obstacle, &n, s.v[p]);
-            }
-            Response::Projection => {
-                // Position-level Coulomb friction: the tangential displacement of this step is
-                // cut by μ × the corrected depth (sticking when it is smaller).
-                let depth = -c.gap;
-                let dx = s.x[p] - x0[p];
-                let dt_ = dx - n * dx.dot(&n);
-                let dtn = dt_.norm();
-                if mu > 0.0 && dtn > 0.0 {
-                    let cut = (mu * depth / dtn).min(1.0);
-                    s.x[p] -= dt_ * cut;
-                }
-                // Implied velocity, with the approach speed reflected by the restitution.
-                let vn_in = s.v[p].dot(&n);
-                let mut v = (s.x[p] - x0[p]) / h;
-                if vn_in < 0.0 {
-                    v += n * (-e * vn_in - v.dot(&n));
+                let v = self.impulse_velocity(c.obstacle, &n, v_in);
+                let vt = tangential(v);
+                if mu > 0.0 && vt != tangential(v_in) {
+                    // Friction acted: the step's tangential travel becomes the trapezoid of the
+                    // tangential velocities at its ends, exact under a constant friction
+                    // deceleration whatever the integrator (and zero when the particle was
+                    // and stays stuck: no creep).
+                    let d = s.x[p] - x0[p];
+                    s.x[p] = x0[p] + n * d.dot(&n) + (tangential(v0[p]) + vt) * (0.5 * h);
                 }
                 s.v[p] = v;
             }
+            Response::Projection => {
+                // Position-level Coulomb friction: the tangential displacement of this step
+                // loses at most μ·Δv_n·h, where Δv_n = (1 + e)·(approach speed) is the normal
+                // velocity change the contact makes (the same for every integrator, unlike the
+                // per-step penetration depth); the velocity loses at most μ·Δv_n.
+                let dvn = if vn_in < 0.0 { -(1.0 + e) * vn_in } else { 0.0 };
+                let cut = mu * dvn;
+                let dt_ = tangential(s.x[p] - x0[p]);
+                let dtn = dt_.norm();
+                if cut > 0.0 && dtn > 0.0 {
+                    s.x[p] -= dt_ * (cut * h / dtn).min(1.0);
+                }
+                let vt = tangential(v_in);
+                let vtn = vt.norm();
+                let keep = if vtn > 0.0 {
+                    (1.0 - cut / vtn).max(0.0)
+                } else {
+                    0.0
+                };
+                let vn = if vn_in < 0.0 { -e * vn_in } else { vn_in };
+                s.v[p] = vt * keep + n * vn;
+            }
         }
+    }
+}
+
+/// Books an energy change `de` (J) of the contact stage as created (> 0) or dissipated (< 0).
+fn book(out: &mut ContactStep, de: f64) {
+    if de > 0.0 {
+        out.created += de;
+    } else {
+        out.dissipated -= de;
     }
 }
 
@@ -176,11 +246,12 @@ impl PostStep for Contacts {
     fn name(&self) -> Option<&'static str> {
         self.stage_name()
     }
-    fn apply(&self, sys: &System, x0: &[Vec3], s: &mut State, h: f64) -> StageStep {
-        let c = Contacts::apply(self, sys, x0, s, h);
+    fn apply(&self, sys: &System, x0: &[Vec3], v0: &[Vec3], s: &mut State, h: f64) -> StageStep {
+        let c = Contacts::apply(self, sys, x0, v0, s, h);
         StageStep {
             changed: c.changed,
             dissipated: c.dissipated,
+            created: c.created,
         }
     }
     fn as_any(&self) -> &dyn std::any::Any {

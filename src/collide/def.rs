@@ -38,11 +38,13 @@ pub enum ShapeDef {
         /// Radius (m, > 0).
         radius: f64,
     },
-    /// A triangle mesh with counter-clockwise (outward) triangles, in world coordinates.
+    /// A triangle mesh in world coordinates. Closed (every edge shared by two triangles): a
+    /// solid with an inside, whatever its winding (an inside-out one is turned outward). Open:
+    /// a two-sided thin sheet, solid on neither side (see [`crate::collide::mesh`]).
     Mesh {
         /// Vertex positions (m).
         vertices: Vec<Vec3>,
-        /// Triangles as vertex indices, wound counter-clockwise seen from outside.
+        /// Triangles as vertex indices (counter-clockwise seen from outside by convention).
         triangles: Vec<[u32; 3]>,
     },
 }
@@ -85,8 +87,11 @@ pub enum PenaltyDamping {
 /// How contacts are resolved.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Response {
-    /// After each step: reflect the normal velocity with restitution, Coulomb friction on the
-    /// tangential part, and put the particle back on the surface.
+    /// After each step: put the particle back on the surface along the normal, reflect the
+    /// normal velocity with restitution and apply a Coulomb friction impulse (at most μ × the
+    /// normal velocity change) to the tangential part; when friction acted, the step's
+    /// tangential travel becomes h·(v_t,start + v_t,end)/2, exact under constant friction
+    /// for every integrator (a stuck particle does not creep).
     Impulse,
     /// A spring-dashpot force on the penetration depth (a force term every integrator sees).
     Penalty {
@@ -95,8 +100,10 @@ pub enum Response {
         /// Dashpot setting.
         damping: PenaltyDamping,
     },
-    /// After each step: project positions out and set the implied velocity (position-based
-    /// dynamics, for `verlet_constraints`), restitution and friction through that velocity.
+    /// After each step: project positions out along the normal and cut the step's tangential
+    /// displacement by at most μ·Δv_n·h (position-level Coulomb friction, Δv_n the normal
+    /// velocity change (1 + e)·approach speed, so the cone is the same for every integrator);
+    /// the velocity gets the same restitution and at most μ·Δv_n of tangential loss.
     Projection,
 }
 

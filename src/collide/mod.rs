@@ -7,6 +7,8 @@
 mod contacts;
 mod counter;
 mod def;
+mod impact;
+pub mod mesh;
 mod obstacles;
 mod penalty;
 
@@ -16,5 +18,6 @@ pub use def::{
     damping_ratio_for_restitution, restitution_for_damping_ratio, CollisionSetup, ObstacleDef,
     PenaltyDamping, Response, ShapeDef,
 };
-pub use obstacles::{Contact, Obstacle, ObstacleSet, SweepHit};
+pub use impact::{penalty_impact, PenaltyImpact, STEPS_PER_HALF_PERIOD};
+pub use obstacles::{Contact, Obstacle, ObstacleSet, SweepHit, SHEET_CLEARANCE};
 pub use penalty::{Penalty, FRICTION_REGULARISATION};

@@ -37,6 +37,8 @@ pub struct Obstacle {
     pub friction: f64,
     /// Shape name (`plane`, `sphere`, ...).
     pub kind: &'static str,
+    /// An open mesh: a two-sided thin sheet with no inside (see [`super::mesh`]).
+    pub two_sided: bool,
 }
 
 impl std::fmt::Debug for Obstacle {
@@ -46,6 +48,7 @@ impl std::fmt::Debug for Obstacle {
             .field("pose", &self.pose)
             .field("restitution", &self.restitution)
             .field("friction", &self.friction)
+            .field("two_sided", &self.two_sided)
             .finish()
     }
 }
@@ -78,6 +81,11 @@ pub struct SweepHit {
     /// Unit outward normal there (facing the path's start).
     pub normal: Vec3,
 }
+
+/// Relative clearance (× (1 + |x|) m) at which a response leaves a particle off a two-sided
+/// sheet, on the side it came from: a point particle lying exactly on a sheet would have no
+/// side, and its next path could not tell leaving from crossing.
+pub const SHEET_CLEARANCE: f64 = 1e-9;
 
 /// Static obstacles with a broad phase built once: a parry [`Bvh`] over the bounded
 /// obstacles' AABBs; unbounded ones (planes) are always tested.
@@ -129,11 +137,12 @@ impl ObstacleSet {
                     vertices,
                     triangles,
                 } => {
-                    // ORIENTED: pseudo-normals make inside tests (and so signed distances) valid.
+                    // ORIENTED: pseudo-normals make inside tests (and so signed distances) valid
+                    // for closed meshes, wound outward here whatever the file's winding.
                     let flags = TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES;
                     let shape = SharedShape::trimesh_with_flags(
                         vertices.iter().map(to_g).collect(),
-                        triangles.clone(),
+                        super::mesh::outward(vertices, triangles),
                         flags,
                     )
                     .expect("validated mesh has triangles");
@@ -146,6 +155,13 @@ impl ObstacleSet {
                 restitution: d.restitution,
                 friction: d.friction,
                 kind: d.shape.kind(),
+                two_sided: match &d.shape {
+                    ShapeDef::Mesh {
+                        vertices,
+                        triangles,
+                    } => !super::mesh::is_closed(vertices, triangles),
+                    _ => false,
+                },
             });
         }
         let mut unbounded = Vec::new();
@@ -199,7 +215,8 @@ impl ObstacleSet {
         let dist = off.norm();
         let scale = 1.0 + p.norm();
         let (distance, normal) = if dist > ON_SURFACE * scale {
-            if proj.is_inside {
+            // A two-sided sheet has no inside: the normal points to the particle's side.
+            if proj.is_inside && !o.two_sided {
                 (-dist, -off / dist)
             } else {
                 (dist, off / dist)
@@ -310,8 +327,9 @@ impl ObstacleSet {
     }
 
     /// The first obstacle surface the straight path `p0 → p1` enters from outside, if any:
-    /// parry ray casts (solid) against obstacles whose AABB meets the path's. An obstacle the
-    /// path starts inside of is skipped (point projection handles it).
+    /// parry ray casts (solid; hollow for a two-sided sheet, so it is hit from either side)
+    /// against obstacles whose AABB meets the path's. An obstacle the path starts inside of is
+    /// skipped (point projection handles it).
     pub fn sweep(&self, p0: &Vec3, p1: &Vec3) -> Option<SweepHit> {
         let d = p1 - p0;
         if d.norm_squared() == 0.0 {
@@ -322,7 +340,10 @@ impl ObstacleSet {
         let test = |k: usize, best: &mut Option<SweepHit>| {
             let o = &self.obstacles[k];
             count_query();
-            let Some(hit) = o.shape.cast_ray_and_get_normal(&o.pose, &ray, 1.0, true) else {
+            let Some(hit) = o
+                .shape
+                .cast_ray_and_get_normal(&o.pose, &ray, 1.0, !o.two_sided)
+            else {
                 return;
             };
             let toi = hit.time_of_impact;

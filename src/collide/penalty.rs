@@ -121,17 +121,33 @@ impl ForceTerm for Penalty {
         }
         e
     }
-    fn add_jacobian(&self, x: &[Vec3], _v: &[Vec3], jac: &mut Jacobian) {
-        // ∂f/∂x = −k n nᵀ and ∂f/∂v = −c n nᵀ (surface curvature and friction neglected:
-        // both symmetric negative semi-definite, so the Newton matrix stays SPD).
+    fn add_jacobian(&self, x: &[Vec3], v: &[Vec3], jac: &mut Jacobian) {
+        // ∂f/∂x = −k n nᵀ and ∂f/∂v = −c n nᵀ, plus the regularised friction's
+        // ∂f_t/∂v_t = −μ f_n (P/s − v_t v_tᵀ/s³) with P = I − n nᵀ, s = √(|v_t|² + V²) (stiff
+        // near a stop: μ f_n / V). The friction's dependence on f_n and the surface curvature
+        // are neglected; every kept block is symmetric negative semi-definite, so the Newton
+        // matrix stays SPD.
         for (p, xp) in x.iter().enumerate() {
             if !self.free[p] {
                 continue;
             }
             self.set.for_each_near(xp, self.radius[p], 0.0, |c| {
-                let nn: Matrix3<f64> = c.normal * c.normal.transpose();
+                let n = c.normal;
+                let nn: Matrix3<f64> = n * n.transpose();
                 jac.diag_x[p] -= nn * self.stiffness;
-                jac.diag_v[p] -= nn * self.dashpot(c.obstacle, p);
+                let cdash = self.dashpot(c.obstacle, p);
+                jac.diag_v[p] -= nn * cdash;
+                let mu = self.set.obstacles()[c.obstacle].friction;
+                let vn = v[p].dot(&n);
+                let fnorm = self.stiffness * (-c.gap) - cdash * vn;
+                if mu > 0.0 && fnorm > 0.0 {
+                    let vt = v[p] - n * vn;
+                    let s2 = vt.norm_squared() + FRICTION_REGULARISATION.powi(2);
+                    let s = s2.sqrt();
+                    let proj = Matrix3::identity() - nn;
+                    let d = proj / s - vt * vt.transpose() / (s2 * s);
+                    jac.diag_v[p] -= d * (mu * fnorm);
+                }
             });
         }
     }

@@ -2,8 +2,18 @@
 //! (so they measure what a response really did, whatever it is):
 //!
 //! - per contact event: normal velocity in and out, measured restitution next to the expected
-//!   one (the obstacle's e for impulse/projection; e = exp(−ζπ/√(1−ζ²)) for penalty), contact
-//!   duration (and π/ω_d for penalty), maximum penetration;
+//!   one, contact duration and maximum penetration next to the expected ones. For impulse and
+//!   projection the expectation is the obstacle's e, no penetration and no duration; for
+//!   penalty it is the contact ODE with gravity along the normal, solved per impact from the
+//!   measured approach speed ([`crate::collide::penalty_impact`]);
+//! - impacts are found the same way for every backend, from each particle's state relative to
+//!   its nearest obstacle: touching (gap below [`CONTACT_GAP`], which covers an engine's
+//!   resting gap) and leaving, or an approach reversed into a separation between two samples
+//!   near the obstacle without a sample in contact (an engine's speculative contact);
+//! - a summary over the impacts faster than [`IMPACT_SPEED_SHARE`] of the fastest approach:
+//!   mean and worst deviation of the measured restitution from the expected one;
+//! - per tracked particle: slides in resting contact, their mean acceleration against the
+//!   point-mass Coulomb law and their stopping distance against v0²/(2|a|) ([`Slide`]);
 //! - per tracked particle: apex heights after each bounce against h0·e^(2n), energy lost per
 //!   bounce against 1 − e², and the height over time;
 //! - per run: penetration statistics and tunnelling events: a path between two accepted states
@@ -22,6 +32,10 @@ use crate::run::{EnergyRecord, Observer};
 use serde::Serialize;
 use std::sync::Arc;
 
+mod slides;
+use slides::OpenSlide;
+pub use slides::{Slide, MIN_SLIDE_SAMPLES, STOP_SPEED};
+
 /// Particles whose apex heights and height-over-time series are recorded (the first free ones).
 pub const TRACKED_PARTICLES: usize = 8;
 /// Most contact events listed one by one (all are counted and enter the statistics).
@@ -29,8 +43,15 @@ pub const MAX_LISTED_EVENTS: usize = 10_000;
 /// A contact of at most this many accepted states, left through the face opposite the one it
 /// entered by, is a tunnelling event (the particle went through, not off).
 pub const THROUGH_SAMPLES: u32 = 3;
+/// Gap (m) below which a particle counts as touching an obstacle: it covers the gap at which
+/// an engine holds a resting contact (Rapier: 3e-5 to 2e-4 m, from its speculative and soft
+/// contacts; springlab's own responses hold 0).
+pub const CONTACT_GAP: f64 = 5e-4;
 /// Most points of each height-over-time series (evenly decimated at the end).
 pub const MAX_SERIES_POINTS: usize = 4_000;
+/// The restitution summary covers impacts whose approach speed is at least this share of the
+/// fastest one (tiny late bounces, measured at a few samples, would dominate a plain mean).
+pub const IMPACT_SPEED_SHARE: f64 = 0.01;
 
 /// One contact between a particle and an obstacle, from touching to leaving.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -45,7 +66,8 @@ pub struct ContactEvent {
     pub t_out: f64,
     /// t_out − t_in (s).
     pub duration: f64,
-    /// Penalty only: the spring-dashpot's half period π/ω_d (s).
+    /// Expected duration (s): 0 for impulse and projection; for penalty the contact ODE's
+    /// (absent when gravity holds the particle pressed in for good).
     pub expected_duration: Option<f64>,
     /// Normal velocity when touching (m/s, negative: approaching).
     pub v_in: f64,
@@ -61,6 +83,14 @@ pub struct ContactEvent {
     pub gravity_share: Option<f64>,
     /// Largest penetration seen at an accepted state during the contact (m, ≥ 0).
     pub max_penetration: f64,
+    /// Expected largest penetration (m): 0 for impulse and projection, the contact ODE's for
+    /// penalty.
+    pub expected_penetration: f64,
+    /// Energy the run booked as dissipated from the sample before touching to the sample
+    /// after leaving (J; the whole system's account over that interval).
+    pub energy_dissipated: f64,
+    /// Energy the run booked as created by contacts over the same interval (J).
+    pub energy_created: f64,
 }
 
 /// One apex between bounces of a tracked particle.
@@ -172,10 +202,17 @@ pub struct ContactReport {
     pub open_contacts: u64,
     /// The first [`MAX_LISTED_EVENTS`] completed events.
     pub events: Vec<ContactEvent>,
-    /// Measured restitution over completed impact events (resting/grazing ones excluded).
+    /// Approach speed (m/s) above which impacts enter the restitution summary:
+    /// [`IMPACT_SPEED_SHARE`] of the fastest approach, at least the grazing speed.
+    pub impact_speed_floor: f64,
+    /// Measured restitution over the impacts above `impact_speed_floor`.
     pub restitution: Stats,
-    /// Expected restitution over the same events.
+    /// Expected restitution over the same impacts.
     pub expected_restitution: Stats,
+    /// Measured minus expected restitution over the same impacts.
+    pub restitution_deviation: Stats,
+    /// The deviation of largest magnitude among them (signed; 0 without impacts).
+    pub restitution_worst_deviation: f64,
     /// Per-event maximum penetration (m), over completed and open events.
     pub penetration: Stats,
     /// Penetration (m) over every accepted state of every particle in contact.
@@ -186,6 +223,8 @@ pub struct ContactReport {
     pub tunnelling: Vec<Tunnelling>,
     /// Apexes and heights of the tracked particles.
     pub bounces: Vec<ParticleBounces>,
+    /// Slides of the tracked particles in resting contact (friction against Coulomb's law).
+    pub slides: Vec<Slide>,
     /// Parry narrow-phase queries made on this thread during the run (responses and metrics).
     pub parry_queries: u64,
 }
@@ -206,6 +245,8 @@ struct Open {
     t_in: f64,
     v_in: f64,
     max_pen: f64,
+    /// The run's (dissipated, created) accounts at the sample before touching.
+    books: (f64, f64),
 }
 
 #[derive(Debug, Default)]
@@ -216,6 +257,7 @@ struct Track {
     last_e: Option<f64>,
     apexes: Vec<Apex>,
     heights: Vec<[f64; 2]>,
+    slide: Option<OpenSlide>,
 }
 
 /// The metrics observer; attach it to a run of a system with obstacles and call
@@ -233,8 +275,8 @@ pub struct ContactMetrics {
     tracked: Vec<usize>,
     events: Vec<ContactEvent>,
     events_total: u64,
-    restitution: Vec<f64>,
-    expected: Vec<f64>,
+    /// (|v_in|, measured e, expected e) of every impact with a measured restitution.
+    impacts: Vec<(f64, f64, f64)>,
     event_pen: Vec<f64>,
     pen_sum: f64,
     pen_count: u64,
@@ -244,6 +286,10 @@ pub struct ContactMetrics {
     tunnel_count: u64,
     q0: u64,
     q1: u64,
+    /// The run's (dissipated, created) accounts at the previous and the current sample.
+    books_before: (f64, f64),
+    books: (f64, f64),
+    slides: Vec<Slide>,
 }
 
 impl ContactMetrics {
@@ -266,8 +312,7 @@ impl ContactMetrics {
             tracked,
             events: Vec::new(),
             events_total: 0,
-            restitution: Vec::new(),
-            expected: Vec::new(),
+            impacts: Vec::new(),
             event_pen: Vec::new(),
             pen_sum: 0.0,
             pen_count: 0,
@@ -277,6 +322,9 @@ impl ContactMetrics {
             tunnel_count: 0,
             q0: crate::collide::query_count(),
             q1: 0,
+            books_before: (0.0, 0.0),
+            books: (0.0, 0.0),
+            slides: Vec::new(),
         })
     }
 
@@ -315,14 +363,16 @@ impl ContactMetrics {
         }
     }
 
-    fn expected_duration(&self, k: usize, p: usize) -> Option<f64> {
-        let Response::Penalty { stiffness, .. } = self.response else {
-            return None;
-        };
-        let z = self.zeta(k, p)?;
-        (z < 1.0).then(|| {
-            std::f64::consts::PI / ((stiffness / self.mass[p]).sqrt() * (1.0 - z * z).sqrt())
-        })
+    /// Expected (restitution, penetration, duration) of an impact of particle `p` on obstacle
+    /// `k` at approach speed `v_in` with normal gravity `a_n` (see the module docs).
+    fn expectation(&self, k: usize, p: usize, v_in: f64, a_n: f64) -> (f64, f64, Option<f64>) {
+        match (self.omega(p), self.zeta(k, p)) {
+            (Some(w), Some(z)) if v_in != 0.0 => {
+                let i = crate::collide::penalty_impact(w, z, a_n, v_in);
+                (i.restitution, i.max_penetration, i.duration)
+            }
+            _ => (self.expected_restitution(k, p), 0.0, Some(0.0)),
+        }
     }
 
     fn sample(&mut self, p: usize, s: &State) {
@@ -338,7 +388,7 @@ impl ContactMetrics {
         let near = self.set.nearest(&x, r, margin);
         let un = near.map_or(0.0, |c| v.dot(&c.normal));
         let tol = 1e-9 * (1.0 + x.norm());
-        let in_contact = near.is_some_and(|c| c.gap < tol);
+        let in_contact = near.is_some_and(|c| c.gap < CONTACT_GAP);
         let prev = self.tracks[p].prev;
         // Tunnelling: the path since the last state entered an obstacle and left it.
         if let Some(pr) = prev {
@@ -387,7 +437,8 @@ impl ContactMetrics {
                             } else {
                                 pr.t
                             };
-                            (t.clamp(pr.t, s.t), u)
+                            // The surface may lie beyond the first sample in the contact band.
+                            (t.max(pr.t), u)
                         }
                         _ => (s.t, un.min(0.0)),
                     };
@@ -403,6 +454,7 @@ impl ContactMetrics {
                         t_in,
                         v_in,
                         max_pen: pen,
+                        books: self.books_before,
                     });
                 }
             }
@@ -426,7 +478,6 @@ impl ContactMetrics {
                 None => (un, 0.0, 0.0),
             };
             let u = (u1 * u1 - 2.0 * a_n * z1).max(0.0).sqrt();
-            let prev_t = prev.map_or(s.t, |pr| pr.t);
             let t_out = if a_n != 0.0 {
                 s.t - (u1 - u) / a_n
             } else if u1 > 0.0 {
@@ -434,39 +485,45 @@ impl ContactMetrics {
             } else {
                 s.t
             };
-            let t_out = t_out.clamp(prev_t.max(o.t_in), s.t);
-            let e_exp = self.expected_restitution(o.obstacle, p);
-            let restitution =
-                (!through && o.v_in.abs() > self.grazing_speed()).then(|| u / o.v_in.abs());
-            let ev = ContactEvent {
-                particle: p,
-                obstacle: o.obstacle,
-                t_in: o.t_in,
-                t_out,
-                duration: t_out - o.t_in,
-                expected_duration: self.expected_duration(o.obstacle, p),
-                v_in: o.v_in,
-                v_out: u,
-                restitution,
-                expected_restitution: e_exp,
-                gravity_share: self.omega(p).map(|w| {
-                    let g = near.map_or(0.0, |c| self.gravity.dot(&c.normal).abs());
-                    g / (w * o.v_in.abs().max(f64::MIN_POSITIVE))
-                }),
-                max_penetration: o.max_pen,
-            };
-            self.events_total += 1;
-            if let Some(e) = restitution {
-                self.restitution.push(e);
-                self.expected.push(e_exp);
+            // The surface may lie before the last sample in the contact band.
+            let t_out = t_out.clamp(o.t_in.min(s.t), s.t);
+            let a_n = self.gravity.dot(&o.normal);
+            self.close(p, &o, t_out, u, a_n, through);
+        } else if let (Some(pr), Some(c)) = (prev, near) {
+            // An approach reversed into a separation between two samples, neither in contact:
+            // an impact resolved within one step in front of the surface (an engine's
+            // speculative contact). Gravity alone never reverses an approach (a_n ≤ 0).
+            let a_n = self.gravity.dot(&c.normal);
+            let same = pr.near.is_some_and(|pc| pc.obstacle == c.obstacle);
+            let reach = (pr.un.abs() + un.abs()) * (s.t - pr.t) + CONTACT_GAP;
+            if same && pr.un < 0.0 && un > 0.0 && a_n <= 0.0 && c.gap < reach {
+                let pc = pr.near.expect("same obstacle");
+                let v_in = -(pr.un * pr.un - 2.0 * a_n * pc.gap).max(0.0).sqrt();
+                let v_out = (un * un + 2.0 * a_n * c.gap).max(0.0).sqrt();
+                let t_in = if a_n != 0.0 {
+                    pr.t + (v_in - pr.un) / a_n
+                } else {
+                    pr.t + pc.gap / -pr.un
+                };
+                let o = Open {
+                    obstacle: c.obstacle,
+                    normal: c.normal,
+                    samples: 0,
+                    t_in: t_in.clamp(pr.t, s.t),
+                    v_in,
+                    max_pen: 0.0,
+                    books: self.books_before,
+                };
+                let t_out = if a_n != 0.0 {
+                    s.t - (un - v_out) / a_n
+                } else {
+                    s.t - c.gap / un
+                };
+                self.close(p, &o, t_out.clamp(o.t_in, s.t), v_out, a_n, false);
             }
-            self.event_pen.push(o.max_pen);
-            if self.events.len() < MAX_LISTED_EVENTS {
-                self.events.push(ev);
-            }
-            let track = &mut self.tracks[p];
-            track.bounces += 1;
-            track.last_e = Some(e_exp);
+        }
+        if is_tracked {
+            self.follow_slide(p, s.t, x, v, near.filter(|_| in_contact));
         }
         if is_tracked {
             let track = &mut self.tracks[p];
@@ -512,6 +569,64 @@ impl ContactMetrics {
         });
     }
 
+    /// Slide bookkeeping of tracked particle `p` at (t, x, v), in contact `c` or not: a slide
+    /// runs while the particle stays on one obstacle without a normal speed above the grazing
+    /// speed (a bounce ends it).
+    fn follow_slide(&mut self, p: usize, t: f64, x: Vec3, v: Vec3, c: Option<Contact>) {
+        let resting = c.filter(|c| v.dot(&c.normal).abs() < self.grazing_speed());
+        let open = &mut self.tracks[p].slide;
+        match (resting, open.as_mut()) {
+            (Some(c), Some(sl)) if sl.obstacle() == c.obstacle => sl.push(t, x, v),
+            (rest, _) => {
+                if let Some(done) = open.take().and_then(|sl| sl.finish(p, self.gravity)) {
+                    self.slides.push(done);
+                }
+                *open = rest.and_then(|c| {
+                    let mu = self.set.obstacles()[c.obstacle].friction;
+                    OpenSlide::start(t, x, v, c.obstacle, c.normal, mu, self.gravity)
+                });
+            }
+        }
+    }
+
+    /// Books the event of particle `p` on the open contact `o`, left at `t_out` with normal
+    /// speed `u` (carried to the surface); `a_n` is gravity along the normal.
+    fn close(&mut self, p: usize, o: &Open, t_out: f64, u: f64, a_n: f64, through: bool) {
+        let (e_exp, pen_exp, dur_exp) = self.expectation(o.obstacle, p, o.v_in, a_n);
+        let restitution =
+            (!through && o.v_in.abs() > self.grazing_speed()).then(|| u / o.v_in.abs());
+        let ev = ContactEvent {
+            particle: p,
+            obstacle: o.obstacle,
+            t_in: o.t_in,
+            t_out,
+            duration: t_out - o.t_in,
+            expected_duration: dur_exp,
+            v_in: o.v_in,
+            v_out: u,
+            restitution,
+            expected_restitution: e_exp,
+            gravity_share: self
+                .omega(p)
+                .map(|w| a_n.abs() / (w * o.v_in.abs().max(f64::MIN_POSITIVE))),
+            max_penetration: o.max_pen,
+            expected_penetration: pen_exp,
+            energy_dissipated: self.books.0 - o.books.0,
+            energy_created: self.books.1 - o.books.1,
+        };
+        self.events_total += 1;
+        if let Some(e) = restitution {
+            self.impacts.push((o.v_in.abs(), e, e_exp));
+        }
+        self.event_pen.push(o.max_pen);
+        if self.events.len() < MAX_LISTED_EVENTS {
+            self.events.push(ev);
+        }
+        let track = &mut self.tracks[p];
+        track.bounces += 1;
+        track.last_e = Some(e_exp);
+    }
+
     /// The measured metrics (call after the run).
     pub fn report(&self) -> ContactReport {
         let open: Vec<f64> = self
@@ -532,6 +647,9 @@ impl ContactMetrics {
                 }
             })
             .collect();
+        let fastest = self.impacts.iter().map(|i| i.0).fold(0.0, f64::max);
+        let floor = (IMPACT_SPEED_SHARE * fastest).max(self.grazing_speed());
+        let summary = self.impacts.iter().filter(move |i| i.0 >= floor);
         let (stiff, name) = match self.response {
             Response::Penalty { stiffness, .. } => (Some(stiffness), "penalty"),
             r => (None, r.name()),
@@ -558,8 +676,17 @@ impl ContactMetrics {
             events_total: self.events_total,
             open_contacts: open.len() as u64,
             events: self.events.clone(),
-            restitution: Stats::of(self.restitution.iter().copied()),
-            expected_restitution: Stats::of(self.expected.iter().copied()),
+            impact_speed_floor: floor,
+            restitution: Stats::of(summary.clone().map(|i| i.1)),
+            expected_restitution: Stats::of(summary.clone().map(|i| i.2)),
+            restitution_deviation: Stats::of(summary.clone().map(|i| i.1 - i.2)),
+            restitution_worst_deviation: summary.map(|i| i.1 - i.2).fold(0.0, |w, d| {
+                if d.abs() > w.abs() {
+                    d
+                } else {
+                    w
+                }
+            }),
             penetration: Stats::of(self.event_pen.iter().chain(&open).copied()),
             penetration_samples: if self.pen_count == 0 {
                 Stats::default()
@@ -574,13 +701,26 @@ impl ContactMetrics {
             tunnelling_count: self.tunnel_count,
             tunnelling: self.tunnels.clone(),
             bounces,
+            slides: self
+                .slides
+                .iter()
+                .cloned()
+                .chain(self.tracked.iter().filter_map(|&p| {
+                    self.tracks[p]
+                        .slide
+                        .as_ref()
+                        .and_then(|sl| sl.finish(p, self.gravity))
+                }))
+                .collect(),
             parry_queries: self.q1.saturating_sub(self.q0),
         }
     }
 }
 
 impl Observer for ContactMetrics {
-    fn observe(&mut self, _step: u64, s: &State, _e: &EnergyRecord) -> Result<()> {
+    fn observe(&mut self, _step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
+        self.books_before = self.books;
+        self.books = (e.dissipated, e.created);
         for p in 0..s.len() {
             if self.free[p] {
                 self.sample(p, s);

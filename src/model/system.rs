@@ -36,7 +36,8 @@ pub struct Energy {
     pub kinetic: f64,
     /// Gravitational potential energy.
     pub gravity: f64,
-    /// Elastic energy of springs (and penalty contacts).
+    /// Elastic energy of springs, compliant constraints (½·stretch²/compliance) and penalty
+    /// contacts.
     pub elastic: f64,
 }
 
@@ -144,6 +145,12 @@ impl System {
         };
         if !self.springs.is_empty() {
             e.elastic += self.springs.potential_energy(x);
+        }
+        // A compliant constraint (XPBD compliance α > 0) is a spring of stiffness 1/α at its
+        // length: it stores ½·stretch²/α.
+        for c in self.constraints.iter().filter(|c| c.compliance > 0.0) {
+            let stretch = (x[c.j] - x[c.i]).norm() - c.length;
+            e.elastic += 0.5 * stretch * stretch / c.compliance;
         }
         for t in &self.terms {
             match t.energy_kind() {

@@ -35,7 +35,7 @@ impl RunFiles {
         let ep = energy.target().to_path_buf();
         writeln!(
             energy.writer(),
-            "step,t,kinetic,gravity,elastic,dissipated,injected,total"
+            "step,t,kinetic,gravity,elastic,dissipated,injected,created,total"
         )
         .map_err(werr(&ep))?;
         Ok(RunFiles {
@@ -65,12 +65,13 @@ impl RunFiles {
         let ep = self.energy.target().to_path_buf();
         writeln!(
             self.energy.writer(),
-            "{step},{t},{},{},{},{},{},{}",
+            "{step},{t},{},{},{},{},{},{},{}",
             e.kinetic,
             e.gravity,
             e.elastic,
             e.dissipated,
             e.injected,
+            e.created,
             e.total
         )
         .map_err(werr(&ep))?;

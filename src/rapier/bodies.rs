@@ -21,8 +21,12 @@ pub const RESTITUTION_RULE: CoefficientCombineRule = CoefficientCombineRule::Max
 /// invertible inertia tensor (m).
 const MIN_INERTIA_RADIUS: f64 = 1e-3;
 
-/// The body for particle `p` of `sys` at the state's position and velocity.
-pub fn particle_body(sys: &System, s: &State, p: usize) -> RigidBody {
+/// The body for particle `p` of `sys` at the state's position and velocity. With
+/// `lock_rotations` (the impulse-joint backend) the body cannot turn: a particle has no
+/// rotational degree of freedom, so a ball on an incline slides under Coulomb friction
+/// (a = g(sin θ − μ cos θ)) instead of rolling (a = 5/7·g·sin θ). Multibody links must turn
+/// about their parents and keep their rotations.
+pub fn particle_body(sys: &System, s: &State, p: usize, lock_rotations: bool) -> RigidBody {
     let builder = if sys.free[p] {
         RigidBodyBuilder::dynamic().linvel(to_glam(&s.v[p]))
     } else {
@@ -30,6 +34,11 @@ pub fn particle_body(sys: &System, s: &State, p: usize) -> RigidBody {
     };
     let r = sys.radius[p].max(MIN_INERTIA_RADIUS);
     let m = sys.mass[p];
+    let builder = if lock_rotations {
+        builder.lock_rotations()
+    } else {
+        builder
+    };
     builder
         .translation(to_glam(&s.x[p]))
         .additional_mass_properties(MassProperties::new(
@@ -76,5 +85,6 @@ pub fn particle_collider(sys: &System, p: usize) -> Collider {
         .restitution_combine_rule(RESTITUTION_RULE)
         .friction(0.0)
         .friction_combine_rule(CoefficientCombineRule::Max)
+        .contact_skin(0.0)
         .build()
 }

@@ -36,10 +36,14 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
     let mut world = PhysicsWorld::new();
     world.gravity = sys.gravity.as_ref().map(to_glam).unwrap_or(Vector::ZERO);
     set_step(&mut world, substeps, h);
+    super::obstacles::contact_parameters(&mut world.integration_parameters);
     let bodies: Vec<RigidBodyHandle> = (0..sys.len())
         .map(|p| {
             world
-                .insert(particle_body(sys, s, p), particle_collider(sys, p))
+                .insert(
+                    particle_body(sys, s, p, mode == Mode::Impulse),
+                    particle_collider(sys, p),
+                )
                 .0
         })
         .collect();

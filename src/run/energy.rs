@@ -16,6 +16,10 @@ pub struct EnergyRecord {
     pub dissipated: f64,
     /// Energy injected by impulses since t = 0.
     pub injected: f64,
+    /// Energy the contact stage created since t = 0 (≥ 0; e.g. pushing a particle out of an
+    /// obstacle against gravity or a spring). Informational: it is already in the mechanical
+    /// terms, so `total` rises by it and the verdict counts it as a gain.
+    pub created: f64,
     /// kinetic + gravity + elastic + dissipated − injected: constant for the exact solution,
     /// so its change is the integrator's energy error in conservative and dissipative scenes.
     pub total: f64,
@@ -30,8 +34,14 @@ impl EnergyRecord {
             elastic: e.elastic,
             dissipated,
             injected,
+            created: 0.0,
             total: e.mechanical() + dissipated - injected,
         }
+    }
+    /// The same record with `created` (J) booked as energy a contact stage created.
+    pub fn with_created(mut self, created: f64) -> Self {
+        self.created = created;
+        self
     }
     /// Kinetic + potential energy.
     pub fn mechanical(&self) -> f64 {
@@ -45,6 +55,7 @@ impl EnergyRecord {
             self.elastic,
             self.dissipated,
             self.injected,
+            self.created,
             self.total,
         ]
         .iter()

@@ -113,9 +113,12 @@ struct Loop<'a> {
     integ: &'a mut dyn Integrator,
     evals: u64,
     dissipated: f64,
+    /// Energy the contact stage created (booked apart; it stays in the mechanical terms).
+    created: f64,
     wall: f64,
-    /// Positions before the step, kept only when the scene has a contact stage.
+    /// Positions and velocities before the step, kept only when the scene has a contact stage.
     x0: Vec<crate::model::Vec3>,
+    v0: Vec<crate::model::Vec3>,
 }
 
 impl Loop<'_> {
@@ -123,20 +126,22 @@ impl Loop<'_> {
         let t0 = Instant::now();
         if self.sys.post_step.is_some() {
             self.x0.clone_from(&s.x);
+            self.v0.clone_from(&s.v);
         }
         let stats = self.integ.step(self.sys, s, h)?;
         // Contact stage (obstacles only): resolve contacts after the accepted step, before the
         // energy account; what it removes joins `dissipated`, and a changed state resets the
-        // integrator's history. A contact never gives energy back: energy the stage created
-        // (a negative loss) stays in the mechanical terms, where the verdict sees it as a gain.
+        // integrator's history. The stage books losses and gains apart: energy it created stays
+        // in the mechanical terms, where the verdict sees it as a gain, and is listed in `created`.
         if let Some(c) = self
             .sys
             .post_step
             .as_ref()
             .filter(|_| !self.integ.handles_contacts())
         {
-            let cs = c.apply(self.sys, &self.x0, s, h);
-            self.dissipated += cs.dissipated.max(0.0);
+            let cs = c.apply(self.sys, &self.x0, &self.v0, s, h);
+            self.dissipated += cs.dissipated;
+            self.created += cs.created;
             if cs.changed {
                 self.integ.reset();
             }
@@ -189,8 +194,10 @@ pub fn run(
         integ,
         evals: 0,
         dissipated: 0.0,
+        created: 0.0,
         wall: 0.0,
         x0: Vec::new(),
+        v0: Vec::new(),
     };
     let eps = 1e-9 * h;
     let mut next_imp = 0;
@@ -229,7 +236,8 @@ pub fn run(
                 }
             }
             s.t = t_end;
-            rec = EnergyRecord::new(sys.state_energy(&s), lp.dissipated, injected);
+            rec = EnergyRecord::new(sys.state_energy(&s), lp.dissipated, injected)
+                .with_created(lp.created);
             let reason = match failure {
                 Some(Error::Step(why)) => Some(why),
                 Some(other) => return Err(other),

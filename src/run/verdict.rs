@@ -53,10 +53,15 @@ pub fn judge(
         e.kinetic.abs() + e.gravity.abs() + e.elastic.abs() + e.dissipated.abs() + e.injected.abs();
     if rise > factor * scale + ROUNDOFF * terms {
         return Some(format!(
-            "energy balance rose by {rise:.3e} J (mechanical {:+.3e} J, dissipated {:.3e} J, injected {:.3e} J), above {factor} × the scene's energy scale of {scale:.3e} J",
+            "energy balance rose by {rise:.3e} J (mechanical {:+.3e} J, dissipated {:.3e} J, injected {:.3e} J{}), above {factor} × the scene's energy scale of {scale:.3e} J",
             e.mechanical() - e0_total,
             e.dissipated,
-            e.injected
+            e.injected,
+            if e.created > 0.0 {
+                format!(", created by contacts {:.3e} J", e.created)
+            } else {
+                String::new()
+            }
         ));
     }
     None

@@ -63,6 +63,7 @@ fn run_at(
     let mut evals = 0;
     let eps = 1e-9 * h;
     let mut x0 = s.x.clone();
+    let mut v0 = s.v.clone();
     integ.reset();
     loop {
         while next < times.len() && times[next] <= s.t + eps {
@@ -87,9 +88,10 @@ fn run_at(
         }
         let step = target - s.t;
         x0.clone_from(&s.x);
+        v0.clone_from(&s.v);
         evals += integ.step(sys, &mut s, step)?.force_evals;
         if let Some(c) = &sys.post_step {
-            if c.apply(sys, &x0, &mut s, step).changed {
+            if c.apply(sys, &x0, &v0, &mut s, step).changed {
                 integ.reset();
             }
         }

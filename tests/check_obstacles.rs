@@ -1,0 +1,52 @@
+//! `springlab check` on obstacle scenes (issue 13, part 6): obstacles with shape, pose,
+//! restitution and friction, particle radii, the contact response, and every backend that
+//! applies, Rapier included, with the reason each other one does not.
+//!
+//! Oracle: the shipped scene files themselves (`scenarios/bounce.toml`,
+//! `scenarios/bounce_penalty.toml`, `scenarios/rain_on_mesh.toml`).
+
+use std::process::Command;
+
+fn check(scene: &str) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
+        .args([
+            "check",
+            &format!("{}/scenarios/{scene}", env!("CARGO_MANIFEST_DIR")),
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    String::from_utf8(out.stdout).unwrap()
+}
+
+#[test]
+fn check_lists_obstacles_radii_response_and_rapier() {
+    let text = check("bounce.toml");
+    for needle in [
+        "radius = 0.1 m",
+        "[0] plane: point = (0, 0, 0), normal = (0, 1, 0); restitution = 0.5, friction = 0",
+        "contact response: impulse",
+        "rapier_impulse, rapier_multibody",
+    ] {
+        assert!(text.contains(needle), "missing '{needle}' in:\n{text}");
+    }
+}
+
+#[test]
+fn check_says_why_rapier_does_not_apply_to_penalty_contacts() {
+    let text = check("bounce_penalty.toml");
+    assert!(
+        text.contains("contact response: penalty, stiffness = 100000 N/m"),
+        "{text}"
+    );
+    assert!(text.contains("not rapier_impulse: "), "{text}");
+}
+
+#[test]
+fn check_says_whether_a_mesh_is_closed_or_a_two_sided_sheet() {
+    let text = check("rain_on_mesh.toml");
+    assert!(
+        text.contains("open (two-sided sheet); restitution = 0.3, friction = 0.2"),
+        "{text}"
+    );
+}

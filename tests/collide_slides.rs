@@ -1,0 +1,112 @@
+//! Friction as `contacts.json` reports it, for every backend (the data of the collision
+//! validation): slides in resting contact against the point-mass Coulomb law.
+//!
+//! Oracles (closed forms): on a 30° incline with μ = 0.2 a particle released at rest
+//! accelerates at g(sin θ − μ cos θ) = 3.2059 m/s²; sliding at 5 m/s on a flat plane with
+//! μ = 0.3 it stops after v0²/(2μg) = 4.2474 m; a ball free to roll (a Rapier multibody body)
+//! accelerates at 5/7·g·sin θ instead, the documented difference.
+
+use springlab::integrate::IntegratorOptions;
+use springlab::measure::contacts::{ContactMetrics, ContactReport};
+use springlab::method::Registry;
+use springlab::run::{run, RunPlan};
+use springlab::scenario::Scenario;
+
+const G: f64 = 9.81;
+
+fn scene(deg: f64, mu: f64, v0: f64) -> Scenario {
+    let th = deg.to_radians();
+    let (nx, ny) = (-th.sin(), th.cos());
+    let r = 0.05;
+    Scenario::from_toml_str(
+        &format!(
+            "[world]\ngravity = [0.0, -{G}, 0.0]\n[[particle]]\nposition = [{}, {}, 0.0]\nvelocity = [{v0}, 0.0, 0.0]\nmass = 0.1\nradius = {r}\n\
+             [[obstacle]]\nshape = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [{nx}, {ny}, 0.0]\nfriction = {mu}\n",
+            nx * r,
+            ny * r
+        ),
+        "slide.toml",
+    )
+    .unwrap()
+}
+
+fn report(scene: &Scenario, name: &str, duration: f64) -> ContactReport {
+    let sys = scene.build();
+    let dt = 1e-3;
+    let mut integ = Registry::builtin()
+        .create(name, &IntegratorOptions::default())
+        .unwrap();
+    let mut m = ContactMetrics::new(&sys, dt).unwrap();
+    let out = run(
+        &sys,
+        integ.as_mut(),
+        scene.initial_state(),
+        &RunPlan::for_duration(dt, duration),
+        &mut m,
+    )
+    .unwrap();
+    assert!(out.status.is_ok(), "{name}: {:?}", out.status);
+    m.report()
+}
+
+fn backends() -> Vec<&'static str> {
+    let sys = scene(30.0, 0.2, 0.0).build();
+    Registry::builtin()
+        .iter()
+        .filter(|m| m.create(&IntegratorOptions::default()).check(&sys).is_ok())
+        .map(|m| m.info.name)
+        .filter(|n| *n != "explicit_euler" && *n != "rapier_multibody")
+        .collect()
+}
+
+#[test]
+fn contacts_json_reports_the_incline_acceleration_for_every_backend() {
+    let th = 30f64.to_radians();
+    let a = G * (th.sin() - 0.2 * th.cos());
+    for name in backends() {
+        let rep = report(&scene(30.0, 0.2, 0.0), name, 1.0);
+        assert_eq!(rep.slides.len(), 1, "{name}: {:?}", rep.slides);
+        let s = &rep.slides[0];
+        eprintln!(
+            "{name}: incline a = {:.5} m/s² (theory {a:.5}), over {:.3} s",
+            s.acceleration,
+            s.t_end - s.t_start
+        );
+        assert!((s.expected_acceleration - a).abs() < 1e-12);
+        assert!((s.acceleration / a - 1.0).abs() < 0.01, "{name}: {s:?}");
+    }
+}
+
+#[test]
+fn contacts_json_reports_the_stopping_distance_for_every_backend() {
+    let (v0, mu) = (5.0, 0.3);
+    let d = v0 * v0 / (2.0 * mu * G);
+    for name in backends() {
+        let rep = report(&scene(0.0, mu, v0), name, 2.0);
+        let s = &rep.slides[0];
+        eprintln!(
+            "{name}: stopped after {:.5} m (theory {d:.5}) at {:.4} s (theory {:.4})",
+            s.distance,
+            s.t_end,
+            v0 / (mu * G)
+        );
+        assert!(s.stopped, "{name}: {s:?}");
+        assert!((s.expected_stop_distance.unwrap() / d - 1.0).abs() < 1e-12);
+        assert!((s.distance / d - 1.0).abs() < 0.01, "{name}: {s:?}");
+    }
+}
+
+#[test]
+fn difference_a_rapier_multibody_ball_rolls_down_the_incline() {
+    // Multibody links must turn about their parents, so rapier_multibody keeps rotations:
+    // a lone ball rolls without slipping (μ = 0.2 > 2/7·tan 30° = 0.165), a = 5/7·g·sin θ.
+    let th = 30f64.to_radians();
+    let rolling = 5.0 / 7.0 * G * th.sin();
+    let rep = report(&scene(30.0, 0.2, 0.0), "rapier_multibody", 1.0);
+    let s = &rep.slides[0];
+    eprintln!(
+        "rapier_multibody: incline a = {:.5} m/s² (rolling {rolling:.5}, sliding point {:.5})",
+        s.acceleration, s.expected_acceleration
+    );
+    assert!((s.acceleration / rolling - 1.0).abs() < 0.01, "{s:?}");
+}
