@@ -120,7 +120,13 @@ fn every_referenced_file_exists_and_pages_are_offline() {
             let target = base.join(&r);
             assert!(target.exists(), "{}: {r} does not exist", page.display());
         }
-        assert!(!html.contains("<script"), "{}: scripts", page.display());
+        // Scripts only for the playback: its local data file and the inline player.
+        let scripts = html.matches("<script").count();
+        assert!(
+            scripts == 0 || (scripts == 2 && html.contains("<script src=\"playback.js\">")),
+            "{}: scripts other than the playback's",
+            page.display()
+        );
         for bad in ["NaN", "inf ", ">inf<"] {
             assert!(!html.contains(bad), "{}: contains {bad}", page.display());
         }
@@ -155,6 +161,11 @@ fn axis_labels(stem: &str) -> &'static [&'static str] {
         ],
         "paths" | "snapshots" => &["(m)"],
         "collision" => &["time t (s)", "height (m)", "bounce n"],
+        "framerate" => &[
+            "frame rate (Hz)",
+            "max position error (m)",
+            "wall time per frame (s)",
+        ],
         other => panic!("unexpected chart {other}"),
     }
 }
@@ -212,7 +223,7 @@ fn every_svg_is_well_formed_with_axes_and_legend() {
 
 fn expected_header(stem: &str) -> &'static str {
     match stem {
-        "energy" | "energy_error" | "position_error" | "paths" | "collision" => {
+        "energy" | "energy_error" | "position_error" | "paths" | "collision" | "framerate" => {
             "group,series,x,y,kind"
         }
         "convergence" => "group,series,dt,error,kind,order,fitted_slope",

@@ -39,15 +39,39 @@ fn lines(
         .collect()
 }
 
+fn error_lines(fr: &Framerate) -> Vec<Series> {
+    lines(fr, |e| {
+        (e.one_substep.status == "ok").then_some(e.one_substep.max_position_error)
+    })
+}
+
+fn cost_lines(fr: &Framerate) -> Vec<Series> {
+    lines(fr, |e| {
+        e.fewest.as_ref().and_then(|f| f.wall_seconds_per_frame)
+    })
+}
+
+/// The data behind the chart, as CSV (`group,series,x,y,kind`: panel, backend, Hz, value,
+/// `point`), written beside the SVG like every chart's data.
+pub fn chart_csv(fr: &Framerate) -> String {
+    let mut out = String::from("group,series,x,y,kind\n");
+    for (panel, series) in [
+        ("error_one_substep_m", error_lines(fr)),
+        ("wall_seconds_per_frame_fewest", cost_lines(fr)),
+    ] {
+        for s in series {
+            for p in s.points {
+                out += &format!("{panel},{},{:e},{:e},point\n", s.label, p[0], p[1]);
+            }
+        }
+    }
+    out
+}
+
 /// The chart (SVG) of `fr`: error at one substep, and wall time per frame at the fewest
 /// substeps meeting the tolerance, both against the frame rate.
 pub fn chart(fr: &Framerate) -> Result<String> {
-    let err = lines(fr, |e| {
-        (e.one_substep.status == "ok").then_some(e.one_substep.max_position_error)
-    });
-    let cost = lines(fr, |e| {
-        e.fewest.as_ref().and_then(|f| f.wall_seconds_per_frame)
-    });
+    let (err, cost) = (error_lines(fr), cost_lines(fr));
     let panel = |title: String, y: &str, series| Panel {
         title,
         x: Axis::log("frame rate (Hz)"),

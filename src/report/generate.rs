@@ -172,6 +172,10 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     match &s.framerate {
         Some(fr) => {
             write_atomic(
+                dir.join("framerate.csv"),
+                super::framerate::chart_csv(fr).as_bytes(),
+            )?;
+            write_atomic(
                 dir.join("framerate.svg"),
                 super::framerate::chart(fr)?.as_bytes(),
             )?;
