@@ -13,6 +13,10 @@ pub struct Args {
     pub scenario: PathBuf,
     #[command(flatten)]
     pub m: MeasureArgs,
+    /// Leave out the game view (frame_rates: 30, 60, 144, 240 Hz); `springlab framerate`
+    /// answers that question in full.
+    #[arg(long)]
+    pub no_frame_rates: bool,
     /// Error bound over the horizon (m for position, relative for energy).
     #[arg(long)]
     pub tolerance: f64,
@@ -53,6 +57,7 @@ pub fn run(a: Args) -> Result<()> {
         dt_max: a.dt_max,
         progress: true,
         blowup_factor: a.blowup.value()?,
+        frame_rates: !a.no_frame_rates,
         ..Default::default()
     };
     let adv = advise(&scene, &cfg)?;

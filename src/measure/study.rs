@@ -217,6 +217,8 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         points: if cfg.quick { 4 } else { 8 },
         progress: cfg.progress,
         blowup_factor: cfg.blowup_factor,
+        // The frame-rate section (`framerate`) answers the game view: one computation.
+        frame_rates: false,
         ..Default::default()
     };
     let (_, advice_grid) = super::advise::step_grid_of(scene, &advice_cfg)?;
@@ -328,7 +330,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             compared
                 .reference
                 .predictability_horizon
-                .map_or(String::new(), |h| format!(" (predictable for {h} s)"))
+                .map_or(String::new(), |h| format!(" (predictable for {h:.3} s)"))
         ));
         None
     } else {
@@ -412,7 +414,7 @@ fn study_framerate(
         .filter(|_| compared.reference.uncertainty > tolerance);
     if let Some(h) = horizon {
         notes.push(format!(
-            "Frame rates over the first {h} s: the reference's uncertainty over the whole {duration} s ({:.2e} m) exceeds the {tolerance} m tolerance, and it is predictable for {h} s.",
+            "Frame rates over the first {h:.3} s: the reference's uncertainty over the whole {duration} s ({:.2e} m) exceeds the {tolerance} m tolerance, and it is predictable for {h:.3} s.",
             compared.reference.uncertainty
         ));
         duration = h;

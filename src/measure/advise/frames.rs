@@ -67,17 +67,20 @@ pub(super) struct FramePlan {
     frames: Vec<u64>,
     /// Substeps per frame, per frame rate, per candidate.
     substeps: Vec<Vec<u64>>,
+    /// The frame rates (Hz): [`FRAME_RATES`], or none when the view is not asked for.
+    rates: Vec<f64>,
 }
 
 impl FramePlan {
     /// The plan for candidates whose recommended steps are `steps` (s).
-    pub(super) fn new(horizon: f64, steps: &[f64]) -> Self {
+    pub(super) fn new(horizon: f64, steps: &[f64], rates: &[f64]) -> Self {
         FramePlan {
-            frames: FRAME_RATES
+            rates: rates.to_vec(),
+            frames: rates
                 .iter()
                 .map(|&f| crate::measure::framerate::frames_at(horizon, f))
                 .collect(),
-            substeps: FRAME_RATES
+            substeps: rates
                 .iter()
                 .map(|&fps| {
                     steps
@@ -93,7 +96,7 @@ impl FramePlan {
     /// [`FramePlan::entries`] reads them.
     pub(super) fn grids(&self, max_samples: u64) -> Vec<(usize, TimeGrid)> {
         let mut out = Vec::new();
-        for (fi, &fps) in FRAME_RATES.iter().enumerate() {
+        for (fi, &fps) in self.rates.iter().enumerate() {
             let frame = 1.0 / fps;
             for (pi, &n) in self.substeps[fi].iter().enumerate() {
                 out.push((pi, TimeGrid::new(frame, self.frames[fi], max_samples)));
@@ -116,7 +119,7 @@ impl FramePlan {
         tolerance: f64,
     ) -> Result<Vec<FrameRate>> {
         let np = names.len();
-        FRAME_RATES
+        self.rates
             .iter()
             .enumerate()
             .map(|(fi, &fps)| {
@@ -165,7 +168,7 @@ impl FramePlan {
         let n = self.substeps[fi][pi];
         TimedRun {
             integrator: integrator.to_string(),
-            dt: (1.0 / FRAME_RATES[fi]) / n as f64,
+            dt: (1.0 / self.rates[fi]) / n as f64,
             steps: self.frames[fi] * n,
             substeps: None,
         }

@@ -88,6 +88,9 @@ pub struct AdviseConfig {
     pub blowup_factor: f64,
     /// How often each candidate's run is repeated to time it (default [`ADVICE_TIMING`]).
     pub timing: TimingRule,
+    /// Add the game view (`frame_rates` at [`FRAME_RATES`]); `--no-frame-rates` leaves it out
+    /// (the report's frame-rate section answers that question with `springlab framerate`).
+    pub frame_rates: bool,
 }
 
 impl Default for AdviseConfig {
@@ -106,6 +109,7 @@ impl Default for AdviseConfig {
             progress: false,
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             timing: ADVICE_TIMING,
+            frame_rates: true,
         }
     }
 }
@@ -399,6 +403,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let plan = FramePlan::new(
         horizon,
         &predictions.iter().map(|p| p.1.dt).collect::<Vec<_>>(),
+        if cfg.frame_rates { &FRAME_RATES } else { &[] },
     );
     let vjobs: Vec<(String, TimeGrid)> = predictions
         .iter()
@@ -474,6 +479,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .flag("iterations", cfg.options.constraint_iterations)
         .flag("xpbd-substeps", cfg.options.xpbd_substeps)
         .flag("xpbd-iterations", cfg.options.xpbd_iterations)
+        .switch("no-frame-rates", !cfg.frame_rates)
         .render();
     Ok(Advice {
         command,
