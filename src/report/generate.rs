@@ -169,6 +169,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     }
     notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit from the command beside its document.".into());
     let mut sections = Vec::new();
+    sections.extend(super::collision_table::section(s));
     match &s.framerate {
         Some(fr) => {
             write_atomic(

@@ -7,6 +7,7 @@
 //! → [`verdict`], [`html`], [`markdown`]; [`generate`] writes it all.
 
 mod charts;
+mod collision_table;
 pub mod data;
 mod finite;
 mod framerate;

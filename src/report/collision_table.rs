@@ -1,0 +1,73 @@
+//! The collision-validation table of an obstacle scene's page: per backend, measured against
+//! expected restitution per impact, penetration, friction (slides against Coulomb's law) and
+//! the energy booked per impact, all read from compare's `contacts.json` (one computation:
+//! [`crate::measure::contacts`]).
+
+use super::html::esc;
+use crate::measure::study::SceneStudy;
+
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.4}")
+    } else {
+        "—".into()
+    }
+}
+
+fn sci(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.2e}")
+    } else {
+        "—".into()
+    }
+}
+
+/// The section, or `None` for a scene without obstacles.
+pub fn section(st: &SceneStudy) -> Option<String> {
+    let runs: Vec<_> = st
+        .compare
+        .entries
+        .iter()
+        .filter_map(|e| e.result.as_ref())
+        .filter_map(|r| r.contacts.as_ref().map(|c| (r, c)))
+        .collect();
+    if runs.is_empty() {
+        return None;
+    }
+    let mut body = String::from("<h2>Collision validation</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>, per backend at the comparison's step. Restitution: impacts approaching faster than the stated floor (1 % of the fastest), measured e = v_out/v_in against the expected e (the specified one; for penalty contacts, the contact equation's with gravity along the normal), mean and worst deviation. Penetration: deepest measured against the deepest expected. Friction: slides in resting contact, measured deceleration against Coulomb's law (worst relative deviation). Energy per impact: mean work booked as dissipated, and the energy any contact created (should be 0).</p>\n<table>\n<tr><th class=\"l\">backend</th><th>impacts (floor m/s)</th><th>mean e measured</th><th>mean e expected</th><th>worst e − expected</th><th>deepest penetration (m)</th><th>deepest expected (m)</th><th>slides</th><th>worst friction deviation</th><th>dissipated per impact (J)</th><th>created (J)</th><th>tunnelling</th></tr>\n");
+    for (r, c) in runs {
+        let expected_pen = c
+            .events
+            .iter()
+            .map(|e| e.expected_penetration)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let friction = c
+            .slides
+            .iter()
+            .filter(|s| s.expected_acceleration.abs() > 0.0)
+            .map(|s| ((s.acceleration - s.expected_acceleration) / s.expected_acceleration).abs())
+            .fold(f64::NEG_INFINITY, f64::max);
+        let n = c.events.len().max(1) as f64;
+        let dissipated: f64 = c.events.iter().map(|e| e.energy_dissipated).sum::<f64>() / n;
+        let created: f64 = c.events.iter().map(|e| e.energy_created).sum();
+        let has_e = c.restitution.count > 0;
+        body += &format!(
+            "<tr><td class=\"l\">{}</td><td>{} ({})</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+            esc(&r.integrator),
+            c.restitution.count,
+            sci(c.impact_speed_floor),
+            if has_e { num(c.restitution.mean) } else { "—".into() },
+            if has_e { num(c.expected_restitution.mean) } else { "—".into() },
+            if has_e { num(c.restitution_worst_deviation) } else { "—".into() },
+            sci(c.penetration.max),
+            sci(expected_pen),
+            c.slides.len(),
+            if friction.is_finite() { format!("{:.2} %", 100.0 * friction) } else { "—".into() },
+            if c.events.is_empty() { "—".into() } else { sci(dissipated) },
+            sci(created),
+            c.tunnelling_count
+        );
+    }
+    body += "</table>\n";
+    Some(body)
+}
