@@ -8,12 +8,8 @@ use crate::error::Result;
 use crate::measure::framerate::Framerate;
 use crate::report::data::{BlowUp, Series};
 
-/// One line per backend: (x = Hz, y) for each rate where `pick` gives a value; a rate where
-/// the run at one substep blew up ends the line with a marker at the last point.
-fn lines(
-    fr: &Framerate,
-    pick: impl Fn(&crate::measure::framerate::RateEntry) -> Option<f64>,
-) -> Vec<Series> {
+/// The backends of `fr`, in the order of its entries.
+fn backends(fr: &Framerate) -> Vec<&str> {
     let mut names: Vec<&str> = Vec::new();
     for e in &fr.entries {
         if !names.contains(&e.backend.as_str()) {
@@ -21,6 +17,15 @@ fn lines(
         }
     }
     names
+}
+
+/// One line per backend: (x = Hz, y) for each rate where `pick` gives a value; a rate where
+/// the run at one substep blew up ends the line with a marker at the last point.
+fn lines(
+    fr: &Framerate,
+    pick: impl Fn(&crate::measure::framerate::RateEntry) -> Option<f64>,
+) -> Vec<Series> {
+    backends(fr)
         .iter()
         .map(|n| {
             let points: Vec<[f64; 2]> = fr
@@ -109,12 +114,7 @@ pub fn section(fr: &Framerate, note: Option<&str>) -> String {
             rates.push(e.hz);
         }
     }
-    let mut names: Vec<&str> = Vec::new();
-    for e in &fr.entries {
-        if !names.contains(&e.backend.as_str()) {
-            names.push(&e.backend);
-        }
-    }
+    let names = backends(fr);
     let mut body = format!(
         "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each backend at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · wall time per frame</em>; “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: wall time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">backend</th>",
         esc(&fr.command),

@@ -155,19 +155,13 @@ fn bounds(runs: &[&CaseResult], plane: [usize; 2]) -> Option<[f64; 4]> {
 
 /// Short springs (at most [`LINE_LENGTH_FACTOR`] × the median rest length) and every rod.
 fn lines(scene: &Scenario) -> Vec<[usize; 2]> {
-    let x = |p: usize| scene.particles[p].position;
-    let len = |i: usize, j: usize, l0: Option<f64>| l0.unwrap_or_else(|| (x(j) - x(i)).norm());
-    let mut lengths: Vec<f64> = scene
-        .springs
-        .iter()
-        .map(|s| len(s.i, s.j, s.rest_length))
-        .collect();
+    let mut lengths: Vec<f64> = scene.springs.iter().map(|s| scene.rest_length(s)).collect();
     lengths.sort_by(f64::total_cmp);
     let median = lengths.get(lengths.len() / 2).copied().unwrap_or(0.0);
     scene
         .springs
         .iter()
-        .filter(|s| len(s.i, s.j, s.rest_length) <= LINE_LENGTH_FACTOR * median)
+        .filter(|s| scene.rest_length(s) <= LINE_LENGTH_FACTOR * median)
         .map(|s| [s.i, s.j])
         .chain(scene.constraints.iter().map(|c| [c.i, c.j]))
         .collect()

@@ -159,6 +159,12 @@ impl Scenario {
         self.particles.iter().filter(|p| !p.fixed).count()
     }
 
+    /// Rest length of spring `s` (m): as given, else the initial distance of its particles.
+    pub fn rest_length(&self, s: &SpringDef) -> f64 {
+        s.rest_length
+            .unwrap_or_else(|| (self.particles[s.j].position - self.particles[s.i].position).norm())
+    }
+
     /// Builds the system with only the terms this scene uses.
     pub fn build(&self) -> System {
         let mass: Vec<f64> = self.particles.iter().map(|p| p.mass).collect();
@@ -170,9 +176,7 @@ impl Scenario {
             .collect();
         let mut springs = Springs::default();
         for s in &self.springs {
-            let l0 = s.rest_length.unwrap_or_else(|| {
-                (self.particles[s.j].position - self.particles[s.i].position).norm()
-            });
+            let l0 = self.rest_length(s);
             let k = match s.law {
                 SpringLaw::Hooke => s.stiffness,
                 SpringLaw::Strain => s.stiffness / l0,
