@@ -165,3 +165,53 @@ fn rapier_gets_whole_frames() {
     .unwrap();
     assert_eq!(x.final_state.x, y.final_state.x);
 }
+
+/// `compare --substeps n` measures every native method per frame of n substeps: its final
+/// state, hence its final error, is bit for bit the run at dt/n (same definition as above),
+/// its work the same force evaluations, its step count the frames; Rapier gets n solver
+/// substeps; and the command it prints says `--substeps n`.
+#[test]
+fn compare_splits_frames_for_every_native_method() {
+    use springlab::measure::compare::{compare, CompareConfig};
+    let scene = Scenario::from_toml_str(CHAIN, "chain.toml").unwrap();
+    let names: Vec<String> = [
+        "symplectic_euler",
+        "rk4",
+        "implicit_euler",
+        "rapier_impulse",
+    ]
+    .map(String::from)
+    .to_vec();
+    let at = |dt: f64, frame_substeps: Option<u64>| {
+        compare(
+            &scene,
+            &CompareConfig {
+                integrators: names.clone(),
+                dt: Some(dt),
+                duration: Some(0.2),
+                frame_substeps,
+                series_points: 0,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+    };
+    let split = at(1.0 / 60.0, Some(4));
+    let fine = at(1.0 / 240.0, None);
+    assert!(split.command.contains("--substeps 4"), "{}", split.command);
+    assert_eq!(split.substeps, 4);
+    for (a, b) in split.entries.iter().zip(&fine.entries) {
+        let (a, b) = (a.result.as_ref().unwrap(), b.result.as_ref().unwrap());
+        if a.integrator == "rapier_impulse" {
+            continue;
+        }
+        assert_eq!(a.steps_done * 4, b.steps_done, "{}", a.integrator);
+        assert_eq!(a.force_evals, b.force_evals, "{}", a.integrator);
+        assert_eq!(
+            a.metrics.error_final.to_bits(),
+            b.metrics.error_final.to_bits(),
+            "{}",
+            a.integrator
+        );
+    }
+}

@@ -38,6 +38,7 @@ pub fn run(a: Args) -> Result<()> {
         dt: a.dt,
         duration: a.duration,
         options: a.m.options()?,
+        frame_substeps: a.m.frame_substeps(),
         blowup_factor: a.blowup.value()?,
         progress: true,
         series_points: a.series_points,
@@ -47,8 +48,11 @@ pub fn run(a: Args) -> Result<()> {
     let res = compare(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "compare");
     let files = write_compare(&dir, &res)?;
+    let split = res
+        .frame_substeps
+        .map_or(String::new(), |n| format!(" × {n} substeps"));
     println!(
-        "{}: dt = {} s, {} steps, reference {}",
+        "{}: dt = {} s, {} steps{split}, reference {}",
         scene.name, res.dt, res.steps, res.reference.kind
     );
     println!(

@@ -33,9 +33,12 @@ pub struct MeasureArgs {
     /// Constraint projection sweeps per step for verlet_constraints.
     #[arg(long, default_value_t = 20)]
     pub iterations: usize,
-    /// Solver substeps per frame for Rapier backends.
-    #[arg(long, default_value_t = 4)]
-    pub substeps: usize,
+    /// Substeps per step. Rapier backends take this many solver substeps (default 4). In
+    /// `compare` the step is a frame and every native method also splits it into this many
+    /// equal steps (default 1; bit-identical to dt/N, every N-th state measured); `sweep`,
+    /// `stability` and `advise` vary the step itself, so there it sets Rapier's only.
+    #[arg(long)]
+    pub substeps: Option<usize>,
     #[command(flatten)]
     pub xpbd: super::xpbd_args::XpbdArgs,
     /// Output directory (default: out/<scenario>/<command>/).
@@ -49,16 +52,22 @@ impl MeasureArgs {
         if self.iterations == 0 {
             bail!("--iterations: must be at least 1");
         }
-        if self.substeps == 0 {
+        if self.substeps == Some(0) {
             bail!("--substeps: must be at least 1");
         }
         let (xpbd_substeps, xpbd_iterations) = self.xpbd.values()?;
         Ok(IntegratorOptions {
             constraint_iterations: self.iterations,
-            substeps: self.substeps,
+            substeps: self
+                .substeps
+                .unwrap_or(IntegratorOptions::default().substeps),
             xpbd_substeps,
             xpbd_iterations,
         })
+    }
+    /// Substeps per frame for every backend, when `--substeps` was given (`compare`).
+    pub fn frame_substeps(&self) -> Option<u64> {
+        self.substeps.map(|n| n as u64)
     }
     /// The output directory for `command` on `scenario`.
     pub fn out_dir(&self, scenario: &str, command: &str) -> PathBuf {

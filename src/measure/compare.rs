@@ -27,8 +27,12 @@ pub struct CompareConfig {
     pub duration: Option<f64>,
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub methods: Registry,
-    /// Integrator options (substeps for Rapier).
+    /// Integrator options (`substeps`: Rapier's solver substeps, unless `frame_substeps`).
     pub options: IntegratorOptions,
+    /// Substeps per frame for every backend (`--substeps`): `dt` is then the frame step,
+    /// native methods take that many equal steps per frame and Rapier that many solver
+    /// substeps. `None`: one step per frame, and `options.substeps` for Rapier.
+    pub frame_substeps: Option<u64>,
     /// Blow-up factor.
     pub blowup_factor: f64,
     /// Points per time series (0: none).
@@ -47,6 +51,7 @@ impl Default for CompareConfig {
             duration: None,
             methods: Registry::builtin(),
             options: IntegratorOptions::default(),
+            frame_substeps: None,
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 2000,
             progress: false,
@@ -85,6 +90,8 @@ pub struct CompareResult {
     pub duration: f64,
     /// Solver substeps given to external backends.
     pub substeps: usize,
+    /// Substeps per frame of every backend, when asked (`dt` is then the frame step).
+    pub frame_substeps: Option<u64>,
     /// One entry per backend, in the order asked.
     pub entries: Vec<CompareEntry>,
 }
@@ -134,7 +141,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         repeat_short: true,
         trace,
         contacts: true,
-        substeps: None,
+        substeps: cfg.frame_substeps,
     };
     let pb = crate::run::progress_bar(
         names.len() as u64,
@@ -172,7 +179,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         .flag("dt", dt)
         .flag("duration", grid.time(steps))
         .list("integrators", &asked_or_all(&cfg.methods, &asked))
-        .flag("substeps", cfg.options.substeps)
+        .flag_opt("substeps", cfg.frame_substeps)
         .flag("iterations", cfg.options.constraint_iterations)
         .flag("xpbd-substeps", cfg.options.xpbd_substeps)
         .flag("xpbd-iterations", cfg.options.xpbd_iterations)
@@ -187,7 +194,10 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         dt,
         steps,
         duration: grid.time(steps),
-        substeps: cfg.options.substeps,
+        substeps: cfg
+            .frame_substeps
+            .map_or(cfg.options.substeps, |n| n as usize),
+        frame_substeps: cfg.frame_substeps,
         entries,
     })
 }

@@ -19,8 +19,11 @@
 //!   [`crate::measure::framerate::DEFAULT_RATES`] with a 1 cm tolerance, up to
 //!   [`FRAMERATE_MAX_SUBSTEPS`] substeps per frame; a method (engine or not) takes part when
 //!   its compare run's time per (sub)step projects the worst-case search at
-//!   [`FRAMERATE_METHOD_SECONDS`] or less (the note gives its measured time per frame
-//!   otherwise; `springlab framerate` runs it). Each table run is timed once.
+//!   [`FRAMERATE_METHOD_SECONDS`] or less. Engines (Rapier) are the comparison a game
+//!   programmer makes at these rates, so they take part even when compare left them out (their
+//!   probe's time per step then stands for a frame at one solver substep) and get
+//!   [`FRAMERATE_ENGINE_SECONDS`]; the note gives the measured time per frame of any method
+//!   left out (`springlab framerate` runs it). Each table run is timed once.
 
 use super::advise::{advise, Advice, AdviseConfig};
 use super::compare::{compare, CompareConfig, CompareResult};
@@ -52,6 +55,12 @@ pub const FRAMERATE_MAX_SUBSTEPS: u64 = 16;
 /// Largest projected wall time (s) of one method's worst-case frame-rate search (every rate,
 /// doubling to [`FRAMERATE_MAX_SUBSTEPS`] and bisecting) for it to take part.
 pub const FRAMERATE_METHOD_SECONDS: f64 = 2.0;
+
+/// Largest projected wall time (s) of an engine's worst-case frame-rate search: Rapier at
+/// game rates is what the frame-rate section exists to compare against, so it gets far more
+/// than a native method (on a quiet 2-core machine the 32×32 cloth's rapier_impulse projects
+/// about 12 s; rapier_multibody there about 350 s, and is left out with its time per frame).
+pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 
 /// Default advice tolerance of a study: 1 mm of position error over the scene's duration.
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
@@ -159,6 +168,8 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         v
     };
     let mut kept = Vec::new();
+    // Engines compare left out, with their probe's wall time per step (s).
+    let mut probed_out = Vec::new();
     for n in asked {
         if !is_engine(&n) {
             kept.push(n);
@@ -172,6 +183,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
                     timing.steps,
                     per_step * timing.steps as f64
                 ));
+                probed_out.push((n, per_step));
             }
             _ => kept.push(n),
         }
@@ -343,7 +355,8 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         )?)
     };
     lap(&mut seconds.advice);
-    let (framerate, framerate_note) = study_framerate(scene, cfg, &compared, &mut notes)?;
+    let (framerate, framerate_note) =
+        study_framerate(scene, cfg, &compared, &probed_out, &mut notes)?;
     lap(&mut seconds.framerate);
     Ok(SceneStudy {
         framerate,
@@ -389,13 +402,15 @@ fn engine_probe(
 }
 
 /// The study's frame-rate table: every compared method that ran (closed forms aside) whose
-/// worst-case search projects within [`FRAMERATE_METHOD_SECONDS`], from its compare run's
-/// wall time per step (an engine's per solver substep: its compare run used
-/// `options.substeps`).
+/// worst-case search projects within [`FRAMERATE_METHOD_SECONDS`] (an engine:
+/// [`FRAMERATE_ENGINE_SECONDS`]), from its compare run's wall time per step (an engine's per
+/// solver substep: its compare run used `options.substeps`), and every engine compare left
+/// out (`probed_out`: its probe's time per step) under the same rule.
 fn study_framerate(
     scene: &Scenario,
     cfg: &StudyConfig,
     compared: &CompareResult,
+    probed_out: &[(String, f64)],
     notes: &mut Vec<String>,
 ) -> Result<(Option<Framerate>, Option<String>)> {
     let rates: Vec<f64> = if cfg.quick {
@@ -425,34 +440,57 @@ fn study_framerate(
         .sum();
     // Doubling to the limit (2·max − 1 substeps in all) and bisecting below it (< max more).
     let worst = frames * (3 * max_substeps) as f64;
+    let ran = compared
+        .entries
+        .iter()
+        .filter_map(|e| e.result.as_ref())
+        .map(|r| (&r.integrator, r.wall_seconds / r.steps_done.max(1) as f64));
+    let probed = probed_out.iter().map(|(n, s)| (n, *s));
     let mut chosen = Vec::new();
-    for r in compared.entries.iter().filter_map(|e| e.result.as_ref()) {
-        let Ok(info) = cfg.methods.info(&r.integrator) else {
+    for (name, per_step) in ran.chain(probed) {
+        let Ok(info) = cfg.methods.info(name) else {
             continue;
         };
         if info.order == crate::method::Order::Exact {
             continue;
         }
-        let per_step = r.wall_seconds / r.steps_done.max(1) as f64;
         let per_substep = if info.engine {
             per_step / cfg.options.substeps.max(1) as f64
         } else {
             per_step
         };
         let projected = per_substep * worst;
-        if projected > FRAMERATE_METHOD_SECONDS {
+        let budget = if info.engine {
+            FRAMERATE_ENGINE_SECONDS
+        } else {
+            FRAMERATE_METHOD_SECONDS
+        };
+        if projected > budget {
             notes.push(format!(
-                "Frame rates leave out {}: {:.3} ms per {} measured in compare, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {FRAMERATE_METHOD_SECONDS} s); `springlab framerate --integrators {}` runs it.",
-                r.integrator,
+                "Frame rates leave out {name}: {:.3} ms per {} measured in {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
                 per_substep * 1e3,
-                if info.engine { "solver substep" } else { "step" },
+                if info.engine {
+                    format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))
+                } else {
+                    "step".into()
+                },
+                if probed_out.iter().any(|(n, _)| n == name) { "its probe" } else { "compare" },
                 rates.len(),
-                r.integrator
             ));
         } else {
-            chosen.push(r.integrator.clone());
+            chosen.push(name.clone());
         }
     }
+    // An engine that cannot run the scene is listed in the section with compare's reason.
+    chosen.extend(
+        compared
+            .entries
+            .iter()
+            .filter(|e| {
+                e.result.is_none() && cfg.methods.info(&e.integrator).is_ok_and(|m| m.engine)
+            })
+            .map(|e| e.integrator.clone()),
+    );
     if chosen.is_empty() {
         return Ok((None, Some("no method fits the frame-rate budget".into())));
     }
