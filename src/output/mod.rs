@@ -3,5 +3,5 @@
 mod atomic;
 mod run_files;
 
-pub use atomic::{write_atomic, AtomicFile};
+pub use atomic::{write_atomic, AtomicFile, FreshDir};
 pub use run_files::{write_run, RunFiles, RunSummary};

@@ -105,8 +105,11 @@ pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
 }
 
 /// Writes one scene's documents, charts and page under `out/<scene>/` and returns its summary.
+/// The folder is rewritten whole ([`crate::output::FreshDir`]): it never keeps a file of an
+/// earlier report that this one did not write.
 pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Result<SceneSummary> {
-    let dir = opts.out.join(&s.scenario);
+    let fresh = crate::output::FreshDir::create(opts.out.join(&s.scenario))?;
+    let dir = fresh.path().to_path_buf();
     let docs = write_documents(&dir, s)?;
     let link = |k: &str| format!("Document: <code>{k}</code>.");
     let mut figs = Vec::new();
@@ -212,6 +215,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
             })?
             .as_bytes(),
     )?;
+    fresh.commit()?;
     Ok(sum)
 }
 
