@@ -1,6 +1,6 @@
 //! `springlab check` on obstacle scenes (issue 13, part 6): obstacles with shape, pose,
 //! restitution and friction, particle radii, the contact response, and every backend that
-//! applies, Rapier included, with the reason each other one does not.
+//! applies, Rapier included (penalty scenes too), with the reason each other one does not.
 //!
 //! Oracle: the shipped scene files themselves (`scenarios/bounce.toml`,
 //! `scenarios/bounce_penalty.toml`, `scenarios/rain_on_mesh.toml`).
@@ -32,14 +32,16 @@ fn check_lists_obstacles_radii_response_and_rapier() {
     }
 }
 
+/// Rapier takes penalty contacts as user forces (`src/rapier/user_forces.rs`).
 #[test]
-fn check_says_why_rapier_does_not_apply_to_penalty_contacts() {
+fn check_lists_rapier_for_penalty_contacts() {
     let text = check("bounce_penalty.toml");
     assert!(
         text.contains("contact response: penalty, stiffness = 100000 N/m"),
         "{text}"
     );
-    assert!(text.contains("not rapier_impulse: "), "{text}");
+    assert!(text.contains("rapier_impulse, rapier_multibody"), "{text}");
+    assert!(!text.contains("not rapier_impulse: "), "{text}");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! The Rapier backends as [`Integrator`]s: build lazily, step the pipeline, read back.
 
 use super::convert::{to_glam, to_na};
+use super::user_forces::{is_user_force, UserForces};
 use super::world::{align_axial, build, set_step, Built, Mode};
 use crate::error::Result;
 use crate::integrate::{Integrator, StepStats};
@@ -15,7 +16,7 @@ pub const MULTIBODY: &str = "rapier_multibody";
 /// `num_solver_iterations`.
 ///
 /// Cost: `force_evals` is reported as 0 (Rapier never evaluates our force model; compare by
-/// wall time). `dissipated` is the damper and drag power c·(n·v_rel)² + c_d·|v|² of the read-back
+/// wall time). `dissipated` is the damper, drag and penalty-contact damping power (c·(n·v_rel)², c_d·|v|², the penalty's) of the read-back
 /// states, integrated by the trapezoidal rule over the step: an estimate of the work Rapier's
 /// implicit dampers did, accurate to O(h²) for smooth motion.
 pub struct RapierBackend {
@@ -24,6 +25,8 @@ pub struct RapierBackend {
     built: Option<Built>,
     /// The state was changed from outside since the last step (impulse): push it in.
     dirty: bool,
+    /// Penalty contacts, applied as user forces held over each Rapier step.
+    user: UserForces,
 }
 
 impl RapierBackend {
@@ -34,6 +37,7 @@ impl RapierBackend {
             substeps: substeps.max(1),
             built: None,
             dirty: false,
+            user: UserForces::default(),
         }
     }
 
@@ -110,10 +114,10 @@ impl Integrator for RapierBackend {
             .terms
             .iter()
             .map(|t| t.name())
-            .find(|n| *n != "gravity" && *n != "drag")
+            .find(|n| *n != "gravity" && *n != "drag" && !is_user_force(n))
         {
             return Err(format!(
-                "the Rapier backends map springs, constraints, gravity and drag; the force term '{t}' has no Rapier equivalent yet"
+                "the Rapier backends map springs, constraints, gravity, drag and penalty contacts; the force term '{t}' has no Rapier equivalent yet"
             ));
         }
         Ok(())
@@ -126,13 +130,14 @@ impl Integrator for RapierBackend {
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         self.prepare(sys, s, h);
-        let p0 = damping_power(sys, &s.x, &s.v);
+        let p0 = damping_power(sys, &s.x, &s.v) + self.user.power(sys, &s.x, &s.v);
         let e0 = sys
             .post_step
             .as_ref()
             .map(|_| sys.energy(&s.x, &s.v).mechanical());
         let b = self.built.as_mut().expect("built in prepare");
         if b.axial.is_empty() {
+            self.user.apply(sys, b);
             b.world.step();
         } else {
             // Loop-closing joints between multibody links must follow the particle axis, which
@@ -141,6 +146,7 @@ impl Integrator for RapierBackend {
             set_step(&mut b.world, 1, h / self.substeps as f64);
             for _ in 0..self.substeps {
                 align_axial(b);
+                self.user.apply(sys, b);
                 b.world.step();
             }
         }
@@ -158,7 +164,7 @@ impl Integrator for RapierBackend {
         // verdict sees it.
         let touching = e0.is_some() && b.world.contact_pairs().any(|c| c.has_any_active_contact());
         s.t += h;
-        let p1 = damping_power(sys, &s.x, &s.v);
+        let p1 = damping_power(sys, &s.x, &s.v) + self.user.power(sys, &s.x, &s.v);
         let damper = 0.5 * (p0 + p1) * h;
         let contact = match e0 {
             Some(e0) if touching => (e0 - sys.energy(&s.x, &s.v).mechanical() - damper).max(0.0),

@@ -14,6 +14,7 @@ mod multibody;
 mod obstacles;
 mod scheme;
 mod topology;
+mod user_forces;
 mod world;
 
 pub use backend::{RapierBackend, IMPULSE, MULTIBODY};

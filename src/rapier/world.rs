@@ -47,8 +47,12 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
                 .0
         })
         .collect();
-    for c in super::obstacles::obstacle_colliders(sys) {
-        world.insert_collider(c, None);
+    // With a penalty contact the penalty spring is the contact (applied as a user force,
+    // see `super::user_forces`): the obstacles are not also Rapier colliders.
+    if !super::user_forces::any(sys) {
+        for c in super::obstacles::obstacle_colliders(sys) {
+            world.insert_collider(c, None);
+        }
     }
     let impulse = |world: &mut PhysicsWorld, e: Edge| {
         let data = edge_joint(sys, e.kind);
