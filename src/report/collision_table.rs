@@ -34,7 +34,7 @@ pub fn section(st: &SceneStudy) -> Option<String> {
     if runs.is_empty() {
         return None;
     }
-    let mut body = String::from("<h2>Collision validation</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>, per backend at the comparison's step. Restitution: impacts approaching faster than the stated floor (1 % of the fastest), measured e = v_out/v_in against the expected e (the specified one; for penalty contacts, the contact equation's with gravity along the normal), mean and worst deviation. Penetration: deepest measured against the deepest expected. Friction: slides in resting contact, measured deceleration against Coulomb's law (worst relative deviation). Energy per impact: mean work booked as dissipated, and the energy any contact created (should be 0).</p>\n<table>\n<tr><th class=\"l\">backend</th><th>impacts (floor m/s)</th><th>mean e measured</th><th>mean e expected</th><th>worst e − expected</th><th>deepest penetration (m)</th><th>deepest expected (m)</th><th>slides</th><th>worst friction deviation</th><th>dissipated per impact (J)</th><th>created (J)</th><th>tunnelling</th></tr>\n");
+    let mut body = String::from("<h2>Collision validation</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>, per backend at the comparison's step. Restitution: impacts approaching faster than the stated floor (1 % of the fastest), measured e = v_out/v_in against the expected e (the specified one; for penalty contacts, the contact equation's with gravity along the normal), mean and worst deviation. Penetration: deepest measured against the deepest expected. Friction: slides in resting contact of particles on which only gravity, the contact and friction act, measured deceleration against the point-mass Coulomb law (worst relative deviation); particles held by springs or constraints are not measured (their Coulomb law has the spring forces in it). Energy per impact: mean work booked as dissipated, and the energy any contact created (should be 0).</p>\n<table>\n<tr><th class=\"l\">backend</th><th>impacts (floor m/s)</th><th>mean e measured</th><th>mean e expected</th><th>worst e − expected</th><th>deepest penetration (m)</th><th>deepest expected (m)</th><th>slides</th><th>worst friction deviation</th><th>dissipated per impact (J)</th><th>created (J)</th><th>tunnelling</th></tr>\n");
     for (r, c) in runs {
         let expected_pen = c
             .events
@@ -61,7 +61,11 @@ pub fn section(st: &SceneStudy) -> Option<String> {
             if has_e { num(c.restitution_worst_deviation) } else { "—".into() },
             sci(c.penetration.max),
             sci(expected_pen),
-            c.slides.len(),
+            if c.slides_unmeasured.is_some() {
+                "no free slides".to_string()
+            } else {
+                c.slides.len().to_string()
+            },
             if friction.is_finite() { format!("{:.2} %", 100.0 * friction) } else { "—".into() },
             if c.events.is_empty() { "—".into() } else { sci(dissipated) },
             sci(created),
