@@ -6,7 +6,7 @@
 //!   system's mechanical energy (kinetic + gravitational + elastic) across the stage, so it is
 //!   checked against `System::energy` before and after, for every native integrator on the
 //!   chain draped over the box (springs, friction, restitution);
-//! - a particle resting on a plane (e = 0) under gravity alone: velocity Verlet moves it from
+//! - a particle resting on a plane (e = 0, impulse or projection) under gravity alone: velocity Verlet moves it from
 //!   rest by exactly −½h²g with speed hg, so the stage's lift gains m·g·½h²g and its stop
 //!   loses ½m(hg)²: nothing created. Symplectic Euler moves it by −h²g (drift with the kicked
 //!   velocity): the lift gains m·h²g², the stop loses ½m(hg)², so the stage gives back exactly
@@ -90,7 +90,7 @@ fn the_stage_books_equal_its_energy_change_on_the_chain_over_the_box() {
 /// A particle (m = 0.1 kg, r = 0.05 m) resting on the plane y = 0, e = 0, friction `mu`, with
 /// an optional spring (stiffness `k`) to a fixed anchor at the particle's height, stretched by
 /// `stretch` along x.
-fn on_floor(mu: f64, k: f64, stretch: f64) -> Scenario {
+fn on_floor(mu: f64, k: f64, stretch: f64, response: &str) -> Scenario {
     let spring = if k > 0.0 {
         format!(
             "[[particle]]\nposition = [{stretch}, 0.05, 0.0]\nmass = 1.0\nfixed = true\n\
@@ -105,7 +105,7 @@ fn on_floor(mu: f64, k: f64, stretch: f64) -> Scenario {
              [[particle]]\nposition = [0.0, 0.05, 0.0]\nmass = 0.1\nradius = 0.05\n\
              {spring}\
              [[obstacle]]\nshape = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\n\
-             friction = {mu}\n"
+             friction = {mu}\n[collision]\nresponse = \"{response}\"\n"
         ),
         "floor.toml",
     )
@@ -114,17 +114,22 @@ fn on_floor(mu: f64, k: f64, stretch: f64) -> Scenario {
 
 #[test]
 fn resting_on_a_plane_creates_nothing_with_verlet_and_returns_symplectic_eulers_loss() {
-    let scene = on_floor(0.3, 0.0, 0.0);
-    let sys = scene.build();
-    let (h, m, g, steps) = (1e-3, 0.1, 9.81, 1000);
-    let (c, _) = stage_books(&sys, scene.initial_state(), "velocity_verlet", h, steps);
-    assert!(c <= 1e-15, "velocity_verlet at rest created {c} J");
-    let (c, _) = stage_books(&sys, scene.initial_state(), "symplectic_euler", h, steps);
-    let lost = 0.5 * m * (h * g) * (h * g) * steps as f64;
-    assert!(
-        (c / lost - 1.0).abs() < 1e-9,
-        "symplectic_euler at rest: created {c} J, its own loss {lost} J"
-    );
+    for response in ["impulse", "projection"] {
+        let scene = on_floor(0.3, 0.0, 0.0, response);
+        let sys = scene.build();
+        let (h, m, g, steps) = (1e-3, 0.1, 9.81, 1000);
+        let (c, _) = stage_books(&sys, scene.initial_state(), "velocity_verlet", h, steps);
+        assert!(
+            c <= 1e-15,
+            "{response}: velocity_verlet at rest created {c} J"
+        );
+        let (c, _) = stage_books(&sys, scene.initial_state(), "symplectic_euler", h, steps);
+        let lost = 0.5 * m * (h * g) * (h * g) * steps as f64;
+        assert!(
+            (c / lost - 1.0).abs() < 1e-9,
+            "{response}: symplectic_euler at rest created {c} J, its own loss {lost} J"
+        );
+    }
 }
 
 #[test]
@@ -135,7 +140,7 @@ fn a_block_on_a_spring_on_a_rough_floor_loses_two_mu_m_g_over_k_per_half_swing()
     // swing) would have cancelled most of the drop.
     let (m, k, mu, g, a0, h) = (0.1, 10.0, 0.1, 9.81, 0.2, 0.01);
     let drop = 2.0 * mu * m * g / k;
-    let scene = on_floor(mu, k, a0);
+    let scene = on_floor(mu, k, a0, "impulse");
     let sys = scene.build();
     // Explicit Euler grows on any undamped oscillator (×√(1 + (hω)²) per step): not a
     // question of the contact stage.

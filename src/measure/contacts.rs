@@ -36,6 +36,7 @@ use crate::run::{EnergyRecord, Observer};
 use serde::Serialize;
 use std::sync::Arc;
 
+pub mod differences;
 mod slides;
 use slides::OpenSlide;
 pub use slides::{Slide, MIN_SLIDE_SAMPLES, STOP_SPEED};
