@@ -238,6 +238,17 @@ pub struct ContactReport {
     pub parry_queries: u64,
 }
 
+impl ContactReport {
+    /// The listed impacts the restitution summary covers (approaching at least as fast as
+    /// `impact_speed_floor`, with a measured e), each with its measured e, in listing order.
+    pub fn summary_impacts(&self) -> impl Iterator<Item = (&ContactEvent, f64)> + '_ {
+        self.events
+            .iter()
+            .filter(|e| e.v_in.abs() >= self.impact_speed_floor)
+            .filter_map(|e| e.restitution.map(|m| (e, m)))
+    }
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Sample {
     t: f64,

@@ -380,10 +380,7 @@ pub fn impacts(s: &SceneStudy) -> Option<ImpactData> {
     for run in runs(s) {
         let Some(c) = &run.contacts else { continue };
         let list: Vec<_> = c
-            .events
-            .iter()
-            .filter(|e| e.v_in.abs() >= c.impact_speed_floor)
-            .filter_map(|e| e.restitution.map(|m| (e, m)))
+            .summary_impacts()
             .filter(|(e, m)| m.is_finite() && e.expected_restitution.is_finite())
             .collect();
         if list.is_empty() {

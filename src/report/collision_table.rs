@@ -88,12 +88,7 @@ pub const FIRST_IMPACTS: usize = 3;
 fn first_impacts(runs: &[(&CaseResult, &ContactReport)]) -> String {
     let mut rows = String::new();
     for (r, c) in runs {
-        let mut list: Vec<_> = c
-            .events
-            .iter()
-            .filter(|e| e.v_in.abs() >= c.impact_speed_floor)
-            .filter_map(|e| e.restitution.map(|m| (e, m)))
-            .collect();
+        let mut list: Vec<_> = c.summary_impacts().collect();
         list.sort_by(|a, b| a.0.t_in.total_cmp(&b.0.t_in));
         for (k, (e, m)) in list.iter().take(FIRST_IMPACTS).enumerate() {
             rows += &format!(
