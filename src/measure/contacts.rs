@@ -26,7 +26,10 @@
 //!
 //! Sampled velocities are carried to the moment of touching the surface with the ballistic
 //! relation u² = u₀² − 2 a_n z₀ (a_n = g·n): exact in free flight, so a step of dt does not bias
-//! the in/out speeds by g·dt. Apexes use the same relation from the last rising sample.
+//! the in/out speeds by g·dt. Apexes use the same relation from the last rising sample. For a
+//! particle held by springs or constraints the carry leaves their pull out, so its slow impacts
+//! (where that pull over a step rivals the approach speed) measure far from e: on
+//! chain_on_box the first impacts read 0.2001–0.2008 for 0.2, later slow ones up to 1.2.
 
 use crate::collide::{damping_ratio_for_restitution, restitution_for_damping_ratio};
 use crate::collide::{Contact, ObstacleSet, PenaltyDamping, Response};
