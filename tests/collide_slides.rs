@@ -110,3 +110,41 @@ fn difference_a_rapier_multibody_ball_rolls_down_the_incline() {
     );
     assert!((s.acceleration / rolling - 1.0).abs() < 0.01, "{s:?}");
 }
+
+#[test]
+fn a_particle_held_by_a_spring_is_not_held_to_the_point_mass_law() {
+    // Coulomb's point-mass law a = g·d − μ|g·n| holds only where gravity, the contact and
+    // friction are the only forces. The same sliding particle tied to a fixed anchor by a
+    // spring reports no slide at all, and says why; the lone one beside it still does.
+    let base = scene(0.0, 0.3, 5.0);
+    let mut text = String::from("[world]\ngravity = [0.0, -9.81, 0.0]\n");
+    text += "[[particle]]\nposition = [0.0, 0.05, 0.0]\nvelocity = [5.0, 0.0, 0.0]\nmass = 0.1\nradius = 0.05\n";
+    text += "[[particle]]\nposition = [0.0, 0.05, 1.0]\nvelocity = [5.0, 0.0, 0.0]\nmass = 0.1\nradius = 0.05\n";
+    text += "[[particle]]\nposition = [-1.0, 0.05, 1.0]\nmass = 1.0\nfixed = true\n";
+    text += "[[spring]]\nbetween = [1, 2]\nstiffness = 5.0\n";
+    text += "[[obstacle]]\nshape = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\nfriction = 0.3\n";
+    let tied = Scenario::from_toml_str(&text, "tied.toml").unwrap();
+    for name in ["symplectic_euler", "rk4", "rapier_impulse"] {
+        let lone = report(&base, name, 2.0);
+        assert!(
+            !lone.slides.is_empty() && lone.slides_unmeasured.is_none(),
+            "{name}"
+        );
+        let rep = report(&tied, name, 2.0);
+        assert!(
+            rep.slides.iter().all(|s| s.particle == 0),
+            "{name}: {:?}",
+            rep.slides
+        );
+        assert!(!rep.slides.is_empty(), "{name}: the lone particle's slide");
+        assert!(rep.slides_unmeasured.is_none(), "{name}");
+    }
+    let path = format!("{}/scenarios/chain_on_box.toml", env!("CARGO_MANIFEST_DIR"));
+    let chain = Scenario::from_file(std::path::Path::new(&path)).unwrap();
+    let rep = report(&chain, "rk4", 1.5);
+    assert!(rep.slides.is_empty(), "{:?}", rep.slides);
+    assert_eq!(
+        rep.slides_unmeasured,
+        Some(springlab::measure::contacts::NO_LONE_PARTICLE)
+    );
+}

@@ -161,6 +161,7 @@ fn axis_labels(stem: &str) -> &'static [&'static str] {
         ],
         "paths" | "snapshots" => &["(m)"],
         "collision" => &["time t (s)", "height (m)", "bounce n"],
+        "impacts" => &["approach speed |v_in| (m/s)", "impact time t (s)"],
         "framerate" => &[
             "frame rate (Hz)",
             "max position error (m)",
@@ -223,9 +224,8 @@ fn every_svg_is_well_formed_with_axes_and_legend() {
 
 fn expected_header(stem: &str) -> &'static str {
     match stem {
-        "energy" | "energy_error" | "position_error" | "paths" | "collision" | "framerate" => {
-            "group,series,x,y,kind"
-        }
+        "energy" | "energy_error" | "position_error" | "paths" | "collision" | "impacts"
+        | "framerate" => "group,series,x,y,kind",
         "convergence" => "group,series,dt,error,kind,order,fitted_slope",
         "work_precision" => "integrator,dt,error,wall_seconds,force_evals",
         "snapshots" => "backend,t,line,index,u,v",

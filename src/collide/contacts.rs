@@ -4,6 +4,16 @@
 //! the mechanical energy the response removed and, apart, the energy it created, so the run's
 //! energy account stays a balance that cannot hide a gain behind a loss.
 //!
+//! The books are per particle: the stage moves one particle at a time, and each move's change
+//! of the mechanical energy — the particle's kinetic and gravitational energy plus the elastic
+//! energy of the springs and compliant constraints at it ([`System::elastic_at`]) — is booked
+//! as dissipated when it falls and as created when it rises. The moves' changes sum to the
+//! stage's change, so created − dissipated is exactly what the stage did to the system's
+//! energy, and one particle's gain is never netted against another's loss. (Booking the
+//! elastic change of the whole system apart from the particles' own would call every lift of
+//! a particle out of an obstacle against a spring "created", though the same move took the
+//! kinetic energy the spring had given it.)
+//!
 //! Coulomb friction acts at both levels, with the same cone for every integrator: the
 //! tangential velocity loses at most μ·Δv_n (Δv_n the normal velocity change the contact
 //! makes, which is the integrator's own approach speed times 1 + e), and the step's tangential
@@ -20,12 +30,13 @@ use std::sync::Arc;
 pub struct ContactStep {
     /// True when some position or velocity changed (the integrator must then be reset).
     pub changed: bool,
-    /// Mechanical energy the responses removed (J, ≥ 0): per particle, the drop of its kinetic
-    /// plus gravitational energy, plus any drop of the system's elastic energy.
+    /// Mechanical energy the responses removed (J, ≥ 0): the sum of the particles' drops, each
+    /// its kinetic plus gravitational energy plus the elastic energy at it (module docs).
     pub dissipated: f64,
-    /// Mechanical energy the responses created (J, ≥ 0): per particle, the rise of its kinetic
-    /// plus gravitational energy (pushing it out against gravity after the integrator moved it
-    /// in), plus any rise of the elastic energy. Never netted against `dissipated`.
+    /// Mechanical energy the responses created (J, ≥ 0): the sum of the particles' rises, on
+    /// the same terms (e.g. a particle the integrator moved deeper than its speed allowed,
+    /// pushed back out against gravity). Never netted against `dissipated`; `created −
+    /// dissipated` is the stage's change of the system's mechanical energy.
     pub created: f64,
     /// Contacts resolved.
     pub resolved: u64,
@@ -75,7 +86,6 @@ impl Contacts {
             return out;
         }
         let g = sys.gravity.unwrap_or_else(Vec3::zeros);
-        let mut elastic_before = None;
         for p in 0..s.x.len() {
             // Fixed particles never move; a non-finite state is the runner's to report.
             if !sys.free[p] || !s.x[p].iter().all(|c| c.is_finite()) {
@@ -84,6 +94,8 @@ impl Contacts {
             let (x_in, v_in) = (s.x[p], s.v[p]);
             let r = sys.radius[p];
             let mut touched = false;
+            // The elastic energy at p before its first correction (module docs).
+            let mut elastic_before = None;
             // 1. A crossing between steps: the path entered an obstacle's surface. The particle
             // goes back onto the entry face's tangent plane (its travel along the face kept),
             // never back to where the path met the surface.
@@ -92,7 +104,7 @@ impl Contacts {
                 // Only a real crossing: the end is behind the entry face (inside, or through).
                 let behind = (s.x[p] - hit.point).dot(&hit.normal) < 0.0;
                 if behind || end.distance < 0.0 {
-                    elastic_before.get_or_insert_with(|| sys.energy(&s.x, &s.v).elastic);
+                    elastic_before.get_or_insert_with(|| sys.elastic_at(p, &s.x));
                     let depth = -(s.x[p] - hit.point).dot(&hit.normal) + r;
                     let c = Contact {
                         obstacle: hit.obstacle,
@@ -129,7 +141,7 @@ impl Contacts {
                 if c.gap >= 0.0 {
                     continue;
                 }
-                elastic_before.get_or_insert_with(|| sys.energy(&s.x, &s.v).elastic);
+                elastic_before.get_or_insert_with(|| sys.elastic_at(p, &s.x));
                 let lift = self.clearance(c.obstacle, &s.x[p]) - c.gap;
                 s.x[p] += c.normal * lift;
                 self.respond(&c, p, x0, v0, s, h);
@@ -137,17 +149,16 @@ impl Contacts {
                 out.resolved += 1;
                 out.max_penetration = out.max_penetration.max(-c.gap);
             }
-            if touched {
-                // This particle's own energy change: kinetic plus gravitational.
+            if let Some(e0) = elastic_before {
+                // This move's energy change: p's kinetic and gravitational energy and the
+                // elastic energy at p.
                 let m = sys.mass[p];
                 let de = 0.5 * m * (s.v[p].norm_squared() - v_in.norm_squared())
-                    - m * g.dot(&(s.x[p] - x_in));
+                    - m * g.dot(&(s.x[p] - x_in))
+                    + (sys.elastic_at(p, &s.x) - e0);
                 book(&mut out, de);
+                out.changed = true;
             }
-        }
-        if let Some(e0) = elastic_before {
-            out.changed = true;
-            book(&mut out, sys.energy(&s.x, &s.v).elastic - e0);
         }
         out
     }
@@ -198,12 +209,17 @@ impl Contacts {
                 let v = self.impulse_velocity(c.obstacle, &n, v_in);
                 let vt = tangential(v);
                 if mu > 0.0 && vt != tangential(v_in) {
-                    // Friction acted: the step's tangential travel becomes the trapezoid of the
-                    // tangential velocities at its ends, exact under a constant friction
-                    // deceleration whatever the integrator (and zero when the particle was
-                    // and stays stuck: no creep).
-                    let d = s.x[p] - x0[p];
-                    s.x[p] = x0[p] + n * d.dot(&n) + (tangential(v0[p]) + vt) * (0.5 * h);
+                    // Friction acted: its velocity change moves the step's end as a constant
+                    // force over the step would, by h/2 times it (exact for constant
+                    // deceleration; the integrator's own travel under the other forces is
+                    // kept, so its stability is its own). A particle friction stops travels
+                    // the trapezoid h·v_t,start/2 instead: zero for a stuck one, no creep.
+                    if vt == Vec3::zeros() {
+                        let d = s.x[p] - x0[p];
+                        s.x[p] = x0[p] + n * d.dot(&n) + tangential(v0[p]) * (0.5 * h);
+                    } else {
+                        s.x[p] += (vt - tangential(v_in)) * (0.5 * h);
+                    }
                 }
                 s.v[p] = v;
             }

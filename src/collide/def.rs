@@ -89,9 +89,10 @@ pub enum PenaltyDamping {
 pub enum Response {
     /// After each step: put the particle back on the surface along the normal, reflect the
     /// normal velocity with restitution and apply a Coulomb friction impulse (at most μ × the
-    /// normal velocity change) to the tangential part; when friction acted, the step's
-    /// tangential travel becomes h·(v_t,start + v_t,end)/2, exact under constant friction
-    /// for every integrator (a stuck particle does not creep).
+    /// normal velocity change) to the tangential part; when friction acted, the step's end
+    /// moves by h/2 × friction's velocity change (exact under constant friction for every
+    /// integrator, whose own travel under the other forces is kept), and a particle friction
+    /// stops travels h·v_t,start/2 (a stuck particle does not creep).
     Impulse,
     /// A spring-dashpot force on the penetration depth (a force term every integrator sees).
     Penalty {

@@ -41,6 +41,9 @@ pub struct Springs {
     /// True when any spring has damping (so the damper loop is worth running).
     pub any_damping: bool,
     incidence: OnceLock<Option<Arc<Incidence>>>,
+    /// Springs at each particle (`start[p]..start[p + 1]` indexes `ids`), built on first use
+    /// by [`Springs::energy_at`].
+    at: OnceLock<(Vec<u32>, Vec<u32>)>,
     scratch: ScratchPool,
 }
 
@@ -62,6 +65,7 @@ impl Springs {
         self.c.push(c);
         self.any_damping |= c > 0.0;
         self.incidence = OnceLock::new();
+        self.at = OnceLock::new();
     }
 
     /// True when evaluations over `n` particles take the parallel path (a property of the
@@ -195,15 +199,54 @@ impl Springs {
         power
     }
 
+    /// Elastic energy ½ k_eff (|d| − l0)² of spring `s`.
+    #[inline(always)]
+    fn energy_of(&self, s: usize, x: &[Vec3]) -> f64 {
+        let len = (x[self.j[s] as usize] - x[self.i[s] as usize]).norm();
+        let ext = len - self.l0[s];
+        0.5 * self.k[s] * ext * ext
+    }
+
     /// Elastic energy of springs `lo..hi`, summed in spring order.
     pub(crate) fn energy_range(&self, x: &[Vec3], lo: usize, hi: usize) -> f64 {
         let mut e = 0.0;
         for s in lo..hi {
-            let len = (x[self.j[s] as usize] - x[self.i[s] as usize]).norm();
-            let ext = len - self.l0[s];
-            e += 0.5 * self.k[s] * ext * ext;
+            e += self.energy_of(s, x);
         }
         e
+    }
+
+    /// Elastic energy of the springs at particle `p` (the part of the total that moving `p`
+    /// alone changes), for positions `x` of all particles. The contact stage uses it to book
+    /// each particle's correction on its own.
+    pub fn energy_at(&self, p: usize, x: &[Vec3]) -> f64 {
+        let (start, ids) = self.at.get_or_init(|| {
+            let n = x.len();
+            let mut start = vec![0u32; n + 1];
+            for (&a, &b) in self.i.iter().zip(&self.j) {
+                start[a as usize + 1] += 1;
+                start[b as usize + 1] += 1;
+            }
+            for q in 0..n {
+                start[q + 1] += start[q];
+            }
+            let mut fill = start.clone();
+            let mut ids = vec![0u32; start[n] as usize];
+            for (s, (&a, &b)) in self.i.iter().zip(&self.j).enumerate() {
+                for q in [a as usize, b as usize] {
+                    ids[fill[q] as usize] = s as u32;
+                    fill[q] += 1;
+                }
+            }
+            (start, ids)
+        });
+        if p + 1 >= start.len() {
+            return 0.0;
+        }
+        ids[start[p] as usize..start[p + 1] as usize]
+            .iter()
+            .map(|&s| self.energy_of(s as usize, x))
+            .sum()
     }
 
     /// Jacobian blocks (∂f_i/∂x_j, ∂f_i/∂v_j) of spring `s`.

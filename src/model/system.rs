@@ -18,6 +18,19 @@ pub struct DistanceConstraint {
     pub compliance: f64,
 }
 
+impl DistanceConstraint {
+    /// Elastic energy (J): a compliant constraint (XPBD compliance α > 0) is a spring of
+    /// stiffness 1/α at its length, storing ½·stretch²/α; a rigid one stores none.
+    pub fn energy(&self, x: &[Vec3]) -> f64 {
+        if self.compliance > 0.0 {
+            let stretch = (x[self.j] - x[self.i]).norm() - self.length;
+            0.5 * stretch * stretch / self.compliance
+        } else {
+            0.0
+        }
+    }
+}
+
 /// An instantaneous velocity change of one particle at a given time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Impulse {
@@ -146,17 +159,34 @@ impl System {
         if !self.springs.is_empty() {
             e.elastic += self.springs.potential_energy(x);
         }
-        // A compliant constraint (XPBD compliance α > 0) is a spring of stiffness 1/α at its
-        // length: it stores ½·stretch²/α.
-        for c in self.constraints.iter().filter(|c| c.compliance > 0.0) {
-            let stretch = (x[c.j] - x[c.i]).norm() - c.length;
-            e.elastic += 0.5 * stretch * stretch / c.compliance;
+        for c in &self.constraints {
+            e.elastic += c.energy(x);
         }
         for t in &self.terms {
             match t.energy_kind() {
                 EnergyKind::Gravity => e.gravity += t.potential_energy(x),
                 EnergyKind::Elastic => e.elastic += t.potential_energy(x),
                 EnergyKind::None => {}
+            }
+        }
+        e
+    }
+
+    /// The part of the elastic energy that moving particle `p` alone changes: the springs and
+    /// compliant constraints at `p`, plus elastic force terms (penalty contacts) in full. A
+    /// post-step stage that moves particles one at a time books each move's elastic change as
+    /// the difference of this before and after it; the moves' changes sum to the total's.
+    pub fn elastic_at(&self, p: usize, x: &[Vec3]) -> f64 {
+        let mut e = 0.0;
+        if !self.springs.is_empty() {
+            e += self.springs.energy_at(p, x);
+        }
+        for c in self.constraints.iter().filter(|c| c.i == p || c.j == p) {
+            e += c.energy(x);
+        }
+        for t in self.terms.iter() {
+            if t.energy_kind() == EnergyKind::Elastic {
+                e += t.potential_energy(x);
             }
         }
         e

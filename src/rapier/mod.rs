@@ -19,6 +19,7 @@ mod world;
 
 pub use backend::{RapierBackend, IMPULSE, MULTIBODY};
 pub use bodies::RESTITUTION_RULE;
+pub use obstacles::{Difference, DifferenceKind, DIFFERENCES};
 pub use scheme::{scheme_prediction, Prediction};
 pub use topology::{
     tree_cap, Edge, EdgeKind, FallbackReason, Topology, MAX_TREE_PARTICLES,

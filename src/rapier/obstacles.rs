@@ -12,25 +12,74 @@
 //! - contact skin 0 on every collider (Rapier's default; a skin would hold the ball off the
 //!   surface by its thickness); contact recycling off, so each step's contacts are fresh.
 //!
-//! Where Rapier's model differs and cannot be set equal (each measured by a test in
-//! `tests/rapier_contact_model.rs`):
-//! - soft contacts: penetration is corrected by a spring of `static_contact_softness`
-//!   (60 Hz, damping ratio 10) through the biased solve, not projected away in one step;
-//! - speculative contacts: a contact is created within `normalized_prediction_distance`
-//!   (0.02 m) and constrains the approach velocity so the ball stops at the surface in the
-//!   step it would cross it, so a resting ball sits on a gap of up to about 1e-4 m instead of 0;
-//! - its friction cone is solved by projected Gauss-Seidel over `num_solver_iterations`
-//!   with friction left out of the biased pass (`friction_in_bias_pass = false`), and bounded
-//!   by μ × the normal impulse that stops the approach, without the restitution part: at an
-//!   impact it takes at most μ·|v_n| off the tangential speed (measured: 0.58 of the
-//!   Newton–Coulomb μ(1 + e)|v_n| that springlab's impulse law takes, for e = 0.5).
-//!   Sliding and sticking in resting contact match Coulomb (incline, stopping distance);
-//! - an open mesh is one-sided in Rapier: a ball hitting it from the side its triangles face
-//!   bounces (no sideways kick on a shared edge now that it cannot turn), one coming from the
-//!   back passes through (springlab's own responses treat it as a two-sided sheet).
+//! Where Rapier's model differs and cannot be set equal: [`DIFFERENCES`], one entry each,
+//! with the test that measures it (the report's collision section lists the same entries
+//! beside the figures compare measured). Sliding and sticking in resting contact match
+//! Coulomb (incline, stopping distance).
 
 use crate::model::System;
 use rapier3d_f64::prelude::*;
+
+/// Which of Rapier's documented contact differences an entry of [`DIFFERENCES`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DifferenceKind {
+    /// Soft and speculative contacts: a resting gap and a penetration corrected over steps.
+    SoftSpeculative,
+    /// Friction at an impact bounded by μ·|v_n| (no restitution part).
+    ImpactFriction,
+    /// Open meshes are one-sided.
+    OneSidedMesh,
+    /// `rapier_multibody` links turn, so a ball rolls.
+    MultibodyRolling,
+}
+
+/// One documented difference between Rapier's contact model and springlab's.
+#[derive(Debug, Clone, Copy)]
+pub struct Difference {
+    /// Which difference.
+    pub kind: DifferenceKind,
+    /// Short name.
+    pub title: &'static str,
+    /// What differs and why it cannot be set equal.
+    pub text: &'static str,
+    /// The test (a `#[test]` function name under `tests/`) that measures it.
+    pub test: &'static str,
+    /// True when only `rapier_multibody` shows it.
+    pub multibody_only: bool,
+}
+
+/// Rapier's contact model where it differs from springlab's and cannot be set equal: the one
+/// text of these differences (module docs, report, and the test that checks each is measured).
+pub const DIFFERENCES: [Difference; 4] = [
+    Difference {
+        kind: DifferenceKind::SoftSpeculative,
+        title: "soft and speculative contacts",
+        text: "penetration is corrected by a spring of static_contact_softness (60 Hz, damping ratio 10) through the biased solve, not projected away in one step; a contact is created within normalized_prediction_distance (0.02 m) and constrains the approach velocity so the ball stops at the surface in the step it would cross it, so a resting ball sits on a gap of up to about 1e-4 m instead of 0",
+        test: "difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m",
+        multibody_only: false,
+    },
+    Difference {
+        kind: DifferenceKind::ImpactFriction,
+        title: "impact friction bound μ|v_n|",
+        text: "the friction cone is solved by projected Gauss-Seidel with friction left out of the biased pass and bounded by μ × the normal impulse that stops the approach, without the restitution part: an impact takes at most μ·|v_n| off the tangential speed (measured: 0.58 of the Newton–Coulomb μ(1 + e)|v_n| springlab's impulse law takes, for e = 0.5)",
+        test: "difference_impact_friction_and_restitution_on_an_oblique_impact",
+        multibody_only: false,
+    },
+    Difference {
+        kind: DifferenceKind::OneSidedMesh,
+        title: "one-sided open meshes",
+        text: "an open mesh is one-sided in Rapier: a ball hitting it from the side its triangles face bounces (no sideways kick on a shared edge now that it cannot turn), one coming from the back passes through (springlab's own responses treat it as a two-sided sheet)",
+        test: "difference_a_fast_ball_on_a_sheets_shared_edge",
+        multibody_only: false,
+    },
+    Difference {
+        kind: DifferenceKind::MultibodyRolling,
+        title: "rapier_multibody links roll",
+        text: "multibody links must turn about their parents, so their rotations cannot be locked: a ball on an incline rolls at 5/7·g·sin θ (a solid sphere) instead of sliding at g(sin θ − μ cos θ)",
+        test: "difference_a_rapier_multibody_ball_rolls_down_the_incline",
+        multibody_only: true,
+    },
+];
 
 /// Sets the contact parameters of the module docs on `p` (called for every world built).
 pub fn contact_parameters(p: &mut IntegrationParameters) {

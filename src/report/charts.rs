@@ -366,3 +366,69 @@ pub fn collision(s: &SceneStudy) -> Option<CollisionData> {
         bounces,
     })
 }
+
+/// Most impacts drawn per backend (evenly strided in time order beyond that).
+pub const MAX_IMPACT_POINTS: usize = 300;
+
+/// Measured against expected restitution per impact (the impacts each run's contact summary
+/// covers: approaching faster than its floor), for scenes with obstacles and impacts.
+pub fn impacts(s: &SceneStudy) -> Option<ImpactData> {
+    let mut measured = Vec::new();
+    let mut deviation = Vec::new();
+    // (obstacle, speed, expected) of every impact drawn, for the expected lines.
+    let mut expected: Vec<(usize, f64, f64)> = Vec::new();
+    for run in runs(s) {
+        let Some(c) = &run.contacts else { continue };
+        let list: Vec<_> = c
+            .summary_impacts()
+            .filter(|(e, m)| m.is_finite() && e.expected_restitution.is_finite())
+            .collect();
+        if list.is_empty() {
+            continue;
+        }
+        let stride = list.len().div_ceil(MAX_IMPACT_POINTS).max(1);
+        let drawn: Vec<_> = list.into_iter().step_by(stride).collect();
+        let mut by_speed: Vec<[f64; 2]> = drawn.iter().map(|(e, m)| [e.v_in.abs(), *m]).collect();
+        by_speed.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        measured.push(Series::new(run.integrator.clone(), by_speed));
+        deviation.push(Series::new(
+            run.integrator.clone(),
+            drawn
+                .iter()
+                .map(|(e, m)| [e.t_in, m - e.expected_restitution])
+                .collect(),
+        ));
+        expected.extend(
+            drawn
+                .iter()
+                .map(|(e, _)| (e.obstacle, e.v_in.abs(), e.expected_restitution)),
+        );
+    }
+    if measured.is_empty() {
+        return None;
+    }
+    expected.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut lines: Vec<Guide> = Vec::new();
+    for (k, v, e) in expected {
+        let label = format!("expected e, obstacle {k}");
+        match lines.last_mut() {
+            Some(g) if g.label == label => g.points.push([v, e]),
+            _ => lines.push(Guide {
+                label,
+                points: vec![[v, e]],
+            }),
+        }
+    }
+    for g in &mut lines {
+        // A guide needs two points: widen a single impact speed into a short flat line.
+        if g.points.len() == 1 {
+            let [v, e] = g.points[0];
+            g.points = vec![[0.95 * v, e], [1.05 * v, e]];
+        }
+    }
+    Some(ImpactData {
+        measured,
+        expected: lines,
+        deviation,
+    })
+}

@@ -150,6 +150,18 @@ pub struct CollisionData {
     pub bounces: Vec<(String, Vec<Bounce>)>,
 }
 
+/// Restitution per impact: measured against the expected e over approach speed, and the
+/// deviation over impact time (the impacts above each run's summary floor).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ImpactData {
+    /// Measured e against approach speed |v_in| (m/s), one series per backend.
+    pub measured: Vec<Series>,
+    /// Expected e against approach speed, one line per obstacle met.
+    pub expected: Vec<Guide>,
+    /// Measured − expected e against impact time (s), one series per backend.
+    pub deviation: Vec<Series>,
+}
+
 /// Paths of particles projected on the scene's main plane, one series per backend.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PathData {
@@ -370,6 +382,27 @@ impl ChartCsv for CollisionData {
                 ]);
             }
         }
+        csv_bytes(&SERIES_HEADER, rows)
+    }
+}
+
+impl ChartCsv for ImpactData {
+    fn to_csv(&self) -> Result<Vec<u8>> {
+        let guides = self
+            .expected
+            .iter()
+            .map(|g| Series::new(g.label.clone(), g.points.clone()));
+        let guides: Vec<Series> = guides.collect();
+        let rows = self
+            .measured
+            .iter()
+            .flat_map(|s| series_rows("measured", s))
+            .chain(guides.iter().flat_map(|s| series_rows("expected", s)))
+            .chain(
+                self.deviation
+                    .iter()
+                    .flat_map(|s| series_rows("deviation", s)),
+            );
         csv_bytes(&SERIES_HEADER, rows)
     }
 }

@@ -84,6 +84,7 @@ pub fn chart(fr: &Framerate) -> Result<String> {
         series,
         guides: &[],
         dots: true,
+        lines: true,
         equal_aspect: false,
         legend: plotters::prelude::SeriesLabelPosition::UpperRight,
     };

@@ -167,6 +167,10 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     if let Some(c) = charts::collision(s) {
         write_chart(&dir, "collision", plots::collision(&c), &c)?;
         fig("collision", "Collision", format!("Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact. {}", link("compare/contacts.json")));
+        if let Some(i) = charts::impacts(s) {
+            write_chart(&dir, "impacts", plots::impacts(&i), &i)?;
+            fig("impacts", "Restitution per impact", format!("Left: measured restitution e = v_out/|v_in| of every impact faster than the run's summary floor, against its approach speed, with the expected e (dashed: the obstacle's; for penalty contacts the contact equation's with gravity, which varies with speed). Right: measured − expected per impact over time. At most {} impacts per backend. {}", charts::MAX_IMPACT_POINTS, link("compare/contacts.json")));
+        }
     } else {
         notes.push("Collision validation: this scene has no obstacles.".to_string());
     }

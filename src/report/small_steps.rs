@@ -89,6 +89,7 @@ fn chart(doc: &SmallSteps) -> Result<String> {
         series,
         guides: &[],
         dots: true,
+        lines: true,
         equal_aspect: false,
         legend: plotters::prelude::SeriesLabelPosition::LowerLeft,
     };

@@ -1,5 +1,6 @@
-//! Friction measured from the trajectory: while a particle stays on one obstacle without
-//! bouncing (a resting contact), its tangential motion is a slide whose mean acceleration along
+//! Friction measured from the trajectory: while a lone particle (only gravity, the contact and
+//! friction act on it; the caller picks them) stays on one obstacle without bouncing (a resting
+//! contact), its tangential motion is a slide whose mean acceleration along
 //! the sliding direction d is compared with the point-mass Coulomb law a = g·d − μ·|g·n|
 //! (incline: g(sin θ − μ cos θ); flat: −μg), its stopping distance with v0²/(2|a|), and a
 //! particle released at rest where μ·|g·n| ≥ g·d with no motion at all.

@@ -53,6 +53,8 @@ pub struct Panel<'a> {
     pub guides: &'a [Guide],
     /// Draw a dot at every point (sweeps with few points).
     pub dots: bool,
+    /// Join the points by lines (false: a scatter of dots, for points that are not a curve).
+    pub lines: bool,
     /// Keep x and y at the same scale (trajectories in a plane).
     pub equal_aspect: bool,
     /// Where the legend goes (away from the data).
@@ -288,12 +290,22 @@ where
     for ((s, sp), mark) in p.series.iter().zip(pts).zip(marks) {
         let c = color_for(&s.label);
         let style = c.stroke_width(2);
-        let anno = chart
-            .draw_series(LineSeries::new(sp.iter().copied(), style))
-            .map_err(draw_err)?;
-        anno.label(s.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3)));
-        if p.dots {
+        if p.lines {
+            chart
+                .draw_series(LineSeries::new(sp.iter().copied(), style))
+                .map_err(draw_err)?
+                .label(s.label.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3))
+                });
+        } else {
+            chart
+                .draw_series(sp.iter().map(|&q| Circle::new(q, 3, c.filled())))
+                .map_err(draw_err)?
+                .label(s.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+        }
+        if p.dots && p.lines {
             chart
                 .draw_series(sp.iter().map(|&q| Circle::new(q, 3, c.filled())))
                 .map_err(draw_err)?;

@@ -28,6 +28,7 @@ pub fn convergence(data: &ConvergenceData) -> Result<String> {
             series: &series,
             guides: &data.guides,
             dots: true,
+            lines: true,
             equal_aspect: false,
             legend: plotters::prelude::SeriesLabelPosition::LowerRight,
         },

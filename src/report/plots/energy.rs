@@ -14,6 +14,7 @@ pub fn energy(data: &EnergyData) -> Result<String> {
         series: &data.totals,
         guides: &[],
         dots: false,
+        lines: true,
         equal_aspect: false,
         legend: plotters::prelude::SeriesLabelPosition::UpperRight,
     }];
@@ -25,6 +26,7 @@ pub fn energy(data: &EnergyData) -> Result<String> {
             series: &data.terms,
             guides: &[],
             dots: false,
+            lines: true,
             equal_aspect: false,
             legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         });

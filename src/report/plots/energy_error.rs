@@ -15,6 +15,7 @@ pub fn energy_error(data: &EnergyErrorData) -> Result<String> {
             series: &data.series,
             guides: &[],
             dots: false,
+            lines: true,
             equal_aspect: false,
             legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },

@@ -15,6 +15,7 @@ pub fn paths(data: &PathData) -> Result<String> {
             series: &data.series,
             guides: &[],
             dots: false,
+            lines: true,
             equal_aspect: true,
             legend: plotters::prelude::SeriesLabelPosition::UpperRight,
         },

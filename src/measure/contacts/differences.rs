@@ -1,0 +1,49 @@
+//! Rapier's documented contact differences ([`crate::rapier::DIFFERENCES`]) beside what a
+//! run's contact metrics measured of each, for the report's collision section (the text has
+//! one home in the Rapier module; the figures are read from the same [`ContactReport`]).
+
+use super::{ContactReport, CONTACT_GAP};
+pub use crate::rapier::{Difference, DifferenceKind, DIFFERENCES};
+
+/// True for the backends the differences apply to (Rapier's).
+pub fn is_rapier(backend: &str) -> bool {
+    backend == crate::rapier::IMPULSE || backend == crate::rapier::MULTIBODY
+}
+
+/// The figure `c` (a run of `backend`) gives for difference `d`, `None` when the run measured
+/// nothing of it (or `d` does not apply to `backend`).
+pub fn measured(d: &Difference, backend: &str, c: &ContactReport) -> Option<String> {
+    if !is_rapier(backend) || (d.multibody_only && backend != crate::rapier::MULTIBODY) {
+        return None;
+    }
+    match d.kind {
+        DifferenceKind::SoftSpeculative => {
+            let rest = c
+                .bounces
+                .first()
+                .and_then(|b| b.heights.last())
+                .map(|h| h[1])
+                .filter(|g| (0.0..CONTACT_GAP).contains(g));
+            Some(match rest {
+                Some(g) => format!(
+                    "deepest penetration {:.2e} m, resting gap at the end {g:.2e} m",
+                    c.penetration.max
+                ),
+                None => format!("deepest penetration {:.2e} m", c.penetration.max),
+            })
+        }
+        // Compare measures no tangential loss per impact; the test does.
+        DifferenceKind::ImpactFriction => None,
+        DifferenceKind::OneSidedMesh => c
+            .obstacles
+            .iter()
+            .any(|o| o.shape == "mesh")
+            .then(|| format!("{} tunnelling events", c.tunnelling_count)),
+        DifferenceKind::MultibodyRolling => c.slides.first().map(|s| {
+            format!(
+                "slide acceleration {:.4} m/s² against Coulomb's {:.4} m/s²",
+                s.acceleration, s.expected_acceleration
+            )
+        }),
+    }
+}
