@@ -119,8 +119,12 @@ fn rapier_differences(runs: &[(&CaseResult, &ContactReport)]) -> String {
     {
         return String::new();
     }
+    let response = runs.first().map_or("", |(_, c)| c.response);
     let mut items = String::new();
-    for d in &differences::DIFFERENCES {
+    for d in differences::DIFFERENCES
+        .iter()
+        .filter(|d| d.applies_to(response))
+    {
         let figures: Vec<String> = runs
             .iter()
             .filter_map(|(r, c)| {

@@ -13,7 +13,10 @@ pub fn is_rapier(backend: &str) -> bool {
 /// The figure `c` (a run of `backend`) gives for difference `d`, `None` when the run measured
 /// nothing of it (or `d` does not apply to `backend`).
 pub fn measured(d: &Difference, backend: &str, c: &ContactReport) -> Option<String> {
-    if !is_rapier(backend) || (d.multibody_only && backend != crate::rapier::MULTIBODY) {
+    if !is_rapier(backend)
+        || (d.multibody_only && backend != crate::rapier::MULTIBODY)
+        || !d.applies_to(c.response)
+    {
         return None;
     }
     match d.kind {
@@ -39,6 +42,14 @@ pub fn measured(d: &Difference, backend: &str, c: &ContactReport) -> Option<Stri
             .iter()
             .any(|o| o.shape == "mesh")
             .then(|| format!("{} tunnelling events", c.tunnelling_count)),
+        DifferenceKind::PenaltyHeldForce => c.events.first().and_then(|e| {
+            e.restitution.map(|m| {
+                format!(
+                    "first impact e {m:.4} against the contact equation's {:.4}",
+                    e.expected_restitution
+                )
+            })
+        }),
         DifferenceKind::MultibodyRolling => c.slides.first().map(|s| {
             format!(
                 "slide acceleration {:.4} m/s² against Coulomb's {:.4} m/s²",
