@@ -11,7 +11,10 @@
 //! Newton stops when the residual is at the tolerance, when an update is below it or the
 //! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
 //! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks when an update would raise the residual
-//! (or, for a clamped direction, the stage's incremental potential).
+//! (or, for a clamped direction, the stage's incremental potential). The linear solves are
+//! inexact (Eisenstat–Walker forcing, never tighter than half the error-based stop needs);
+//! the solver is chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured
+//! choice).
 
 mod cg;
 mod direct;
