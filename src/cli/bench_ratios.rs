@@ -34,7 +34,8 @@ pub struct Args {
         default_value = "implicit_euler,implicit_midpoint,bdf2,linear_implicit_euler"
     )]
     pub implicit_methods: Vec<String>,
-    /// Linear solver of the implicit methods: block_jacobi_cg (the default) or cholesky_pcg.
+    /// Linear solver of the implicit methods: block_jacobi_cg (the default) or cholesky_pcg (a
+    /// build with `--features direct-solver` only).
     #[arg(long, default_value = "block_jacobi_cg")]
     pub implicit_solver: String,
     /// Steps per implicit method and size, from rest (180 = the 3 s at 1/60 issue 14 asks
@@ -87,9 +88,13 @@ pub fn run(a: Args) -> Result<()> {
     }
     let Some(solver) = LinearSolver::from_name(&a.implicit_solver) else {
         bail!(
-            "--implicit-solver: unknown solver {:?} (one of: {})",
+            "--implicit-solver: unknown solver {:?} (one of: {}; cholesky_pcg needs a build with `--features direct-solver`)",
             a.implicit_solver,
-            LinearSolver::ALL.map(|s| s.name()).join(", ")
+            LinearSolver::ALL
+                .iter()
+                .map(|s| s.name())
+                .collect::<Vec<_>>()
+                .join(", ")
         );
     };
     for m in &a.implicit_methods {

@@ -8,6 +8,7 @@
 //! parallel over fixed chunks, and dot products sum fixed chunk partials in order, so results
 //! are bit-identical for any thread count.
 
+#[cfg(feature = "direct-solver")]
 use super::direct::Factor;
 use super::ImplicitSettings;
 use crate::integrate::ensure_len;
@@ -37,7 +38,12 @@ pub(super) enum Precond<'a> {
     BlockJacobi,
     /// A sparse Cholesky factor of a nearby SPD matrix (the clamped Newton matrix, possibly
     /// of an earlier iterate or step).
+    #[cfg(feature = "direct-solver")]
     Factor(&'a mut Factor),
+    /// Never built: keeps the lifetime when the direct solver is not compiled in.
+    #[cfg(not(feature = "direct-solver"))]
+    #[allow(dead_code)]
+    Unused(std::marker::PhantomData<&'a ()>),
 }
 
 /// How one CG solve ended (with its iteration count).
@@ -132,7 +138,13 @@ impl Cg {
                 let (r, d) = (&self.r, &self.diag_inv);
                 each_particle(&mut self.z, |i, zi| *zi = d[i] * r[i]);
             }
+            #[cfg(feature = "direct-solver")]
             Precond::Factor(f) => f.solve(free, &self.r, &mut self.z),
+            #[cfg(not(feature = "direct-solver"))]
+            Precond::Unused(_) => {
+                let _ = free;
+                unreachable!("no factor without the direct-solver feature")
+            }
         }
     }
 }

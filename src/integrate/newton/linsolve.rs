@@ -22,7 +22,10 @@
 //! iteration and a factor every other step the Cholesky solve cost 277 ms per step; on 32²
 //! 9.5 ms against 6.0 ms. A factorisation's cost grows faster than n² while CG's does not.
 
-use super::cg::{solve_clamped, Cg, CgOutcome, Indefinite, Precond};
+use super::cg::{solve_clamped, Cg, Indefinite};
+#[cfg(feature = "direct-solver")]
+use super::cg::{CgOutcome, Precond};
+#[cfg(feature = "direct-solver")]
 use super::direct::Factor;
 use super::ImplicitSettings;
 use crate::model::{Jacobian, System, Vec3};
@@ -36,25 +39,31 @@ pub enum LinearSolver {
     BlockJacobiCg,
     /// CG preconditioned by a reused sparse Cholesky factor of the clamped Newton matrix;
     /// projected Newton (the clamped system, solved directly) where the exact matrix is
-    /// indefinite.
+    /// indefinite. Built with the `direct-solver` feature only.
+    #[cfg(feature = "direct-solver")]
     Cholesky,
 }
 
 impl LinearSolver {
-    /// Every solver, the default first.
-    pub const ALL: [LinearSolver; 2] = [LinearSolver::BlockJacobiCg, LinearSolver::Cholesky];
+    /// Every solver compiled in, the default first.
+    pub const ALL: &'static [LinearSolver] = &[
+        LinearSolver::BlockJacobiCg,
+        #[cfg(feature = "direct-solver")]
+        LinearSolver::Cholesky,
+    ];
 
     /// The name bench reports print and `--implicit-solver` takes.
     pub fn name(self) -> &'static str {
         match self {
             LinearSolver::BlockJacobiCg => "block_jacobi_cg",
+            #[cfg(feature = "direct-solver")]
             LinearSolver::Cholesky => "cholesky_pcg",
         }
     }
 
     /// The solver called `name`, if any.
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|s| s.name() == name)
+        Self::ALL.iter().copied().find(|s| s.name() == name)
     }
 }
 
@@ -62,8 +71,10 @@ impl LinearSolver {
 #[derive(Debug, Default)]
 pub(super) struct LinearSolve {
     cg: Cg,
+    #[cfg(feature = "direct-solver")]
     factor: Factor,
     /// Step the factor was built for (the matrix scales with it).
+    #[cfg(feature = "direct-solver")]
     factor_h: f64,
     /// Numeric factorisations so far.
     pub(super) factorizations: u64,
@@ -72,10 +83,12 @@ pub(super) struct LinearSolve {
 impl LinearSolve {
     /// Forgets the factor (the next solve refactors).
     pub(super) fn invalidate(&mut self) {
+        #[cfg(feature = "direct-solver")]
         self.factor.invalidate();
     }
 
     /// Fills `jac` at (x, v) with the given clamp and prepares the Newton matrix for step h.
+    #[cfg(feature = "direct-solver")]
     fn fill(jac: &mut Jacobian, sys: &System, x: &[Vec3], v: &[Vec3], h: f64, clamp: f64) {
         jac.clamp = clamp;
         sys.jacobian(x, v, jac);
@@ -83,6 +96,7 @@ impl LinearSolve {
     }
 
     /// Factors the clamped Newton matrix at (x, v).
+    #[cfg(feature = "direct-solver")]
     fn refactor(
         &mut self,
         jac: &mut Jacobian,
@@ -111,7 +125,7 @@ impl LinearSolve {
         v: &[Vec3],
         h: f64,
         set: &ImplicitSettings,
-        mut rhs: impl FnMut(&Jacobian, &mut [Vec3]),
+        rhs: impl FnMut(&Jacobian, &mut [Vec3]),
         b: &mut [Vec3],
         dv: &mut [Vec3],
         abs_tol2: f64,
@@ -119,6 +133,28 @@ impl LinearSolve {
         if set.solver == LinearSolver::BlockJacobiCg {
             return solve_clamped(&mut self.cg, jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
         }
+        #[cfg(feature = "direct-solver")]
+        return self.solve_factored(jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
+        #[cfg(not(feature = "direct-solver"))]
+        unreachable!("BlockJacobiCg is the only solver without the direct-solver feature")
+    }
+
+    /// [`LinearSolver::Cholesky`]'s solve (module docs).
+    #[cfg(feature = "direct-solver")]
+    #[allow(clippy::too_many_arguments)]
+    fn solve_factored(
+        &mut self,
+        jac: &mut Jacobian,
+        sys: &System,
+        x: &[Vec3],
+        v: &[Vec3],
+        h: f64,
+        set: &ImplicitSettings,
+        mut rhs: impl FnMut(&Jacobian, &mut [Vec3]),
+        b: &mut [Vec3],
+        dv: &mut [Vec3],
+        abs_tol2: f64,
+    ) -> Result<u64, Indefinite> {
         let mut fresh = false;
         if !self.factor.is_factored() || self.factor_h != h {
             if self.refactor(jac, sys, x, v, h).is_err() {

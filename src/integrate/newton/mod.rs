@@ -17,6 +17,7 @@
 //! choice).
 
 mod cg;
+#[cfg(feature = "direct-solver")]
 mod direct;
 mod linear;
 mod linsolve;
