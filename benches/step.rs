@@ -133,11 +133,13 @@ fn implicit_stats(_c: &mut Criterion) {
     for n in SIZES {
         let scene = cloth(n);
         let springs = scene.build().springs.len();
-        match springlab::perf::ratios::implicit_cost(&scene, 1.0 / 60.0, 10) {
+        let solver = springlab::integrate::LinearSolver::default();
+        match springlab::perf::ratios::implicit_cost(&scene, "implicit_euler", solver, 1.0 / 60.0, 10)
+        {
             Ok(c) => eprintln!(
                 "implicit_euler {n}x{n} dt=1/60: {:.2} Newton iterations/step, {:.1} CG iterations/Newton iteration, {:.3} ms/step ({:.1} ns/spring)",
                 c.newton_per_step,
-                c.cg_per_newton,
+                c.linear_per_step / c.newton_per_step.max(f64::MIN_POSITIVE),
                 c.seconds_per_step * 1e3,
                 c.seconds_per_step * 1e9 / springs as f64
             ),

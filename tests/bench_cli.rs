@@ -93,14 +93,29 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
         assert!(r[8] == "true" || r[8] == "false", "{r:?}");
     }
     let imp = csv_rows(&d.path().join("implicit.csv"));
-    assert_eq!(imp.len(), 2);
+    // Every implicit method at each size, in a `method` column, with its solver.
+    let methods: Vec<(&str, &str)> = imp.iter().map(|r| (r[0].as_str(), r[2].as_str())).collect();
+    let mut want = Vec::new();
+    for n in ["4", "5"] {
+        for m in [
+            "implicit_euler",
+            "implicit_midpoint",
+            "bdf2",
+            "linear_implicit_euler",
+        ] {
+            want.push((m, n));
+        }
+    }
+    assert_eq!(methods, want);
     for r in &imp {
-        assert_eq!(r[11], "ok", "{r:?}");
-        let newton: f64 = r[6].parse().unwrap();
+        assert_eq!(r[1], "block_jacobi_cg", "{r:?}");
+        assert_eq!(r[16], "ok", "{r:?}");
+        let newton: f64 = r[8].parse().unwrap();
+        let linear: f64 = r[9].parse().unwrap();
         assert!(
-            newton >= 1.0,
-            "at least one Newton iteration per step: {r:?}"
+            newton >= 1.0 && linear >= newton,
+            "at least one Newton iteration per step, one linear iteration each: {r:?}"
         );
     }
-    assert!(stdout.contains("implicit_euler at dt = 1/60"));
+    assert!(stdout.contains("implicit methods at dt = 1/60"));
 }

@@ -5,21 +5,35 @@
 //! v_pred = v + h M⁻¹ f(x + h v, v) is the first-order explicit predictor, both in the
 //! mass-weighted RMS norm √(Σ m|·|² / Σ m).
 
-use springlab::integrate::{ImplicitEuler, Integrator};
+use springlab::integrate::{ImplicitEuler, Integrator, LinearSolver};
 use springlab::model::Vec3;
 use springlab::scenario::Scenario;
 
 #[test]
 fn implicit_euler_steps_the_folding_cloth_at_one_frame() {
+    folding_cloth_meets_the_backward_euler_equation(LinearSolver::BlockJacobiCg, 90);
+}
+
+/// The same oracle with the sparse-Cholesky-preconditioned solve (a factor reused across
+/// Newton iterations and steps, projected Newton where the exact matrix is indefinite); built
+/// with `--features direct-solver` only.
+#[cfg(feature = "direct-solver")]
+#[test]
+fn implicit_euler_with_the_cholesky_solver_steps_the_folding_cloth() {
+    folding_cloth_meets_the_backward_euler_equation(LinearSolver::Cholesky, 45);
+}
+
+fn folding_cloth_meets_the_backward_euler_equation(solver: LinearSolver, frames: usize) {
     let scene = Scenario::from_file("scenarios/cloth.toml").unwrap();
     let sys = scene.build();
     let mut s = scene.initial_state();
     let h = 1.0 / 60.0;
     let mut ie = ImplicitEuler::default();
+    ie.newton.settings.solver = solver;
     let n = sys.len();
     let (mut f, mut xn) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n]);
     let amax = |v: Vec3| v.amax();
-    for step in 0..90 {
+    for step in 0..frames {
         let (x0, v0) = (s.x.clone(), s.v.clone());
         ie.step(&sys, &mut s, h)
             .unwrap_or_else(|e| panic!("step {step}: {e}"));
@@ -56,7 +70,11 @@ fn implicit_euler_steps_the_folding_cloth_at_one_frame() {
             );
         }
     }
-    assert!(s.t > 1.49, "1.5 s simulated");
+    assert!(s.t > (frames as f64 - 0.5) * h, "{frames} frames simulated");
+    #[cfg(feature = "direct-solver")]
+    if solver == LinearSolver::Cholesky {
+        assert!(ie.newton.factorizations() >= 1, "the factor was used");
+    }
 }
 
 /// The 100×100 benchmark cloth (10 kg on two corners) at one frame: with a max-norm Newton

@@ -40,6 +40,13 @@ impl Integrator for Bdf2 {
     }
     fn reset(&mut self) {
         self.h_prev = None;
+        self.newton.reset();
+    }
+    fn newton(&self) -> Option<&Newton> {
+        Some(&self.newton)
+    }
+    fn newton_mut(&mut self) -> Option<&mut Newton> {
+        Some(&mut self.newton)
     }
     fn recurrence_steps(&self) -> usize {
         2

@@ -26,6 +26,15 @@ impl Integrator for ImplicitEuler {
     fn name(&self) -> &str {
         "implicit_euler"
     }
+    fn newton(&self) -> Option<&Newton> {
+        Some(&self.newton)
+    }
+    fn newton_mut(&mut self) -> Option<&mut Newton> {
+        Some(&mut self.newton)
+    }
+    fn reset(&mut self) {
+        self.newton.reset();
+    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         let (power, evals) =
             self.newton

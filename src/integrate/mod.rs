@@ -26,7 +26,7 @@ pub use euler::{ExplicitEuler, SymplecticEuler};
 pub use implicit_euler::ImplicitEuler;
 pub use implicit_midpoint::ImplicitMidpoint;
 pub use linear_implicit_euler::LinearImplicitEuler;
-pub use newton::{ImplicitSettings, Newton};
+pub use newton::{ImplicitSettings, LinearSolver, Newton};
 pub use options::IntegratorOptions;
 pub use rattle::{Rattle, RattleSettings};
 pub use rk::{RungeKutta, Tableau};
@@ -87,6 +87,15 @@ pub trait Integrator: Send {
     /// Forgets any history (cached forces, previous positions): the state was changed from
     /// outside (an impulse, a contact) or the step size changes.
     fn reset(&mut self) {}
+    /// The shared implicit core of an implicit method (its settings and iteration counters,
+    /// for cost reports); `None` for explicit methods and engines.
+    fn newton(&self) -> Option<&Newton> {
+        None
+    }
+    /// Mutable access to the shared implicit core, to choose its settings.
+    fn newton_mut(&mut self) -> Option<&mut Newton> {
+        None
+    }
     /// k of a k-step (multistep) method: how many past states, the current one included, its
     /// next step reads once started (2 for BDF2); 1 for one-step methods. The linear
     /// stability analysis identifies a k-step recurrence from it.

@@ -229,6 +229,14 @@ impl Jacobian {
         true
     }
 
+    /// The prepared Newton matrix's blocks (per pair h·kv + h²·kx, per particle
+    /// m I − h·diag_v − h²·diag_x), for assembling it into a sparse matrix: pair `s` (a, b)
+    /// adds its block to the diagonal blocks of its free ends and its negative to (a, b) and
+    /// (b, a) when both are free, as [`Jacobian::newton_matvec`] applies it.
+    pub fn newton_blocks(&self) -> (&[Matrix3<f64>], &[Matrix3<f64>]) {
+        (&self.newton_pair, &self.newton_self)
+    }
+
     /// The 3×3 diagonal blocks of the prepared Newton matrix, for a block-Jacobi preconditioner.
     pub fn newton_diagonal(&self, free: &[bool], out: &mut [Matrix3<f64>]) {
         let pair = |s: usize,

@@ -81,42 +81,6 @@ pub fn each_particle2<T: Send, U: Send>(
     }
 }
 
-/// Like [`each_particle`] over three arrays of equal length.
-#[inline(always)]
-pub fn each_particle3<T: Send, U: Send, W: Send>(
-    a: &mut [T],
-    b: &mut [U],
-    c: &mut [W],
-    op: impl Fn(usize, &mut T, &mut U, &mut W) + Sync,
-) {
-    use rayon::prelude::*;
-    assert!(
-        a.len() == b.len() && a.len() == c.len(),
-        "each_particle3: lengths differ"
-    );
-    if a.len() < PARALLEL_MIN_PARTICLES {
-        for (p, ((t, u), w)) in a.iter_mut().zip(b.iter_mut()).zip(c.iter_mut()).enumerate() {
-            op(p, t, u, w);
-        }
-    } else {
-        a.par_chunks_mut(PARTICLE_CHUNK)
-            .zip(b.par_chunks_mut(PARTICLE_CHUNK))
-            .zip(c.par_chunks_mut(PARTICLE_CHUNK))
-            .enumerate()
-            .for_each(|(k, ((ca, cb), cc))| {
-                let base = k * PARTICLE_CHUNK;
-                for (q, ((t, u), w)) in ca
-                    .iter_mut()
-                    .zip(cb.iter_mut())
-                    .zip(cc.iter_mut())
-                    .enumerate()
-                {
-                    op(base + q, t, u, w);
-                }
-            });
-    }
-}
-
 /// Σ a[p]·b[p]: summed in particle order for small systems, and for large ones (at least
 /// [`PARALLEL_MIN_PARTICLES`]) per fixed [`PARTICLE_CHUNK`] in parallel, the chunk sums then
 /// added in order, so the result never depends on the thread count. `parts` is scratch for

@@ -3,7 +3,7 @@
 //! machine a slow phase then hits both sides of a ratio instead of one.
 
 use crate::error::Result;
-use crate::integrate::{ImplicitEuler, Integrator, IntegratorOptions};
+use crate::integrate::{Integrator, IntegratorOptions, LinearSolver};
 use crate::model::{State, System, Vec3};
 use crate::scenario::Scenario;
 use std::time::Instant;
@@ -79,45 +79,58 @@ pub fn backend(name: &str) -> Result<Box<dyn Integrator>> {
     crate::method::create(name, &IntegratorOptions::default())
 }
 
-/// What implicit Euler's solver did over some steps of one scene.
+/// What an implicit method's solver did over some steps of one scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImplicitCost {
-    /// Steps taken (fewer than asked when one failed).
+    /// Steps taken.
     pub steps: usize,
     /// Wall time per step (s).
     pub seconds_per_step: f64,
-    /// Newton iterations per step.
+    /// Newton iterations (linear solves) per step.
     pub newton_per_step: f64,
-    /// CG iterations per Newton iteration.
-    pub cg_per_newton: f64,
+    /// Linear-solver iterations per step (CG iterations; a direct solve counts one).
+    pub linear_per_step: f64,
+    /// Numeric factorisations of the Newton matrix per step (0 for matrix-free CG).
+    pub factorizations_per_step: f64,
     /// Force evaluations per step.
     pub force_evals_per_step: f64,
 }
 
-/// Steps implicit Euler `steps` times at `h` from the scene's initial state and reports its
-/// solver work; `Err` with the step number when a step fails.
+/// Steps the implicit method `method` `steps` times at `h` with linear solver `solver` from
+/// the scene's initial state and reports its solver work; `Err` naming the step when one
+/// fails (or when `method` has no implicit core).
 pub fn implicit_cost(
     scene: &Scenario,
+    method: &str,
+    solver: LinearSolver,
     h: f64,
     steps: usize,
 ) -> std::result::Result<ImplicitCost, String> {
     let sys = scene.build();
     let mut s = scene.initial_state();
-    let mut ie = ImplicitEuler::default();
+    let mut integ = backend(method).map_err(|e| e.to_string())?;
+    integ
+        .newton_mut()
+        .ok_or_else(|| format!("{method} has no implicit solver"))?
+        .settings
+        .solver = solver;
     let mut evals = 0;
     let t0 = Instant::now();
     for k in 0..steps {
-        evals += ie
+        evals += integ
             .step(&sys, &mut s, h)
             .map_err(|e| format!("step {k} failed: {e}"))?
             .force_evals;
     }
+    let secs = t0.elapsed().as_secs_f64();
+    let nw = integ.newton().expect("checked above");
     let n = steps.max(1) as f64;
     Ok(ImplicitCost {
         steps,
-        seconds_per_step: t0.elapsed().as_secs_f64() / n,
-        newton_per_step: ie.newton.newton_iterations as f64 / n,
-        cg_per_newton: ie.newton.cg_iterations as f64 / ie.newton.newton_iterations.max(1) as f64,
+        seconds_per_step: secs / n,
+        newton_per_step: nw.newton_iterations as f64 / n,
+        linear_per_step: nw.cg_iterations as f64 / n,
+        factorizations_per_step: nw.factorizations() as f64 / n,
         force_evals_per_step: evals as f64 / n,
     })
 }

@@ -5,7 +5,6 @@
 //!
 //! one linear solve per step on the same matrix, CG and clamping as the Newton stage.
 
-use super::cg::solve_clamped;
 use super::Newton;
 use crate::error::{Error, Result};
 use crate::model::{System, Vec3};
@@ -33,8 +32,7 @@ impl Newton {
             }
         };
         self.newton_iterations += 1;
-        let solved = solve_clamped(
-            &mut self.cg,
+        let solved = self.lin.solve(
             &mut jac,
             sys,
             x0,
@@ -44,6 +42,7 @@ impl Newton {
             rhs,
             &mut self.r,
             &mut self.dv,
+            0.0,
         );
         self.jac = Some(jac);
         self.cg_iterations += solved.map_err(|_| ())?;

@@ -11,16 +11,23 @@
 //! Newton stops when the residual is at the tolerance, when an update is below it or the
 //! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
 //! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks when an update would raise the residual
-//! (or, for a clamped direction, the stage's incremental potential).
+//! (or, for a clamped direction, the stage's incremental potential). The linear solves are
+//! inexact (Eisenstat–Walker forcing, never tighter than half the error-based stop needs);
+//! the solver is chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured
+//! choice).
 
 mod cg;
+#[cfg(feature = "direct-solver")]
+mod direct;
 mod linear;
+mod linsolve;
 mod potential;
 
 use crate::error::{Error, Result};
 use crate::integrate::ensure_len;
 use crate::model::{Jacobian, System, Vec3};
-use cg::{solve_clamped, Cg};
+use linsolve::LinearSolve;
+pub use linsolve::LinearSolver;
 use potential::{potential, PotentialScratch};
 
 /// Settings of the implicit solve.
@@ -46,6 +53,14 @@ pub struct ImplicitSettings {
     /// Halvings of a Newton update tried when it would raise the residual (line search on
     /// GᵀM⁻¹G); the last trial is taken if none lowers it.
     pub max_halvings: usize,
+    /// Largest inexact-Newton forcing η: each linear solve stops once its residual is below
+    /// η |G| (Eisenstat–Walker; smaller η as Newton converges) or half the error-based stop.
+    pub forcing: f64,
+    /// The linear solver of each Newton iteration.
+    pub solver: LinearSolver,
+    /// [`LinearSolver::Cholesky`]: CG iterations a reused (stale) factor may take before it
+    /// is refactored at the current iterate.
+    pub refactor_after: usize,
 }
 
 impl Default for ImplicitSettings {
@@ -57,6 +72,9 @@ impl Default for ImplicitSettings {
             cg_tol: 1e-8,
             max_cg: 2000,
             max_halvings: 4,
+            forcing: 0.1,
+            solver: LinearSolver::default(),
+            refactor_after: 10,
         }
     }
 }
@@ -80,7 +98,8 @@ pub struct Newton {
     pub settings: ImplicitSettings,
     /// Total Newton iterations (linear solves) so far, for cost reports.
     pub newton_iterations: u64,
-    /// Total CG iterations so far, for cost reports.
+    /// Total linear iterations so far (CG iterations; a direct solve counts one), for cost
+    /// reports.
     pub cg_iterations: u64,
     /// Stages that stopped on the truncation-error tolerance (`kappa`) before `newton_tol`.
     pub error_limited_steps: u64,
@@ -96,7 +115,7 @@ pub struct Newton {
     r: Vec<Vec3>,
     dv: Vec<Vec3>,
     floor: Vec<f64>,
-    cg: Cg,
+    lin: LinearSolve,
 }
 
 /// What one evaluation of the stage residual G(v') found.
@@ -129,6 +148,15 @@ impl Newton {
     /// Velocities v' of the last solved stage.
     pub(crate) fn v(&self) -> &[Vec3] {
         &self.vn
+    }
+    /// Numeric factorisations of the Newton matrix so far ([`LinearSolver::Cholesky`]).
+    pub fn factorizations(&self) -> u64 {
+        self.lin.factorizations
+    }
+    /// Forgets solver state carried between steps (the reused factor), so that the next step
+    /// gives the same bits as a fresh solver's.
+    pub(crate) fn reset(&mut self) {
+        self.lin.invalidate();
     }
 
     fn ensure(&mut self, n: usize) {
@@ -236,6 +264,7 @@ impl Newton {
             Stop::SecondOrder => self.settings.kappa * self.settings.kappa,
         };
         let mut res = self.residual(sys, x0, v0, h, v_scale0);
+        let mut prev_merit = f64::INFINITY;
         evals += 1;
         if guessed {
             // Keep the linearly implicit start only where it beats v̂: on a folding cloth the
@@ -292,11 +321,24 @@ impl Newton {
             for p in 0..n {
                 self.r[p] = -self.r[p];
             }
-            // Exact Jacobian first; on negative curvature drop more and more of the compressed
-            // springs' indefinite stiffness, ending with the SPD clamped matrix.
+            // Inexact Newton (Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19, 1982): the
+            // linear residual need only fall to η |G| with Eisenstat & Walker's forcing
+            // η = min(η_max, 0.9 (|G|/|G_prev|)²) (SIAM J. Sci. Comput. 17, 1996, choice 2),
+            // and never below half the error-based stop's target, which it would oversolve.
+            let eta = if prev_merit.is_finite() {
+                (0.9 * res.merit / prev_merit).min(self.settings.forcing)
+            } else {
+                self.settings.forcing
+            };
+            prev_merit = res.merit;
+            let target2 = if kappa > 0.0 {
+                (0.5 * kappa * lte).powi(2) * free_mass
+            } else {
+                0.0
+            };
+            let abs_tol2 = target2.max(eta * eta * res.merit);
             let mut rhs = std::mem::take(&mut self.r);
-            let solved = solve_clamped(
-                &mut self.cg,
+            let solved = self.lin.solve(
                 &mut jac,
                 sys,
                 &self.xn,
@@ -306,6 +348,7 @@ impl Newton {
                 |_, _| {},
                 &mut rhs,
                 &mut self.dv,
+                abs_tol2,
             );
             self.r = rhs;
             match solved {
