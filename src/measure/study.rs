@@ -62,6 +62,10 @@ pub const FRAMERATE_METHOD_SECONDS: f64 = 2.0;
 /// about 12 s; rapier_multibody there about 350 s, and is left out with its time per frame).
 pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 
+/// How every study note about the frame-rate section begins (the report shows those notes in
+/// that section).
+pub const FRAMERATE_NOTE_PREFIX: &str = "Frame rates";
+
 /// Default advice tolerance of a study: 1 mm of position error over the scene's duration.
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
 
@@ -429,7 +433,7 @@ fn study_framerate(
         .filter(|_| compared.reference.uncertainty > tolerance);
     if let Some(h) = horizon {
         notes.push(format!(
-            "Frame rates over the first {h:.3} s: the reference's uncertainty over the whole {duration} s ({:.2e} m) exceeds the {tolerance} m tolerance, and it is predictable for {h:.3} s.",
+            "{FRAMERATE_NOTE_PREFIX} over the first {h:.3} s: the reference's uncertainty over the whole {duration} s ({:.2e} m) exceeds the {tolerance} m tolerance, and it is predictable for {h:.3} s.",
             compared.reference.uncertainty
         ));
         duration = h;
@@ -467,7 +471,7 @@ fn study_framerate(
         };
         if projected > budget {
             notes.push(format!(
-                "Frame rates leave out {name}: {:.3} ms per {} measured in {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
+                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {} measured in {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
                 per_substep * 1e3,
                 if info.engine {
                     format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))

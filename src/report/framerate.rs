@@ -107,8 +107,9 @@ pub fn chart(fr: &Framerate) -> Result<String> {
 }
 
 /// The page section: chart, then per backend and rate the run at one substep and the fewest
-/// substeps meeting the tolerance with its cost per frame.
-pub fn section(fr: &Framerate, note: Option<&str>) -> String {
+/// substeps meeting the tolerance with its cost per frame, then `left_out`: the study's notes
+/// on the backends it left out (with their measured time per frame).
+pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> String {
     let mut rates: Vec<f64> = Vec::new();
     for e in &fr.entries {
         if !rates.contains(&e.hz) {
@@ -162,10 +163,13 @@ pub fn section(fr: &Framerate, note: Option<&str>) -> String {
         body += "</tr>\n";
     }
     body += "</table>\n";
-    if !fr.skipped.is_empty() {
+    if !fr.skipped.is_empty() || !left_out.is_empty() {
         body += "<ul class=\"note\">\n";
         for (n, why) in &fr.skipped {
             body += &format!("<li><code>{}</code>: {}</li>\n", esc(n), esc(why));
+        }
+        for n in left_out {
+            body += &format!("<li>{}</li>\n", esc(n));
         }
         body += "</ul>\n";
     }

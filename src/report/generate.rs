@@ -145,7 +145,12 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
             link("compare/summary.json")
         ),
     );
-    let mut notes = s.notes.clone();
+    // The frame-rate section says itself what it left out; the rest are page notes.
+    let (framerate_notes, mut notes): (Vec<String>, Vec<String>) = s
+        .notes
+        .iter()
+        .cloned()
+        .partition(|n| n.starts_with(crate::measure::study::FRAMERATE_NOTE_PREFIX));
     if let Some(c) = charts::convergence(s) {
         write_chart(&dir, "convergence", plots::convergence(&c), &c)?;
         fig("convergence", "Convergence", format!("Largest position error against the step, log-log; the legend gives each method's observed order as the sweep fitted it on its asymptotic range (none when that range was not reached), dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step. {}", link("sweep/summary.json, sweep/sweep.csv")));
@@ -187,12 +192,19 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
                 dir.join("framerate.svg"),
                 super::framerate::chart(fr)?.as_bytes(),
             )?;
-            sections.push(super::framerate::section(fr, s.framerate_note.as_deref()));
+            sections.push(super::framerate::section(
+                fr,
+                s.framerate_note.as_deref(),
+                &framerate_notes,
+            ));
         }
-        None => notes.push(format!(
-            "Frame rates: {}.",
-            s.framerate_note.as_deref().unwrap_or("not measured")
-        )),
+        None => {
+            notes.push(format!(
+                "Frame rates: {}.",
+                s.framerate_note.as_deref().unwrap_or("not measured")
+            ));
+            notes.extend(framerate_notes);
+        }
     }
     match super::playback::playback(s, scene, plane) {
         Some((js, html)) => {
