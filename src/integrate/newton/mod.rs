@@ -11,7 +11,11 @@
 //! Newton stops when the residual is at the tolerance, when an update is below it or the
 //! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
 //! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks when an update would raise the residual
-//! (or, for a clamped direction, the stage's incremental potential). The linear solves are
+//! (or, for a clamped direction, the stage's incremental potential). Where the clamped
+//! iteration stalls (an update is taken only for lowering the potential: the exact Jacobian
+//! is indefinite near the root it circles, as past the 316² cloth's fold), the rest of the
+//! stage takes Steihaug–Toint trust-region steps on the exact Jacobian (see `trust.rs`),
+//! which follow negative curvature instead of clamping it. The linear solves are
 //! inexact (Eisenstat–Walker forcing, never tighter than half the error-based stop needs);
 //! the solver is chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured
 //! choice).
@@ -135,11 +139,6 @@ struct Residual {
 /// Rounding floor of the Newton residual, as a multiple of ε·h/m·Σ k(|x_i| + |x_j| + l0): a
 /// residual below it is the rounding error of the force evaluation itself and cannot shrink.
 const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
-
-fn trace() -> bool {
-    static T: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *T.get_or_init(|| std::env::var("NEWTON_TRACE").is_ok())
-}
 
 /// Largest component magnitude over all particles (the max norm of a velocity or position field).
 pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
@@ -327,12 +326,6 @@ impl Newton {
             };
             let finite = trial.merit.is_finite() && phi.is_finite();
             let accept = finite && (rho >= trust::ETA || trial.merit <= res.merit);
-            if trace() {
-                eprintln!(
-                    "   TR tau {tau} rho {rho:.3e} accept {accept} radius {:.3e} step {step_norm:.3e} bnd {on_boundary} merit {:.3e}->{:.3e}",
-                    *radius, res.merit, trial.merit
-                );
-            }
             if accept {
                 // A step taken on the residual alone keeps the radius (no evidence either way).
                 let rho = if rho < trust::ETA { 0.25 } else { rho };
@@ -447,15 +440,6 @@ impl Newton {
             let lte = 0.5 * (lte2 / free_mass).sqrt();
             let res_rms = (res.merit / free_mass).sqrt();
             let loose = iter > 0 && kappa > 0.0 && res_rms <= kappa * lte;
-            if trace() {
-                eprintln!(
-                    "it {iter} max {:.3e} tightstop {:.3e} rms {:.3e} loosestop {:.3e} small {small_update}",
-                    res.max,
-                    self.settings.newton_tol * res.scale,
-                    res_rms,
-                    kappa * lte
-                );
-            }
             if tight || small_update || loose {
                 if loose && !tight && !small_update {
                     self.error_limited_steps += 1;
@@ -501,14 +485,6 @@ impl Newton {
                 trust_mode.then_some(radius),
             );
             self.r = rhs;
-            if trace() {
-                eprintln!(
-                    "   cg {:?} clamp {} |dv| {:.3e}",
-                    solved,
-                    jac.clamp,
-                    max_abs(&self.dv)
-                );
-            }
             match solved {
                 Ok(it) => self.cg_iterations += it,
                 Err(_) => {
