@@ -269,3 +269,140 @@ pub(super) fn solve_clamped(
     }
     Err(Indefinite)
 }
+
+#[cfg(test)]
+mod tests {
+    //! Oracles: the Newton matrix assembled densely, column by column, from the matrix-free
+    //! product CG uses; nalgebra's dense Cholesky solve and eigenvalues of it; the quadratic
+    //! model −bᵀs + ½ sᵀAs evaluated directly; the P-norm from the preconditioner's blocks.
+    use super::*;
+    use nalgebra::{DMatrix, DVector};
+
+    /// A crumpled 5×5 cloth (compressed springs), its Newton matrix at step `h` with `clamp`,
+    /// the dense matrix on the free coordinates and those coordinates.
+    fn crumpled(h: f64, clamp: f64) -> (System, Jacobian, DMatrix<f64>, Vec<usize>) {
+        let scene = crate::scenario::Scenario::from_toml_str(
+            "[world]\ngravity=[0.0,-9.81,0.0]\n[[cloth]]\norigin=[0.0,0.0,0.0]\nsize=[1.0,1.0]\n\
+             count=[5,5]\nmass=0.001\nstiffness=200.0\ndamping=0.002\nfix=[\"top_left\",\"top_right\"]\n",
+            "cloth.toml",
+        )
+        .unwrap();
+        let sys = scene.build();
+        let mut s = scene.initial_state();
+        for (p, x) in s.x.iter_mut().enumerate() {
+            x[2] += 0.05 * ((p * 7 % 5) as f64 - 2.0);
+            x[0] *= 0.6;
+        }
+        let mut jac = sys.new_jacobian();
+        jac.clamp = clamp;
+        sys.jacobian(&s.x, &s.v, &mut jac);
+        jac.prepare_newton(&sys.mass, &sys.free, h);
+        let n = sys.len();
+        let dofs: Vec<usize> = (0..3 * n).filter(|&d| sys.free[d / 3]).collect();
+        let mut dense = DMatrix::zeros(dofs.len(), dofs.len());
+        let (mut e, mut col) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n]);
+        for (j, &dj) in dofs.iter().enumerate() {
+            e.iter_mut().for_each(|v| *v = Vec3::zeros());
+            e[dj / 3][dj % 3] = 1.0;
+            jac.newton_matvec(&sys.free, &e, &mut col);
+            for (i, &di) in dofs.iter().enumerate() {
+                dense[(i, j)] = col[di / 3][di % 3];
+            }
+        }
+        (sys, jac, dense, dofs)
+    }
+
+    fn rhs(n: usize) -> Vec<Vec3> {
+        (0..n)
+            .map(|p| Vec3::new((p as f64).sin(), (p as f64 * 0.7).cos(), 0.3))
+            .map(|v| v * 1e-3)
+            .collect()
+    }
+
+    fn flat(v: &[Vec3], dofs: &[usize]) -> DVector<f64> {
+        DVector::from_iterator(dofs.len(), dofs.iter().map(|&d| v[d / 3][d % 3]))
+    }
+
+    fn solve(sys: &System, jac: &Jacobian, b: &[Vec3], radius: f64) -> (Cg, CgOutcome, Vec<Vec3>) {
+        let set = ImplicitSettings {
+            cg_tol: 1e-14,
+            ..ImplicitSettings::default()
+        };
+        let mut cg = Cg::default();
+        let mut x = vec![Vec3::zeros(); b.len()];
+        let out = cg.solve(
+            jac,
+            sys,
+            b,
+            &mut x,
+            &set,
+            Precond::BlockJacobi,
+            500,
+            0.0,
+            Some(radius),
+        );
+        (cg, out, x)
+    }
+
+    /// Positive definite model, radius far away: Steihaug's step is the Newton step.
+    #[test]
+    fn steihaug_inside_the_radius_is_the_newton_step() {
+        let (sys, jac, dense, dofs) = crumpled(1.0 / 60.0, 1.0);
+        let b = rhs(sys.len());
+        let bd = flat(&b, &dofs);
+        let want = dense
+            .clone()
+            .cholesky()
+            .expect("clamped matrix is SPD")
+            .solve(&bd);
+        let (cg, out, x) = solve(&sys, &jac, &b, 1e30);
+        assert!(matches!(out, CgOutcome::Converged(_)));
+        let s = flat(&x, &dofs);
+        assert!((&s - &want).amax() <= 1e-9 * want.amax());
+        let m = -bd.dot(&s) + 0.5 * s.dot(&(&dense * &s));
+        assert!(
+            (cg.model - m).abs() <= 1e-9 * m.abs(),
+            "{} vs {m}",
+            cg.model
+        );
+    }
+
+    /// Indefinite model (exact Jacobian of compressed springs at a long step): the step stops
+    /// on the boundary, ‖s‖_P = Δ, and the model value reported is the model's.
+    #[test]
+    fn steihaug_on_negative_curvature_stops_on_the_boundary() {
+        let (sys, jac, dense, dofs) = crumpled(0.2, 0.0);
+        let lowest = dense.clone().symmetric_eigen().eigenvalues.min();
+        assert!(
+            lowest < 0.0,
+            "the test needs an indefinite matrix: {lowest}"
+        );
+        let b = rhs(sys.len());
+        let bd = flat(&b, &dofs);
+        // Far beyond the Newton-step scale (|b|/m ≈ 1 m/s): only following the negative
+        // curvature reaches it.
+        let radius = 1e3;
+        let (cg, out, x) = solve(&sys, &jac, &b, radius);
+        assert!(matches!(out, CgOutcome::Boundary(_)));
+        let pnorm2: f64 = (0..sys.len())
+            .filter(|&p| sys.free[p])
+            .map(|p| {
+                let blk = cg.diag_inv[p].try_inverse().unwrap();
+                x[p].dot(&(blk * x[p]))
+            })
+            .sum();
+        assert!(
+            (pnorm2.sqrt() - radius).abs() <= 1e-9 * radius,
+            "{}",
+            pnorm2.sqrt()
+        );
+        let s = flat(&x, &dofs);
+        let m = -bd.dot(&s) + 0.5 * s.dot(&(&dense * &s));
+        assert!(
+            (cg.model - m).abs() <= 1e-9 * m.abs(),
+            "{} vs {m}",
+            cg.model
+        );
+        assert!(m < 0.0, "the boundary step must lower the model: {m}");
+    }
+}
