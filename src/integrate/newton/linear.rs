@@ -43,6 +43,7 @@ impl Newton {
             &mut self.r,
             &mut self.dv,
             0.0,
+            None,
         );
         self.jac = Some(jac);
         self.cg_iterations += solved.map_err(|_| ())?;

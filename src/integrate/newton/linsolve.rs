@@ -87,6 +87,11 @@ impl LinearSolve {
         self.factor.invalidate();
     }
 
+    /// The last trust-region solve's (model value m(s), ‖s‖_P, radius used), see [`Cg::solve`].
+    pub(super) fn trust_step(&self) -> (f64, f64, f64) {
+        (self.cg.model, self.cg.step_norm, self.cg.radius)
+    }
+
     /// Fills `jac` at (x, v) with the given clamp and prepares the Newton matrix for step h.
     #[cfg(feature = "direct-solver")]
     fn fill(jac: &mut Jacobian, sys: &System, x: &[Vec3], v: &[Vec3], h: f64, clamp: f64) {
@@ -116,6 +121,9 @@ impl LinearSolve {
     /// of iterations leaves its partial solution (the caller's residual check decides).
     /// Returns the linear iterations spent (CG iterations; a direct solve counts one).
     /// `abs_tol2`: CG may stop once Σ |rᵢ|²/mᵢ of its residual is below it (0: never).
+    /// `radius`: Some(Δ) for a trust-region (Steihaug–Toint) step of the block-Jacobi solver,
+    /// whose model value and P-norm [`LinearSolve::trust_step`] then reports; the factored
+    /// solver ignores it.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn solve(
         &mut self,
@@ -129,9 +137,23 @@ impl LinearSolve {
         b: &mut [Vec3],
         dv: &mut [Vec3],
         abs_tol2: f64,
+        radius: Option<f64>,
     ) -> Result<u64, Indefinite> {
         if set.solver == LinearSolver::BlockJacobiCg {
-            return solve_clamped(&mut self.cg, jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
+            return solve_clamped(
+                &mut self.cg,
+                jac,
+                sys,
+                x,
+                v,
+                h,
+                set,
+                rhs,
+                b,
+                dv,
+                abs_tol2,
+                radius,
+            );
         }
         #[cfg(feature = "direct-solver")]
         return self.solve_factored(jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
@@ -160,7 +182,20 @@ impl LinearSolve {
             if self.refactor(jac, sys, x, v, h).is_err() {
                 // Not SPD even clamped (a force term with an indefinite Jacobian of its own):
                 // the matrix-free solve, which clamps what it can and reports the rest.
-                return solve_clamped(&mut self.cg, jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
+                return solve_clamped(
+                    &mut self.cg,
+                    jac,
+                    sys,
+                    x,
+                    v,
+                    h,
+                    set,
+                    rhs,
+                    b,
+                    dv,
+                    abs_tol2,
+                    None,
+                );
             }
             fresh = true;
         }
@@ -174,7 +209,10 @@ impl LinearSolve {
                 set.refactor_after
             };
             let pre = Precond::Factor(&mut self.factor);
-            match self.cg.solve(jac, sys, b, dv, set, pre, cap, abs_tol2) {
+            match self
+                .cg
+                .solve(jac, sys, b, dv, set, pre, cap, abs_tol2, None)
+            {
                 CgOutcome::Converged(it) => return Ok(spent + it as u64),
                 CgOutcome::NotConverged(it) if !fresh => spent += it as u64,
                 CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
@@ -196,6 +234,7 @@ impl LinearSolve {
                                 b,
                                 dv,
                                 abs_tol2,
+                                None,
                             );
                         }
                     } else {
@@ -208,7 +247,20 @@ impl LinearSolve {
             }
             // The stale factor preconditions poorly: refactor here and solve again.
             if self.refactor(jac, sys, x, v, h).is_err() {
-                return solve_clamped(&mut self.cg, jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
+                return solve_clamped(
+                    &mut self.cg,
+                    jac,
+                    sys,
+                    x,
+                    v,
+                    h,
+                    set,
+                    rhs,
+                    b,
+                    dv,
+                    abs_tol2,
+                    None,
+                );
             }
             fresh = true;
         }

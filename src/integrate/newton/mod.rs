@@ -11,7 +11,11 @@
 //! Newton stops when the residual is at the tolerance, when an update is below it or the
 //! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
 //! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks when an update would raise the residual
-//! (or, for a clamped direction, the stage's incremental potential). The linear solves are
+//! (or, for a clamped direction, the stage's incremental potential). Where the clamped
+//! iteration stalls (an update is taken only for lowering the potential: the exact Jacobian
+//! is indefinite near the root it circles, as past the 316² cloth's fold), the rest of the
+//! stage takes Steihaug–Toint trust-region steps on the exact Jacobian (see `trust.rs`),
+//! which follow negative curvature instead of clamping it. The linear solves are
 //! inexact (Eisenstat–Walker forcing, never tighter than half the error-based stop needs);
 //! the solver is chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured
 //! choice).
@@ -22,6 +26,7 @@ mod direct;
 mod linear;
 mod linsolve;
 mod potential;
+mod trust;
 
 use crate::error::{Error, Result};
 use crate::integrate::ensure_len;
@@ -223,6 +228,126 @@ impl Newton {
         }
     }
 
+    /// Backtracking on an interior Newton step `self.dv` from `self.vbase`: a folding cloth
+    /// makes the Jacobian a poor model, and a full update can raise the residual; halve it
+    /// until GᵀM⁻¹G falls, or the stage's incremental potential does (the Newton direction is a
+    /// descent direction for it, not for the residual); after `max_halvings` the last trial is
+    /// taken. Updates `res` to the accepted iterate's; returns (α, force evaluations).
+    fn backtrack(
+        &mut self,
+        sys: &System,
+        x0: &[Vec3],
+        v0: &[Vec3],
+        h: f64,
+        v_scale0: f64,
+        res: &mut Residual,
+    ) -> (f64, u64) {
+        let n = x0.len();
+        let mut evals = 0;
+        let mut alpha = 1.0;
+        let mut phi_base = f64::NAN; // the base's potential, computed only if needed
+        for halving in 0..=self.settings.max_halvings {
+            for p in 0..n {
+                self.vn[p] = self.vbase[p] + self.dv[p] * alpha;
+            }
+            let trial = self.residual(sys, x0, v0, h, v_scale0);
+            evals += 1;
+            let mut done = trial.merit <= res.merit
+                || !trial.merit.is_finite()
+                || halving == self.settings.max_halvings;
+            if !done {
+                if phi_base.is_nan() {
+                    phi_base = self.base_potential(sys, x0, v0, h);
+                    evals += 1;
+                }
+                done = potential(sys, x0, v0, &self.vn, h, &mut self.pot) < phi_base;
+                evals += 1; // each potential evaluates the dampers' power: a force pass
+            }
+            if done {
+                if halving > 0 {
+                    self.damped_updates += 1;
+                }
+                *res = trial;
+                break;
+            }
+            alpha *= 0.5;
+        }
+        (alpha, evals)
+    }
+
+    /// The incremental potential at `self.vbase`, freezing the damping directions there.
+    fn base_potential(&mut self, sys: &System, x0: &[Vec3], v0: &[Vec3], h: f64) -> f64 {
+        for p in 0..x0.len() {
+            self.pot.x_frozen[p] = x0[p] + self.vbase[p] * h;
+        }
+        potential(sys, x0, v0, &self.vbase, h, &mut self.pot)
+    }
+
+    /// One trust-region step along `self.dv` from `self.vbase` (N&W Alg. 4.1, with Nocedal &
+    /// Yuan's backtracking on rejection, "Combining trust region and line search", 1998): the
+    /// trial τs, τ = 1, ¼, ¹⁄₁₆, …, is taken at the first τ whose ratio ρ of the incremental
+    /// potential's actual to the model's predicted decrease reaches [`trust::ETA`], or whose
+    /// residual merit falls (near convergence Φ's differences sink into its round-off, the
+    /// residual's do not). `model` = m(s), `gs` = Gᵀs (so sᵀAs = 2(m(s) − Gᵀs)). Updates the
+    /// radius and `res`; returns the force evaluations and whether a step was taken (if not,
+    /// the base is restored with its residual in `self.r`, `res`).
+    #[allow(clippy::too_many_arguments)]
+    fn trust_region_step(
+        &mut self,
+        sys: &System,
+        x0: &[Vec3],
+        v0: &[Vec3],
+        h: f64,
+        v_scale0: f64,
+        res: &mut Residual,
+        model: f64,
+        gs: f64,
+        radius: &mut f64,
+        step_norm: f64,
+    ) -> (u64, bool) {
+        let n = x0.len();
+        let phi_base = self.base_potential(sys, x0, v0, h);
+        let mut evals = 1;
+        let s_as = 2.0 * (model - gs);
+        let on_boundary = step_norm >= *radius * (1.0 - 1e-12);
+        let mut tau = 1.0;
+        for _ in 0..=self.settings.max_halvings {
+            for p in 0..n {
+                self.vn[p] = self.vbase[p] + self.dv[p] * tau;
+            }
+            let trial = self.residual(sys, x0, v0, h, v_scale0);
+            let phi = potential(sys, x0, v0, &self.vn, h, &mut self.pot);
+            evals += 2;
+            let pred = tau * gs + 0.5 * tau * tau * s_as;
+            let rho = if pred < 0.0 {
+                (phi - phi_base) / pred
+            } else {
+                f64::NEG_INFINITY
+            };
+            let finite = trial.merit.is_finite() && phi.is_finite();
+            let accept = finite && (rho >= trust::ETA || trial.merit <= res.merit);
+            if accept {
+                // A step taken on the residual alone keeps the radius (no evidence either way).
+                let rho = if rho < trust::ETA { 0.25 } else { rho };
+                *radius = if tau < 1.0 {
+                    tau * step_norm
+                } else {
+                    trust::update_radius(*radius, step_norm, rho, on_boundary)
+                };
+                if tau < 1.0 {
+                    self.damped_updates += 1;
+                }
+                *res = trial;
+                return (evals, true);
+            }
+            tau *= 0.25;
+        }
+        *radius = tau * step_norm;
+        self.vn.copy_from_slice(&self.vbase);
+        *res = self.residual(sys, x0, v0, h, v_scale0);
+        (evals + 1, false)
+    }
+
     /// Solves the backward-Euler stage from (x̂, v̂) = (`x0`, `v0`) with step `h` (β above);
     /// the result is in [`Newton::x`], [`Newton::v`]. Returns the dissipated power at the
     /// solution and the force evaluations made. `who` names the method in errors.
@@ -265,6 +390,14 @@ impl Newton {
         };
         let mut res = self.residual(sys, x0, v0, h, v_scale0);
         let mut prev_merit = f64::INFINITY;
+        // Trust radius (P-norm) of the Steihaug–Toint solves. The stage starts with clamped
+        // Newton and backtracking (fast while far from the solution); once that stalls, i.e.
+        // an update is taken only because it lowers the incremental potential, the clamped
+        // iteration is circling a point where the exact Jacobian is indefinite and cannot
+        // converge there: from then on the stage runs Steihaug–Toint trust-region steps on
+        // the exact Jacobian, starting from the stalled update's size.
+        let mut radius = f64::INFINITY;
+        let mut trust_mode = false;
         evals += 1;
         if guessed {
             // Keep the linearly implicit start only where it beats v̂: on a folding cloth the
@@ -349,6 +482,7 @@ impl Newton {
                 &mut rhs,
                 &mut self.dv,
                 abs_tol2,
+                trust_mode.then_some(radius),
             );
             self.r = rhs;
             match solved {
@@ -360,43 +494,40 @@ impl Newton {
                     )));
                 }
             }
-            // Backtracking: a folding cloth makes the (clamped) Jacobian a poor model, and a
-            // full update can raise the residual; halve it until GᵀM⁻¹G falls.
+            let (model, step_norm, used_radius) = self.lin.trust_step();
             self.vbase.copy_from_slice(&self.vn);
-            let mut alpha = 1.0;
-            let mut phi_base = f64::NAN; // the base's potential, computed only if needed
-            for halving in 0..=self.settings.max_halvings {
-                for p in 0..n {
-                    self.vn[p] = self.vbase[p] + self.dv[p] * alpha;
+            let alpha = if trust_mode {
+                radius = used_radius;
+                // Gᵀs: the right-hand side holds −G.
+                let gs: f64 = -(0..n).map(|p| self.r[p].dot(&self.dv[p])).sum::<f64>();
+                let (e, taken) = self.trust_region_step(
+                    sys,
+                    x0,
+                    v0,
+                    h,
+                    v_scale0,
+                    &mut res,
+                    model,
+                    gs,
+                    &mut radius,
+                    step_norm,
+                );
+                evals += e;
+                if !taken {
+                    small_update = false;
+                    continue;
                 }
-                let trial = self.residual(sys, x0, v0, h, v_scale0);
-                evals += 1;
-                let mut done = trial.merit <= res.merit
-                    || !trial.merit.is_finite()
-                    || halving == self.settings.max_halvings;
-                if !done {
-                    // The residual rose: accept the update anyway if it lowers the stage's
-                    // incremental potential (the clamped Newton direction is a descent
-                    // direction for it, not for the residual).
-                    if phi_base.is_nan() {
-                        for p in 0..n {
-                            self.pot.x_frozen[p] = x0[p] + self.vbase[p] * h;
-                        }
-                        phi_base = potential(sys, x0, v0, &self.vbase, h, &mut self.pot);
-                        evals += 1;
-                    }
-                    done = potential(sys, x0, v0, &self.vn, h, &mut self.pot) < phi_base;
-                    evals += 1; // each potential evaluates the dampers' power: a force pass
+                1.0
+            } else {
+                let merit_before = res.merit;
+                let (alpha, e) = self.backtrack(sys, x0, v0, h, v_scale0, &mut res);
+                evals += e;
+                if res.merit > merit_before {
+                    trust_mode = true;
+                    radius = alpha * step_norm;
                 }
-                if done {
-                    if halving > 0 {
-                        self.damped_updates += 1;
-                    }
-                    res = trial;
-                    break;
-                }
-                alpha *= 0.5;
-            }
+                alpha
+            };
             // Converged when the update is below the tolerance or the round-off floor.
             small_update = alpha * max_abs(&self.dv)
                 <= self.settings.newton_tol * v_scale0.max(max_abs(&self.vn)) + x_floor;
