@@ -271,7 +271,7 @@ pub(super) fn solve_clamped(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     //! Oracles: the Newton matrix assembled densely, column by column, from the matrix-free
     //! product CG uses; nalgebra's dense Cholesky solve and eigenvalues of it; the quadratic
     //! model −bᵀs + ½ sᵀAs evaluated directly; the P-norm from the preconditioner's blocks.
@@ -280,7 +280,10 @@ mod tests {
 
     /// A crumpled 5×5 cloth (compressed springs), its Newton matrix at step `h` with `clamp`,
     /// the dense matrix on the free coordinates and those coordinates.
-    fn crumpled(h: f64, clamp: f64) -> (System, Jacobian, DMatrix<f64>, Vec<usize>) {
+    pub(in crate::integrate::newton) fn crumpled(
+        h: f64,
+        clamp: f64,
+    ) -> (System, Jacobian, DMatrix<f64>, Vec<usize>) {
         let scene = crate::scenario::Scenario::from_toml_str(
             "[world]\ngravity=[0.0,-9.81,0.0]\n[[cloth]]\norigin=[0.0,0.0,0.0]\nsize=[1.0,1.0]\n\
              count=[5,5]\nmass=0.001\nstiffness=200.0\ndamping=0.002\nfix=[\"top_left\",\"top_right\"]\n",

@@ -236,41 +236,15 @@ mod tests {
     //! Oracle: nalgebra's dense Cholesky of the same Newton matrix, built column by column
     //! from the matrix-free product [`Jacobian::newton_matvec`] that CG uses.
     use super::*;
-    use nalgebra::{DMatrix, DVector};
+    use nalgebra::DVector;
 
     #[test]
     fn sparse_factor_solves_the_newton_matrix_like_a_dense_cholesky() {
-        // A 5×5 cloth with two pinned corners, folded so that some springs are compressed.
-        let scene = crate::scenario::Scenario::from_toml_str(
-            "[world]\ngravity=[0.0,-9.81,0.0]\n[[cloth]]\norigin=[0.0,0.0,0.0]\nsize=[1.0,1.0]\n\
-             count=[5,5]\nmass=0.001\nstiffness=200.0\ndamping=0.002\nfix=[\"top_left\",\"top_right\"]\n",
-            "cloth.toml",
-        )
-        .unwrap();
-        let sys = scene.build();
-        let mut s = scene.initial_state();
-        for (p, x) in s.x.iter_mut().enumerate() {
-            x[2] += 0.05 * ((p * 7 % 5) as f64 - 2.0); // deterministic crumple
-            x[0] *= 0.9;
-        }
-        let mut jac = sys.new_jacobian();
-        jac.clamp = 1.0; // the SPD (projected) matrix the factor is built for
-        sys.jacobian(&s.x, &s.v, &mut jac);
+        // The crumpled 5×5 cloth of CG's tests (compressed springs), clamped: the SPD
+        // (projected) matrix the factor is built for, and its dense form.
         let h = 1.0 / 60.0;
-        jac.prepare_newton(&sys.mass, &sys.free, h);
+        let (sys, mut jac, dense, dofs) = super::super::cg::tests::crumpled(h, 1.0);
         let n = sys.len();
-        // Dense A on the free coordinates.
-        let dofs: Vec<usize> = (0..3 * n).filter(|&d| sys.free[d / 3]).collect();
-        let mut dense = DMatrix::zeros(dofs.len(), dofs.len());
-        let (mut e, mut col) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n]);
-        for (j, &dj) in dofs.iter().enumerate() {
-            e.iter_mut().for_each(|v| *v = Vec3::zeros());
-            e[dj / 3][dj % 3] = 1.0;
-            jac.newton_matvec(&sys.free, &e, &mut col);
-            for (i, &di) in dofs.iter().enumerate() {
-                dense[(i, j)] = col[di / 3][di % 3];
-            }
-        }
         let chol = dense
             .clone()
             .cholesky()

@@ -177,12 +177,11 @@ impl LinearSolve {
         dv: &mut [Vec3],
         abs_tol2: f64,
     ) -> Result<u64, Indefinite> {
-        let mut fresh = false;
-        if !self.factor.is_factored() || self.factor_h != h {
-            if self.refactor(jac, sys, x, v, h).is_err() {
-                // Not SPD even clamped (a force term with an indefinite Jacobian of its own):
-                // the matrix-free solve, which clamps what it can and reports the rest.
-                return solve_clamped(
+        // The matrix-free solve, which clamps what it can and reports the rest: the fallback
+        // wherever no factor can be built.
+        macro_rules! clamped {
+            () => {
+                solve_clamped(
                     &mut self.cg,
                     jac,
                     sys,
@@ -195,7 +194,15 @@ impl LinearSolve {
                     dv,
                     abs_tol2,
                     None,
-                );
+                )
+            };
+        }
+        let mut fresh = false;
+        if !self.factor.is_factored() || self.factor_h != h {
+            if self.refactor(jac, sys, x, v, h).is_err() {
+                // Not SPD even clamped (a force term with an indefinite Jacobian of its own):
+                // the matrix-free solve, which clamps what it can and reports the rest.
+                return clamped!();
             }
             fresh = true;
         }
@@ -213,7 +220,8 @@ impl LinearSolve {
                 .cg
                 .solve(jac, sys, b, dv, set, pre, cap, abs_tol2, None)
             {
-                CgOutcome::Converged(it) => return Ok(spent + it as u64),
+                // No trust radius is given here, so CG never stops on a boundary.
+                CgOutcome::Converged(it) | CgOutcome::Boundary(it) => return Ok(spent + it as u64),
                 CgOutcome::NotConverged(it) if !fresh => spent += it as u64,
                 CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
                 CgOutcome::NegativeCurvature(it) => {
@@ -222,20 +230,7 @@ impl LinearSolve {
                     spent += it as u64;
                     if !fresh {
                         if self.refactor(jac, sys, x, v, h).is_err() {
-                            return solve_clamped(
-                                &mut self.cg,
-                                jac,
-                                sys,
-                                x,
-                                v,
-                                h,
-                                set,
-                                rhs,
-                                b,
-                                dv,
-                                abs_tol2,
-                                None,
-                            );
+                            return clamped!();
                         }
                     } else {
                         Self::fill(jac, sys, x, v, h, 1.0);
@@ -247,20 +242,7 @@ impl LinearSolve {
             }
             // The stale factor preconditions poorly: refactor here and solve again.
             if self.refactor(jac, sys, x, v, h).is_err() {
-                return solve_clamped(
-                    &mut self.cg,
-                    jac,
-                    sys,
-                    x,
-                    v,
-                    h,
-                    set,
-                    rhs,
-                    b,
-                    dv,
-                    abs_tol2,
-                    None,
-                );
+                return clamped!();
             }
             fresh = true;
         }
