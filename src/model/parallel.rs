@@ -127,6 +127,11 @@ impl Incidence {
     /// Builds the chunk lists for springs `i[s]`–`j[s]` over `n` particles. `None` when the
     /// sizes do not fit the 32-bit encoding or an index is out of range.
     pub fn build(i: &[u32], j: &[u32], n: usize) -> Option<Self> {
+        Self::build_in_chunks(i, j, n, PARTICLE_CHUNK)
+    }
+
+    /// The same lists over chunks of `size` particles (`size` 1: the springs at each particle).
+    pub fn build_in_chunks(i: &[u32], j: &[u32], n: usize, size: usize) -> Option<Self> {
         let m = i.len();
         if m >= (1 << 29) || n >= u32::MAX as usize {
             return None;
@@ -134,8 +139,8 @@ impl Incidence {
         if i.iter().chain(j).any(|&p| p as usize >= n) {
             return None;
         }
-        let chunks = n.div_ceil(PARTICLE_CHUNK);
-        let chunk = |p: u32| p as usize / PARTICLE_CHUNK;
+        let chunks = n.div_ceil(size);
+        let chunk = |p: u32| p as usize / size;
         let mut start = vec![0u32; chunks + 1];
         for s in 0..m {
             start[chunk(i[s]) + 1] += 1;

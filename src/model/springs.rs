@@ -41,9 +41,9 @@ pub struct Springs {
     /// True when any spring has damping (so the damper loop is worth running).
     pub any_damping: bool,
     incidence: OnceLock<Option<Arc<Incidence>>>,
-    /// Springs at each particle (`start[p]..start[p + 1]` indexes `ids`), built on first use
-    /// by [`Springs::energy_at`].
-    at: OnceLock<(Vec<u32>, Vec<u32>)>,
+    /// The springs at each particle (incidence lists over one-particle chunks), built on
+    /// first use by [`Springs::energy_at`].
+    at: OnceLock<Option<Incidence>>,
     scratch: ScratchPool,
 }
 
@@ -220,32 +220,18 @@ impl Springs {
     /// alone changes), for positions `x` of all particles. The contact stage uses it to book
     /// each particle's correction on its own.
     pub fn energy_at(&self, p: usize, x: &[Vec3]) -> f64 {
-        let (start, ids) = self.at.get_or_init(|| {
-            let n = x.len();
-            let mut start = vec![0u32; n + 1];
-            for (&a, &b) in self.i.iter().zip(&self.j) {
-                start[a as usize + 1] += 1;
-                start[b as usize + 1] += 1;
-            }
-            for q in 0..n {
-                start[q + 1] += start[q];
-            }
-            let mut fill = start.clone();
-            let mut ids = vec![0u32; start[n] as usize];
-            for (s, (&a, &b)) in self.i.iter().zip(&self.j).enumerate() {
-                for q in [a as usize, b as usize] {
-                    ids[fill[q] as usize] = s as u32;
-                    fill[q] += 1;
-                }
-            }
-            (start, ids)
-        });
-        if p + 1 >= start.len() {
+        let Some(at) = self
+            .at
+            .get_or_init(|| Incidence::build_in_chunks(&self.i, &self.j, x.len(), 1))
+        else {
+            return 0.0;
+        };
+        if p + 1 >= at.start.len() {
             return 0.0;
         }
-        ids[start[p] as usize..start[p + 1] as usize]
+        at.entries[at.start[p] as usize..at.start[p + 1] as usize]
             .iter()
-            .map(|&s| self.energy_of(s as usize, x))
+            .map(|&e| self.energy_of((e >> 2) as usize, x))
             .sum()
     }
 

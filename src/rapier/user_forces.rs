@@ -44,6 +44,9 @@ impl UserForces {
 
     /// Power (W) the user-force terms dissipate at (x, v).
     pub fn power(&mut self, sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
+        if !any(sys) {
+            return 0.0;
+        }
         self.f.clear();
         self.f.resize(x.len(), Vec3::zeros());
         Self::terms(sys)
