@@ -10,12 +10,13 @@
 //!
 //! Newton stops when the residual is at the tolerance, when an update is below it or the
 //! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
-//! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks when an update would raise the residual
-//! (or, for a clamped direction, the stage's incremental potential). Where the clamped
-//! iteration stalls (an update is taken only for lowering the potential: the exact Jacobian
-//! is indefinite near the root it circles, as past the 316² cloth's fold), the rest of the
-//! stage takes Steihaug–Toint trust-region steps on the exact Jacobian (see `trust.rs`),
-//! which follow negative curvature instead of clamping it. The linear solves are
+//! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks
+//! when an update would raise the residual (or, for a clamped direction, the stage's
+//! incremental potential). Where the clamped iteration stalls (the residual has not halved
+//! in six iterations: near a root where the exact Jacobian is indefinite, as past the 316²
+//! cloth's fold), the stage takes Steihaug–Toint trust-region steps on the exact Jacobian
+//! (see `trust.rs`), which follow negative curvature instead of clamping it, and goes back
+//! to clamped Newton where those stall in turn. The linear solves are
 //! inexact (Eisenstat–Walker forcing, never tighter than half the error-based stop needs);
 //! the solver is chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured
 //! choice).
@@ -391,13 +392,14 @@ impl Newton {
         let mut res = self.residual(sys, x0, v0, h, v_scale0);
         let mut prev_merit = f64::INFINITY;
         // Trust radius (P-norm) of the Steihaug–Toint solves. The stage starts with clamped
-        // Newton and backtracking (fast while far from the solution); once that stalls, i.e.
-        // an update is taken only because it lowers the incremental potential, the clamped
-        // iteration is circling a point where the exact Jacobian is indefinite and cannot
-        // converge there: from then on the stage runs Steihaug–Toint trust-region steps on
-        // the exact Jacobian, starting from the stalled update's size.
+        // Newton and backtracking (fast while far from the solution). Where that stalls, the
+        // clamped iteration may be circling a point where the exact Jacobian is indefinite:
+        // the stage then runs Steihaug–Toint trust-region steps on the exact Jacobian,
+        // starting from the last linear step's size; where those stall in turn (radii far
+        // below the distance to the root), it goes back to clamped Newton (see `trust::Stall`).
         let mut radius = f64::INFINITY;
         let mut trust_mode = false;
+        let mut stall = trust::Stall::new();
         evals += 1;
         if guessed {
             // Keep the linearly implicit start only where it beats v̂: on a folding cloth the
@@ -449,6 +451,14 @@ impl Newton {
             }
             if iter == self.settings.max_newton {
                 break;
+            }
+            if stall.stalled(res.merit) {
+                trust_mode = !trust_mode;
+                radius = if trust_mode {
+                    self.lin.trust_step().1.max(f64::MIN_POSITIVE)
+                } else {
+                    f64::INFINITY
+                };
             }
             self.newton_iterations += 1;
             for p in 0..n {
@@ -519,13 +529,8 @@ impl Newton {
                 }
                 1.0
             } else {
-                let merit_before = res.merit;
                 let (alpha, e) = self.backtrack(sys, x0, v0, h, v_scale0, &mut res);
                 evals += e;
-                if res.merit > merit_before {
-                    trust_mode = true;
-                    radius = alpha * step_norm;
-                }
                 alpha
             };
             // Converged when the update is below the tolerance or the round-off floor.
