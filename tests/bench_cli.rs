@@ -109,9 +109,15 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
     assert_eq!(methods, want);
     for r in &imp {
         assert_eq!(r[1], "block_jacobi_cg", "{r:?}");
-        assert_eq!(r[16], "ok", "{r:?}");
+        assert_eq!(r[18], "ok", "{r:?}");
         let newton: f64 = r[8].parse().unwrap();
         let linear: f64 = r[9].parse().unwrap();
+        let newton_max: f64 = r[11].parse().unwrap();
+        let switches: f64 = r[12].parse().unwrap();
+        assert!(
+            newton_max >= newton && switches >= 0.0,
+            "the hardest step takes at least the mean Newton count: {r:?}"
+        );
         assert!(
             newton >= 1.0 && linear >= newton,
             "at least one Newton iteration per step, one linear iteration each: {r:?}"

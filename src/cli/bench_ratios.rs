@@ -221,6 +221,8 @@ pub fn run(a: Args) -> Result<()> {
         "newton_per_step",
         "linear_per_step",
         "linear_per_newton",
+        "newton_max",
+        "switches_per_step",
         "factorizations_per_step",
         "force_evals_per_step",
         "symplectic_seconds_per_step",
@@ -234,13 +236,15 @@ pub fn run(a: Args) -> Result<()> {
         a.implicit_steps
     );
     println!(
-        "{:<22} {:>9} {:>11} {:>10} {:>11} {:>11} {:>9} {:>10} {:>9}  status",
+        "{:<22} {:>9} {:>11} {:>10} {:>8} {:>11} {:>11} {:>9} {:>9} {:>10} {:>9}  status",
         "method",
         "n",
         "ms/step",
         "Newton/st",
+        "Nwt max",
         "linear/st",
         "linear/Nwt",
+        "stalls/st",
         "factor/st",
         "×sympl.",
         "target"
@@ -281,11 +285,13 @@ pub fn run(a: Args) -> Result<()> {
                     };
                     let per_newton = ic.linear_per_step / ic.newton_per_step.max(f64::MIN_POSITIVE);
                     println!(
-                        "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>11.1} {:>11.1} {:>9.2} {:>10.1} {:>9}  ok {met}",
+                        "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>10.1} {:>9}  ok {met}",
                         ic.seconds_per_step * 1e3,
                         ic.newton_per_step,
+                        ic.newton_max,
                         ic.linear_per_step,
                         per_newton,
+                        ic.switches_per_step,
                         ic.factorizations_per_step,
                         ratio,
                         target,
@@ -297,6 +303,8 @@ pub fn run(a: Args) -> Result<()> {
                         ic.newton_per_step.to_string(),
                         ic.linear_per_step.to_string(),
                         per_newton.to_string(),
+                        ic.newton_max.to_string(),
+                        ic.switches_per_step.to_string(),
                         ic.factorizations_per_step.to_string(),
                         ic.force_evals_per_step.to_string(),
                         se.to_string(),
@@ -308,7 +316,7 @@ pub fn run(a: Args) -> Result<()> {
                 Err(why) => {
                     println!("{method:<22} {size:>9}  failed: {why}");
                     rec.push(a.implicit_steps.to_string());
-                    rec.extend(std::iter::repeat_n(String::new(), 7));
+                    rec.extend(std::iter::repeat_n(String::new(), 9));
                     rec.push(se.to_string());
                     rec.push(String::new());
                     rec.push(target.to_string());

@@ -94,6 +94,11 @@ pub struct ImplicitCost {
     pub factorizations_per_step: f64,
     /// Force evaluations per step.
     pub force_evals_per_step: f64,
+    /// Most Newton iterations any one step took (the hardest stage, against the cap
+    /// [`crate::integrate::ImplicitSettings::max_newton`]).
+    pub newton_max: u64,
+    /// Switches between clamped Newton and trust-region steps per step (stalled strategies).
+    pub switches_per_step: f64,
 }
 
 /// Steps the implicit method `method` `steps` times at `h` with linear solver `solver` from
@@ -115,12 +120,16 @@ pub fn implicit_cost(
         .settings
         .solver = solver;
     let mut evals = 0;
+    let mut newton_max = 0;
     let t0 = Instant::now();
     for k in 0..steps {
+        let before = integ.newton().map_or(0, |nw| nw.newton_iterations);
         evals += integ
             .step(&sys, &mut s, h)
             .map_err(|e| format!("step {k} failed: {e}"))?
             .force_evals;
+        let after = integ.newton().map_or(0, |nw| nw.newton_iterations);
+        newton_max = newton_max.max(after - before);
     }
     let secs = t0.elapsed().as_secs_f64();
     let nw = integ.newton().expect("checked above");
@@ -132,5 +141,7 @@ pub fn implicit_cost(
         linear_per_step: nw.cg_iterations as f64 / n,
         factorizations_per_step: nw.factorizations() as f64 / n,
         force_evals_per_step: evals as f64 / n,
+        newton_max,
+        switches_per_step: nw.strategy_switches as f64 / n,
     })
 }

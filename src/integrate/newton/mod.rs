@@ -111,6 +111,9 @@ pub struct Newton {
     pub error_limited_steps: u64,
     /// Newton updates shortened by the line search.
     pub damped_updates: u64,
+    /// Switches between clamped Newton and trust-region steps, each on a stall of the
+    /// strategy running (see `trust::Stall`): how often a stage was hard.
+    pub strategy_switches: u64,
     jac: Option<Jacobian>,
     f: Vec<Vec3>,
     xn: Vec<Vec3>,
@@ -453,6 +456,7 @@ impl Newton {
                 break;
             }
             if stall.stalled(res.merit) {
+                self.strategy_switches += 1;
                 trust_mode = !trust_mode;
                 radius = if trust_mode {
                     self.lin.trust_step().1.max(f64::MIN_POSITIVE)
