@@ -10,6 +10,7 @@
 
 #[cfg(feature = "direct-solver")]
 use super::direct::Factor;
+use super::ic0::Ic0;
 use super::ImplicitSettings;
 use crate::integrate::ensure_len;
 use crate::model::parallel::{dot, each_particle, each_particle2};
@@ -48,10 +49,9 @@ pub(super) enum Precond<'a> {
     /// of an earlier iterate or step).
     #[cfg(feature = "direct-solver")]
     Factor(&'a mut Factor),
-    /// Never built: keeps the lifetime when the direct solver is not compiled in.
-    #[cfg(not(feature = "direct-solver"))]
-    #[allow(dead_code)]
-    Unused(std::marker::PhantomData<&'a ()>),
+    /// A block incomplete Cholesky factor IC(0) of a nearby SPD matrix (the clamped Newton
+    /// matrix at the same iterate).
+    Ic0(&'a Ic0),
 }
 
 /// How one CG solve ended (with its iteration count).
@@ -182,11 +182,7 @@ impl Cg {
             }
             #[cfg(feature = "direct-solver")]
             Precond::Factor(f) => f.solve(free, &self.r, &mut self.z),
-            #[cfg(not(feature = "direct-solver"))]
-            Precond::Unused(_) => {
-                let _ = free;
-                unreachable!("no factor without the direct-solver feature")
-            }
+            Precond::Ic0(f) => f.solve(free, &self.r, &mut self.z),
         }
     }
 }
@@ -224,9 +220,12 @@ pub(super) struct Indefinite;
 /// A solve that runs out of CG iterations leaves its partial solution (the caller's residual
 /// check decides). Returns the CG iterations spent. With `radius` = Some(Δ) the exact
 /// Jacobian is solved by Steihaug–Toint CG (see [`Cg::solve`]) and nothing is clamped.
+/// With `ic0` = Some(factor), the clamped (SPD) matrix at (x, v) is factored by block IC(0)
+/// first, and that factor preconditions every attempt instead of block Jacobi.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn solve_clamped(
     cg: &mut Cg,
+    mut ic0: Option<&mut Ic0>,
     jac: &mut Jacobian,
     sys: &System,
     x: &[Vec3],
@@ -245,6 +244,12 @@ pub(super) fn solve_clamped(
     } else {
         &CLAMPS[..]
     };
+    if let Some(f) = ic0.as_deref_mut() {
+        jac.clamp = 1.0;
+        sys.jacobian(x, v, jac);
+        jac.prepare_newton(&sys.mass, &sys.free, h);
+        f.factor(jac, &sys.free);
+    }
     for (attempt, &clamp) in clamps.iter().enumerate() {
         jac.clamp = clamp;
         sys.jacobian(x, v, jac);
@@ -256,7 +261,10 @@ pub(super) fn solve_clamped(
             b,
             dv,
             set,
-            Precond::BlockJacobi,
+            match ic0.as_deref() {
+                Some(f) => Precond::Ic0(f),
+                None => Precond::BlockJacobi,
+            },
             set.max_cg,
             abs_tol2,
             radius,

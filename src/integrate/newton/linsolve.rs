@@ -27,6 +27,7 @@ use super::cg::{solve_clamped, Cg, Indefinite};
 use super::cg::{CgOutcome, Precond};
 #[cfg(feature = "direct-solver")]
 use super::direct::Factor;
+use super::ic0::Ic0;
 use super::ImplicitSettings;
 use crate::model::{Jacobian, System, Vec3};
 
@@ -37,6 +38,10 @@ pub enum LinearSolver {
     /// springs in steps on non-positive curvature: the measured fastest (module docs).
     #[default]
     BlockJacobiCg,
+    /// CG preconditioned by a block incomplete Cholesky factor IC(0) of the clamped Newton
+    /// matrix, refactored at every Newton iteration; clamps on non-positive curvature as
+    /// [`LinearSolver::BlockJacobiCg`] does (module docs).
+    BlockIc0Cg,
     /// CG preconditioned by a reused sparse Cholesky factor of the clamped Newton matrix;
     /// projected Newton (the clamped system, solved directly) where the exact matrix is
     /// indefinite. Built with the `direct-solver` feature only.
@@ -48,6 +53,7 @@ impl LinearSolver {
     /// Every solver compiled in, the default first.
     pub const ALL: &'static [LinearSolver] = &[
         LinearSolver::BlockJacobiCg,
+        LinearSolver::BlockIc0Cg,
         #[cfg(feature = "direct-solver")]
         LinearSolver::Cholesky,
     ];
@@ -56,6 +62,7 @@ impl LinearSolver {
     pub fn name(self) -> &'static str {
         match self {
             LinearSolver::BlockJacobiCg => "block_jacobi_cg",
+            LinearSolver::BlockIc0Cg => "block_ic0_cg",
             #[cfg(feature = "direct-solver")]
             LinearSolver::Cholesky => "cholesky_pcg",
         }
@@ -67,10 +74,12 @@ impl LinearSolver {
     }
 }
 
-/// Scratch and state of the linear solves: CG vectors and the reusable factor.
+/// Scratch and state of the linear solves: CG vectors and the reusable factors.
 #[derive(Debug, Default)]
 pub(super) struct LinearSolve {
     cg: Cg,
+    /// [`LinearSolver::BlockIc0Cg`]'s factor (its pattern kept across iterations and steps).
+    ic0: Ic0,
     #[cfg(feature = "direct-solver")]
     factor: Factor,
     /// Step the factor was built for (the matrix scales with it).
@@ -121,9 +130,9 @@ impl LinearSolve {
     /// of iterations leaves its partial solution (the caller's residual check decides).
     /// Returns the linear iterations spent (CG iterations; a direct solve counts one).
     /// `abs_tol2`: CG may stop once Σ |rᵢ|²/mᵢ of its residual is below it (0: never).
-    /// `radius`: Some(Δ) for a trust-region (Steihaug–Toint) step of the block-Jacobi solver,
-    /// whose model value and P-norm [`LinearSolve::trust_step`] then reports; the factored
-    /// solver ignores it.
+    /// `radius`: Some(Δ) for a trust-region (Steihaug–Toint) step of the block-Jacobi or IC(0)
+    /// solver, whose model value and P-norm [`LinearSolve::trust_step`] then reports; the
+    /// Cholesky solver ignores it.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn solve(
         &mut self,
@@ -139,9 +148,19 @@ impl LinearSolve {
         abs_tol2: f64,
         radius: Option<f64>,
     ) -> Result<u64, Indefinite> {
-        if set.solver == LinearSolver::BlockJacobiCg {
+        if matches!(
+            set.solver,
+            LinearSolver::BlockJacobiCg | LinearSolver::BlockIc0Cg
+        ) {
+            let ic0 = if set.solver == LinearSolver::BlockIc0Cg {
+                self.factorizations += 1;
+                Some(&mut self.ic0)
+            } else {
+                None
+            };
             return solve_clamped(
                 &mut self.cg,
+                ic0,
                 jac,
                 sys,
                 x,
@@ -158,7 +177,7 @@ impl LinearSolve {
         #[cfg(feature = "direct-solver")]
         return self.solve_factored(jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
         #[cfg(not(feature = "direct-solver"))]
-        unreachable!("BlockJacobiCg is the only solver without the direct-solver feature")
+        unreachable!("the CG solvers are the only ones without the direct-solver feature")
     }
 
     /// [`LinearSolver::Cholesky`]'s solve (module docs).
@@ -183,6 +202,7 @@ impl LinearSolve {
             () => {
                 solve_clamped(
                     &mut self.cg,
+                    None,
                     jac,
                     sys,
                     x,

@@ -24,6 +24,7 @@
 mod cg;
 #[cfg(feature = "direct-solver")]
 mod direct;
+mod ic0;
 mod linear;
 mod linsolve;
 mod potential;
