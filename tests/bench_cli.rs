@@ -125,3 +125,37 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
     }
     assert!(stdout.contains("implicit methods at dt = 1/60"));
 }
+
+#[test]
+fn bench_ratios_takes_the_ic0_solver_and_reports_it() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().to_str().unwrap();
+    springlab(&[
+        "bench-ratios",
+        "--rounds",
+        "1",
+        "--size",
+        "6",
+        "--thread-size",
+        "6",
+        "--no-rapier",
+        "--implicit-sizes",
+        "5",
+        "--implicit-steps",
+        "2",
+        "--implicit-solver",
+        "block_ic0_cg",
+        "--out",
+        out,
+    ]);
+    let imp = csv_rows(&d.path().join("implicit.csv"));
+    assert_eq!(imp.len(), 4, "{imp:?}");
+    for r in &imp {
+        assert_eq!(r[1], "block_ic0_cg", "{r:?}");
+        assert_eq!(r[18], "ok", "{r:?}");
+        // One IC(0) factorisation per linear solve (Newton iteration).
+        let newton: f64 = r[8].parse().unwrap();
+        let factors: f64 = r[13].parse().unwrap();
+        assert_eq!(factors, newton, "{r:?}");
+    }
+}

@@ -14,6 +14,13 @@ fn implicit_euler_steps_the_folding_cloth_at_one_frame() {
     folding_cloth_meets_the_backward_euler_equation(LinearSolver::BlockJacobiCg, 90);
 }
 
+/// The same oracle with CG preconditioned by block incomplete Cholesky IC(0) of the clamped
+/// Newton matrix (refactored at every Newton iteration, clamping on negative curvature).
+#[test]
+fn implicit_euler_with_the_ic0_solver_steps_the_folding_cloth() {
+    folding_cloth_meets_the_backward_euler_equation(LinearSolver::BlockIc0Cg, 90);
+}
+
 /// The same oracle with the sparse-Cholesky-preconditioned solve (a factor reused across
 /// Newton iterations and steps, projected Newton where the exact matrix is indefinite); built
 /// with `--features direct-solver` only.

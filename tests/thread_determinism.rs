@@ -49,3 +49,31 @@ fn stepping_is_bit_identical_across_thread_counts() {
         }
     }
 }
+
+/// Implicit Euler with the block IC(0) preconditioner (sequential triangular solves next to
+/// the parallel products) gives the same bits with 1 and 2 threads.
+#[test]
+fn implicit_euler_with_ic0_is_bit_identical_across_thread_counts() {
+    use springlab::integrate::{ImplicitEuler, Integrator, LinearSolver};
+    let scene = cloth(130);
+    let sys = scene.build();
+    assert!(sys.springs.is_parallel(sys.len()));
+    let run = |threads| {
+        in_pool(threads, || {
+            let mut ie = ImplicitEuler::default();
+            ie.newton.settings.solver = LinearSolver::BlockIc0Cg;
+            let mut s = scene.initial_state();
+            for _ in 0..3 {
+                ie.step(&sys, &mut s, 1.0 / 60.0).unwrap();
+            }
+            s
+        })
+    };
+    let (a, b) = (run(1), run(2));
+    for q in 0..a.len() {
+        for c in 0..3 {
+            assert_eq!(a.x[q][c].to_bits(), b.x[q][c].to_bits(), "x[{q}]");
+            assert_eq!(a.v[q][c].to_bits(), b.v[q][c].to_bits(), "v[{q}]");
+        }
+    }
+}

@@ -34,8 +34,8 @@ pub struct Args {
         default_value = "implicit_euler,implicit_midpoint,bdf2,linear_implicit_euler"
     )]
     pub implicit_methods: Vec<String>,
-    /// Linear solver of the implicit methods: block_jacobi_cg (the default) or cholesky_pcg (a
-    /// build with `--features direct-solver` only).
+    /// Linear solver of the implicit methods: block_jacobi_cg (the default), block_ic0_cg, or
+    /// cholesky_pcg (a build with `--features direct-solver` only).
     #[arg(long, default_value = "block_jacobi_cg")]
     pub implicit_solver: String,
     /// Steps per implicit method and size, from rest (180 = the 3 s at 1/60 issue 14 asks

@@ -2,7 +2,11 @@
 //! configured [`LinearSolver`], to the inexact-Newton tolerance the Newton loop sets.
 //!
 //! [`LinearSolver::BlockJacobiCg`] (the default) is matrix-free CG with the inverse 3×3
-//! diagonal blocks as preconditioner ([`solve_clamped`]). [`LinearSolver::Cholesky`] is a
+//! diagonal blocks as preconditioner ([`solve_clamped`]). [`LinearSolver::BlockIc0Cg`] is
+//! the same solve (exact matrix first, clamped on non-positive curvature, Steihaug–Toint in
+//! the trust region) preconditioned instead by a block incomplete Cholesky factor IC(0) of the
+//! *clamped* (SPD) Newton matrix at the current iterate, refactored at every Newton iteration
+//! on a pattern kept per topology (`ic0.rs`). [`LinearSolver::Cholesky`] is a
 //! modified Newton with a Krylov correction: a sparse Cholesky factor (faer, AMD ordering) of
 //! the *clamped* (SPD) Newton matrix preconditions CG on the *exact* one; the factor is kept
 //! across Newton iterations and steps while CG converges within
@@ -21,6 +25,22 @@
 //! triangular solve pair ≈ 7 ms, so even at ≈ 6 preconditioned iterations per Newton
 //! iteration and a factor every other step the Cholesky solve cost 277 ms per step; on 32²
 //! 9.5 ms against 6.0 ms. A factorisation's cost grows faster than n² while CG's does not.
+//!
+//! Block IC(0) cuts the iterations about fourfold, to 5.5-6.1 per Newton iteration on 32²,
+//! 100² and 316² (block Jacobi: 22.9-26.6 in the same runs), but each iteration adds two
+//! sequential block triangular solves (≈ two products' work, on one core) where block Jacobi
+//! multiplies by a block diagonal in parallel, and each Newton iteration fills the Jacobian a
+//! second time (clamped) and factors it; the residuals and line searches cost the same either
+//! way. One run each: implicit Euler 1.6 / 29 / 765 ms per step on 32² / 100² / 316² against
+//! 2.8 / 41 / 1073 ms; but 16 interleaved pairs of 100² runs on the shared machine put the
+//! two within noise of each other (medians 36 and 34-36 ms, pairwise ratio median 1.01, spread
+//! 0.75-1.33), short of the clear (> 10 %) gain that would justify a new default. It wins
+//! where one solve needs many iterations: linearly implicit Euler (one solve per step, 145
+//! block-Jacobi iterations) ran 22-33 ms against 36-55 ms at 100², and 316² runs favour it
+//! (see the README). Algebraic multigrid was not built: its gain is an iteration count
+//! independent of the mesh size, which block-Jacobi CG already has here (the mass term bounds
+//! the smallest eigenvalue: h²k/m does not change with n), so AMG could only lower the
+//! constant, as IC(0) does, and IC(0)'s fourfold lower constant did not pay at 100².
 
 use super::cg::{solve_clamped, Cg, Indefinite};
 #[cfg(feature = "direct-solver")]
