@@ -36,8 +36,9 @@
 //! two within noise of each other (medians 36 and 34-36 ms, pairwise ratio median 1.01, spread
 //! 0.75-1.33), short of the clear (> 10 %) gain that would justify a new default. It wins
 //! where one solve needs many iterations: linearly implicit Euler (one solve per step, 145
-//! block-Jacobi iterations) ran 22-33 ms against 36-55 ms at 100², and 316² runs favour it
-//! (see the README). Algebraic multigrid was not built: its gain is an iteration count
+//! block-Jacobi iterations) ran 22-33 ms against 36-55 ms at 100², and so does 316², where
+//! 3 interleaved pairs gave implicit Euler 565-773 ms against 1061-1184 ms per step and
+//! linearly implicit Euler 473-687 ms against 1170-1407 ms. Algebraic multigrid was not built: its gain is an iteration count
 //! independent of the mesh size, which block-Jacobi CG already has here (the mass term bounds
 //! the smallest eigenvalue: h²k/m does not change with n), so AMG could only lower the
 //! constant, as IC(0) does, and IC(0)'s fourfold lower constant did not pay at 100².
