@@ -3,7 +3,7 @@
 //! `implicit.csv` (written atomically) and a table on stdout.
 
 use anyhow::{bail, Result};
-use springlab::integrate::LinearSolver;
+use springlab::integrate::{ImplicitSettings, LinearSolver};
 use springlab::output::write_atomic;
 use springlab::perf::ratios::{
     backend, hand_loop, implicit_cost, interleaved, on_threads, stepping, Contender,
@@ -42,6 +42,10 @@ pub struct Args {
     /// the 316×316 cloth to run without a Newton failure).
     #[arg(long, default_value_t = 10)]
     pub implicit_steps: usize,
+    /// Newton iterations a step may take before it fails (`ImplicitSettings::max_newton`;
+    /// default: the implicit methods' own, 50).
+    #[arg(long)]
+    pub implicit_max_newton: Option<usize>,
     /// Leave out the Rapier ratio.
     #[arg(long)]
     pub no_rapier: bool,
@@ -83,8 +87,8 @@ pub fn run(a: Args) -> Result<()> {
             "--size, --thread-size, --implicit-sizes: each cloth size must be between 2 and 1000"
         );
     }
-    if a.rounds == 0 || a.implicit_steps == 0 {
-        bail!("--rounds and --implicit-steps must be at least 1");
+    if a.rounds == 0 || a.implicit_steps == 0 || a.implicit_max_newton == Some(0) {
+        bail!("--rounds, --implicit-steps and --implicit-max-newton must be at least 1");
     }
     let Some(solver) = LinearSolver::from_name(&a.implicit_solver) else {
         bail!(
@@ -270,7 +274,14 @@ pub fn run(a: Args) -> Result<()> {
                 (n * n).to_string(),
                 springs.to_string(),
             ];
-            match implicit_cost(&scene, method, solver, frame, a.implicit_steps) {
+            let mut set = ImplicitSettings {
+                solver,
+                ..ImplicitSettings::default()
+            };
+            if let Some(m) = a.implicit_max_newton {
+                set.max_newton = m;
+            }
+            match implicit_cost(&scene, method, set, frame, a.implicit_steps) {
                 Ok(ic) => {
                     let ratio = ic.seconds_per_step / se;
                     let met = match target.split_once(' ') {

@@ -3,7 +3,7 @@
 //! machine a slow phase then hits both sides of a ratio instead of one.
 
 use crate::error::Result;
-use crate::integrate::{Integrator, IntegratorOptions, LinearSolver};
+use crate::integrate::{ImplicitSettings, Integrator, IntegratorOptions};
 use crate::model::{State, System, Vec3};
 use crate::scenario::Scenario;
 use std::time::Instant;
@@ -101,13 +101,13 @@ pub struct ImplicitCost {
     pub switches_per_step: f64,
 }
 
-/// Steps the implicit method `method` `steps` times at `h` with linear solver `solver` from
-/// the scene's initial state and reports its solver work; `Err` naming the step when one
+/// Steps the implicit method `method` `steps` times at `h` with the solver settings `set`
+/// from the scene's initial state and reports its solver work; `Err` naming the step when one
 /// fails (or when `method` has no implicit core).
 pub fn implicit_cost(
     scene: &Scenario,
     method: &str,
-    solver: LinearSolver,
+    set: ImplicitSettings,
     h: f64,
     steps: usize,
 ) -> std::result::Result<ImplicitCost, String> {
@@ -117,8 +117,7 @@ pub fn implicit_cost(
     integ
         .newton_mut()
         .ok_or_else(|| format!("{method} has no implicit solver"))?
-        .settings
-        .solver = solver;
+        .settings = set;
     let mut evals = 0;
     let mut newton_max = 0;
     let t0 = Instant::now();

@@ -1,6 +1,7 @@
 //! The linear-solve half of the shared implicit core: conjugate gradients on the Newton matrix
-//! A = M − h ∂f/∂v − h² ∂f/∂x, preconditioned by its inverse 3×3 diagonal blocks (block
-//! Jacobi), matrix-free, so one iteration costs one pass over particles and springs.
+//! A = M − h ∂f/∂v − h² ∂f/∂x, matrix-free (one product is one pass over particles and
+//! springs), preconditioned by a block IC(0) factor of the clamped matrix (`ic0.rs`) or by
+//! A's inverse 3×3 diagonal blocks (block Jacobi).
 //!
 //! A compressed spring makes the exact Jacobian indefinite; [`solve_clamped`] then redoes the
 //! solve with more and more of the compressed springs' negative stiffness dropped (50 %,

@@ -1,47 +1,52 @@
 //! The linear solve of one Newton iteration, A Δv = b with A = M − h ∂f/∂v − h² ∂f/∂x, by the
 //! configured [`LinearSolver`], to the inexact-Newton tolerance the Newton loop sets.
 //!
-//! [`LinearSolver::BlockJacobiCg`] (the default) is matrix-free CG with the inverse 3×3
-//! diagonal blocks as preconditioner ([`solve_clamped`]). [`LinearSolver::BlockIc0Cg`] is
-//! the same solve (exact matrix first, clamped on non-positive curvature, Steihaug–Toint in
-//! the trust region) preconditioned instead by a block incomplete Cholesky factor IC(0) of the
-//! *clamped* (SPD) Newton matrix at the current iterate, refactored at every Newton iteration
-//! on a pattern kept per topology (`ic0.rs`). [`LinearSolver::Cholesky`] is a
-//! modified Newton with a Krylov correction: a sparse Cholesky factor (faer, AMD ordering) of
-//! the *clamped* (SPD) Newton matrix preconditions CG on the *exact* one; the factor is kept
-//! across Newton iterations and steps while CG converges within
+//! [`LinearSolver::BlockJacobiCg`] (the default) is matrix-free CG preconditioned by the
+//! inverse 3×3 diagonal blocks; CG runs on the exact matrix first and on more and more
+//! clamped ones where it meets non-positive curvature ([`solve_clamped`]), or Steihaug–Toint
+//! in the trust region. [`LinearSolver::BlockIc0Cg`] is the same solve preconditioned by a
+//! block incomplete Cholesky factor IC(0) of the *clamped* (SPD) Newton matrix at the current
+//! iterate, refactored at every Newton iteration on a pattern kept per topology (`ic0.rs`).
+//! [`LinearSolver::Cholesky`] is a modified Newton with a Krylov correction: a sparse
+//! Cholesky factor (faer, AMD ordering) of the clamped Newton matrix preconditions CG on the
+//! exact one; the factor is kept across Newton iterations and steps while CG converges within
 //! [`ImplicitSettings::refactor_after`] iterations, else refactored at the current iterate.
 //! Where the exact matrix is indefinite (CG meets non-positive curvature), the step is the
 //! projected-Newton direction, the clamped system solved directly with a fresh factor
 //! (Teran, Sifakis, Irving & Fedkiw, SCA 2005).
 //!
-//! Why block Jacobi is the default, measured with `springlab bench-ratios --rounds 3
-//! --no-rapier` (implicit Euler, cloth at 1/60 s, 10 steps from rest, 2 shared cores):
-//! the cloth's Newton matrix is well conditioned whatever its size (the mass term bounds
-//! the smallest eigenvalue, and k, m per particle do not change with n), so block-Jacobi CG
-//! needs ≈ 23-27 iterations per Newton iteration at the inexact-Newton tolerance on 32², 100²
-//! and 316² alike, each about one force evaluation's cost (100²: 41 ms per step). On 100²
-//! (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took ≈ 35 ms and one
-//! triangular solve pair ≈ 7 ms, so even at ≈ 6 preconditioned iterations per Newton
-//! iteration and a factor every other step the Cholesky solve cost 277 ms per step; on 32²
-//! 9.5 ms against 6.0 ms. A factorisation's cost grows faster than n² while CG's does not.
+//! The choice. The cloth's Newton matrix is well conditioned whatever its size (the mass
+//! term bounds the smallest eigenvalue, and h²k/m does not change with n), so block-Jacobi CG
+//! needs ≈ 23-27 iterations per Newton iteration on 32², 100² and 316² alike; IC(0) cuts that
+//! about fourfold, to 5.5-6.1, at the price of two sequential triangular solves per iteration
+//! and a factorisation per Newton iteration. Over the first 10 frames from rest
+//! (`springlab bench-ratios --no-rapier --rounds 3 --implicit-solver S`, quiet 2-core
+//! machine, two runs per solver alternated), milliseconds per step, IC(0) against block
+//! Jacobi:
 //!
-//! Block IC(0) cuts the iterations about fourfold, to 5.5-6.1 per Newton iteration on 32²,
-//! 100² and 316² (block Jacobi: 22.9-26.6 in the same runs), but each iteration adds two
-//! sequential block triangular solves (≈ two products' work, on one core) where block Jacobi
-//! multiplies by a block diagonal in parallel, and each Newton iteration fills the Jacobian a
-//! second time (clamped) and factors it; the residuals and line searches cost the same either
-//! way. One run each: implicit Euler 1.6 / 29 / 765 ms per step on 32² / 100² / 316² against
-//! 2.8 / 41 / 1073 ms; but 16 interleaved pairs of 100² runs on the shared machine put the
-//! two within noise of each other (medians 36 and 34-36 ms, pairwise ratio median 1.01, spread
-//! 0.75-1.33), short of the clear (> 10 %) gain that would justify a new default. It wins
-//! where one solve needs many iterations: linearly implicit Euler (one solve per step, 145
-//! block-Jacobi iterations) ran 22-33 ms against 36-55 ms at 100², and so does 316², where
-//! 3 interleaved pairs gave implicit Euler 565-773 ms against 1061-1184 ms per step and
-//! linearly implicit Euler 473-687 ms against 1170-1407 ms. Algebraic multigrid was not built: its gain is an iteration count
-//! independent of the mesh size, which block-Jacobi CG already has here (the mass term bounds
-//! the smallest eigenvalue: h²k/m does not change with n), so AMG could only lower the
-//! constant, as IC(0) does, and IC(0)'s fourfold lower constant did not pay at 100².
+//! | method | 32² | 100² | 316² |
+//! |---|---|---|---|
+//! | implicit_euler | 1.80, 1.86 / 1.86, 2.63 | 23.9, 26.6 / 26.4, 25.4 | 415, 457 / 508, 540 |
+//! | implicit_midpoint | 3.36, 3.27 / 3.47, 4.32 | 34.6, 36.6 / 39.3, 39.8 | 547, 596 / 575, 577 |
+//! | bdf2 | 4.03, 3.45 / 4.44, 4.39 | 43.7, 44.1 / 51.8, 53.6 | 769, 780 / 773, 778 |
+//! | linear_implicit_euler | 2.14, 1.74 / 2.63, 2.66 | 21.9, 22.5 / 37.2, 34.9 | 433, 405 / 568, 517 |
+//!
+//! IC(0) wins where one solve needs many iterations (linearly implicit Euler: 145
+//! block-Jacobi iterations in its one solve per step, 1.6× at 100²). But over the 316² cloth's
+//! 3 s at 1/60, past its folds, the hard frames take many Newton iterations of only 2-5 CG
+//! iterations each, and there a factorisation per Newton iteration costs more than the CG it
+//! saves: IC(0) took 2.77 s per frame (17.3 Newton, 106 CG per frame; 71 Newton iterations at
+//! frame 24, over the default cap of 50: it completes only with `--implicit-max-newton 100`)
+//! against block Jacobi's 1.64 s (17.9 Newton, 275 CG; at most 43 Newton iterations), from
+//! `springlab bench-ratios --no-rapier --implicit-methods implicit_euler --implicit-sizes 316
+//! --implicit-steps 180 --rounds 1 --implicit-solver S`. Block Jacobi
+//! is the default for that robustness and cost on the hard frames. The sparse Cholesky lost
+//! everywhere: on 100² (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took
+//! ≈ 35 ms and one triangular solve pair ≈ 7 ms, 277 ms per step against block Jacobi's
+//! 41 ms in the same run; on 32², 9.5 against 6.0 ms. Algebraic multigrid was not built: its
+//! gain is an iteration count independent of the mesh size, which block-Jacobi CG already has
+//! here, so AMG could only lower the constant, as IC(0) does, and a lower constant did not pay
+//! on the hard frames, where the CG iterations per Newton iteration are already few.
 
 use super::cg::{solve_clamped, Cg, Indefinite};
 #[cfg(feature = "direct-solver")]
@@ -56,12 +61,14 @@ use crate::model::{Jacobian, System, Vec3};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LinearSolver {
     /// Matrix-free CG preconditioned by the inverse 3×3 diagonal blocks, clamping compressed
-    /// springs in steps on non-positive curvature: the measured fastest (module docs).
+    /// springs in steps on non-positive curvature: the measured fastest over a long run of
+    /// hard (folding) frames, and the one that runs the 316² cloth 3 s (module docs).
     #[default]
     BlockJacobiCg,
     /// CG preconditioned by a block incomplete Cholesky factor IC(0) of the clamped Newton
-    /// matrix, refactored at every Newton iteration; clamps on non-positive curvature as
-    /// [`LinearSolver::BlockJacobiCg`] does (module docs).
+    /// matrix, refactored at every Newton iteration, clamping as
+    /// [`LinearSolver::BlockJacobiCg`] does: a quarter of the iterations, a factor each
+    /// Newton iteration (module docs).
     BlockIc0Cg,
     /// CG preconditioned by a reused sparse Cholesky factor of the clamped Newton matrix;
     /// projected Newton (the clamped system, solved directly) where the exact matrix is

@@ -98,7 +98,7 @@ pub(crate) enum Stop {
     SecondOrder,
 }
 
-/// The shared Newton + block-Jacobi-PCG solver of one backward-Euler stage, with its counters.
+/// The shared Newton + preconditioned-CG solver of one backward-Euler stage, with its counters.
 #[derive(Debug, Default)]
 pub struct Newton {
     /// Solver settings.
