@@ -309,19 +309,30 @@ pub(super) mod tests {
         jac.clamp = clamp;
         sys.jacobian(&s.x, &s.v, &mut jac);
         jac.prepare_newton(&sys.mass, &sys.free, h);
-        let n = sys.len();
-        let dofs: Vec<usize> = (0..3 * n).filter(|&d| sys.free[d / 3]).collect();
+        let dofs: Vec<usize> = (0..3 * sys.len()).filter(|&d| sys.free[d / 3]).collect();
+        let dense = dense_newton(&jac, &sys.free, &dofs);
+        (sys, jac, dense, dofs)
+    }
+
+    /// The Newton matrix prepared in `jac` on the coordinates `dofs`, assembled densely column
+    /// by column from the matrix-free product CG uses.
+    pub(in crate::integrate::newton) fn dense_newton(
+        jac: &Jacobian,
+        free: &[bool],
+        dofs: &[usize],
+    ) -> DMatrix<f64> {
+        let n = free.len();
         let mut dense = DMatrix::zeros(dofs.len(), dofs.len());
         let (mut e, mut col) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n]);
         for (j, &dj) in dofs.iter().enumerate() {
             e.iter_mut().for_each(|v| *v = Vec3::zeros());
             e[dj / 3][dj % 3] = 1.0;
-            jac.newton_matvec(&sys.free, &e, &mut col);
+            jac.newton_matvec(free, &e, &mut col);
             for (i, &di) in dofs.iter().enumerate() {
                 dense[(i, j)] = col[di / 3][di % 3];
             }
         }
-        (sys, jac, dense, dofs)
+        dense
     }
 
     fn rhs(n: usize) -> Vec<Vec3> {
@@ -331,7 +342,8 @@ pub(super) mod tests {
             .collect()
     }
 
-    fn flat(v: &[Vec3], dofs: &[usize]) -> DVector<f64> {
+    /// The field `v` on the coordinates `dofs`, as one vector.
+    pub(in crate::integrate::newton) fn flat(v: &[Vec3], dofs: &[usize]) -> DVector<f64> {
         DVector::from_iterator(dofs.len(), dofs.iter().map(|&d| v[d / 3][d % 3]))
     }
 

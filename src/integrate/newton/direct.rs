@@ -10,6 +10,7 @@
 //! does not allocate. faer runs sequentially here (`Par::Seq`): the factor and every solve
 //! give the same bits whatever the thread count.
 
+use super::pattern::{couples, neighbours, Topology};
 use crate::model::{Jacobian, Vec3};
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -20,13 +21,6 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 use nalgebra::Matrix3;
-
-/// The topology a factor was built for: particle count, free mask and spring pairs.
-#[derive(Debug, Default, PartialEq)]
-struct Topology {
-    free: Vec<bool>,
-    pairs: Vec<[u32; 2]>,
-}
 
 /// A sparse LLᵀ factor of the Newton matrix with its pattern, ordering and workspace.
 #[derive(Default)]
@@ -76,26 +70,13 @@ impl Factor {
     /// Builds the pattern and the symbolic factorisation when the topology differs from the
     /// last one (only then does it allocate).
     fn ensure_pattern(&mut self, jac: &Jacobian, free: &[bool]) {
-        if self.symbolic.is_some() && self.topo.free == free && self.topo.pairs == jac.pairs {
+        if self.symbolic.is_some() && self.topo.is(jac, free) {
             return;
         }
         let n = free.len();
-        self.topo = Topology {
-            free: free.to_vec(),
-            pairs: jac.pairs.clone(),
-        };
-        // Neighbours q > p of each free particle p (both ends free), sorted and unique.
-        let mut nbr: Vec<Vec<u32>> = vec![Vec::new(); n];
-        for &[a, b] in &jac.pairs {
-            let (lo, hi) = (a.min(b), a.max(b));
-            if lo != hi && free[lo as usize] && free[hi as usize] {
-                nbr[lo as usize].push(hi);
-            }
-        }
-        for l in &mut nbr {
-            l.sort_unstable();
-            l.dedup();
-        }
+        self.topo = Topology::of(jac, free);
+        // Neighbours q > p of each free particle p: the rows of column p's lower blocks.
+        let nbr = neighbours(jac, free, true);
         self.col_ptr.clear();
         self.row_idx.clear();
         self.col_ptr.push(0);
@@ -116,13 +97,12 @@ impl Factor {
             .pairs
             .iter()
             .map(|&[a, b]| {
-                let (lo, hi) = (a.min(b), a.max(b));
-                if lo == hi || !free[lo as usize] || !free[hi as usize] {
-                    (u32::MAX, u32::MAX)
-                } else {
-                    let k = nbr[lo as usize].binary_search(&hi).expect("listed") as u32;
-                    (lo, k)
+                if !couples(free, a, b) {
+                    return (u32::MAX, u32::MAX);
                 }
+                let (lo, hi) = (a.min(b), a.max(b));
+                let k = nbr[lo as usize].binary_search(&hi).expect("listed") as u32;
+                (lo, k)
             })
             .collect();
         self.values = vec![0.0; self.row_idx.len()];
@@ -236,7 +216,6 @@ mod tests {
     //! Oracle: nalgebra's dense Cholesky of the same Newton matrix, built column by column
     //! from the matrix-free product [`Jacobian::newton_matvec`] that CG uses.
     use super::*;
-    use nalgebra::DVector;
 
     #[test]
     fn sparse_factor_solves_the_newton_matrix_like_a_dense_cholesky() {
@@ -258,7 +237,7 @@ mod tests {
                 )
             })
             .collect();
-        let bd = DVector::from_iterator(dofs.len(), dofs.iter().map(|&d| b[d / 3][d % 3]));
+        let bd = super::super::cg::tests::flat(&b, &dofs);
         let want = chol.solve(&bd);
         let mut f = Factor::default();
         f.factor(&jac, &sys.free).expect("SPD");

@@ -15,6 +15,7 @@
 //! into storage sized once, so a step does not allocate. Everything runs sequentially in a
 //! fixed order: the factor and every solve give the same bits whatever the thread count.
 
+use super::pattern::{couples, neighbours, Topology};
 use crate::model::{Jacobian, Vec3};
 use nalgebra::Matrix3;
 
@@ -23,13 +24,6 @@ pub(super) const FIRST_SHIFT: f64 = 1e-3;
 /// Shifts tried (α doubling) before giving up on the coupling: past 2⁴⁰·10⁻³ the factor is
 /// block Jacobi to rounding anyway.
 const MAX_SHIFTS: u32 = 40;
-
-/// The topology a factor was built for: free mask and spring pairs.
-#[derive(Debug, Default, PartialEq)]
-struct Topology {
-    free: Vec<bool>,
-    pairs: Vec<[u32; 2]>,
-}
 
 /// A block IC(0) factor of the Newton matrix with its symbolic structure.
 #[derive(Debug, Default)]
@@ -61,28 +55,17 @@ impl Ic0 {
     /// Builds the pattern and the elimination lists when the topology differs from the last
     /// one (only then does it allocate).
     fn ensure_pattern(&mut self, jac: &Jacobian, free: &[bool]) {
-        if !self.row_ptr.is_empty() && self.topo.free == free && self.topo.pairs == jac.pairs {
+        if !self.row_ptr.is_empty() && self.topo.is(jac, free) {
             return;
         }
         let n = free.len();
-        self.topo = Topology {
-            free: free.to_vec(),
-            pairs: jac.pairs.clone(),
-        };
-        let coupled = |a: u32, b: u32| a != b && free[a as usize] && free[b as usize];
-        // Neighbours j < i of each particle i (both free), sorted and unique.
-        let mut lower: Vec<Vec<u32>> = vec![Vec::new(); n];
-        for &[a, b] in &jac.pairs {
-            if coupled(a, b) {
-                lower[a.max(b) as usize].push(a.min(b));
-            }
-        }
+        self.topo = Topology::of(jac, free);
+        // Neighbours j < i of each particle i: the columns of row i's lower blocks.
+        let lower = neighbours(jac, free, false);
         self.row_ptr.clear();
         self.col.clear();
         self.row_ptr.push(0);
-        for row in &mut lower {
-            row.sort_unstable();
-            row.dedup();
+        for row in &lower {
             self.col.extend_from_slice(row);
             self.row_ptr.push(self.col.len() as u32);
         }
@@ -90,7 +73,7 @@ impl Ic0 {
             .pairs
             .iter()
             .map(|&[a, b]| {
-                if !coupled(a, b) {
+                if !couples(free, a, b) {
                     return u32::MAX;
                 }
                 let (hi, lo) = (a.max(b) as usize, a.min(b));
@@ -232,14 +215,10 @@ mod tests {
     //! rounding; (2) on the crumpled cloth (fill dropped), CG preconditioned by it must reach
     //! the dense solve of the clamped system to CG tolerance, and P = L Lᵀ must be SPD
     //! (rᵀ P⁻¹ r > 0).
-    use super::super::cg::{tests::crumpled, Cg, CgOutcome, Precond};
+    use super::super::cg::tests::{crumpled, dense_newton as dense, flat};
+    use super::super::cg::{Cg, CgOutcome, Precond};
     use super::super::ImplicitSettings;
     use super::*;
-    use nalgebra::{DMatrix, DVector};
-
-    fn flat(v: &[Vec3], dofs: &[usize]) -> DVector<f64> {
-        DVector::from_iterator(dofs.len(), dofs.iter().map(|&d| v[d / 3][d % 3]))
-    }
 
     /// A pseudo-random vector field (a fixed LCG: the test's bits do not depend on anything).
     fn field(n: usize, seed: u64) -> Vec<Vec3> {
@@ -251,21 +230,6 @@ mod tests {
             (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
         (0..n).map(|_| Vec3::new(next(), next(), next())).collect()
-    }
-
-    fn dense(jac: &Jacobian, free: &[bool], dofs: &[usize]) -> DMatrix<f64> {
-        let n = free.len();
-        let mut a = DMatrix::zeros(dofs.len(), dofs.len());
-        let (mut e, mut col) = (vec![Vec3::zeros(); n], vec![Vec3::zeros(); n]);
-        for (j, &dj) in dofs.iter().enumerate() {
-            e.iter_mut().for_each(|v| *v = Vec3::zeros());
-            e[dj / 3][dj % 3] = 1.0;
-            jac.newton_matvec(free, &e, &mut col);
-            for (i, &di) in dofs.iter().enumerate() {
-                a[(i, j)] = col[di / 3][di % 3];
-            }
-        }
-        a
     }
 
     #[test]

@@ -27,6 +27,7 @@ mod direct;
 mod ic0;
 mod linear;
 mod linsolve;
+mod pattern;
 mod potential;
 mod trust;
 
@@ -247,15 +248,11 @@ impl Newton {
         v_scale0: f64,
         res: &mut Residual,
     ) -> (f64, u64) {
-        let n = x0.len();
         let mut evals = 0;
         let mut alpha = 1.0;
         let mut phi_base = f64::NAN; // the base's potential, computed only if needed
         for halving in 0..=self.settings.max_halvings {
-            for p in 0..n {
-                self.vn[p] = self.vbase[p] + self.dv[p] * alpha;
-            }
-            let trial = self.residual(sys, x0, v0, h, v_scale0);
+            let trial = self.trial(sys, x0, v0, h, v_scale0, alpha);
             evals += 1;
             let mut done = trial.merit <= res.merit
                 || !trial.merit.is_finite()
@@ -278,6 +275,22 @@ impl Newton {
             alpha *= 0.5;
         }
         (alpha, evals)
+    }
+
+    /// A line-search trial: v' = `self.vbase` + t·`self.dv`, and the residual there.
+    fn trial(
+        &mut self,
+        sys: &System,
+        x0: &[Vec3],
+        v0: &[Vec3],
+        h: f64,
+        v_scale0: f64,
+        t: f64,
+    ) -> Residual {
+        for p in 0..x0.len() {
+            self.vn[p] = self.vbase[p] + self.dv[p] * t;
+        }
+        self.residual(sys, x0, v0, h, v_scale0)
     }
 
     /// The incremental potential at `self.vbase`, freezing the damping directions there.
@@ -310,17 +323,13 @@ impl Newton {
         radius: &mut f64,
         step_norm: f64,
     ) -> (u64, bool) {
-        let n = x0.len();
         let phi_base = self.base_potential(sys, x0, v0, h);
         let mut evals = 1;
         let s_as = 2.0 * (model - gs);
         let on_boundary = step_norm >= *radius * (1.0 - 1e-12);
         let mut tau = 1.0;
         for _ in 0..=self.settings.max_halvings {
-            for p in 0..n {
-                self.vn[p] = self.vbase[p] + self.dv[p] * tau;
-            }
-            let trial = self.residual(sys, x0, v0, h, v_scale0);
+            let trial = self.trial(sys, x0, v0, h, v_scale0, tau);
             let phi = potential(sys, x0, v0, &self.vn, h, &mut self.pot);
             evals += 2;
             let pred = tau * gs + 0.5 * tau * tau * s_as;
