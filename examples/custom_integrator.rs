@@ -111,11 +111,18 @@ fn main() -> springlab::Result<()> {
     )?;
     println!("compare against {}:", cmp.reference.kind);
     for e in &cmp.entries {
-        if let Some(r) = &e.result {
-            println!(
+        match e.result.as_ref().map(|r| (r, r.metrics.as_ref())) {
+            Some((r, Some(m))) => println!(
                 "  {:<18} max position error {:.3e} m, energy error {:+.3e}",
-                r.integrator, r.metrics.error_max, r.metrics.energy_balance
-            );
+                r.integrator, m.error_max, m.energy_balance
+            ),
+            Some((r, None)) => println!(
+                "  {:<18} {}: {}",
+                r.integrator,
+                r.status,
+                r.unstable_reason.as_deref().unwrap_or("")
+            ),
+            None => {}
         }
     }
 

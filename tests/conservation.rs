@@ -17,18 +17,11 @@ fn momentum_is_conserved_on_two_free_masses() {
         .filter(|n| **n != "analytic")
     {
         let out = run_steps(&scene, name, 0.01, 500);
-        // Explicit Euler grows an undamped oscillator's energy at every step (|1 + ihω| > 1):
-        // over 500 steps it doubles, a blow-up by the runner's verdict. Momentum is still
-        // conserved over the steps it took.
-        if name == "explicit_euler" {
-            assert!(
-                !out.status.is_ok() && out.steps_done > 100,
-                "{name}: {:?}",
-                out.status
-            );
-        } else {
-            assert!(out.status.is_ok(), "{name}: {:?}", out.status);
-        }
+        // Explicit Euler grows an undamped oscillator's energy at every step (|1 + ihω|² =
+        // 1 + h²ω², ω² = 40 /s²): over 500 steps of 0.01 s by e^(500·0.004) ≈ 7.4, growth the
+        // verdict cannot yet tell from a bounded swing, far below its cap. Every run finishes;
+        // momentum is conserved over all of them.
+        assert_eq!(out.steps_done, 500, "{name}: {:?}", out.status);
         let p = sys.momentum(&out.final_state.v);
         // Implicit Euler's Newton solve is symmetric too, but its CG stops at a tolerance.
         let tol = if name == "implicit_euler" {

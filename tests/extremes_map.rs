@@ -7,13 +7,13 @@
 //!   Verlets stable for hω < 2, classical RK4 for hω < 2√2, backward Euler for every h,
 //!   forward Euler and RK2 for none;
 //! - linear growth: on a linear oscillator the energy after n steps grows like ρ²ⁿ (ρ: spectral
-//!   radius of the one-step map), so the empirical run must blow up (energy gain above 1e4 ×
-//!   the initial energy) exactly when ρ²ⁿ > 1 + 1e4, away from that threshold.
+//!   radius of the one-step map), so the empirical run must blow up when ρ²ⁿ is well past the
+//!   cap (1 + 1e4 here), and must stay stable when ρ²ⁿ < 2: a rise below the scene's energy
+//!   scale fires no rule of the verdict (`run::verdict`). Between the two, rules 3 and 4 decide
+//!   on how the growth unfolds, and the test leaves the cell alone.
 //!
-//! The map runs with `--blowup-factor 1e4` here, not the default 1: this test is about the
-//! growth boundary, and near it symplectic Euler's bounded energy swings (up to
-//! 1/(1 − hω/2) of the initial energy) exceed the default threshold without growing.
-//! `tests/verdicts.rs` checks the map at the default threshold.
+//! The map runs with `--blowup-factor 1e4` here, to keep the cap well away from the bounded
+//! swings this test also crosses. `tests/verdicts.rs` checks the map at the default cap.
 
 use springlab::measure::stability::{stability_map, MapConfig, MapRow, Verdict};
 use springlab::scenario::Scenario;
@@ -92,7 +92,7 @@ fn map_of_the_stiff_spring_shows_the_textbook_boundaries() {
                 r.integrator, r.stiffness_scale, r.dt
             );
             decided += 1;
-        } else if growth < 0.5 * threshold {
+        } else if growth < 0.9 * 2f64.ln() {
             assert!(
                 r.stable,
                 "{} at k×{:e}, dt {:e} (hω {hw:e}): ρ = {rho} predicts bounded",

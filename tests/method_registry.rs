@@ -168,7 +168,13 @@ fn a_registered_method_runs_through_compare_like_a_builtin() {
     let res = compare(&scene, &cfg).unwrap();
     let err = |n: &str| {
         let e = res.entries.iter().find(|e| e.integrator == n).unwrap();
-        e.result.as_ref().unwrap().metrics.error_max
+        e.result
+            .as_ref()
+            .unwrap()
+            .metrics
+            .as_ref()
+            .unwrap()
+            .error_max
     };
     assert!(err("user_euler") > 0.0);
     assert_eq!(

@@ -31,6 +31,15 @@ fn left_out(total: usize, shown: usize) {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     let scene = load(&a.scenario)?;
+    // The scene's own [run] step and length, when it gives them, are held to what `run`
+    // refuses without flags (a step longer than the run, too many steps, impulses that would
+    // never act at that step and events mode).
+    let has_length = scene.run.duration.is_some() || scene.run.steps.is_some();
+    let own_run = if scene.run.dt.is_some() && has_length {
+        Some(springlab::scenario::Timing::resolve(&scene, None, None)?)
+    } else {
+        None
+    };
     let sys = scene.build();
     let limit = if a.all { usize::MAX } else { SHORT_LIST };
     println!(
@@ -74,7 +83,19 @@ pub fn run(a: Args) -> Result<()> {
         println!("  [{k}] {}-{}: length = {} m", c.i, c.j, c.length);
     }
     left_out(sys.constraints.len(), limit);
-    println!("impulses: {}", sys.impulses.len());
+    println!(
+        "impulses: {} (events = \"{}\": {})",
+        sys.impulses.len(),
+        sys.events.label(),
+        match sys.events {
+            springlab::model::Events::Exact => "each acts at its own time",
+            springlab::model::Events::Frame =>
+                "each acts at the first frame boundary at or after its time",
+        }
+    );
+    if let Some(t) = &own_run {
+        println!("run: dt = {} s, {} steps ({} s)", t.dt, t.steps, t.duration);
+    }
     for (k, im) in sys.impulses.iter().enumerate().take(limit) {
         let d = im.delta_v;
         println!(

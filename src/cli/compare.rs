@@ -61,24 +61,27 @@ pub fn run(a: Args) -> Result<()> {
     );
     for e in &res.entries {
         match &e.result {
-            Some(r) if !r.ok() => println!(
-                "{:<22} unstable at t = {} s: {} ({} evals)",
-                e.integrator,
-                fmt_opt(r.unstable_time),
-                r.unstable_reason.as_deref().unwrap_or(""),
-                r.force_evals
-            ),
-            Some(r) => println!(
-                "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
-                e.integrator,
-                e.status,
-                fmt_opt(Some(r.metrics.error_final)),
-                fmt_opt(Some(r.metrics.error_max)),
-                fmt_opt(Some(r.metrics.energy_drift)),
-                fmt_opt(Some(r.metrics.energy_balance)),
-                r.force_evals,
-                fmt_opt(Some(r.wall_seconds))
-            ),
+            Some(r) => {
+                println!(
+                    "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+                    e.integrator,
+                    e.status,
+                    fmt_opt(r.metric(|m| m.error_final)),
+                    fmt_opt(r.metric(|m| m.error_max)),
+                    fmt_opt(r.metric(|m| m.energy_drift)),
+                    fmt_opt(r.metric(|m| m.energy_balance)),
+                    r.force_evals,
+                    fmt_opt(Some(r.wall_seconds))
+                );
+                if !r.ok() {
+                    println!(
+                        "{:<22}   unstable from t = {} s: {}",
+                        "",
+                        fmt_opt(r.unstable_time),
+                        r.unstable_reason.as_deref().unwrap_or("")
+                    );
+                }
+            }
             None => println!(
                 "{:<22} skipped: {}",
                 e.integrator,

@@ -85,25 +85,25 @@ pub fn run(a: Args) -> Result<()> {
         "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>10}",
         "backend", "hz", "1 substep", "err 1 (m)", "needed", "err (m)", "wall/frame", "evals/fr"
     );
-    let e3 = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.3e}"));
+    let e3 = super::measure_common::fmt_opt;
     for e in &fr.entries {
         let one = &e.one_substep;
         let (needed, err, wall, evals) = match &e.fewest {
             Some(f) => (
                 f.substeps.to_string(),
-                e3(Some(f.max_position_error)),
+                e3(f.max_position_error),
                 e3(f.wall_seconds_per_frame),
                 f.force_evals_per_frame
-                    .map_or("-".to_string(), |x| format!("{x:.0}")),
+                    .map_or("—".to_string(), |x| format!("{x:.0}")),
             ),
-            None => ("none".into(), "-".into(), "-".into(), "-".into()),
+            None => ("none".into(), "—".into(), "—".into(), "—".into()),
         };
         println!(
             "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>10}",
             e.backend,
             e.hz,
             one.status,
-            e3(Some(one.max_position_error)),
+            e3(one.max_position_error),
             needed,
             err,
             wall,

@@ -79,5 +79,5 @@ impl MeasureArgs {
 
 /// Formats an optional number for tables.
 pub fn fmt_opt(v: Option<f64>) -> String {
-    v.map_or("-".into(), |x| format!("{x:.3e}"))
+    v.map_or("—".into(), |x| format!("{x:.3e}"))
 }

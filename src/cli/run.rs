@@ -21,12 +21,17 @@ pub struct Args {
     /// Output directory (default: out/<scenario>/<integrator>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Stop at the first unstable verdict instead of computing on until the state diverges or
+    /// passes the --blowup-factor cap (the measuring commands always stop there).
+    #[arg(long)]
+    pub stop_at_verdict: bool,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     let scene = load(&a.scenario)?;
-    let plan = a.step.plan(&scene)?;
+    let mut plan = a.step.plan(&scene)?;
+    plan.stop_at_verdict = a.stop_at_verdict;
     if a.every == 0 {
         bail!("--every: must be at least 1");
     }
@@ -94,16 +99,25 @@ pub fn run(a: Args) -> Result<()> {
     match &out.status {
         springlab::run::Status::Ok => println!("status: ok"),
         springlab::run::Status::Unstable { step, time, reason } => {
-            println!("status: UNSTABLE at step {step} (t = {time} s): {reason}")
+            println!("status: UNSTABLE from step {step} (t = {time} s): {reason}")
         }
     }
     let (e0, e1) = (out.initial_energy, out.final_energy);
-    let relative = summary
-        .energy_error
-        .map_or(String::new(), |r| format!(", relative {r:.3e}"));
+    let change = match summary.energy_change {
+        Some(d) => format!(
+            "change {d:.3e} J{}",
+            summary
+                .energy_error
+                .map_or(String::new(), |r| format!(", relative {r:.3e}"))
+        ),
+        None => format!(
+            "change — (stopped after {} of {} frames)",
+            out.steps_done, plan.steps
+        ),
+    };
     println!(
-        "energy: total {:.6e} J -> {:.6e} J (change {:.3e} J{relative}); kinetic {:.4e}, gravity {:.4e}, elastic {:.4e}, dissipated {:.4e}, injected {:.4e}",
-        e0.total, e1.total, summary.energy_change, e1.kinetic, e1.gravity, e1.elastic, e1.dissipated, e1.injected
+        "energy: total {:.6e} J -> {:.6e} J ({change}); kinetic {:.4e}, gravity {:.4e}, elastic {:.4e}, dissipated {:.4e}, injected {:.4e}",
+        e0.total, e1.total, e1.kinetic, e1.gravity, e1.elastic, e1.dissipated, e1.injected
     );
     println!("wrote {}", dir.display());
     Ok(())

@@ -125,6 +125,7 @@ pub fn frame_setup(
         steps,
         substeps: substeps.unwrap_or(1).max(1),
         blowup_factor: set.blowup_factor,
+        stop_at_verdict: true,
     };
     let mut options = set.options;
     if let Some(n) = substeps {
@@ -188,8 +189,9 @@ pub struct CaseResult {
     pub unstable_time: Option<f64>,
     /// Which measure tripped, for unstable runs.
     pub unstable_reason: Option<String>,
-    /// Metrics over the accepted steps.
-    pub metrics: Metrics,
+    /// Accuracy metrics of the whole run; `None` (null) for a run that is not ok: an unstable
+    /// run has no accuracy to report, and a stopped one did not cover its horizon.
+    pub metrics: Option<Metrics>,
     /// Decimated series, when asked for.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub series: Option<Series>,
@@ -202,9 +204,13 @@ pub struct CaseResult {
 }
 
 impl CaseResult {
-    /// True when the run finished every step.
+    /// True when the run finished every step and was judged stable.
     pub fn ok(&self) -> bool {
         self.status == "ok"
+    }
+    /// One metric of an ok run (`None` for a run that is not ok: no number where there is none).
+    pub fn metric(&self, f: impl Fn(&Metrics) -> f64) -> Option<f64> {
+        self.metrics.as_ref().map(f)
     }
 }
 
@@ -296,7 +302,7 @@ pub fn run_case(
         status: out.status.label().to_string(),
         unstable_time,
         unstable_reason,
-        metrics: obs.metrics(),
+        metrics: out.status.is_ok().then(|| obs.metrics()),
         series: (set.series_points > 0).then(|| obs.series.clone()),
         trace: trace.map(|t| t.trace),
         contacts: contacts.map(|c| c.report()),

@@ -229,7 +229,10 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 res.reference.kind
             ),
             Some(r) => {
-                let m = &r.metrics;
+                let m = |g: fn(&crate::measure::metrics::Metrics) -> f64| o(r.metric(g));
+                let mo = |g: fn(&crate::measure::metrics::Metrics) -> Option<f64>| {
+                    o(r.metrics.as_ref().and_then(g))
+                };
                 format!(
                     "{},{},,{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                     r.integrator,
@@ -239,19 +242,19 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                     r.steps_done,
                     r.force_evals,
                     f(r.wall_seconds),
-                    f(m.error_final),
-                    f(m.error_max),
-                    f(m.error_rms),
-                    f(m.energy_drift),
-                    f(m.energy_oscillation),
-                    f(m.energy_error_max),
-                    f(m.energy_balance),
-                    o(m.momentum_drift),
-                    o(m.constraint_max),
-                    o(m.constraint_mean),
-                    o(m.period),
-                    o(m.period_error),
-                    o(m.phase_error),
+                    m(|m| m.error_final),
+                    m(|m| m.error_max),
+                    m(|m| m.error_rms),
+                    m(|m| m.energy_drift),
+                    m(|m| m.energy_oscillation),
+                    m(|m| m.energy_error_max),
+                    m(|m| m.energy_balance),
+                    mo(|m| m.momentum_drift),
+                    mo(|m| m.constraint_max),
+                    mo(|m| m.constraint_mean),
+                    mo(|m| m.period),
+                    mo(|m| m.period_error),
+                    mo(|m| m.phase_error),
                     o(r.unstable_time),
                     csv_text(r.unstable_reason.as_deref().unwrap_or("")),
                     res.reference.kind

@@ -339,6 +339,7 @@ pub fn empirical_limit(
             steps: ((crit.horizon / h).ceil() as u64).max(1),
             substeps: 1,
             blowup_factor: crit.blowup_factor,
+            stop_at_verdict: true,
         };
         Ok(
             run(sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?
@@ -832,6 +833,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 steps,
                 substeps: 1,
                 blowup_factor: cfg.blowup_factor,
+                stop_at_verdict: true,
             };
             let stable = run(
                 &sys,

@@ -129,11 +129,12 @@ pub struct RunSummary {
     pub initial_energy: EnergyRecord,
     /// Energy account at the last accepted step.
     pub final_energy: EnergyRecord,
-    /// Change of the energy balance (`total`) over the run (J).
-    pub energy_change: f64,
+    /// Change of the energy balance (`total`) over the run (J); `None` when the run stopped
+    /// before its last frame (diverged or past the cap): there is no balance over the run.
+    pub energy_change: Option<f64>,
     /// `energy_change` relative to the initial |kinetic| + |gravity| + |elastic|; `None` when
-    /// those are all 0 (a scene starting at rest at the origin of its potentials), where only
-    /// the change in joules means anything.
+    /// the run stopped, or when those are all 0 (a scene starting at rest at the origin of its
+    /// potentials), where only the change in joules means anything.
     pub energy_error: Option<f64>,
 }
 
@@ -144,6 +145,7 @@ impl RunSummary {
         let e0 = out.initial_energy;
         let scale = e0.kinetic.abs() + e0.gravity.abs() + e0.elastic.abs();
         let d = out.final_energy.total - e0.total;
+        let finished = out.steps_done == steps;
         RunSummary {
             scenario: scenario.into(),
             integrator: integrator.into(),
@@ -159,8 +161,8 @@ impl RunSummary {
             unstable: (!out.status.is_ok()).then(|| out.status.clone()),
             initial_energy: e0,
             final_energy: out.final_energy,
-            energy_change: d,
-            energy_error: (scale > 0.0).then(|| d / scale),
+            energy_change: finished.then_some(d),
+            energy_error: (finished && scale > 0.0).then(|| d / scale),
         }
     }
 }

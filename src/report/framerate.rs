@@ -45,9 +45,7 @@ fn lines(
 }
 
 fn error_lines(fr: &Framerate) -> Vec<Series> {
-    lines(fr, |e| {
-        (e.one_substep.status == "ok").then_some(e.one_substep.max_position_error)
-    })
+    lines(fr, |e| e.one_substep.max_position_error)
 }
 
 fn cost_lines(fr: &Framerate) -> Vec<Series> {
@@ -140,8 +138,8 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
                 body += "<td>—</td><td>—</td>";
                 continue;
             };
-            let one = if e.one_substep.status == "ok" {
-                format!("{:.2e} m", e.one_substep.max_position_error)
+            let one = if let Some(err) = e.one_substep.max_position_error {
+                format!("{err:.2e} m")
             } else {
                 format!(
                     "unstable at t = {}",

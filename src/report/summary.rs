@@ -160,8 +160,6 @@ pub fn scene_summary(
         };
         // Every compared method came from this registry; a mismatch is the caller's error.
         let info = methods.info(&r.integrator)?;
-        let ok = r.ok();
-        let m = &r.metrics;
         let stab = s
             .stability
             .integrators
@@ -181,10 +179,10 @@ pub fn scene_summary(
             status: r.status.clone(),
             blowup_time: r.unstable_time,
             blowup_reason: r.unstable_reason.clone(),
-            max_position_error: ok.then_some(m.error_max).and_then(finite),
-            final_position_error: ok.then_some(m.error_final).and_then(finite),
-            max_energy_drift: ok.then_some(m.energy_error_max).and_then(finite),
-            final_energy_change: ok.then_some(m.energy_balance).and_then(finite),
+            max_position_error: r.metric(|m| m.error_max).and_then(finite),
+            final_position_error: r.metric(|m| m.error_final).and_then(finite),
+            max_energy_drift: r.metric(|m| m.energy_error_max).and_then(finite),
+            final_energy_change: r.metric(|m| m.energy_balance).and_then(finite),
             stability: stab.map(|i| i.verdict),
             stable_dt: stab.and_then(|i| i.max_stable_dt),
             stable_h_omega: stab.and_then(|i| i.h_omega),

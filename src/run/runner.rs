@@ -3,7 +3,7 @@
 use super::energy::EnergyRecord;
 use super::observer::Observer;
 use super::scale::energy_scale;
-use super::verdict::{judge, DEFAULT_BLOWUP_FACTOR};
+use super::verdict::{Rule, Verdict, DEFAULT_BLOWUP_FACTOR};
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
 use crate::model::{Impulse, State, System};
@@ -26,9 +26,13 @@ pub struct RunPlan {
     pub steps: u64,
     /// Equal substeps per frame for native methods (≥ 1; 1: one step per frame).
     pub substeps: u64,
-    /// A run is unstable once its energy balance (mechanical + dissipated − injected) has
-    /// risen by more than this multiple of [`energy_scale`]; see [`super::verdict`].
+    /// The hard cap of [`super::verdict`]: a run whose energy balance (mechanical + dissipated
+    /// − injected) rises by more than this multiple of [`energy_scale`] is unstable and stops.
     pub blowup_factor: f64,
+    /// Stop at the first unstable verdict (what measuring commands want: an unstable run has
+    /// no accuracy to measure), or compute on until the state diverges or passes the cap (what
+    /// `run` wants: every computed step is written, the one the verdict fired on included).
+    pub stop_at_verdict: bool,
 }
 
 impl RunPlan {
@@ -39,6 +43,7 @@ impl RunPlan {
             steps,
             substeps: 1,
             blowup_factor: DEFAULT_BLOWUP_FACTOR,
+            stop_at_verdict: true,
         }
     }
     /// A plan covering `duration` (rounded to the nearest whole number of steps, at least 1).
@@ -64,9 +69,10 @@ impl RunPlan {
 pub enum Status {
     /// Every step finished with a finite state and bounded energy.
     Ok,
-    /// The run blew up: at which step and time, and which measure tripped.
+    /// The run grew without bound (or its step failed): at which frame and time the verdict
+    /// first fired, and which measure tripped.
     Unstable {
-        /// First step whose result was rejected.
+        /// Frame in which the verdict first fired.
         step: u64,
         /// Its time (s).
         time: f64,
@@ -202,10 +208,13 @@ pub fn run(
     let eps = 1e-9 * h;
     let mut next_imp = 0;
     let mut status = Status::Ok;
+    let mut verdict = Verdict::new(initial.total, scale, plan.blowup_factor);
     let mut done = 0;
-    'frames: for frame in 0..plan.steps {
+    for frame in 0..plan.steps {
         prev.clone_from(&s);
         let mut rec = last;
+        // `keep`: the frame is written; `stop`: no frame follows it.
+        let (mut keep, mut stop) = (true, false);
         for m in frame * n..(frame + 1) * n {
             let t_end = (m + 1) as f64 * h;
             let imp_at_start = next_imp;
@@ -238,24 +247,41 @@ pub fn run(
             s.t = t_end;
             rec = EnergyRecord::new(sys.state_energy(&s), lp.dissipated, injected)
                 .with_created(lp.created);
-            let reason = match failure {
-                Some(Error::Step(why)) => Some(why),
+            let fired = match failure {
+                // A step that failed (an implicit solve that did not converge) left no state
+                // worth writing: it ends the run like a divergence.
+                Some(Error::Step(why)) => Some((Rule::Diverged, why)),
                 Some(other) => return Err(other),
-                None => judge(&s, &rec, initial.total, scale, plan.blowup_factor),
+                None => verdict.step(&s, &rec).map(|f| (f.rule, f.reason)),
             };
-            if let Some(reason) = reason {
-                status = Status::Unstable {
-                    step: frame + 1,
-                    time: t_end,
-                    reason,
-                };
-                std::mem::swap(&mut s, &mut prev);
-                break 'frames;
+            if let Some((rule, reason)) = fired {
+                if status.is_ok() {
+                    status = Status::Unstable {
+                        step: frame + 1,
+                        time: t_end,
+                        reason,
+                    };
+                }
+                let fatal = matches!(rule, Rule::Diverged | Rule::Cap);
+                if rule == Rule::Diverged || plan.stop_at_verdict {
+                    keep = false;
+                }
+                stop |= fatal || plan.stop_at_verdict;
+                if !keep {
+                    break;
+                }
             }
+        }
+        if !keep {
+            std::mem::swap(&mut s, &mut prev);
+            break;
         }
         last = rec;
         done = frame + 1;
         obs.observe(done, &s, &rec)?;
+        if stop {
+            break;
+        }
     }
     obs.finish(done, &s, &last)?;
     Ok(RunOutcome {

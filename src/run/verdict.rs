@@ -1,26 +1,101 @@
-//! The one verdict on a run's step: is the state finite, and has the run's energy balance risen
-//! by more than the scene allows? Every command (run, compare, stability, sweep, advise, report,
-//! and the library's measures) reaches it through [`crate::run::run`], with the one threshold
-//! [`DEFAULT_BLOWUP_FACTOR`] unless the user gives `--blowup-factor`.
+//! The one verdict on a run: **stable means bounded.** A run is unstable when its numerical
+//! solution grows without bound, not when it is inaccurate; inaccuracy is what the error and
+//! energy columns report. Every command (run, compare, sweep, stability's empirical search and
+//! map, advise, framerate, small-steps, the report, and the library's measures) reaches this
+//! rule through [`crate::run::run`], which feeds [`Verdict`] every step.
 //!
-//! The balance is [`EnergyRecord::total`] = kinetic + gravity + elastic + dissipated − injected:
-//! energy that went into dampers, drag and contacts counts, so a run cannot hide a gain behind
-//! the damping it also computed. The exact solution keeps the balance constant; a rise above
-//! `factor` × [`super::energy_scale`] is a blow-up.
+//! The measure is the run's energy balance [`EnergyRecord::total`] (kinetic, gravity and
+//! elastic energy, plus what was dissipated, minus what impulses injected): energy that went into dampers, drag and contacts counts, so a run
+//! cannot hide a gain behind the damping it also computed. The exact solution keeps it constant;
+//! its rise above the value at t = 0 is compared with the scene's energy scale E
+//! ([`super::energy_scale`]). A step is judged unstable, with the first rule that fires:
+//!
+//! 1. **Diverged**: a position, velocity or energy term is not finite.
+//! 2. **Past the cap**: the balance rose by more than `cap` × E (`--blowup-factor`, default
+//!    [`DEFAULT_BLOWUP_FACTOR`] = 1000). No physical run moves more than about E, and a bounded
+//!    oscillation overshoots it only by a bounded factor: symplectic Euler on x'' = −ω²x
+//!    conserves a shadow energy, so its true energy swings by up to (1 + hω/2)/(1 − hω/2) times
+//!    its start (19 at 0.9 of its limit hω = 2, 132 at 0.985), which passes 1000 only beyond
+//!    0.998 of the limit. A run that books a thousand scenes' worth of energy is producing it
+//!    without bound, even where the state itself stays bounded (a method past its linear limit
+//!    that settles on a spurious cycle, pumping energy into a damper every step).
+//! 3. **Growing**: the largest rise within windows of [`GROWTH_WINDOWS`] steps has at least
+//!    doubled ([`GROWTH_RATIO`]) from each window to the next for [`GROWTH_RUN`] windows in a row,
+//!    and is above E. An unstable linear mode multiplies its energy by ρ^2W per window (ρ > 1 the
+//!    spectral radius), so it doubles in every window once W ln ρ² ≥ ln 2. A bounded oscillation
+//!    cannot: its envelope rises from the start like sin², so the peaks of successive windows
+//!    grow at most by (k+1)²/k² (4, 2.25, 1.78: the third fails), and a drift that grows like
+//!    t^p fails by the fifth window for any p < 3.8 ((6/5)^p < 2). Windows of several lengths run side by side, so
+//!    growth is seen early when ρ is large and still seen when ρ is close to 1.
+//! 4. **Producing energy**: the balance stayed more than [`SUSTAINED`] × E above its start for
+//!    a whole window of at least [`SUSTAINED_WINDOW`] steps. A bounded oscillation returns to
+//!    its start: the energy of a stable mode swings through a range that contains its initial
+//!    value within one beat of the swing (at most 25 steps for symplectic Euler up to 0.998 of its
+//!    limit), so its lowest rise in such a window is at most about 0. A run whose lowest rise
+//!    stays at ten scenes' energy for a whole window has produced energy no physical run has:
+//!    a mode past its linear limit grew until the nonlinearity stopped it (a spurious cycle
+//!    that pumps energy into a damper every step keeps climbing; a transverse mode that grew
+//!    until its tension relaxed leaves its gain booked for good), or explicit Euler's steady
+//!    gain on an undamped mode passed ten scales.
+//!
+//! On a linear scene this agrees with the spectral radius of each method's one-step map
+//! ([`crate::measure::stability`]): below the limit every mode's energy stays within a bounded
+//! factor of its start, far below the cap; above it the growth shows as rule 3 or 2 once the run
+//! is long enough for ρ^2n to reach them (a run at ρ = 1.01 needs about 700 steps).
+//! What follows a verdict is the runner's [`crate::run::RunPlan::stop_at_verdict`] choice: a
+//! measuring command stops there, `run` computes on until the state diverges or passes the cap.
 
 use super::energy::EnergyRecord;
 use crate::model::State;
 
-/// Default `--blowup-factor`: a run is unstable once its energy balance has risen by more than
-/// one energy scale of its scene.
-pub const DEFAULT_BLOWUP_FACTOR: f64 = 1.0;
+/// Default `--blowup-factor`: the hard cap, in scene energy scales, on the rise of the energy
+/// balance (see the module doc for why 1000 is above any bounded oscillation short of 0.998 of
+/// a method's linear limit).
+pub const DEFAULT_BLOWUP_FACTOR: f64 = 1e3;
 
 /// The `--help` text of `--blowup-factor`, repeated word for word in the README (a test checks).
-pub const BLOWUP_FACTOR_HELP: &str = "Call a run unstable once its energy balance (kinetic + potential + dissipated - injected) has risen by more than this multiple of the scene's energy scale";
+pub const BLOWUP_FACTOR_HELP: &str = "Hard cap: call a run unstable (and stop it) once its energy balance (kinetic + potential + dissipated - injected) has risen by more than this multiple of the scene's energy scale; below the cap a run is unstable only when that rise keeps doubling window after window";
+
+/// Window lengths (steps) of the growth rule: short windows see fast growth early, long ones
+/// see growth at a spectral radius close to 1 (a window of W steps doubles once ρ^2W ≥ 2:
+/// ρ ≥ 1.0055 at W = 64, ρ ≥ 1.000085 at W = 4096).
+pub const GROWTH_WINDOWS: [u64; 5] = [16, 64, 256, 1024, 4096];
+/// Factor by which a window's peak rise must exceed the previous window's.
+pub const GROWTH_RATIO: f64 = 2.0;
+/// Consecutive windows that must each grow by [`GROWTH_RATIO`].
+pub const GROWTH_RUN: usize = 5;
+
+/// Rule 4's level, in scene energy scales, that a whole window's lowest rise must exceed.
+pub const SUSTAINED: f64 = 10.0;
+/// Shortest window (steps) that rule 4 reads: long enough to hold a beat of any bounded swing
+/// below the cap.
+pub const SUSTAINED_WINDOW: u64 = 64;
 
 /// Relative round-off allowed on the energy terms: sums of large terms of opposite sign
 /// are not gains.
 const ROUNDOFF: f64 = 1e-9;
+
+/// Which rule of the module doc fired.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// Rule 1: a non-finite state or energy; the state cannot be written.
+    Diverged,
+    /// Rule 2: the balance passed the hard cap.
+    Cap,
+    /// Rule 3: the balance keeps doubling window after window.
+    Growing,
+    /// Rule 4: the balance stayed far above its start for a whole window.
+    Producing,
+}
+
+/// A verdict that fired: which rule, and the reason in words.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fired {
+    /// The rule.
+    pub rule: Rule,
+    /// What tripped, with the figures.
+    pub reason: String,
+}
 
 /// Checks a blow-up factor given by a user: finite and above 0.
 pub fn check_factor(f: f64) -> std::result::Result<f64, String> {
@@ -31,30 +106,141 @@ pub fn check_factor(f: f64) -> std::result::Result<f64, String> {
     }
 }
 
-/// Why the state `s` with energy account `e` (balance `e0_total` at t = 0) is a blow-up, or
-/// `None` when it is fine. `scale` is the scene's energy scale (J), `factor` the threshold.
-pub fn judge(
-    s: &State,
-    e: &EnergyRecord,
+/// The running peaks of one window length.
+#[derive(Debug, Clone)]
+struct Windows {
+    len: u64,
+    /// Peaks of the last completed windows, oldest first (at most [`GROWTH_RUN`]).
+    done: Vec<f64>,
+    /// Peak of the window in progress.
+    peak: f64,
+    /// Lowest rise of the window in progress.
+    low: f64,
+}
+
+impl Windows {
+    /// Takes the rise of step `n` (1-based): the rule (3 or 4) that holds at this step, if any.
+    /// `floor` is the scene's energy scale (plus round-off).
+    fn push(&mut self, n: u64, rise: f64, floor: f64) -> Option<Rule> {
+        self.peak = self.peak.max(rise);
+        self.low = self.low.min(rise);
+        let growing = self.done.len() == GROWTH_RUN
+            && self.peak > floor
+            && self.done[0] > 0.0
+            && self.done.windows(2).all(|w| w[1] >= GROWTH_RATIO * w[0])
+            && self.peak >= GROWTH_RATIO * self.done[GROWTH_RUN - 1];
+        let mut sustained = false;
+        if n % self.len == 0 {
+            if self.done.len() == GROWTH_RUN {
+                self.done.remove(0);
+            }
+            self.done.push(self.peak);
+            sustained = self.len >= SUSTAINED_WINDOW && self.low > SUSTAINED * floor;
+            self.peak = f64::NEG_INFINITY;
+            self.low = f64::INFINITY;
+        }
+        if growing {
+            Some(Rule::Growing)
+        } else if sustained {
+            Some(Rule::Producing)
+        } else {
+            None
+        }
+    }
+}
+
+/// The verdict of one run, fed each step's state and energy account in order.
+#[derive(Debug, Clone)]
+pub struct Verdict {
     e0_total: f64,
     scale: f64,
-    factor: f64,
-) -> Option<String> {
-    if let Some(p) = s.first_non_finite() {
-        return Some(format!(
-            "diverged: non-finite position or velocity of particle {p}"
-        ));
+    cap: f64,
+    steps: u64,
+    windows: Vec<Windows>,
+}
+
+impl Verdict {
+    /// A verdict for a run whose balance at t = 0 is `e0_total`, on a scene of energy scale
+    /// `scale` (J), with the hard cap `cap` (in scales).
+    pub fn new(e0_total: f64, scale: f64, cap: f64) -> Self {
+        Verdict {
+            e0_total,
+            scale,
+            cap,
+            steps: 0,
+            windows: GROWTH_WINDOWS
+                .iter()
+                .map(|&len| Windows {
+                    len,
+                    done: Vec::with_capacity(GROWTH_RUN),
+                    peak: f64::NEG_INFINITY,
+                    low: f64::INFINITY,
+                })
+                .collect(),
+        }
     }
-    if !e.is_finite() {
-        return Some("diverged: non-finite energy".into());
+
+    /// Judges the next step's state `s` and account `e`: `None` while the run is bounded.
+    pub fn step(&mut self, s: &State, e: &EnergyRecord) -> Option<Fired> {
+        self.steps += 1;
+        if let Some(p) = s.first_non_finite() {
+            return Some(Fired {
+                rule: Rule::Diverged,
+                reason: format!("diverged: non-finite position or velocity of particle {p}"),
+            });
+        }
+        if !e.is_finite() {
+            return Some(Fired {
+                rule: Rule::Diverged,
+                reason: "diverged: non-finite energy".into(),
+            });
+        }
+        let rise = e.total - self.e0_total;
+        let terms = e.kinetic.abs()
+            + e.gravity.abs()
+            + e.elastic.abs()
+            + e.dissipated.abs()
+            + e.injected.abs();
+        let noise = ROUNDOFF * terms;
+        if rise > self.cap * self.scale + noise {
+            return Some(Fired {
+                rule: Rule::Cap,
+                reason: format!(
+                    "energy balance rose by {rise:.3e} J ({}), past the cap of {} × the scene's energy scale of {:.3e} J",
+                    self.books(e),
+                    self.cap,
+                    self.scale
+                ),
+            });
+        }
+        let (n, floor) = (self.steps, self.scale + noise);
+        let mut fired = None;
+        for w in &mut self.windows {
+            if let Some(rule) = w.push(n, rise, floor) {
+                fired = fired.or(Some((rule, w.len, w.done.first().copied().unwrap_or(0.0))));
+            }
+        }
+        let (rule, len, first) = fired?;
+        let reason = match rule {
+            Rule::Growing => format!(
+                "energy balance growing without bound: its peak rise doubled in each of {GROWTH_RUN} windows of {len} steps, from {first:.3e} to {rise:.3e} J ({}), above the scene's energy scale of {:.3e} J",
+                self.books(e),
+                self.scale
+            ),
+            _ => format!(
+                "energy balance producing energy: it stayed more than {SUSTAINED} × the scene's energy scale of {:.3e} J above its start for a whole window of {len} steps, now {rise:.3e} J ({})",
+                self.scale,
+                self.books(e)
+            ),
+        };
+        Some(Fired { rule, reason })
     }
-    let rise = e.total - e0_total;
-    let terms =
-        e.kinetic.abs() + e.gravity.abs() + e.elastic.abs() + e.dissipated.abs() + e.injected.abs();
-    if rise > factor * scale + ROUNDOFF * terms {
-        return Some(format!(
-            "energy balance rose by {rise:.3e} J (mechanical {:+.3e} J, dissipated {:.3e} J, injected {:.3e} J{}), above {factor} × the scene's energy scale of {scale:.3e} J",
-            e.mechanical() - e0_total,
+
+    /// The account's terms in words, for a reason.
+    fn books(&self, e: &EnergyRecord) -> String {
+        format!(
+            "mechanical {:+.3e} J, dissipated {:.3e} J, injected {:.3e} J{}",
+            e.mechanical() - self.e0_total,
             e.dissipated,
             e.injected,
             if e.created > 0.0 {
@@ -62,9 +248,8 @@ pub fn judge(
             } else {
                 String::new()
             }
-        ));
+        )
     }
-    None
 }
 
 #[cfg(test)]
@@ -92,20 +277,126 @@ mod tests {
         )
     }
 
+    /// Feeds the kinetic energies `k(n)` for n = 1..=steps; the first verdict and its step.
+    fn first_fire(k: impl Fn(f64) -> f64, steps: u64, cap: f64) -> Option<(u64, Rule)> {
+        let mut v = Verdict::new(1.0, 1.0, cap);
+        (1..=steps).find_map(|n| {
+            v.step(&state(1.0), &record(k(n as f64), 0.0))
+                .map(|f| (n, f.rule))
+        })
+    }
+
     #[test]
     fn a_gain_hidden_behind_dissipation_still_counts() {
         // Oracle: the balance definition. Mechanical energy unchanged (1 J → 1 J) while the
-        // method booked 3 J into its dampers: the balance rose by 3 J, above a 2 J scale.
-        let why = judge(&state(1.0), &record(1.0, 3.0), 1.0, 2.0, 1.0);
-        assert!(why.is_some_and(|w| w.contains("rose by 3.000e0 J")));
-        assert_eq!(judge(&state(1.0), &record(1.0, 1.5), 1.0, 2.0, 1.0), None);
+        // method booked 3 J into its dampers: the balance rose by 3 J, past a cap of 1 × 2 J.
+        let mut v = Verdict::new(1.0, 2.0, 1.0);
+        let why = v.step(&state(1.0), &record(1.0, 3.0)).unwrap();
+        assert_eq!(why.rule, Rule::Cap);
+        assert!(why.reason.contains("rose by 3.000e0 J"));
+        let mut v = Verdict::new(1.0, 2.0, 1.0);
+        assert_eq!(v.step(&state(1.0), &record(1.0, 1.5)), None);
     }
 
     #[test]
     fn non_finite_states_diverge_and_bad_factors_are_refused() {
-        assert!(judge(&state(f64::NAN), &record(1.0, 0.0), 1.0, 1.0, 1.0)
-            .is_some_and(|w| w.starts_with("diverged")));
+        let mut v = Verdict::new(1.0, 1.0, 1.0);
+        let f = v.step(&state(f64::NAN), &record(1.0, 0.0)).unwrap();
+        assert!(f.rule == Rule::Diverged && f.reason.starts_with("diverged"));
         assert!(check_factor(0.0).is_err() && check_factor(f64::INFINITY).is_err());
-        assert_eq!(check_factor(DEFAULT_BLOWUP_FACTOR), Ok(1.0));
+        assert_eq!(check_factor(DEFAULT_BLOWUP_FACTOR), Ok(1e3));
+    }
+
+    #[test]
+    fn geometric_growth_fires_and_a_bounded_swing_does_not() {
+        // Oracle: an unstable mode's energy grows like ρ^2n. At ρ = 1.05 (×4.8 per 16-step
+        // window) the growth rule fires once the rise passes the scale, before the cap.
+        let rho2 = 1.05f64.powi(2);
+        let fired = first_fire(|n| 1.0 + 1e-6 * (rho2.powf(n) - 1.0), 2000, 1e3);
+        assert!(matches!(fired, Some((_, Rule::Growing))), "{fired:?}");
+    }
+
+    /// The first verdict on symplectic Euler (v += −hω²x, then x += hv) on x'' = −ω²x with
+    /// ω = 1 at h = 2a (a: the fraction of its limit hω = 2), from x = 1, v = 0, over `steps`.
+    fn symplectic_euler(a: f64, steps: u64) -> Option<(u64, Rule)> {
+        let (h, mut x, mut v) = (2.0 * a, 1.0f64, 0.0f64);
+        let mut verdict = Verdict::new(0.5, 0.5, DEFAULT_BLOWUP_FACTOR);
+        (1..=steps).find_map(|n| {
+            v -= h * x;
+            x += h * v;
+            let s = State {
+                t: 0.0,
+                x: vec![Vec3::new(x, 0.0, 0.0)],
+                v: vec![Vec3::new(v, 0.0, 0.0)],
+            };
+            let e = EnergyRecord::new(
+                Energy {
+                    kinetic: 0.5 * v * v,
+                    gravity: 0.0,
+                    elastic: 0.5 * x * x,
+                },
+                0.0,
+                0.0,
+            );
+            verdict.step(&s, &e).map(|f| (n, f.rule))
+        })
+    }
+
+    #[test]
+    fn symplectic_euler_is_stable_below_its_limit_and_unstable_above() {
+        // Oracle: the textbook limit hω < 2 (Hairer, Lubich & Wanner, GNI §I.1). Below it the
+        // energy swings by up to (1 + a)/(1 − a) (132 times at a = 0.985, 998 at 0.998) and
+        // stays bounded: stable, however far it swings under the cap.
+        for a in [0.5, 0.9, 0.985, 0.998] {
+            assert_eq!(symplectic_euler(a, 100_000), None, "a = {a}");
+        }
+        // Twin: just above the limit ρ > 1 and the run is unstable within a few hundred steps.
+        for a in [1.001, 1.01, 1.1] {
+            assert!(
+                symplectic_euler(a, 100_000).is_some_and(|(n, _)| n < 2000),
+                "a = {a}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_balance_that_climbs_for_good_is_producing_energy() {
+        // Oracle: rule 4's statement. A spurious cycle: the mechanical energy swings by 50
+        // scales every 10 steps while the damper books 0.2 scales a step (the balance climbs
+        // and never comes back): unstable once a 64-step window sits wholly above 10 scales,
+        // long before the cap.
+        let cycle = |n: f64| 1.0 + 50.0 * (0.2 * std::f64::consts::PI * n).sin().powi(2) + 0.2 * n;
+        let fired = first_fire(cycle, 2000, 1e3);
+        assert!(
+            matches!(fired, Some((n, Rule::Producing)) if n <= 192),
+            "{fired:?}"
+        );
+        // Twin: the same swing without the climb, started mid-swing (so it dips below its start
+        // every beat): bounded, never unstable, over 100 000 steps.
+        let swing = |n: f64| {
+            1.0 + 50.0
+                * ((0.2 * std::f64::consts::PI * n + 0.7).sin().powi(2) - 0.7f64.sin().powi(2))
+        };
+        assert_eq!(first_fire(swing, 100_000, 1e3), None);
+    }
+
+    #[test]
+    fn polynomial_drifts_are_not_growth() {
+        // Oracle: t^p drifts grow by (k+1)^p/k^p per window, below 2 by the 5th for p < 3.8.
+        for p in [1.0, 2.0, 3.0, 3.7] {
+            let drift = |n: f64| 1.0 + 1e-6 * n.powf(p);
+            // Rule 4 may call such a drift unstable once it sits at 100 scales; rule 3 never.
+            let fired = first_fire(drift, 100_000, 1e30);
+            assert!(
+                !matches!(fired, Some((_, Rule::Growing))),
+                "t^{p}: {fired:?}"
+            );
+        }
+        // Twin: the same t³ drift, climbing to the cap, is unstable (by rule 4, then the cap).
+        let drift = |n: f64| 1.0 + 1e-6 * n.powi(3);
+        assert!(matches!(
+            first_fire(drift, 100_000, 1e3),
+            Some((_, Rule::Producing | Rule::Cap))
+        ));
     }
 }

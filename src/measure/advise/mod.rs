@@ -182,11 +182,10 @@ pub struct Advice {
 }
 
 pub(super) fn error_of(c: &CaseResult, m: AdviseMetric) -> Option<f64> {
-    let e = match m {
-        AdviseMetric::Position => c.metrics.error_max,
-        AdviseMetric::Energy => c.metrics.energy_error_max,
-    };
-    c.ok().then_some(e)
+    match m {
+        AdviseMetric::Position => c.metric(|m| m.error_max),
+        AdviseMetric::Energy => c.metric(|m| m.energy_error_max),
+    }
 }
 
 fn run_grids(

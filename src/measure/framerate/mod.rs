@@ -118,9 +118,9 @@ pub struct FrameRun {
     /// Stable and within the tolerance.
     pub meets_tolerance: bool,
     /// Maximum position error over the accepted frames (m), compare's `error_max`.
-    pub max_position_error: f64,
+    pub max_position_error: Option<f64>,
     /// Slope of the relative energy error (1/s), compare's `energy_drift`.
-    pub energy_drift: f64,
+    pub energy_drift: Option<f64>,
     /// Median integrator wall time per frame (s); null for an unstable run (not timed).
     pub wall_seconds_per_frame: Option<f64>,
     /// The repeated timing behind it.
@@ -235,8 +235,8 @@ fn frame_run(
         substeps,
         status: c.status.clone(),
         meets_tolerance: meets(c, tolerance),
-        max_position_error: c.metrics.error_max,
-        energy_drift: c.metrics.energy_drift,
+        max_position_error: c.metric(|m| m.error_max),
+        energy_drift: c.metric(|m| m.energy_drift),
         wall_seconds_per_frame: None,
         timing: None,
         force_evals_per_frame: evals,
@@ -248,7 +248,7 @@ fn frame_run(
 
 /// Stable and within `tolerance`: what the search asks of a substep count.
 fn meets(c: &CaseResult, tolerance: f64) -> bool {
-    c.ok() && c.metrics.error_max <= tolerance
+    c.metric(|m| m.error_max).is_some_and(|e| e <= tolerance)
 }
 
 /// Measures every backend at every frame rate.

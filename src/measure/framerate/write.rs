@@ -21,15 +21,15 @@ fn row(e: &RateEntry, kind: RowKind, r: Option<&FrameRun>) -> String {
     let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
     match r {
         Some(r) => format!(
-            "{},{},{},{},{},{},{:e},{:e},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
             e.backend,
             e.hz,
             kind.label(),
             r.substeps,
             r.status,
             r.meets_tolerance,
-            r.max_position_error,
-            r.energy_drift,
+            o(r.max_position_error),
+            o(r.energy_drift),
             o(r.wall_seconds_per_frame),
             o(r.force_evals_per_frame),
             o(r.unstable_time),

@@ -181,18 +181,16 @@ pub const SWEEP_HEADER: &str =
 
 impl SweepRow {
     fn from_case(c: &CaseResult) -> Self {
-        let ok = c.ok();
-        let m = &c.metrics;
         SweepRow {
             integrator: c.integrator.clone(),
             dt: c.dt,
             steps: c.steps,
             force_evals: c.force_evals,
             wall_seconds: c.wall_seconds,
-            error_final: ok.then_some(m.error_final),
-            error_max: ok.then_some(m.error_max),
-            error_rms: ok.then_some(m.error_rms),
-            energy_drift: ok.then_some(m.energy_drift),
+            error_final: c.metric(|m| m.error_final),
+            error_max: c.metric(|m| m.error_max),
+            error_rms: c.metric(|m| m.error_rms),
+            energy_drift: c.metric(|m| m.energy_drift),
             status: c.status.clone(),
         }
     }
