@@ -55,7 +55,10 @@ fn rapier_1024() -> &'static Record {
 
 /// Largest particle distance between two configurations (m).
 fn dev(a: &[Vec3], b: &[Vec3]) -> f64 {
-    a.iter().zip(b).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
 }
 
 /// What the exact dynamics make of Rapier's deviation over one window from frame `f0`: rk4
@@ -130,10 +133,16 @@ fn rapier_converges_at_first_order_through_and_past_the_whip() {
         );
         assert!(oracle < 0.01 * d16, "oracle {oracle} vs {d16}");
         let ratio = d4 / d16;
-        assert!((3.2..5.0).contains(&ratio), "4096 → 16384 at frame {f}: {ratio}");
+        assert!(
+            (3.2..5.0).contains(&ratio),
+            "4096 → 16384 at frame {f}: {ratio}"
+        );
     }
     let early = d(coarse_n, WHIP) / d(&mid, WHIP);
     assert!((3.2..5.0).contains(&early), "1024 → 4096 at 1.0 s: {early}");
     let late = d(coarse_n, LAST) / d(&mid, LAST);
-    assert!(late < 3.2, "1024 → 4096 at 1.2 s should be past linear: {late}");
+    assert!(
+        late < 3.2,
+        "1024 → 4096 at 1.2 s should be past linear: {late}"
+    );
 }
