@@ -14,13 +14,13 @@
 //! claim holds and where it does not.
 
 use crate::error::{Error, Result};
-use crate::integrate::{Integrator, Xpbd};
+use crate::integrate::Xpbd;
 use crate::measure::grid::TimeGrid;
 use crate::measure::reference::{Reference, ReferenceInfo};
 use crate::model::{State, System, Vec3};
+use crate::run::{run, EnergyRecord, Observer, RunPlan, Status};
 use crate::scenario::Scenario;
 use serde::Serialize;
-use std::time::Instant;
 
 /// The paper's frame rate: 60 Hz.
 pub const FRAME_DT: f64 = 1.0 / 60.0;
@@ -145,7 +145,40 @@ fn max_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Runs one split against the reference.
+/// Watches one split's frames: stretch over every frame, error against the reference over
+/// the compared ones.
+struct SplitObserver<'a> {
+    sys: &'a System,
+    reference: &'a Reference,
+    compared: u64,
+    err_max: f64,
+    err_final: f64,
+    st_max: f64,
+    st_sum: f64,
+    st_err: f64,
+}
+
+impl Observer for SplitObserver<'_> {
+    fn observe(&mut self, f: u64, s: &State, _e: &EnergyRecord) -> Result<()> {
+        if f == 0 {
+            return Ok(());
+        }
+        let st = stretch(self.sys, &s.x);
+        self.st_max = self.st_max.max(st);
+        self.st_sum += st;
+        if f <= self.compared {
+            if let Some(xr) = self.reference.positions(0, f) {
+                let e = max_distance(&s.x, xr);
+                self.err_max = self.err_max.max(e);
+                self.err_final = e;
+                self.st_err = self.st_err.max((st - stretch(self.sys, xr)).abs());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Runs one split against the reference, through the runner and its one verdict.
 fn run_split(
     sys: &System,
     s0: &State,
@@ -154,56 +187,46 @@ fn run_split(
     compared: u64,
     frame_dt: f64,
     (substeps, iterations): (usize, usize),
-) -> SplitRun {
+) -> Result<SplitRun> {
     let mut integ = Xpbd::new(substeps, iterations);
-    let mut s = s0.clone();
-    let e0 = sys.state_energy(&s).mechanical();
-    let (mut wall, mut dissipated) = (0.0, 0.0);
-    let (mut err_max, mut err_final, mut st_max, mut st_sum) = (0.0f64, 0.0, 0.0f64, 0.0);
-    let mut st_err = 0.0f64;
-    let mut status = "ok".to_string();
-    for f in 1..=frames {
-        let t0 = Instant::now();
-        let r = integ.step(sys, &mut s, frame_dt);
-        wall += t0.elapsed().as_secs_f64();
-        match r {
-            Ok(st) => dissipated += st.dissipated,
-            Err(e) => {
-                status = e.to_string();
-                break;
-            }
+    let mut obs = SplitObserver {
+        sys,
+        reference,
+        compared,
+        err_max: 0.0,
+        err_final: 0.0,
+        st_max: 0.0,
+        st_sum: 0.0,
+        st_err: 0.0,
+    };
+    let out = run(
+        sys,
+        &mut integ,
+        s0.clone(),
+        &RunPlan::new(frame_dt, frames),
+        &mut obs,
+    )?;
+    let (status, ok) = match &out.status {
+        Status::Ok => ("ok".to_string(), true),
+        Status::Unstable { step, reason, .. } => {
+            (format!("unstable at frame {step}: {reason}"), false)
         }
-        if let Some(p) = s.first_non_finite() {
-            status = format!("particle {p} not finite at frame {f}");
-            break;
-        }
-        let st = stretch(sys, &s.x);
-        st_max = st_max.max(st);
-        st_sum += st;
-        if f <= compared {
-            if let Some(xr) = reference.positions(0, f) {
-                let e = max_distance(&s.x, xr);
-                err_max = err_max.max(e);
-                err_final = e;
-                st_err = st_err.max((st - stretch(sys, xr)).abs());
-            }
-        }
-    }
-    let ok = status == "ok";
-    let e_end = sys.state_energy(&s).mechanical();
-    SplitRun {
+    };
+    let (e0, e1) = (out.initial_energy, out.final_energy);
+    Ok(SplitRun {
         substeps,
         iterations,
         sweeps: integ.sweeps,
-        wall_seconds: wall,
-        error_max: ok.then_some(err_max),
-        error_final: ok.then_some(err_final),
-        stretch_max: ok.then_some(st_max),
-        stretch_mean: ok.then_some(st_sum / frames as f64),
-        stretch_error: ok.then_some(st_err),
-        numerical_dissipation: ok.then_some(e0 - e_end - dissipated),
+        wall_seconds: out.wall_seconds,
+        error_max: ok.then_some(obs.err_max),
+        error_final: ok.then_some(obs.err_final),
+        stretch_max: ok.then_some(obs.st_max),
+        stretch_mean: ok.then_some(obs.st_sum / frames as f64),
+        stretch_error: ok.then_some(obs.st_err),
+        numerical_dissipation: ok
+            .then_some(e0.mechanical() - e1.mechanical() - (e1.dissipated - e0.dissipated)),
         status,
-    }
+    })
 }
 
 fn lower(a: Option<f64>, b: Option<f64>) -> Option<bool> {
@@ -301,17 +324,17 @@ pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<Sce
         .map(|&n| {
             let run =
                 |split| run_split(&sys, &s0, &reference, frames, compared, cfg.frame_dt, split);
-            let (sub, it) = (run((n, 1)), run((1, n)));
-            Budget {
+            let (sub, it) = (run((n, 1))?, run((1, n))?);
+            Ok(Budget {
                 n,
                 substeps_lower_error: lower(sub.error_max, it.error_max),
                 substeps_lower_stretch_error: lower(sub.stretch_error, it.stretch_error),
                 wall_ratio: sub.wall_seconds / it.wall_seconds.max(f64::MIN_POSITIVE),
                 substeps: sub,
                 iterations: it,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_>>()?;
     let (claim_holds, verdict) = verdict(&budgets);
     Ok(SceneSmallSteps {
         scene: scene.name.clone(),
