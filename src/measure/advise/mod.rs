@@ -188,6 +188,41 @@ pub(super) fn error_of(c: &CaseResult, m: AdviseMetric) -> Option<f64> {
     }
 }
 
+/// Why a candidate whose smallest grid step misses tolerance / `safety` gets no advice, in
+/// words that agree with its own grid errors (`errors`: (dt, error or None when not ok), from
+/// the smallest step up): unstable everywhere; within the tolerance but not its margin; an
+/// error that does not fall with the step (a coarser step's error below the target is an
+/// aliased sample, not convergence); or above the tolerance at every step.
+pub fn unable_reason(errors: &[(f64, Option<f64>)], tolerance: f64, safety: f64) -> String {
+    let target = tolerance / safety;
+    let Some((best_dt, best)) = errors
+        .iter()
+        .filter_map(|&(dt, e)| Some((dt, e?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+    else {
+        return "unstable at every step of the grid".into();
+    };
+    let first = errors
+        .first()
+        .map_or("unstable".to_string(), |&(dt, e)| match e {
+            Some(e) => format!("{e:.3e} at the smallest step {dt:.4e} s"),
+            None => format!("unstable at the smallest step {dt:.4e} s"),
+        });
+    if best <= target {
+        format!(
+            "its error does not fall with the step on this grid: {first}, above tolerance/safety {target:.3e}, while a coarser step reads {best:.3e} at {best_dt:.4e} s (a sample that happens to be close, not convergence; try a smaller --dt-min)"
+        )
+    } else if best <= tolerance {
+        format!(
+            "meets the tolerance {tolerance:.3e} on the grid (smallest error {best:.3e} at {best_dt:.4e} s) but not its safety margin: tolerance/safety = {target:.3e} (lower --safety, or a smaller --dt-min)"
+        )
+    } else {
+        format!(
+            "smallest error on the grid {best:.3e} (at {best_dt:.4e} s) exceeds the tolerance {tolerance:.3e} (try a smaller --dt-min)"
+        )
+    }
+}
+
 fn run_grids(
     scene: &Scenario,
     jobs: &[(String, TimeGrid)],
@@ -370,15 +405,14 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             }
         }
         let Some(j) = last_pass else {
-            let best = row
+            let errors: Vec<(f64, Option<f64>)> = row
                 .iter()
-                .filter_map(|c| error_of(c, cfg.metric))
-                .fold(f64::INFINITY, f64::min);
-            unable.push((name.clone(), if best.is_finite() {
-                format!("smallest error on the grid {best:.3e} exceeds tolerance/safety {target:.3e} (try a smaller --dt-min)")
-            } else {
-                "unstable at every step of the grid".into()
-            }));
+                .map(|c| (c.dt, error_of(c, cfg.metric)))
+                .collect();
+            unable.push((
+                name.clone(),
+                unable_reason(&errors, cfg.tolerance, cfg.safety),
+            ));
             continue;
         };
         let ej = error_of(&row[j], cfg.metric).expect("passed");
@@ -513,4 +547,34 @@ pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<std::path::Pa
     let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
     json.push(b'\n');
     crate::output::write_atomic(dir.join("advice.json"), &json)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::unable_reason;
+
+    // Oracle: each reason must agree with the errors it is given (the statement it makes is
+    // checked against the numbers, not against the code's wording).
+    #[test]
+    fn the_reason_agrees_with_the_grid_errors() {
+        let (tol, safety) = (1e-3, 2.0);
+        // Met the tolerance but not the margin: says so, and never "exceeds".
+        let r = unable_reason(&[(1e-3, Some(7e-4)), (2e-3, Some(9e-4))], tol, safety);
+        assert!(
+            r.contains("meets the tolerance") && !r.contains("exceeds"),
+            "{r}"
+        );
+        // An aliased sample below the target at a coarse step while the smallest misses it:
+        // the reason names the failing smallest step, never "smallest error … exceeds".
+        let r = unable_reason(&[(1e-3, Some(8e-4)), (5e-2, Some(1.6e-5))], tol, safety);
+        assert!(
+            r.contains("does not fall with the step") && !r.contains("exceeds"),
+            "{r}"
+        );
+        // Twin: above the tolerance everywhere reads as exceeding it.
+        let r = unable_reason(&[(1e-3, Some(2e-3)), (2e-3, Some(8e-3))], tol, safety);
+        assert!(r.contains("exceeds the tolerance"), "{r}");
+        let r = unable_reason(&[(1e-3, None), (2e-3, None)], tol, safety);
+        assert_eq!(r, "unstable at every step of the grid");
+    }
 }
