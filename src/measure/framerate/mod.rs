@@ -30,6 +30,7 @@ use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
 use crate::method::{Order, Registry};
+use crate::model::Events;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -152,8 +153,46 @@ pub struct RateEntry {
     pub fewest: Option<FrameRun>,
     /// Why `fewest` is null.
     pub fewest_note: Option<String>,
+    /// With `[run] events = "frame"`: the position error (m) the exact solution itself makes
+    /// when its kicks move to this rate's frame boundaries, against the reference with the
+    /// kicks at their own times. No substep count removes it: it is the floor of every error
+    /// in this entry. Null for exact events or a scene without impulses.
+    pub frame_event_floor: Option<f64>,
     /// Every substep count tried, with whether it met the tolerance.
     pub tried: Vec<(u64, bool)>,
+}
+
+/// The frame-event floor of [`RateEntry::frame_event_floor`] on grid `g` of `reference`:
+/// `scene` with its kicks moved to the frame boundaries of `g` and applied exactly, solved by
+/// the reference's own solver, against `reference`, over the frames before the reference's
+/// predictability horizon. None when events are exact or the scene has no kicks.
+pub fn frame_event_floor(scene: &Scenario, reference: &Reference, g: usize) -> Result<Option<f64>> {
+    if scene.run.events == Events::Exact || scene.impulses.is_empty() {
+        return Ok(None);
+    }
+    let grid = reference.grids[g];
+    let mut lagged = scene.clone();
+    for im in &mut lagged.impulses {
+        im.time = scene.run.events.applied_at(im.time, grid.dt);
+    }
+    lagged.run.events = Events::Exact;
+    let end = grid.time(grid.steps);
+    let lagged = Reference::compute(&lagged.build(), &scene.initial_state(), &[grid], end)?;
+    let horizon = reference
+        .info
+        .predictability_horizon
+        .unwrap_or(f64::INFINITY);
+    let floor = (1..=grid.steps)
+        .take_while(|&k| grid.time(k) < horizon)
+        .filter_map(|k| Some((reference.positions(g, k)?, lagged.positions(0, k)?)))
+        .map(|(a, b)| {
+            a.iter()
+                .zip(b)
+                .map(|(p, q)| (p - q).norm())
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max);
+    Ok(Some(floor))
 }
 
 /// `framerate.json`.
@@ -301,6 +340,9 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         contacts: false,
         substeps: None,
     };
+    let floors: Vec<Option<f64>> = (0..cfg.rates.len())
+        .map(|r| frame_event_floor(scene, &reference, r))
+        .collect::<Result<_>>()?;
     let jobs: Vec<(usize, usize)> = (0..names.len())
         .flat_map(|b| (0..cfg.rates.len()).map(move |r| (b, r)))
         .collect();
@@ -345,7 +387,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
             let largest = found.tried.iter().map(|t| t.0).max().unwrap_or(1);
             let fewest_note = fewest.is_none().then(|| {
                 let capped = largest < cfg.max_substeps;
-                if capped {
+                let base = if capped {
                     format!(
                         "none up to {largest} substeps; {} would pass the cost cap of {:e} particle-steps",
                         2 * largest,
@@ -353,6 +395,15 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                     )
                 } else {
                     format!("none up to --max-substeps {}", cfg.max_substeps)
+                };
+                match floors[r] {
+                    Some(f) if f > cfg.tolerance => format!(
+                        "{base}: with events = \"frame\" the kicks move to frame boundaries, which alone puts the exact solution {f:.3e} m from the reference, above the tolerance; no substep count removes that floor"
+                    ),
+                    Some(f) => format!(
+                        "{base} (the frame-event floor, the exact solution with its kicks at frame boundaries, is {f:.3e} m)"
+                    ),
+                    None => base,
                 }
             });
             pb.inc(1);
@@ -364,6 +415,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                 one_substep: one,
                 fewest,
                 fewest_note,
+                frame_event_floor: floors[r],
                 tried: found.tried,
             })
         })

@@ -1,0 +1,54 @@
+//! With `[run] events = "frame"` a kick waits for the next frame boundary, and no substep count
+//! removes that lag: `framerate` names the floor it puts under every error, and its size.
+//!
+//! Oracle (closed form): a free particle kicked by Δv at time t₀ moves Δv·δ less than the exact
+//! one after the kick when the kick is applied δ later; with frames of h, δ = ⌈t₀/h⌉·h − t₀.
+
+use springlab::measure::framerate::{framerate, FramerateConfig};
+use springlab::scenario::Scenario;
+
+fn kicked(events: &str) -> Scenario {
+    let toml = format!(
+        "[[particle]]\nposition=[0.0,0.0,0.0]\nmass=1.0\n\
+         [[impulse]]\ntime=0.01\nparticle=0\ndelta_v=[2.0,0.0,0.0]\n\
+         [run]\ndt=0.01\nduration=0.5\nevents=\"{events}\"\n"
+    );
+    Scenario::from_toml_str(&toml, "kicked.toml").unwrap()
+}
+
+fn config() -> FramerateConfig {
+    FramerateConfig {
+        rates: vec![30.0],
+        tolerance: 1e-3,
+        integrators: vec!["symplectic_euler".into()],
+        max_substeps: 8,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn framerate_names_the_frame_event_floor_and_its_size() {
+    let fr = framerate(&kicked("frame"), &config()).unwrap();
+    let e = &fr.entries[0];
+    // δ = 1/30 − 0.01 s, so the floor is 2 m/s · δ.
+    let floor = 2.0 * (1.0 / 30.0 - 0.01);
+    let got = e
+        .frame_event_floor
+        .expect("a frame-event scene has a floor");
+    assert!((got - floor).abs() < 1e-6 * floor, "{got} against {floor}");
+    assert!(e.fewest.is_none());
+    let note = e.fewest_note.as_deref().unwrap();
+    assert!(
+        note.contains("no substep count removes") && note.contains(&format!("{floor:.3e}")),
+        "{note}"
+    );
+}
+
+#[test]
+fn exact_events_have_no_floor_and_meet_the_tolerance() {
+    // Twin: the same kick at its own time; a free particle is exact for symplectic Euler.
+    let fr = framerate(&kicked("exact"), &config()).unwrap();
+    let e = &fr.entries[0];
+    assert_eq!(e.frame_event_floor, None);
+    assert!(e.fewest.is_some(), "{:?}", e.fewest_note);
+}
