@@ -110,6 +110,11 @@ pub fn run(a: Args) -> Result<()> {
             evals
         );
     }
+    for e in fr.entries.iter().filter(|e| e.fewest.is_none()) {
+        if let Some(note) = &e.fewest_note {
+            println!("{} at {} Hz: {note}", e.backend, e.hz);
+        }
+    }
     if let Some(note) = &fr.reference_note {
         println!("note: {note}");
     }
