@@ -79,22 +79,30 @@ fn momentum_magnitude(sys: &System, s: &State, h: f64) -> f64 {
 }
 
 /// The backward-Euler residual of a step from (x, v) to (x', v') by the model's own forces,
-/// max_p |v' − v − h f_p(x', v')/m_p| over free particles, and the stage's velocity scale
-/// (the largest component of v, v' or h f/m), as [`ImplicitSettings::root_tol`] states them.
-fn backward_euler_residual(sys: &System, x0: &[Vec3], v0: &[Vec3], s: &State, h: f64) -> (f64, f64) {
+/// the mass-weighted RMS of v' − v − h f_p(x', v')/m_p over free particles, and the stage's
+/// velocity scale (the largest component of v, v' or h f/m), as
+/// [`ImplicitSettings::root_tol`] states them.
+fn backward_euler_residual(
+    sys: &System,
+    x0: &[Vec3],
+    v0: &[Vec3],
+    s: &State,
+    h: f64,
+) -> (f64, f64) {
     let mut f = vec![Vec3::zeros(); s.len()];
     sys.forces(&s.x, &s.v, &mut f);
-    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    let (mut sum, mut mass, mut scale) = (0.0, 0.0, 0.0f64);
     for p in 0..s.len() {
         if !sys.free[p] {
             continue;
         }
         assert!((s.x[p] - (x0[p] + s.v[p] * h)).amax() <= 1e-15 * (1.0 + x0[p].amax()));
         let kick = f[p] * (h * sys.inv_mass[p]);
-        worst = worst.max((s.v[p] - v0[p] - kick).amax());
+        sum += sys.mass[p] * (s.v[p] - v0[p] - kick).norm_squared();
+        mass += sys.mass[p];
         scale = scale.max(v0[p].amax()).max(s.v[p].amax()).max(kick.amax());
     }
-    (worst, scale)
+    ((sum / mass).sqrt(), scale)
 }
 
 /// The list above is the registry's methods with an implicit solver.
@@ -145,8 +153,9 @@ fn free_unequal_masses_keep_linear_momentum_at_any_stiffness() {
 /// Geometric Numerical Integration, §IV.2), angular momentum among them; backward Euler
 /// changes it by exactly h Σ m v'×v (from x' = x + h v', M (v' − v) = h f(x') and
 /// Σ x'×f(x') = 0 for central forces). A stage residual G changes L by Σ 2x_½×G (midpoint)
-/// or Σ x'×G (backward Euler), at most 2 × root_tol × V Σ m|x| per step for a root to the
-/// tolerance (V: the stage's velocity scale, bounded here by the largest speed seen times 2).
+/// or Σ x'×G (backward Euler), at most 2 |x|_M |G|_M⁻¹ ≤ 2 × root_tol × V √(Σm|x|² Σm) per
+/// step (Cauchy–Schwarz) for a root to the tolerance in the mass-weighted RMS norm (V: the
+/// stage's velocity scale, bounded here by twice the largest speed seen).
 #[test]
 fn angular_momentum_follows_the_method_at_any_stiffness() {
     let root_tol = ImplicitSettings::default().root_tol;
@@ -164,11 +173,21 @@ fn angular_momentum_follows_the_method_at_any_stiffness() {
                 integ.step(&sys, &mut s, H).expect("step");
                 let mut expected = angular_momentum(&sys, &x0, &v0);
                 if balance {
-                    expected += (0..3).map(|p| s.v[p].cross(&v0[p]) * (H * sys.mass[p])).sum::<Vec3>();
+                    expected += (0..3)
+                        .map(|p| s.v[p].cross(&v0[p]) * (H * sys.mass[p]))
+                        .sum::<Vec3>();
                 }
-                let speed = (0..3).map(|p| s.v[p].norm().max(v0[p].norm())).fold(0.0, f64::max);
-                let reach: f64 = (0..3).map(|p| sys.mass[p] * s.x[p].norm().max(x0[p].norm())).sum();
-                let l_scale = (0..3).map(|p| sys.mass[p] * s.x[p].norm() * s.v[p].norm()).sum::<f64>();
+                let speed = (0..3)
+                    .map(|p| s.v[p].norm().max(v0[p].norm()))
+                    .fold(0.0, f64::max);
+                let reach = ((0..3)
+                    .map(|p| sys.mass[p] * s.x[p].norm_squared().max(x0[p].norm_squared()))
+                    .sum::<f64>()
+                    * 6.0)
+                    .sqrt();
+                let l_scale = (0..3)
+                    .map(|p| sys.mass[p] * s.x[p].norm() * s.v[p].norm())
+                    .sum::<f64>();
                 allowed += 2.0 * root_tol * 2.0 * speed * reach + 64.0 * f64::EPSILON * l_scale;
                 law_gap = law_gap.max((angular_momentum(&sys, &s.x, &s.v) - expected).norm());
             }
@@ -254,7 +273,9 @@ fn a_capped_newton_is_reported_not_converged_and_its_twins_meet_the_root() {
         }
         let mut s = sc.initial_state();
         let (x0, v0) = (s.x.clone(), s.v.clone());
-        integ.step(&sys, &mut s, H).map(|_| backward_euler_residual(&sys, &x0, &v0, &s, H))
+        integ
+            .step(&sys, &mut s, H)
+            .map(|_| backward_euler_residual(&sys, &x0, &v0, &s, H))
     };
     match stage(100.0, Some(1)) {
         Err(Error::Step(why)) => assert!(why.contains("did not converge"), "{why}"),
@@ -276,13 +297,29 @@ fn the_runner_reports_a_stage_that_is_not_a_root() {
     let sys = sc.build();
     let mut integ = fresh("implicit_euler");
     integ.newton_mut().unwrap().settings.max_newton = 1;
-    let out = run(&sys, integ.as_mut(), sc.initial_state(), &RunPlan::new(H, 5), &mut NoObserver)
-        .expect("run");
+    let out = run(
+        &sys,
+        integ.as_mut(),
+        sc.initial_state(),
+        &RunPlan::new(H, 5),
+        &mut NoObserver,
+    )
+    .expect("run");
     assert!(!out.status.is_ok());
-    assert!(format!("{:?}", out.status).contains("did not converge"), "{:?}", out.status);
+    assert!(
+        format!("{:?}", out.status).contains("did not converge"),
+        "{:?}",
+        out.status
+    );
     let mut integ = fresh("implicit_euler");
-    let out = run(&sys, integ.as_mut(), sc.initial_state(), &RunPlan::new(H, 5), &mut NoObserver)
-        .expect("run");
+    let out = run(
+        &sys,
+        integ.as_mut(),
+        sc.initial_state(),
+        &RunPlan::new(H, 5),
+        &mut NoObserver,
+    )
+    .expect("run");
     assert!(out.status.is_ok(), "{:?}", out.status);
 }
 

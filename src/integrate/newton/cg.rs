@@ -110,8 +110,8 @@ impl Cg {
             *ri = if free[i] { b[i] } else { Vec3::zeros() };
         });
         // Deflation of the translations (not in the trust region, whose norms assume x₀ = 0).
-        let deflate = (radius.is_none() && translation_invariant(sys))
-            .then(|| sys.mass.iter().sum::<f64>());
+        let deflate =
+            (radius.is_none() && translation_invariant(sys)).then(|| sys.mass.iter().sum::<f64>());
         if let Some(total) = deflate {
             // x₀ = Z (ZᵀAZ)⁻¹ Zᵀb: the uniform c = Σb / Σm, since A Z = M Z.
             let c = self.r.iter().sum::<Vec3>() / total;
