@@ -80,7 +80,7 @@ fn momentum_magnitude(sys: &System, s: &State, h: f64) -> f64 {
 
 /// The backward-Euler residual of a step from (x, v) to (x', v') by the model's own forces,
 /// the mass-weighted RMS of v' − v − h f_p(x', v')/m_p over free particles, and the stage's
-/// velocity scale (the largest component of v, v' or h f/m), as
+/// velocity scale (the largest component of v, v', h f/m or h g), as
 /// [`ImplicitSettings::root_tol`] states them.
 fn backward_euler_residual(
     sys: &System,
@@ -91,7 +91,8 @@ fn backward_euler_residual(
 ) -> (f64, f64) {
     let mut f = vec![Vec3::zeros(); s.len()];
     sys.forces(&s.x, &s.v, &mut f);
-    let (mut sum, mut mass, mut scale) = (0.0, 0.0, 0.0f64);
+    let (mut sum, mut mass) = (0.0, 0.0);
+    let mut scale = sys.gravity.map_or(0.0, |g| g.amax() * h);
     for p in 0..s.len() {
         if !sys.free[p] {
             continue;

@@ -10,7 +10,7 @@
 //!
 //! The rule: a stage is accepted only at a root of its equation, the mass-weighted RMS of
 //! M⁻¹G at most [`ImplicitSettings::root_tol`] (10⁻⁶) times the stage's velocity scale (the
-//! largest component of v̂, v' or β f/m), or with max |M⁻¹G| at [`ImplicitSettings::newton_tol`]
+//! largest component of v̂, v', β f/m or β g), or with max |M⁻¹G| at [`ImplicitSettings::newton_tol`]
 //! (10⁻¹⁰) of it; otherwise the step fails ("did not converge", which the runner reports as
 //! unstable). Newton stops at `newton_tol`, or, once at the root tolerance, when an update is
 //! below the tolerance or the round-off floor, when the residual is a fraction of the stage's
@@ -53,9 +53,9 @@ use potential::{potential, PotentialScratch};
 pub struct ImplicitSettings {
     /// Newton iterations before giving up.
     pub max_newton: usize,
-    /// The root tolerance every accepted stage meets, whichever stop ends it: max over free
-    /// particles of |G_p|/m_p ≤ `root_tol` × the stage's velocity scale (the largest |v̂|,
-    /// |v'| or β|f_p|/m_p component), the residual above the force evaluation's rounding floor.
+    /// The root tolerance every accepted stage meets, whichever stop ends it: the mass-weighted
+    /// RMS of M⁻¹G ≤ `root_tol` × the stage's velocity scale (the largest |v̂|, |v'|, β|f_p|/m_p
+    /// or β|g| component).
     /// The cheap stops (a small update, the error estimate) are taken only there; a stage that
     /// runs out of iterations above it fails.
     pub root_tol: f64,
@@ -253,7 +253,9 @@ impl Newton {
         self.floor.iter_mut().for_each(|r| *r = 0.0);
         sys.springs.add_rounding_scale(&self.xn, &mut self.floor);
         let (mut max, mut merit) = (0.0f64, 0.0f64);
-        let mut scale = v_scale0.max(max_abs(&self.vn));
+        // Gravity's kick β|g| is part of the scale: a body resting on a contact has no net force.
+        let kick = sys.gravity.map_or(0.0, |g| g.amax() * h);
+        let mut scale = v_scale0.max(max_abs(&self.vn)).max(kick);
         for p in 0..x0.len() {
             if sys.free[p] {
                 self.r[p] = (self.vn[p] - v0[p]) * sys.mass[p] - self.f[p] * h;
