@@ -5,7 +5,8 @@
 //!
 //! With the extrapolated base (x̂, v̂) = ((4xₙ − xₙ₋₁)/3, (4vₙ − vₙ₋₁)/3) this is a
 //! backward-Euler stage of step 2h/3 from (x̂, v̂), solved by the shared implicit core
-//! ([`Newton`]), stopping at 0.01 % of its error estimate.
+//! ([`Newton`]), stopping at a root to the root tolerance, early there at 0.01 % of its error
+//! estimate.
 //!
 //! Starting step: BDF2 needs yₙ₋₁, so the first step, and the first after a reset (an impulse,
 //! a contact, a new step size), is one backward-Euler step; its O(h²) local error is made

@@ -2,9 +2,9 @@
 //! Newton's method with the analytic spring, damper and drag Jacobians (Baraff & Witkin,
 //! "Large steps in cloth simulation", SIGGRAPH 1998, without their one-iteration shortcut).
 //!
-//! The step is the shared implicit core's stage itself ([`Newton`]): Newton stops at 1 % of the
-//! step's own error estimate (see [`ImplicitSettings::kappa`](super::ImplicitSettings)) and
-//! backtracks when an update would raise the residual; each Newton iteration solves
+//! The step is the shared implicit core's stage itself ([`Newton`]): Newton stops at a root to
+//! the root tolerance, early there at 1 % of the step's own error estimate (see
+//! [`ImplicitSettings`](super::ImplicitSettings)), and backtracks when an update would raise the residual; each Newton iteration solves
 //! (M − h ∂f/∂v − h² ∂f/∂x) Δv = −G(v') by block-Jacobi-preconditioned CG, clamping compressed
 //! springs' negative stiffness when CG meets non-positive curvature.
 //! Order 1; A-stable and L-stable: on an undamped oscillator the amplitude shrinks by

@@ -12,6 +12,7 @@
 #[cfg(feature = "direct-solver")]
 use super::direct::Factor;
 use super::ic0::Ic0;
+use super::momentum::translation_invariant;
 use super::ImplicitSettings;
 use crate::integrate::ensure_len;
 use crate::model::parallel::{dot, each_particle, each_particle2};
@@ -67,7 +68,9 @@ pub(super) enum CgOutcome {
 
 impl Cg {
     /// Solves A x = b for the Newton matrix prepared in `jac` by CG preconditioned with
-    /// `pre`, at most `max_it` iterations; x starts at zero. Stops at the relative tolerance
+    /// `pre`, at most `max_it` iterations; x starts at zero, or on a translation-invariant
+    /// system at its exact translation part (see [`Cg::deflate`]; [`Cg::model`] and
+    /// [`Cg::step_norm`] then leave that part out). Stops at the relative tolerance
     /// [`ImplicitSettings::cg_tol`] or when the residual's Σ |rᵢ|²/mᵢ falls to `abs_tol2`
     /// (the inexact-Newton forcing; 0 for none).
     ///
@@ -106,7 +109,20 @@ impl Cg {
             *xi = Vec3::zeros();
             *ri = if free[i] { b[i] } else { Vec3::zeros() };
         });
+        // Deflation of the translations (not in the trust region, whose norms assume x₀ = 0).
+        let deflate =
+            (radius.is_none() && translation_invariant(sys)).then(|| sys.mass.iter().sum::<f64>());
+        if let Some(total) = deflate {
+            // x₀ = Z (ZᵀAZ)⁻¹ Zᵀb: the uniform c = Σb / Σm, since A Z = M Z.
+            let c = self.r.iter().sum::<Vec3>() / total;
+            let mass = &sys.mass;
+            each_particle2(x, &mut self.r, |i, xi, ri| {
+                *xi = c;
+                *ri -= c * mass[i];
+            });
+        }
         self.precondition(&mut pre, free);
+        self.deflate(deflate, &sys.mass);
         self.p.copy_from_slice(&self.z);
         let mut rz = dot(&self.r, &self.z, &mut self.parts);
         let rz0 = rz;
@@ -160,6 +176,7 @@ impl Cg {
                 }
             }
             self.precondition(&mut pre, free);
+            self.deflate(deflate, &sys.mass);
             let rz_new = dot(&self.r, &self.z, &mut self.parts);
             if rz_new <= set.cg_tol * set.cg_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
@@ -172,6 +189,21 @@ impl Cg {
             each_particle(&mut self.p, |i, pi| *pi = z[i] + *pi * beta);
         }
         CgOutcome::NotConverged(max_it)
+    }
+
+    /// Deflated CG (Nicolaides, SIAM J. Numer. Anal. 24, 1987; Saad, Yeung, Erhel &
+    /// Guyomarc'h, SIAM J. Sci. Comput. 21, 2000, Alg. 2.1) with the rigid translations Z as
+    /// the deflation space, on a translation-invariant system (`momentum.rs`), where A Z = M Z:
+    /// z −= Z (ZᵀAZ)⁻¹ ZᵀA z, i.e. minus its mass-weighted mean, so that every search direction
+    /// is A-orthogonal to the translations and the residual keeps Σ r = 0 (the start solves the
+    /// translation part exactly). Block Jacobi sees the translations as P⁻¹A-eigenvalues near
+    /// m/(m + h²k), tiny at hω ≫ 1, and would leave them (the momentum balance) for last.
+    /// `total`: Σm, `None` for no deflation.
+    fn deflate(&mut self, total: Option<f64>, mass: &[f64]) {
+        if let Some(total) = total {
+            let mean = (0..self.z.len()).map(|i| self.z[i] * mass[i]).sum::<Vec3>() / total;
+            each_particle(&mut self.z, |_, zi| *zi -= mean);
+        }
     }
 
     /// z = P⁻¹ r.

@@ -3,7 +3,9 @@
 //!
 //!   (M − h ∂f/∂v − h² ∂f/∂x) Δv = h (f₀ + h ∂f/∂x v₀),  v' = v₀ + Δv,  x' = x₀ + h v',
 //!
-//! one linear solve per step on the same matrix, CG and clamping as the Newton stage.
+//! one linear solve per step on the same matrix, CG and clamping as the Newton stage. On a
+//! translation-invariant system the solution is shifted to keep linear momentum exactly
+//! (`momentum.rs`).
 
 use super::Newton;
 use crate::error::{Error, Result};
@@ -21,7 +23,7 @@ impl Newton {
         h: f64,
     ) -> std::result::Result<(), ()> {
         let n = x0.len();
-        self.ensure(n);
+        self.prepare(sys);
         let mut jac = self.take_jacobian(sys);
         sys.forces(x0, v0, &mut self.f);
         let (f0, kv, free) = (&self.f, &mut self.vpred, &sys.free);
@@ -47,6 +49,16 @@ impl Newton {
         );
         self.jac = Some(jac);
         self.cg_iterations += solved.map_err(|_| ())?;
+        if self.shift_mass > 0.0 {
+            // A free system: A c = M c for a uniform c, so this shift zeroes the momentum
+            // balance Σ(b − A Δv) that an inexact solve leaves (see `momentum.rs`).
+            let mut unbalanced = Vec3::zeros();
+            for p in 0..n {
+                unbalanced += self.r[p] - self.dv[p] * sys.mass[p];
+            }
+            let c = unbalanced / self.shift_mass;
+            self.dv.iter_mut().for_each(|d| *d += c);
+        }
         for p in 0..n {
             self.vn[p] = if sys.free[p] {
                 v0[p] + self.dv[p]

@@ -8,9 +8,18 @@
 //! implicit midpoint is the stage at β = h/2 followed by a linear extrapolation; BDF2 is the
 //! stage from the extrapolated base (4yₙ − yₙ₋₁)/3 at β = 2h/3.
 //!
-//! Newton stops when the residual is at the tolerance, when an update is below it or the
-//! round-off floor, or at a fraction of the stage's own error estimate (1 % for first-order
-//! methods, 0.01 % for second-order ones, see [`ImplicitSettings::kappa`]); it backtracks
+//! The rule: a stage is accepted only at a root of its equation, the mass-weighted RMS of
+//! M⁻¹G at most [`ImplicitSettings::root_tol`] (10⁻⁶) times the stage's velocity scale (the
+//! largest component of v̂, v', β f/m or β g), or with max |M⁻¹G| at [`ImplicitSettings::newton_tol`]
+//! (10⁻¹⁰) of it; otherwise the step fails ("did not converge", which the runner reports as
+//! unstable). Newton stops at `newton_tol`, or, once at the root tolerance, when an update is
+//! below the tolerance or the round-off floor, when the residual is a fraction of the stage's
+//! own error estimate (1 % for first-order methods, 0.01 % for second-order ones, see
+//! [`ImplicitSettings::kappa`]), or at the iteration cap. The error estimate alone is no stop:
+//! at hω ≫ 1 it exceeds the error by about hω and would accept iterates far from the root
+//! (two free particles of 1 and 2 kg at hω = 12 gained 45 % momentum). On a free system
+//! (`momentum.rs`) every iterate's momentum balance is zeroed, and CG deflates the
+//! translations, so linear momentum is kept to round-off at any tolerance. Newton backtracks
 //! when an update would raise the residual (or, for a clamped direction, the stage's
 //! incremental potential). Where the clamped iteration stalls (the residual has not halved
 //! in six iterations: near a root where the exact Jacobian is indefinite, as past the 316²
@@ -27,6 +36,7 @@ mod direct;
 mod ic0;
 mod linear;
 mod linsolve;
+mod momentum;
 mod pattern;
 mod potential;
 mod trust;
@@ -43,10 +53,17 @@ use potential::{potential, PotentialScratch};
 pub struct ImplicitSettings {
     /// Newton iterations before giving up.
     pub max_newton: usize,
+    /// The root tolerance every accepted stage meets, whichever stop ends it: the mass-weighted
+    /// RMS of M⁻¹G ≤ `root_tol` × the stage's velocity scale (the largest |v̂|, |v'|, β|f_p|/m_p
+    /// or β|g| component).
+    /// The cheap stops (a small update, the error estimate) are taken only there; a stage that
+    /// runs out of iterations above it fails.
+    pub root_tol: f64,
     /// Newton stops when max |M⁻¹ G| ≤ `newton_tol` × the velocity scale, or when an update
     /// is below `newton_tol` × |v| plus the round-off floor 16ε·max|x|/h.
     pub newton_tol: f64,
-    /// Newton also stops when |M⁻¹ G| ≤ `kappa` × the step's truncation-error estimate
+    /// Newton also stops, once at [`ImplicitSettings::root_tol`], when |M⁻¹ G| ≤ `kappa` × the
+    /// step's truncation-error estimate
     /// ½ |v' − v_pred| (v_pred: the first-order explicit predictor), both in the mass-weighted
     /// RMS norm √(Σ m |·|² / Σ m), so the solver error stays `kappa` times below the method's
     /// own error (Hairer & Wanner, Solving ODEs II, §IV.8, stop Newton at κ ∈ [0.01, 0.1] of
@@ -75,6 +92,7 @@ impl Default for ImplicitSettings {
     fn default() -> Self {
         ImplicitSettings {
             max_newton: 50,
+            root_tol: 1e-6,
             newton_tol: 1e-10,
             kappa: 1e-2,
             cg_tol: 1e-8,
@@ -127,6 +145,9 @@ pub struct Newton {
     dv: Vec<Vec3>,
     floor: Vec<f64>,
     lin: LinearSolve,
+    /// Σm when the system is translation invariant (every iterate's momentum balance is then
+    /// zeroed, see `momentum.rs`), else 0.
+    shift_mass: f64,
 }
 
 /// What one evaluation of the stage residual G(v') found.
@@ -145,6 +166,11 @@ struct Residual {
 /// Rounding floor of the Newton residual, as a multiple of ε·h/m·Σ k(|x_i| + |x_j| + l0): a
 /// residual below it is the rounding error of the force evaluation itself and cannot shrink.
 const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
+
+/// A linear solve may stop once its residual's RMS is this fraction of the root tolerance
+/// ([`ImplicitSettings::root_tol`]), not above: the next iterate must meet that tolerance in
+/// max norm, which a residual at the tolerance itself in RMS would often miss.
+const ROOT_FLOOR: f64 = 0.1;
 
 /// Largest component magnitude over all particles (the max norm of a velocity or position field).
 pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
@@ -188,6 +214,16 @@ impl Newton {
         ensure_len(&mut self.floor, n);
     }
 
+    /// Sizes the scratch for `sys` and decides whether its iterates' momentum is balanced.
+    fn prepare(&mut self, sys: &System) {
+        self.ensure(sys.len());
+        self.shift_mass = if momentum::translation_invariant(sys) {
+            sys.mass.iter().sum()
+        } else {
+            0.0
+        };
+    }
+
     /// The cached Jacobian when its topology still fits `sys`, else a fresh one.
     fn take_jacobian(&mut self, sys: &System) -> Jacobian {
         match self.jac.take() {
@@ -211,10 +247,15 @@ impl Newton {
             self.xn[p] = x0[p] + self.vn[p] * h;
         }
         let power = sys.forces(&self.xn, &self.vn, &mut self.f);
+        if self.shift_mass > 0.0 {
+            self.balance_momentum(sys, v0, h, self.shift_mass);
+        }
         self.floor.iter_mut().for_each(|r| *r = 0.0);
         sys.springs.add_rounding_scale(&self.xn, &mut self.floor);
         let (mut max, mut merit) = (0.0f64, 0.0f64);
-        let mut scale = v_scale0.max(max_abs(&self.vn));
+        // Gravity's kick β|g| is part of the scale: a body resting on a contact has no net force.
+        let kick = sys.gravity.map_or(0.0, |g| g.amax() * h);
+        let mut scale = v_scale0.max(max_abs(&self.vn)).max(kick);
         for p in 0..x0.len() {
             if sys.free[p] {
                 self.r[p] = (self.vn[p] - v0[p]) * sys.mass[p] - self.f[p] * h;
@@ -375,7 +416,7 @@ impl Newton {
         who: &'static str,
     ) -> Result<(f64, u64)> {
         let n = x0.len();
-        self.ensure(n);
+        self.prepare(sys);
         // Start: the first-order methods at v̂; the second-order ones at the linearly implicit
         // solution (Jacobian at the base), exact for linear forces, so that at hω ≫ 1 Newton
         // stays on the base's side of a spring's anchor instead of jumping to a root where
@@ -424,7 +465,7 @@ impl Newton {
             if at_base.merit <= res.merit || !res.merit.is_finite() {
                 res = at_base;
                 for p in 0..n {
-                    self.vpred[p] = v0[p] - self.r[p] * sys.inv_mass[p];
+                    self.vpred[p] = self.vn[p] - self.r[p] * sys.inv_mass[p];
                 }
             } else {
                 self.vn.copy_from_slice(&self.vbase);
@@ -434,8 +475,9 @@ impl Newton {
         } else {
             // The explicit predictor v0 + h M⁻¹ f(x0 + h v0, v0) is first order, so ½|v' − v_pred|
             // estimates backward Euler's local error in velocity at no extra force evaluation.
+            // (From v' rather than v̂: the same predictor where the momentum shift moved v'.)
             for p in 0..n {
-                self.vpred[p] = v0[p] - self.r[p] * sys.inv_mass[p];
+                self.vpred[p] = self.vn[p] - self.r[p] * sys.inv_mass[p];
             }
         }
         for iter in 0..=self.settings.max_newton {
@@ -454,8 +496,10 @@ impl Newton {
             }
             let lte = 0.5 * (lte2 / free_mass).sqrt();
             let res_rms = (res.merit / free_mass).sqrt();
+            let root = res_rms <= self.settings.root_tol * res.scale || tight;
             let loose = iter > 0 && kappa > 0.0 && res_rms <= kappa * lte;
-            if tight || small_update || loose {
+            // The cheap stops only where the stage meets the root tolerance (module docs).
+            if tight || (root && (small_update || loose || iter == self.settings.max_newton)) {
                 if loose && !tight && !small_update {
                     self.error_limited_steps += 1;
                 }
@@ -488,8 +532,13 @@ impl Newton {
                 self.settings.forcing
             };
             prev_merit = res.merit;
+            // The error-based floor, never above a tenth of the root tolerance (in RMS), which
+            // the next iterate must meet in max norm.
             let target2 = if kappa > 0.0 {
-                (0.5 * kappa * lte).powi(2) * free_mass
+                (0.5 * kappa * lte)
+                    .min(ROOT_FLOOR * self.settings.root_tol * res.scale)
+                    .powi(2)
+                    * free_mass
             } else {
                 0.0
             };
