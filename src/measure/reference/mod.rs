@@ -26,6 +26,7 @@
 mod adaptive;
 pub mod contacts;
 pub mod finestep;
+pub mod period;
 mod rhs;
 pub mod uncertainty;
 
@@ -37,6 +38,8 @@ use crate::model::{State, System, Vec3};
 use adaptive::{length_scale, solve};
 use rhs::{pack, unpack_x, RhsState};
 use serde::Serialize;
+
+pub use period::{dominant_period, period_of, DOMINANT_MODE_UNCLEAR};
 
 /// Tolerance of the adaptive reference (relative and absolute).
 pub const REFERENCE_TOL: f64 = 1e-12;
@@ -323,6 +326,12 @@ impl Reference {
         period_of(&self.crossings)
     }
 
+    /// The tracked component's period when its crossings show one dominant mode, else why not
+    /// ([`period`] module docs): what run periods and phases are measured against.
+    pub fn dominant_period(&self) -> std::result::Result<f64, &'static str> {
+        dominant_period(&self.crossings)
+    }
+
     fn fill_analytic(&mut self, sys: &System, s0: &State) -> std::result::Result<(), String> {
         // State at time t from a segment start, exactly (a fresh closed form from there).
         let eval = |start: &State, t: f64| -> std::result::Result<State, String> {
@@ -503,8 +512,3 @@ impl Reference {
 
 /// Round-off level of positions relative to the length scale.
 const ROUND_OFF: f64 = 1e-14;
-
-/// Period from a list of upward crossing times: mean spacing first to last.
-pub fn period_of(c: &[f64]) -> Option<f64> {
-    (c.len() >= 2).then(|| (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64)
-}
