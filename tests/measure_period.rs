@@ -33,10 +33,19 @@ fn chain(u1: f64, u2: f64) -> Scenario {
 
 /// The reference over 5 s and the metrics of `name` at DT against it.
 fn measure(scene: &Scenario, name: &str) -> (Reference, springlab::measure::case::CaseResult) {
+    measure_for(scene, name, STEPS)
+}
+
+/// As [`measure`], over `steps` steps of DT.
+fn measure_for(
+    scene: &Scenario,
+    name: &str,
+    steps: u64,
+) -> (Reference, springlab::measure::case::CaseResult) {
     let sys = scene.build();
     let s0 = scene.initial_state();
-    let grids = [TimeGrid::new(DT, STEPS, 1000)];
-    let r = Reference::compute(&sys, &s0, &grids, DT * STEPS as f64).unwrap();
+    let grids = [TimeGrid::new(DT, steps, 1000)];
+    let r = Reference::compute(&sys, &s0, &grids, DT * steps as f64).unwrap();
     let set = CaseSettings {
         repeat_short: false,
         ..CaseSettings::default()
@@ -91,6 +100,21 @@ fn a_single_mode_gets_its_closed_form_period() {
         assert!(m.period_error.unwrap().abs() < 1e-4, "{m:?}");
         assert!(m.phase_error.unwrap().abs() < 1e-2, "{m:?}");
     }
+}
+
+#[test]
+fn a_single_mode_over_two_periods_keeps_its_period() {
+    // Over 1 s the first mode (T = 0.628 s) crosses upwards only twice: the downward
+    // crossings half way between show the one interval is a period, not a mix.
+    let t = std::f64::consts::TAU / K.sqrt();
+    let (r, c) = measure_for(&chain(0.1, 0.1), "rk4", 100);
+    assert_eq!(r.crossings.len(), 2, "{:?}", r.crossings);
+    assert!((r.dominant_period().unwrap() - t).abs() < 1e-8);
+    assert!(
+        c.metrics.period_error.unwrap().abs() < 1e-4,
+        "{:?}",
+        c.metrics
+    );
 }
 
 #[test]

@@ -12,7 +12,7 @@
 //!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
 //! - Constraint violation: max and mean over steps of the largest |‖x_j − x_i‖ − L|.
 //! - Period and phase, only when the tracked velocity component has one dominant mode: the
-//!   reference's upward zero crossings are at least three and evenly spaced
+//!   reference's zero crossings are evenly spaced
 //!   ([`super::reference::period`]), else all four period fields are absent (null). The run's
 //!   crossings (times from the cubic Hermite interpolant of each step) are matched to the
 //!   reference's by time, never by count; period = spacing of the matched run crossings per
