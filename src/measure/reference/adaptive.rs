@@ -118,7 +118,7 @@ pub(super) fn solve(
             let need_dense = (next < times.len() && times[next] <= t_stop)
                 || tracked.is_some_and(|tr| {
                     let i = vel_index(tr);
-                    solver.y_old[i] < 0.0 && solver.y[i] >= 0.0
+                    (solver.y_old[i] < 0.0) != (solver.y[i] < 0.0)
                 });
             if need_dense {
                 solver.prepare_dense(&mut |t, y, dy| st.eval(t, y, dy));
