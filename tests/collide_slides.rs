@@ -3,7 +3,9 @@
 //!
 //! Oracles (closed forms): on a 30° incline with μ = 0.2 a particle released at rest
 //! accelerates at g(sin θ − μ cos θ) = 3.2059 m/s²; sliding at 5 m/s on a flat plane with
-//! μ = 0.3 it stops after v0²/(2μg) = 4.2474 m; a ball free to roll (a Rapier multibody body)
+//! μ = 0.3 it stops after v0²/(2μg) = 4.2474 m; pushed up a 30° incline at v0 it decelerates
+//! at g(sin θ + μ cos θ), stops after v0²/(2|a|) at v0/|a|, and slides back at
+//! g(sin θ − μ cos θ) when tan θ > μ, else stays; a ball free to roll (a Rapier multibody body)
 //! accelerates at 5/7·g·sin θ instead, the documented difference.
 
 use springlab::integrate::IntegratorOptions;
@@ -93,6 +95,81 @@ fn contacts_json_reports_the_stopping_distance_for_every_backend() {
         assert!(s.stopped, "{name}: {s:?}");
         assert!((s.expected_stop_distance.unwrap() / d - 1.0).abs() < 1e-12);
         assert!((s.distance / d - 1.0).abs() < 0.01, "{name}: {s:?}");
+    }
+}
+
+/// The 30° incline with the particle pushed up the slope at `v0`.
+fn pushed_up(mu: f64, v0: f64) -> Scenario {
+    let th = 30f64.to_radians();
+    let text = format!(
+        "[world]\ngravity = [0.0, -{G}, 0.0]\n[[particle]]\nposition = [{}, {}, 0.0]\nvelocity = [{}, {}, 0.0]\nmass = 0.1\nradius = 0.05\n\
+         [[obstacle]]\nshape = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [{}, {}, 0.0]\nfriction = {mu}\n",
+        -0.05 * th.sin(),
+        0.05 * th.cos(),
+        v0 * th.cos(),
+        v0 * th.sin(),
+        -th.sin(),
+        th.cos()
+    );
+    Scenario::from_toml_str(&text, "pushed_up.toml").unwrap()
+}
+
+#[test]
+fn up_an_incline_and_back_are_two_slides_each_with_its_own_law() {
+    // μ = 0.2 < tan 30°: up at −g(sin θ + μ cos θ) = −6.6041, back at g(sin θ − μ cos θ) =
+    // 3.2059. At v0 = 2 m/s the native responses stop the particle exactly at a sample; at
+    // 3 m/s its motion reverses between two samples: both must split.
+    let th = 30f64.to_radians();
+    let mu = 0.2;
+    let (up, back) = (
+        -G * (th.sin() + mu * th.cos()),
+        G * (th.sin() - mu * th.cos()),
+    );
+    let mut names = backends();
+    names.push("explicit_euler");
+    for v0 in [2.0, 3.0] {
+        let t_stop = v0 / -up;
+        for name in &names {
+            let rep = report(&pushed_up(mu, v0), name, 1.5);
+            assert_eq!(rep.slides.len(), 2, "{name} v0 {v0}: {:?}", rep.slides);
+            let (a, b) = (&rep.slides[0], &rep.slides[1]);
+            eprintln!(
+                "{name} v0 {v0}: up a = {:.5} (theory {up:.5}) stop {:.5} m at {:.4} s, back a = {:.5} (theory {back:.5})",
+                a.acceleration, a.distance, a.t_end, b.acceleration
+            );
+            assert!((a.expected_acceleration - up).abs() < 1e-12, "{a:?}");
+            assert!((b.expected_acceleration - back).abs() < 1e-12, "{b:?}");
+            assert!((a.acceleration / up - 1.0).abs() < 0.01, "{name}: {a:?}");
+            assert!((b.acceleration / back - 1.0).abs() < 0.01, "{name}: {b:?}");
+            assert!(a.stopped && !b.stopped, "{name}: {a:?} {b:?}");
+            let d = v0 * v0 / (-2.0 * up);
+            assert!((a.expected_stop_distance.unwrap() / d - 1.0).abs() < 1e-12);
+            assert!((a.distance / d - 1.0).abs() < 0.01, "{name}: {a:?}");
+            assert!((a.t_end - t_stop).abs() <= 2e-3, "{name}: {a:?}");
+            assert!((b.t_start - t_stop).abs() <= 2e-3, "{name}: {b:?}");
+        }
+    }
+}
+
+#[test]
+fn up_an_incline_that_holds_it_is_one_slide() {
+    // The twin: μ = 0.6 just above tan 30° = 0.577, so static friction holds the particle
+    // where it stops: one slide at −g(sin θ + μ cos θ), no slide back.
+    let th = 30f64.to_radians();
+    let mu = 0.6;
+    let up = -G * (th.sin() + mu * th.cos());
+    let mut names = backends();
+    names.push("explicit_euler");
+    for name in names {
+        let rep = report(&pushed_up(mu, 3.0), name, 1.5);
+        assert_eq!(rep.slides.len(), 1, "{name}: {:?}", rep.slides);
+        let a = &rep.slides[0];
+        eprintln!(
+            "{name}: up a = {:.5} (theory {up:.5}), stopped {}",
+            a.acceleration, a.stopped
+        );
+        assert!((a.acceleration / up - 1.0).abs() < 0.01, "{name}: {a:?}");
+        assert!(a.stopped, "{name}: {a:?}");
     }
 }
 

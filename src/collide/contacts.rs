@@ -14,6 +14,11 @@
 //! a particle out of an obstacle against a spring "created", though the same move took the
 //! kinetic energy the spring had given it.)
 //!
+//! The books measure the stage, never the integrator: what the stage removes from the state it
+//! is handed is dissipated even when the integrator had just created it (explicit Euler gains
+//! ½m h²|g|² per step under gravity; on a resting particle the stage takes it back), so the
+//! run's balance keeps the integrator's own gain or loss, step for step.
+//!
 //! Coulomb friction acts at both levels, with the same cone for every integrator: the
 //! tangential velocity loses at most μ·Δv_n (Δv_n the normal velocity change the contact
 //! makes, which is the integrator's own approach speed times 1 + e), and the step's tangential

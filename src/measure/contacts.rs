@@ -14,7 +14,8 @@
 //!   mean and worst deviation of the measured restitution from the expected one;
 //! - per lone particle (the first [`TRACKED_PARTICLES`] free ones with no spring, constraint
 //!   or drag acting on them, so only gravity, the contact and friction do): slides in resting
-//!   contact, their mean acceleration against the point-mass Coulomb law and their stopping
+//!   contact (a stop ends one: up an incline and back are two), their mean acceleration
+//!   against the point-mass Coulomb law and their stopping
 //!   distance against v0²/(2|a|) ([`Slide`]). A particle held by springs obeys Coulomb's law
 //!   with its spring forces in it, which the accepted states alone cannot give; such scenes
 //!   report no slides and say why ([`ContactReport::slides_unmeasured`]);
@@ -41,7 +42,7 @@ use std::sync::Arc;
 
 pub mod differences;
 mod slides;
-use slides::OpenSlide;
+use slides::{OpenSlide, Pushed};
 pub use slides::{Slide, MIN_SLIDE_SAMPLES, STOP_SPEED};
 
 /// Particles whose apex heights and height-over-time series are recorded (the first free ones).
@@ -616,7 +617,16 @@ impl ContactMetrics {
         let resting = c.filter(|c| v.dot(&c.normal).abs() < self.grazing_speed());
         let open = &mut self.tracks[p].slide;
         match (resting, open.as_mut()) {
-            (Some(c), Some(sl)) if sl.obstacle() == c.obstacle => sl.push(t, x, v),
+            (Some(c), Some(sl)) if sl.obstacle() == c.obstacle => {
+                if sl.push(t, x, v) == Pushed::Ended {
+                    // Stopped and pulled on: the next slide starts here (slides module docs).
+                    if let Some(done) = sl.finish(p, self.gravity) {
+                        self.slides.push(done);
+                    }
+                    let mu = self.set.obstacles()[c.obstacle].friction;
+                    *open = OpenSlide::start(t, x, v, c.obstacle, c.normal, mu, self.gravity);
+                }
+            }
             (rest, _) => {
                 if let Some(done) = open.take().and_then(|sl| sl.finish(p, self.gravity)) {
                     self.slides.push(done);

@@ -11,11 +11,16 @@
 //! - Momentum drift = max over t of |P(t) − P(0) − Σ impulses so far| (kg·m/s), only for
 //!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
 //! - Constraint violation: max and mean over steps of the largest |‖x_j − x_i‖ − L|.
-//! - Period: mean spacing of the upward zero crossings of the tracked velocity component
-//!   (crossing times from the cubic Hermite interpolant of each step); period error relative
-//!   to the reference's; phase error 2π·(t_k − t_k,ref)/T_ref at the last crossing k both have.
+//! - Period and phase, only when the tracked velocity component has one dominant mode: the
+//!   reference's zero crossings are evenly spaced
+//!   ([`super::reference::period`]), else all four period fields are absent (null). The run's
+//!   crossings (times from the cubic Hermite interpolant of each step) are matched to the
+//!   reference's by time, never by count; period = spacing of the matched run crossings per
+//!   reference interval between the first and last pair, period error relative to the
+//!   reference's mean spacing T_ref, phase error 2π·(t − t_ref)/T_ref at the last pair.
 
-use super::reference::{period_of, Reference, Tracked};
+use super::reference::period::match_crossings;
+use super::reference::{Reference, Tracked};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 use crate::run::{energy_scale, EnergyRecord, Observer};
@@ -117,13 +122,15 @@ pub struct Metrics {
     pub constraint_max: Option<f64>,
     /// Mean constraint violation (m).
     pub constraint_mean: Option<f64>,
-    /// Measured period of the tracked component (s).
+    /// Measured period of the tracked component (s), from its crossings matched to the
+    /// reference's. Absent (null), like the three below, when the reference's crossings do not
+    /// show one dominant mode ([`super::reference::DOMINANT_MODE_UNCLEAR`]).
     pub period: Option<f64>,
-    /// Reference period (s).
+    /// Reference period (s): the mean spacing of its evenly spaced crossings.
     pub period_reference: Option<f64>,
     /// (T − T_ref)/T_ref.
     pub period_error: Option<f64>,
-    /// Phase error at the last shared crossing (rad).
+    /// Phase error at the last matched crossing (rad), unwrapped over the run.
     pub phase_error: Option<f64>,
 }
 
@@ -232,23 +239,17 @@ impl<'a> MetricsObserver<'a> {
         if self.cons_n > 0 {
             m.constraint_mean = Some(self.cons_sum / self.cons_n as f64);
         }
-        let t_ref = self.reference.period();
-        let t_end = self.t.last().copied().unwrap_or(0.0);
-        let ref_c: Vec<f64> = self
-            .reference
-            .crossings
-            .iter()
-            .copied()
-            .filter(|&c| c <= t_end)
-            .collect();
-        m.period = period_of(&self.crossings);
-        m.period_reference = period_of(&ref_c).or(t_ref);
-        if let (Some(p), Some(pr)) = (m.period, m.period_reference) {
-            m.period_error = Some((p - pr) / pr);
-            let k = self.crossings.len().min(ref_c.len());
-            if k >= 1 {
-                m.phase_error =
-                    Some(2.0 * std::f64::consts::PI * (self.crossings[k - 1] - ref_c[k - 1]) / pr);
+        if let Ok(t_ref) = self.reference.dominant_period() {
+            let rc = &self.reference.crossings;
+            let pairs = match_crossings(rc, &self.crossings, t_ref);
+            m.period_reference = Some(t_ref);
+            if let (Some(&(k0, c0)), Some(&(k1, c1))) = (pairs.first(), pairs.last()) {
+                if k1 > k0 {
+                    let p = (c1 - c0) / (k1 - k0) as f64;
+                    m.period = Some(p);
+                    m.period_error = Some((p - t_ref) / t_ref);
+                }
+                m.phase_error = Some(std::f64::consts::TAU * (c1 - rc[k1]) / t_ref);
             }
         }
         m

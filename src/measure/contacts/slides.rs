@@ -4,6 +4,15 @@
 //! the sliding direction d is compared with the point-mass Coulomb law a = g·d − μ·|g·n|
 //! (incline: g(sin θ − μ cos θ); flat: −μg), its stopping distance with v0²/(2|a|), and a
 //! particle released at rest where μ·|g·n| ≥ g·d with no motion at all.
+//!
+//! A slide ends where its particle stops: its tangential speed falls below [`STOP_SPEED`] at a
+//! sample, or its motion along the sliding direction reverses between two samples (it then
+//! ends at the last sample before the reversal). Friction changes direction with the motion,
+//! so what follows is another slide with its own law: a particle pushed up an incline
+//! decelerates at g(sin θ + μ cos θ), stops, and slides back at g(sin θ − μ cos θ), two
+//! slides. A new slide starts after a stop only where gravity's pull along the surface beats
+//! static friction (|g_t| > μ·|g·n|), the only way a lone particle at rest moves again;
+//! elsewhere the stopped slide stays as it stopped.
 
 use crate::model::Vec3;
 use serde::Serialize;
@@ -36,10 +45,21 @@ pub struct Slide {
     /// Point-mass Coulomb law along the same direction: g·d − μ|g·n|, or 0 when static
     /// friction holds a particle released at rest (m/s²).
     pub expected_acceleration: f64,
-    /// True when the particle stopped (speed below [`STOP_SPEED`]) during the contact.
+    /// True when the slide ended with the particle stopping: its speed fell below
+    /// [`STOP_SPEED`], or its motion reversed before the next sample (module docs).
     pub stopped: bool,
     /// v0²/(2|a|) for a decelerating slide (m).
     pub expected_stop_distance: Option<f64>,
+}
+
+/// What a new sample did to an open slide.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Pushed {
+    /// The sample belongs to the slide (or the slide stays stopped).
+    Kept,
+    /// The particle stopped and gravity pulls it on: the slide is over, and a new one starts
+    /// at this sample (module docs).
+    Ended,
 }
 
 /// A slide being measured.
@@ -48,6 +68,9 @@ pub(super) struct OpenSlide {
     obstacle: usize,
     normal: Vec3,
     dir: Vec3,
+    /// Gravity's pull along the surface beats static friction: a stop is followed by a new
+    /// slide.
+    moves_from_rest: bool,
     samples: u32,
     t0: f64,
     x0: Vec3,
@@ -81,10 +104,12 @@ impl OpenSlide {
             return None;
         };
         let v0 = vt.dot(&dir);
+        let press = (-g.dot(&n)).max(0.0);
         Some(OpenSlide {
             obstacle: k,
             normal: n,
             dir,
+            moves_from_rest: gt.norm() > mu * press,
             samples: 1,
             t0: t,
             x0: x,
@@ -102,18 +127,30 @@ impl OpenSlide {
         self.obstacle
     }
 
-    /// Adds a sample; after a stop the slide is frozen at the stop.
-    pub(super) fn push(&mut self, t: f64, x: Vec3, v: Vec3) {
+    /// Adds a sample. A stop at this sample ends the slide with it, a reversal since the last
+    /// sample ends it before it; either is [`Pushed::Ended`] when gravity pulls the particle
+    /// on, else the slide stays frozen at the stop.
+    pub(super) fn push(&mut self, t: f64, x: Vec3, v: Vec3) -> Pushed {
         if self.stopped {
-            return;
+            return Pushed::Kept;
         }
         let vt = v - self.normal * v.dot(&self.normal);
-        self.samples += 1;
-        self.t = t;
-        self.x = x;
-        self.v = vt.dot(&self.dir);
-        if self.v0 > STOP_SPEED && vt.norm() <= STOP_SPEED {
+        let along = vt.dot(&self.dir);
+        let moving = self.v0 > STOP_SPEED;
+        if moving && vt.norm() > STOP_SPEED && along < 0.0 {
+            // Reversed between the last sample and this one: the slide ends at the last.
             self.stopped = true;
+        } else {
+            self.samples += 1;
+            self.t = t;
+            self.x = x;
+            self.v = along;
+            self.stopped = moving && vt.norm() <= STOP_SPEED;
+        }
+        if self.stopped && self.moves_from_rest {
+            Pushed::Ended
+        } else {
+            Pushed::Kept
         }
     }
 

@@ -23,6 +23,8 @@ const MAX_EVENTS_AT_ONE_TIME: usize = 1000;
 pub(super) struct SolveOut {
     /// Upward zero crossings of the tracked velocity component.
     pub crossings: Vec<f64>,
+    /// Its downward zero crossings.
+    pub down_crossings: Vec<f64>,
     /// Largest displacement from the initial positions seen at step ends (m).
     pub motion: f64,
     /// Solver work.
@@ -116,7 +118,7 @@ pub(super) fn solve(
             let need_dense = (next < times.len() && times[next] <= t_stop)
                 || tracked.is_some_and(|tr| {
                     let i = vel_index(tr);
-                    solver.y_old[i] < 0.0 && solver.y[i] >= 0.0
+                    (solver.y_old[i] < 0.0) != (solver.y[i] < 0.0)
                 });
             if need_dense {
                 solver.prepare_dense(&mut |t, y, dy| st.eval(t, y, dy));
@@ -128,20 +130,24 @@ pub(super) fn solve(
             }
             if let Some(tr) = tracked {
                 let i = vel_index(tr);
-                if solver.y_old[i] < 0.0 && solver.y[i] >= 0.0 {
+                let up = solver.y_old[i] < 0.0 && solver.y[i] >= 0.0;
+                if up || (solver.y_old[i] >= 0.0 && solver.y[i] < 0.0) {
+                    // Bisect on the sign the crossing leaves behind.
                     let (mut a, mut b) = (solver.t_old, solver.t);
                     for _ in 0..60 {
                         let m = 0.5 * (a + b);
                         solver.dense(m, &mut dense);
-                        if dense[i] < 0.0 {
+                        if (dense[i] < 0.0) == up {
                             a = m
                         } else {
                             b = m
                         }
                     }
                     let c = 0.5 * (a + b);
-                    if c <= t_stop {
+                    if c <= t_stop && up {
                         out.crossings.push(c);
+                    } else if c <= t_stop {
+                        out.down_crossings.push(c);
                     }
                 }
             }

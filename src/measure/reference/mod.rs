@@ -26,6 +26,7 @@
 mod adaptive;
 pub mod contacts;
 pub mod finestep;
+pub mod period;
 mod rhs;
 pub mod uncertainty;
 
@@ -37,6 +38,8 @@ use crate::model::{State, System, Vec3};
 use adaptive::{length_scale, solve};
 use rhs::{pack, unpack_x, RhsState};
 use serde::Serialize;
+
+pub use period::{dominant_period, period_of, DOMINANT_MODE_UNCLEAR};
 
 /// Tolerance of the adaptive reference (relative and absolute).
 pub const REFERENCE_TOL: f64 = 1e-12;
@@ -121,6 +124,9 @@ pub struct Reference {
     pub tracked: Option<Tracked>,
     /// Times where the tracked velocity crosses zero upwards.
     pub crossings: Vec<f64>,
+    /// Times where it crosses zero downwards: with `crossings`, they show whether one mode
+    /// dominates even over two periods ([`period`]).
+    pub down_crossings: Vec<f64>,
     motion: f64,
     /// Per grid, per compared step: the measured uncertainty (m).
     unc: Vec<Vec<f64>>,
@@ -239,6 +245,7 @@ impl Reference {
             samples,
             tracked,
             crossings: Vec::new(),
+            down_crossings: Vec::new(),
             motion: 0.0,
             unc: grids.iter().map(|g| vec![0.0; g.sample_count()]).collect(),
         };
@@ -249,6 +256,7 @@ impl Reference {
             return Ok(r);
         }
         r.crossings.clear();
+        r.down_crossings.clear();
         r.motion = 0.0;
         let projection =
             crate::collide::of(sys).is_some_and(|c| c.response == Response::Projection);
@@ -323,6 +331,12 @@ impl Reference {
         period_of(&self.crossings)
     }
 
+    /// The tracked component's period when its crossings show one dominant mode, else why not
+    /// ([`period`] module docs): what run periods and phases are measured against.
+    pub fn dominant_period(&self) -> std::result::Result<f64, &'static str> {
+        dominant_period(&self.crossings, &self.down_crossings)
+    }
+
     fn fill_analytic(&mut self, sys: &System, s0: &State) -> std::result::Result<(), String> {
         // State at time t from a segment start, exactly (a fresh closed form from there).
         let eval = |start: &State, t: f64| -> std::result::Result<State, String> {
@@ -366,17 +380,24 @@ impl Reference {
                 for k in 1..=n {
                     let t = t0 + (t1 - t0) * k as f64 / n as f64;
                     let v = vel(t)?;
-                    if prev.1 < 0.0 && v >= 0.0 {
+                    let up = prev.1 < 0.0 && v >= 0.0;
+                    if up || (prev.1 >= 0.0 && v < 0.0) {
+                        // Bisect on the sign the crossing leaves behind.
                         let (mut a, mut b) = (prev.0, t);
                         for _ in 0..60 {
                             let m = 0.5 * (a + b);
-                            if vel(m)? < 0.0 {
+                            if (vel(m)? < 0.0) == up {
                                 a = m
                             } else {
                                 b = m
                             }
                         }
-                        self.crossings.push(0.5 * (a + b));
+                        let c = 0.5 * (a + b);
+                        if up {
+                            self.crossings.push(c);
+                        } else {
+                            self.down_crossings.push(c);
+                        }
                     }
                     prev = (t, v);
                 }
@@ -414,6 +435,7 @@ impl Reference {
         )?
         .expect("no step limit");
         self.crossings = out.crossings;
+        self.down_crossings = out.down_crossings;
         self.motion = out.motion;
         // Never below the tolerance the solver was asked for.
         let floor = REFERENCE_TOL * length_scale(s0);
@@ -503,8 +525,3 @@ impl Reference {
 
 /// Round-off level of positions relative to the length scale.
 const ROUND_OFF: f64 = 1e-14;
-
-/// Period from a list of upward crossing times: mean spacing first to last.
-pub fn period_of(c: &[f64]) -> Option<f64> {
-    (c.len() >= 2).then(|| (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64)
-}
