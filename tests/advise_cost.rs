@@ -34,7 +34,7 @@ duration = 2.0
 "#;
 
 /// Oracle: none tuned — the comparison is between the costs the advisor itself measured in
-/// this run. The issue's measurement: rapier_impulse meets a 10 cm tolerance on this rope at
+/// this run. A user's measurement: rapier_impulse meets a 10 cm tolerance on this rope at
 /// about 700× velocity Verlet's wall time, so a ranking by a shared cost must not pick it.
 #[test]
 fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
@@ -192,7 +192,7 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
     .unwrap();
     assert!(out.status.is_ok());
     assert!(obs.0 <= 1e-9, "{pick} error {:e} at dt {dt}", obs.0);
-    // The Rapier backends meet 1 mm only at the smallest steps (the issue's pick was one at
+    // The Rapier backends meet 1 mm only at the smallest steps (a user's pick was one at
     // dt = 4e-4); each costs at least as much wall time as the pick.
     let rapier: Vec<_> = adv
         .alternatives

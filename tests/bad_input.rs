@@ -306,7 +306,7 @@ fn bad_flags_of_stability_and_bench_ratios() {
     }
 }
 
-/// Nothing clipped or ignored silently (issue 12, part 6). Oracle: the scene's own numbers;
+/// Nothing clipped or ignored silently. Oracle: the scene's own numbers;
 /// a run never goes past its duration, and an impulse acts at the start of the step
 /// containing its time, so one at or after the end would never act.
 #[test]

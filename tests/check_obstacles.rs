@@ -1,4 +1,4 @@
-//! `springlab check` on obstacle scenes (issue 13, part 6): obstacles with shape, pose,
+//! `springlab check` on obstacle scenes: obstacles with shape, pose,
 //! restitution and friction, particle radii, the contact response, and every backend that
 //! applies, Rapier included (penalty scenes too), with the reason each other one does not.
 //!

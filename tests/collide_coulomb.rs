@@ -134,7 +134,7 @@ fn check_incline(collision: &str, e: f64, integrators: &[&str]) {
 
 #[test]
 fn incline_acceleration_is_g_sin_minus_mu_cos_for_points_and_finite_radii() {
-    // The issue's case: the radius-0 particle used to be put back by the swept test in ~206 of
+    // A user's case: the radius-0 particle used to be put back by the swept test in ~206 of
     // 1000 steps (s = 1.25 m instead of 1.6029 m).
     let all = natives();
     let all: Vec<&str> = all
@@ -179,7 +179,7 @@ fn stopping_distance_is_v0_squared_over_two_mu_g_for_every_response_and_integrat
 #[test]
 fn a_particle_sticks_when_mu_exceeds_tan_theta() {
     // μ = 0.7 > tan 30° = 0.577: static friction holds; the only motion allowed is round-off
-    // (the issue measured a 3.5 mm/s creep with symplectic Euler at 1 ms).
+    // (a 3.5 mm/s creep was measured with symplectic Euler at 1 ms).
     for collision in [IMPULSE, PROJECTION] {
         for radius in [0.0, 0.05] {
             let scene = incline(30.0, 0.7, 0.0, radius, collision);

@@ -1,4 +1,4 @@
-//! Energy books that cannot hide anything (issue 13, part 2).
+//! Energy books that cannot hide anything.
 //!
 //! Oracles: the definitions. `dissipated` is work against dampers, drag, friction and inelastic
 //! contact: it starts at 0 and never decreases, so it is never negative; energy a contact stage
@@ -78,7 +78,7 @@ fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_backend() {
 
 #[test]
 fn the_issue_incline_books_no_negative_dissipation() {
-    // The issue's case: rk4 on the 30° e = 0.5 μ = 0.2 incline reached dissipated = −0.42 J.
+    // A user's case: rk4 on the 30° e = 0.5 μ = 0.2 incline reached dissipated = −0.42 J.
     let scene = Scenario::from_toml_str(
         r#"
         [world]
@@ -126,7 +126,7 @@ fn the_issue_incline_books_no_negative_dissipation() {
 
 #[test]
 fn compliant_rods_book_half_stretch_squared_over_compliance() {
-    // The issue's case: a double pendulum of compliance 1e-4 m/N stored 0.13-0.16 J that was
+    // A user's case: a double pendulum of compliance 1e-4 m/N stored 0.13-0.16 J that was
     // never booked.
     let alpha = 1e-4;
     let scene = Scenario::from_toml_str(

@@ -1,4 +1,4 @@
-//! Impacts measured the same way for every backend (issue 13, part 3).
+//! Impacts measured the same way for every backend.
 //!
 //! Oracles: (1) the trajectory itself: every reversal of a bouncing ball's vertical velocity
 //! from falling to rising is an impact the metrics must list; (2) Newton's law of impact: each
@@ -160,7 +160,7 @@ fn ode_impact(v: f64) -> (f64, f64) {
 
 #[test]
 fn penalty_expectations_include_gravity_as_the_contact_ode_does() {
-    // The issue's case: a 1 m drop onto k = 2e5 N/m, m = 0.1 kg, e = 0.7 gives 0.69938.
+    // A user's case: a 1 m drop onto k = 2e5 N/m, m = 0.1 kg, e = 0.7 gives 0.69938.
     let scene = ball(0.7, "response = \"penalty\"\nstiffness = 2e5");
     let (rep, _) = trace(&scene, "rk4", 1e-5, 1.0);
     let ev = &rep.events[0];

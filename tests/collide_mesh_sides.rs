@@ -1,4 +1,4 @@
-//! Mesh sidedness (issue 13, part 5): an open mesh is a two-sided thin sheet, whatever its
+//! Mesh sidedness: an open mesh is a two-sided thin sheet, whatever its
 //! winding; a closed mesh has an inside, whatever its winding.
 //!
 //! Oracles: geometry alone. A particle below a sheet is not touching it (its distance is its
@@ -113,7 +113,7 @@ fn a_sheet_has_no_inside_whatever_its_winding() {
 
 #[test]
 fn a_particle_below_a_reversed_sheet_stays_below_and_is_never_teleported() {
-    // The issue's case: at rest 0.48 m below the sheet, it was moved onto its top at step 1.
+    // A user's case: at rest 0.48 m below the sheet, it was moved onto its top at step 1.
     let (y, tunnels) = fly(&scene(-0.48, 0.0, 0.0, true), 1e-3, 100);
     assert_eq!((y, tunnels), (-0.48, 0));
     // Falling away from the sheet's underside under gravity: never touched.

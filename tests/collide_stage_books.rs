@@ -1,4 +1,4 @@
-//! The contact stage's energy books against what it does (issue 13, part 2 follow-up: the
+//! The contact stage's energy books against what it does (the
 //! symplectic Euler "creation" of 17.6 J on chain_on_box).
 //!
 //! Oracles nobody tuned:

@@ -1,6 +1,6 @@
 //! Malformed obstacle and collision fields give clear errors naming the file and field.
 //!
-//! Oracle: the list of impossible values; each error must carry the field path.
+//! Oracle: a list of impossible values; each error must carry the field path.
 
 use springlab::scenario::Scenario;
 use std::io::Write;

@@ -1,4 +1,4 @@
-//! The README and `--help` agree (issue 12, part 6). Oracle: the binary's own `--help` output
+//! The README and `--help` agree. Oracle: the binary's own `--help` output
 //! (clap renders each flag's `[default: …]` from the value the code uses) against every
 //! default the README states for a flag.
 

@@ -1,4 +1,4 @@
-//! The stability map over the extremes of issue 7: the stiff anchored spring with stiffness from
+//! The stability map over the extremes: the stiff anchored spring with stiffness from
 //! 1e-3 to 1e9 N/m (1 kg) and steps from 1e-6 to 1 s, for every native integrator and Rapier.
 //!
 //! Oracles, none tuned here:

@@ -1,4 +1,4 @@
-//! Issue 12, part 2: `springlab framerate`.
+//! `springlab framerate`.
 //!
 //! Oracle for the substep search: a chain of N = 8 free beads (m = 0.01 kg, k = 1000 N/m)
 //! between two fixed ends, moving along its axis, is the textbook fixed–fixed chain whose

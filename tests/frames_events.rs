@@ -1,4 +1,4 @@
-//! Issue 12, part 4: `[run] events = "frame"` applies each impulse at the first frame boundary
+//! `[run] events = "frame"` applies each impulse at the first frame boundary
 //! at or after its time. Oracle: the damped oscillator's closed form
 //! u(t) = e^{-γt}[u₀ cos ω_d t + (v₀ + γu₀)/ω_d sin ω_d t] (γ = c/2m, ω_d² = k/m − γ²),
 //! written out here and walked through the kicks moved by hand to the next 1/60 s boundary;
@@ -20,7 +20,7 @@ impl Observer for Keep {
     }
 }
 
-/// The issue's recoil spring: 0.35 kg, k = 1500 N/m, c = 6 N·s/m, kicks at 0.037, 0.137,
+/// The recoil spring: 0.35 kg, k = 1500 N/m, c = 6 N·s/m, kicks at 0.037, 0.137,
 /// 0.237 and 0.3 s (the last exactly on a 60 Hz boundary).
 fn scene(events: &str) -> Scenario {
     let toml = format!(

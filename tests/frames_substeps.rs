@@ -1,4 +1,4 @@
-//! Issue 12, part 1: a frame of n substeps is, for every native method, bit for bit the run at
+//! A frame of n substeps is, for every native method, bit for bit the run at
 //! dt/n with every n-th state kept. Oracle: the runner itself at the fine step (the
 //! definition of substepping), compared with `==` on every coordinate of every frame.
 

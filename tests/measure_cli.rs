@@ -1,5 +1,5 @@
 //! The measuring subcommands end to end: file names, headers, skipped backends, shard + merge.
-//! Oracles: the required CSV headers and JSON fields; merge equality is exact.
+//! Oracles: the documented CSV headers and JSON fields; merge equality is exact.
 
 use std::path::Path;
 use std::process::Command;

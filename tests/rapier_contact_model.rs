@@ -1,4 +1,4 @@
-//! Rapier as the equivalent of a particle (issue 13, part 4): what `rapier_impulse` does on the
+//! Rapier as the equivalent of a particle: what `rapier_impulse` does on the
 //! closed-form friction cases, and one test per documented difference of Rapier's contact
 //! model (see `src/rapier/obstacles.rs`).
 //!
@@ -65,7 +65,7 @@ fn go(scene: &Scenario, dt: f64, duration: f64) -> RunOutcome {
 
 #[test]
 fn rapier_impulse_slides_down_the_incline_at_the_point_mass_acceleration() {
-    // The issue measured 3.5024 m/s² = 5/7·g·sin θ (rolling) before rotations were locked.
+    // Measured before: 3.5024 m/s² = 5/7·g·sin θ (rolling) before rotations were locked.
     let (deg, mu) = (30.0f64, 0.2);
     let th = deg.to_radians();
     let a = G * (th.sin() - mu * th.cos());
@@ -88,7 +88,7 @@ fn rapier_impulse_slides_down_the_incline_at_the_point_mass_acceleration() {
 
 #[test]
 fn rapier_impulse_sticks_when_mu_exceeds_tan_theta() {
-    // The issue measured a 0.64 m slide on the μ = 0.7 incline before rotations were locked.
+    // Measured before: a 0.64 m slide on the μ = 0.7 incline before rotations were locked.
     let scene = plane_scene(30.0, 0.7, 0.0, R, [0.0; 3]);
     let x0 = scene.initial_state().x[0];
     let out = go(&scene, 1e-3, 1.0);
@@ -101,7 +101,7 @@ fn rapier_impulse_sticks_when_mu_exceeds_tan_theta() {
 
 #[test]
 fn rapier_impulse_stops_a_slide_at_v0_squared_over_two_mu_g() {
-    // The issue measured a glide at 0.724 m/s after t = 1.458 s (the ball started rolling).
+    // Measured before: a glide at 0.724 m/s after t = 1.458 s (the ball started rolling).
     let (v0, mu) = (5.0, 0.3);
     let d_exp = v0 * v0 / (2.0 * mu * G);
     let scene = plane_scene(0.0, mu, 0.0, R, [v0, 0.0, 0.0]);
@@ -120,7 +120,7 @@ fn rapier_impulse_stops_a_slide_at_v0_squared_over_two_mu_g() {
 fn difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m() {
     // springlab's responses hold a resting ball exactly on the surface (gap 0). Rapier's
     // speculative contact stops it in front of the surface and its soft contact corrects
-    // penetration over several steps: measured, the gap stays within ±2e-4 m (the issue saw
+    // penetration over several steps: measured, the gap stays within ±2e-4 m (once seen:
     // 3e-5 to 2e-4 m), which the impact metrics' contact threshold covers.
     let scene = plane_scene(0.0, 0.3, 0.0, R + 0.2, [0.0; 3]);
     let sys = scene.build();
@@ -190,7 +190,7 @@ fn difference_impact_friction_and_restitution_on_an_oblique_impact() {
 fn difference_frictionless_capsule_pushes_along_the_normal() {
     // A frictionless contact can only push along the surface normal: a ball dropped beside
     // a horizontal capsule's axis must change velocity in the plane through the axis, along
-    // the normal at the contact (the issue measured 1.85° off it while the ball could turn).
+    // the normal at the contact (1.85° was measured off it while the ball could turn).
     let scene = Scenario::from_toml_str(
         &format!(
             "[world]\ngravity = [0.0, -{G}, 0.0]\n[[particle]]\nposition = [0.1, 0.8, 0.0]\nmass = 0.1\nradius = {R}\n\
@@ -217,7 +217,7 @@ fn difference_frictionless_capsule_pushes_along_the_normal() {
 fn difference_a_fast_ball_on_a_sheets_shared_edge() {
     // Oracle: the sheet is flat (y = 0), so a frictionless impact straight down on the edge
     // shared by its two triangles can only change the vertical velocity. Measured here: the
-    // sideways velocity Rapier leaves (the issue saw 8.56 m/s at 200 m/s while the ball could
+    // sideways velocity Rapier leaves (once seen: 8.56 m/s at 200 m/s while the ball could
     // turn) and whether it stops the ball from below as from above (an open mesh is a
     // two-sided sheet in springlab; in Rapier it is not).
     for (y, vy) in [(0.3, -200.0), (-0.3, 200.0)] {

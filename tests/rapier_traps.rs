@@ -1,4 +1,4 @@
-//! Regression tests for the Rapier 0.36 traps listed in issue 4, each with its oracle.
+//! Regression tests for the Rapier 0.36 traps springlab works around, each with its oracle.
 mod common;
 mod rapier_support;
 use rapier_support::*;

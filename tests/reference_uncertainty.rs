@@ -1,7 +1,7 @@
 //! The reference measures its own error: uncertainty and predictability horizon.
 //!
 //! Oracles: (1) a chaotic double spring pendulum: the divergence of two references whose
-//! gravity differs by a relative 1e-12 (the protocol of issue 11, independent of the
+//! gravity differs by a relative 1e-12 (a protocol independent of the
 //! reference's own perturbation of positions) — the reported uncertainty must be of its
 //! order and the horizon inside the run; (2) a linear damped spring, which cannot amplify
 //! round-off (its flow is a contraction): no horizon, uncertainty at the tolerance level;

@@ -1,11 +1,11 @@
-//! The collision-validation section of an obstacle scene's page (issue 13, part 7), from a
+//! The collision-validation section of an obstacle scene's page, from a
 //! quick report of the shipped bounce scene into a temporary directory: the per-impact chart
 //! and table carry the measured e beside the expected one for every backend, and Rapier's
 //! documented differences are each named where a Rapier backend ran.
 //!
 //! Oracle: the ball is dropped from rest at 1 m above the plane's surface with e = 0.5 (the
 //! scene file), so its first impact arrives at √(2·9.81·1) = 4.429 m/s, and every impulse-type
-//! backend must rebound at 0.5 of it (within 2 %, the issue's bound); the page's first-impacts
+//! backend must rebound at 0.5 of it (within 2 %); the page's first-impacts
 //! table must show both numbers.
 
 use std::path::Path;

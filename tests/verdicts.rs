@@ -1,4 +1,4 @@
-//! Honest verdicts (issue 12, part 5): the runner's one verdict on the examples the issue
+//! Honest verdicts: the runner's one verdict on examples users
 //! measured, with oracles nobody tuned here.
 //!
 //! - The blown-up rope: symplectic Euler is stable on a chain only for h·ω_max < 2 (Hairer,
@@ -10,7 +10,7 @@
 //! - The map: on a linear oscillator the energy of a mode grows like ρ²ⁿ over n steps, so a
 //!   cell whose one-step spectral radius exceeds 1.01 cannot stay bounded over the map's
 //!   ≥ 1389 steps (1.01^2778 > 1e12) from a seed holding ~1e-8 of the energy. Exact on a
-//!   linear scene; on the issue's nonlinear hanging spring only for the modes that keep
+//!   linear scene; on the nonlinear hanging spring only for the modes that keep
 //!   their stiffness (see the test).
 
 use springlab::measure::stability::{
@@ -154,7 +154,7 @@ fn no_map_cell_with_a_spectral_radius_above_1_01_is_stable() {
         MAP_MIN_STEPS,
         (GROWTH_SHOWN.ln() / (2.0 * RHO_SHOWN.ln())).ceil() as u64
     );
-    // The issue's damped spring (1 kg, k = 1e4 N/m, c = 20 N·s/m) made exactly linear, where
+    // The damped spring (1 kg, k = 1e4 N/m, c = 20 N·s/m) made exactly linear, where
     // the theory applies to the whole run: zero rest length (f = −k d in every direction) and
     // the damping as isotropic drag.
     let linear = SPRING
@@ -169,11 +169,11 @@ fn no_map_cell_with_a_spectral_radius_above_1_01_is_stable() {
 
 #[test]
 fn the_issues_hanging_spring_map_calls_no_growing_cell_stable() {
-    // The issue's scene as written: a 1 m spring hanging 0.5 m stretched. Linearised at that
+    // The scene as written: a 1 m spring hanging 0.5 m stretched. Linearised at that
     // stretched start, its transverse mode is stiff (ω² = T/(mL) ≈ 3300 /s² at k×1), but the
     // tension relaxes within about 1/(ζω) = 0.1 s and the mode with it, so cells whose only
     // ρ > 1 is that mode's (ρ ≤ 1.04) can stay bounded: the theory at t = 0 does not apply
-    // there. The cells the issue saw called stable (ρ 1.13 to 1.75) grow on the axial mode,
+    // there. The cells once called stable (ρ 1.13 to 1.75) grow on the axial mode,
     // which keeps its stiffness: none may read stable.
     let scene = Scenario::from_toml_str(SPRING, "damped_spring_stiff.toml").unwrap();
     let (above, stable) = map_cells_above(&scene, 1.05);

@@ -1,4 +1,4 @@
-//! Static obstacles through parry3d-f64 (issue 5): shapes at poses with a broad phase,
+//! Static obstacles through parry3d-f64: shapes at poses with a broad phase,
 //! per-particle signed-distance queries and the three contact responses (penalty force term,
 //! post-step impulse, post-step projection). Their validation metrics are measurement, in
 //! [`crate::measure::contacts`]. Nothing here is built or

@@ -1,4 +1,4 @@
-//! The benchmark baseline of issue 7: one symplectic Euler step of a scene's springs, dampers
+//! The benchmark baseline: one symplectic Euler step of a scene's springs, dampers
 //! and gravity written as one plain loop over the same flat arrays (fill with gravity, scatter
 //! spring forces, kick-drift). No force terms, no energy account, no guards: what a game
 //! programmer would write by hand, and the floor springlab's own step is compared against.

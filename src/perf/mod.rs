@@ -12,7 +12,7 @@ use std::time::Instant;
 
 /// A horizontal `n`×`n` cloth (1 m², 1 g per particle, k = 200 N/m, light axial damping,
 /// gravity, two top corners pinned) with structural and shear springs only: about 4n² springs,
-/// the benchmark scene of issue 7 (100×100 gives 39 402 springs).
+/// the benchmark scene (100×100 gives 39 402 springs).
 pub fn cloth(n: usize) -> Scenario {
     let toml = format!(
         "name = \"cloth_{n}x{n}\"\n[world]\ngravity = [0.0, -9.81, 0.0]\n[[cloth]]\n\
@@ -39,7 +39,7 @@ pub fn bench_dt(name: &str) -> f64 {
 
 /// Every backend that can step `scene`: native integrators and external backends whose
 /// `check` accepts it (`analytic` refuses cloths). `rapier_multibody` is left out: a cloth is
-/// not a tree, and its step took 57 ms on an 8×8 cloth (2026-11-25), too slow to scale.
+/// not a tree, and its step took 57 ms on an 8×8 cloth, too slow to scale.
 pub fn backends_for(scene: &Scenario) -> Vec<&'static str> {
     let sys = scene.build();
     crate::method::Registry::builtin()

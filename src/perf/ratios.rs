@@ -1,4 +1,4 @@
-//! The cost ratios issue 7 sets targets for, each measured in one run with the contenders
+//! The cost ratios that have targets, each measured in one run with the contenders
 //! interleaved (A, B, A, B, ...) and the minimum per step kept for each: on a shared, noisy
 //! machine a slow phase then hits both sides of a ratio instead of one.
 
