@@ -3,7 +3,7 @@
 //! projection, and swept (ray) tests between steps.
 //!
 //! Why point projection: in parry 0.31, `query::contact` with a ball first and a half-space
-//! second returns wrong distances (see `tests/collide_shapes.rs`); projecting the particle
+//! second returns wrong distances (see `tests/physics/collide_shapes.rs`); projecting the particle
 //! centre and subtracting its radius is exact for every shape and needs no ball shape at all.
 
 use super::counter::{count_build, count_query};

@@ -1,7 +1,7 @@
 //! The known schemes Rapier's behaviour matches, as predicted curves to plot next to the
 //! measured ones.
 //!
-//! Identified by reading Rapier 0.36's solver and confirmed by experiment (tests/rapier_scheme.rs):
+//! Identified by reading Rapier 0.36's solver and confirmed by experiment (tests/physics/rapier_scheme.rs):
 //! a frame of step h is `substeps` = N substeps of h/N (`num_solver_iterations`); each substep
 //! applies gravity to the velocities, solves every joint once as a soft constraint, then moves
 //! the positions with the new velocities (symplectic Euler). A force-based spring motor with
@@ -19,7 +19,7 @@
 //! up to 27 %, and the chain itself multiplies a deviation by ~29 (rk4 restarted from Rapier's
 //! state at 1.0 s lands within 1.4e-4 m of Rapier at 1.1 s, so Rapier adds no event of its
 //! own). 4× the substeps divide the deviation by 4 (1.0 s) to 3.75 (1.1 s): 8.3e-4 m at 1.1 s
-//! with N = 16384 (tests/rapier_hanging_chain.rs).
+//! with N = 16384 (tests/physics/rapier_hanging_chain.rs).
 //!
 //! `rapier_multibody` matches the free-fall scheme (bodies without joints are plain rigid
 //! bodies) but its springs are Rapier's implicit joint springs in reduced coordinates, solved

@@ -1,4 +1,4 @@
-//! Helpers shared by the tests/rapier_*.rs files.
+//! Helpers shared by the Rapier tests (tests/physics/rapier_*.rs).
 #![allow(dead_code)]
 
 use springlab::integrate::IntegratorOptions;

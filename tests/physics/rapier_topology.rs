@@ -2,7 +2,7 @@
 //! backend says so; impulses reach Rapier after the runner's reset.
 //! Oracles: graph counting (a connected graph with V vertices has a spanning tree of V−1 edges,
 //! so E − (V − 1) edges close loops); momentum balance of an impulse (Δp = m·Δv).
-mod rapier_support;
+use crate::rapier_support;
 use rapier_support::*;
 use springlab::rapier::{FallbackReason, Mode, RapierBackend, Topology, MAX_TREE_PARTICLES};
 use springlab::scenario::Scenario;

@@ -9,13 +9,13 @@ use springlab::scenario::Scenario;
 use springlab::Error;
 
 const BASES: &[&str] = &[
-    include_str!("../scenarios/anchored_spring.toml"),
-    include_str!("../scenarios/damped_spring.toml"),
-    include_str!("../scenarios/two_body.toml"),
-    include_str!("../scenarios/recoil_spring.toml"),
-    include_str!("../scenarios/hanging_chain.toml"),
-    include_str!("../scenarios/pendulum_rod.toml"),
-    include_str!("../scenarios/stiff_spring.toml"),
+    include_str!("../../scenarios/anchored_spring.toml"),
+    include_str!("../../scenarios/damped_spring.toml"),
+    include_str!("../../scenarios/two_body.toml"),
+    include_str!("../../scenarios/recoil_spring.toml"),
+    include_str!("../../scenarios/hanging_chain.toml"),
+    include_str!("../../scenarios/pendulum_rod.toml"),
+    include_str!("../../scenarios/stiff_spring.toml"),
     // The shipped cloth, shrunk so that every case stays fast.
     "[world]\ngravity = [0.0, -9.81, 0.0]\ndrag = 0.1\n[[cloth]]\norigin = [0.0, 0.0, 0.0]\n\
      size = [1.0, 1.0]\ncount = [4, 3]\nmass = 0.001\nstiffness = 200.0\ndamping = 0.002\n\

@@ -4,7 +4,7 @@
 //! ODEs I*, §II.3; Hairer & Wanner, *Solving ODEs II*, §III.1 and §IV.9 (BDF, linearly
 //! implicit); Hairer, Lubich & Wanner, *GNI*, §I.1 and §VII.1 (RATTLE)).
 
-mod common;
+use crate::common;
 use common::*;
 
 fn final_error(name: &str, h: f64) -> f64 {

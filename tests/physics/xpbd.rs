@@ -2,7 +2,7 @@
 //! convergence in the substep), the equivalence of a spring and a compliant rod (the paper's
 //! α = 1/k), a rigid rod kept to rounding, and Gauss–Seidel convergence on a rod chain.
 
-mod common;
+use crate::common;
 use springlab::integrate::{Integrator, IntegratorOptions, Xpbd};
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;

@@ -4,7 +4,7 @@
 //! of the undamped oscillator: explicit Euler never stable; symplectic Euler and Verlet for
 //! hω < 2; RK4 for hω < 2√2; implicit Euler and the exact solution for every h).
 
-mod common;
+use crate::common;
 
 use springlab::model::Vec3;
 use springlab::run::{run, NoObserver, RunOutcome, RunPlan, Status};

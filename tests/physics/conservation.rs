@@ -2,7 +2,7 @@
 //! total momentum is conserved exactly by every method that applies force pairs symmetrically
 //! (to round-off); the energy account balances for dissipative scenes.
 
-mod common;
+use crate::common;
 use common::*;
 use springlab::scenario::Scenario;
 

@@ -1,7 +1,7 @@
 //! Every shipped scenario parses, builds and runs a few steps with every integrator that
 //! applies to it; integrators that do not apply say why.
 
-mod common;
+use crate::common;
 use common::*;
 use springlab::scenario::Scenario;
 

@@ -2,7 +2,7 @@
 //! from each method's defining formulas (the oracle is the textbook update rule itself, written
 //! out here independently of the implementation).
 
-mod common;
+use crate::common;
 use common::*;
 
 // m = 1, k = 4 (ω² = 4), rest length 1, u0 = 0.5 (x0 = 1.5), v0 = 0; a(u) = −4u.

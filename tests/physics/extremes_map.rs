@@ -13,7 +13,7 @@
 //!   on how the growth unfolds, and the test leaves the cell alone.
 //!
 //! The map runs with `--blowup-factor 1e4` here, to keep the cap well away from the bounded
-//! swings this test also crosses. `tests/verdicts.rs` checks the map at the default cap.
+//! swings this test also crosses. `tests/physics/verdicts.rs` checks the map at the default cap.
 
 use springlab::measure::stability::{stability_map, MapConfig, MapRow, Verdict};
 use springlab::scenario::Scenario;
@@ -137,7 +137,7 @@ fn rapier_runs_every_cell_of_the_extreme_map_without_nan() {
         assert!(r.omega_max.is_finite() && r.h_omega.is_finite());
     }
     // Oracle: Rapier integrates joint springs as substepped backward Euler (the scheme
-    // `springlab::rapier::scheme` predicts and `tests/rapier_scheme.rs` checks against
+    // `springlab::rapier::scheme` predicts and `tests/physics/rapier_scheme.rs` checks against
     // Rapier's energy curves), which is A-stable: every cell, up to hω = 3e4, stays bounded.
     let stable = rows.iter().filter(|r| r.stable).count();
     eprintln!("rapier_impulse: stable in {stable} of {} cells", rows.len());

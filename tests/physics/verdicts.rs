@@ -19,7 +19,7 @@ use springlab::measure::stability::{
 use springlab::run::{run, NoObserver, RunPlan, Status};
 use springlab::scenario::Scenario;
 
-mod common;
+use crate::common;
 
 const ROPE: &str = r#"
 name = "rope30"

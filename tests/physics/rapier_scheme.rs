@@ -2,8 +2,8 @@
 //! Oracles: closed forms of the schemes themselves — symplectic Euler free fall
 //! x_M = x0 + v0·M·hs + g·hs²·M(M+1)/2 and the backward-Euler oscillator, whose energy
 //! ½(v² + ω²e²) shrinks by exactly 1/(1 + (ω·hs)²) per step (hs = h/N substep).
-mod common;
-mod rapier_support;
+use crate::common;
+use crate::rapier_support;
 use rapier_support::*;
 use springlab::rapier::scheme_prediction;
 use springlab::scenario::Scenario;

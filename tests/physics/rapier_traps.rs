@@ -1,6 +1,6 @@
 //! Regression tests for the Rapier 0.36 traps springlab works around, each with its oracle.
-mod common;
-mod rapier_support;
+use crate::common;
+use crate::rapier_support;
 use rapier_support::*;
 use springlab::rapier::internals::rapier3d_f64::prelude::*;
 use springlab::rapier::internals::{build, particle_collider, spring_joint};

@@ -2,7 +2,7 @@
 //! Oracles: the reduced oscillator's period 2π·√(μ/k) (μ = m1 m2/(m1+m2)); total momentum
 //! conservation (joint impulses are equal and opposite); the energy curve of the scheme Rapier's
 //! impulse springs follow, computed independently by `scheme_prediction`.
-mod rapier_support;
+use crate::rapier_support;
 use rapier_support::*;
 use springlab::rapier::scheme_prediction;
 use springlab::scenario::Scenario;

@@ -2,7 +2,7 @@
 //! m u'' + c u' + k u = 0 (e.g. Thomson & Dahleh, *Theory of Vibration*, §2.6), written here in
 //! their classic per-case forms, independent of the implementation's unified propagators.
 
-mod common;
+use crate::common;
 use common::*;
 
 /// Textbook solution for m = 1: returns (u, v) at time t.

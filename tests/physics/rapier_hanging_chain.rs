@@ -10,7 +10,7 @@
 //!   as the deviation stays small enough for the motion to carry it linearly;
 //! - how the motion carries a deviation is measured without Rapier: rk4 restarted from
 //!   Rapier's own state shows what the exact dynamics make of Rapier's deviation.
-mod rapier_support;
+use crate::rapier_support;
 use rapier_support::*;
 use springlab::integrate::IntegratorOptions;
 use springlab::model::{State, System, Vec3};

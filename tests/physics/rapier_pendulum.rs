@@ -1,6 +1,6 @@
 //! Rapier's pendulum on a rigid rod against the large-amplitude period.
 //! Oracle: T = 4·√(L/g)·K(sin(θ0/2)) (exact period of the ideal pendulum; K by the AGM).
-mod rapier_support;
+use crate::rapier_support;
 use rapier_support::*;
 use springlab::scenario::Scenario;
 

@@ -5,7 +5,7 @@
 //! implicit midpoint keeps every quadratic invariant (Hairer, Lubich & Wanner, *GNI*, §IV.2),
 //! so a linear spring's energy is kept at any step up to the solver's tolerance.
 
-mod common;
+use crate::common;
 use common::*;
 
 const K: f64 = 4.0; // ω = 2, period π

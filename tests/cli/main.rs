@@ -1,0 +1,14 @@
+//! The command line end to end: every test here runs the `springlab` binary (one test binary).
+
+mod bad_input;
+mod bench_cli;
+mod check_obstacles;
+mod defaults_doc;
+mod framerate;
+mod interrupt;
+mod measure_cli;
+mod report_browser;
+mod report_collision;
+mod report_commands;
+mod report_files;
+mod verdict_outputs;

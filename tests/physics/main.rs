@@ -1,0 +1,62 @@
+//! The library's physics, measures and engines against oracles: one test binary (Rapier links once).
+
+#[path = "../common/mod.rs"]
+mod common;
+#[path = "../rapier_support/mod.rs"]
+mod rapier_support;
+
+mod advise_cost;
+mod analytic_closed_form;
+mod collide_bounce;
+mod collide_coulomb;
+mod collide_energy_books;
+mod collide_friction;
+mod collide_impacts;
+mod collide_mesh_sides;
+mod collide_no_obstacles;
+mod collide_penalty;
+mod collide_shapes;
+mod collide_slides;
+mod collide_stage_books;
+mod collide_validation;
+mod collide_wall;
+mod conservation;
+mod convergence;
+mod energy_behaviour;
+mod extremes;
+mod extremes_map;
+mod framerate_floor;
+mod frames_events;
+mod frames_substeps;
+mod fuzz_scenario;
+mod implicit_cloth;
+mod implicit_root;
+mod integrators_hand;
+mod measure_advise;
+mod measure_period;
+mod measure_reference;
+mod measure_stability;
+mod measure_sweep;
+mod method_registry;
+mod newton_stall;
+mod rapier_contact_model;
+mod rapier_hanging_chain;
+mod rapier_obstacles;
+mod rapier_penalty;
+mod rapier_pendulum;
+mod rapier_scheme;
+mod rapier_topology;
+mod rapier_traps;
+mod rapier_two_body;
+mod rattle_pendulum;
+mod reference_contacts;
+mod reference_crosscheck;
+mod reference_uncertainty;
+mod report_plots;
+mod shipped_scenarios;
+mod small_steps;
+mod sweep_defaults;
+mod thread_determinism;
+mod verdict_theory;
+mod verdicts;
+mod xpbd;
