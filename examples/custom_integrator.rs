@@ -78,6 +78,7 @@ fn main() -> springlab::Result<()> {
             stability: StabilityTheory::SpectralRadius,
             cost: CostUnit::ForceEvaluations,
             engine: false,
+            implicit: false,
         },
         |_| Box::new(GameEuler { a: Vec::new() }),
     ))?;

@@ -20,6 +20,15 @@ const fn native(name: &'static str, order: u32, summary: &'static str) -> Method
         stability: StabilityTheory::SpectralRadius,
         cost: CostUnit::ForceEvaluations,
         engine: false,
+        implicit: false,
+    }
+}
+
+/// A native method that solves a system each step ([`MethodInfo::implicit`]).
+const fn implicit(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
+    MethodInfo {
+        implicit: true,
+        ..native(name, order, summary)
     }
 }
 
@@ -34,6 +43,7 @@ const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
         stability: StabilityTheory::Empirical,
         cost: CostUnit::WallTime,
         engine: true,
+        implicit: false,
     }
 }
 
@@ -60,7 +70,7 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(SymplecticEuler::default()),
         ),
         Method::new(
-            native(
+            implicit(
                 "implicit_euler",
                 1,
                 "backward Euler, Newton + block-Jacobi CG; stable at any step, damps",
@@ -68,7 +78,7 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(ImplicitEuler::default()),
         ),
         Method::new(
-            native(
+            implicit(
                 "linear_implicit_euler",
                 1,
                 "Baraff-Witkin linearly implicit Euler: one CG solve per step; stable at any step, damps",
@@ -76,7 +86,7 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(LinearImplicitEuler::default()),
         ),
         Method::new(
-            native(
+            implicit(
                 "implicit_midpoint",
                 2,
                 "implicit midpoint, Newton + block-Jacobi CG; symplectic, stable at any step, keeps linear-spring energy",
@@ -84,7 +94,7 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(ImplicitMidpoint::default()),
         ),
         Method::new(
-            native(
+            implicit(
                 "bdf2",
                 2,
                 "two-step BDF (backward-Euler start), Newton + block-Jacobi CG; stable at any step, damps",

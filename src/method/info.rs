@@ -102,6 +102,9 @@ pub struct MethodInfo {
     /// True for a physics engine (Rapier): it resolves contacts itself and is left out of
     /// nothing, but its internals (force evaluations, one-step maps) are not ours to inspect.
     pub engine: bool,
+    /// True for an implicit method: each step solves a system of equations (Newton or one
+    /// linear solve), so it is stable at a frame step and is timed at one.
+    pub implicit: bool,
 }
 
 impl MethodInfo {

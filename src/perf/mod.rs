@@ -22,14 +22,14 @@ pub fn cloth(n: usize) -> Scenario {
     Scenario::from_toml_str(&toml, format!("cloth_{n}x{n}.toml")).expect("generated cloth is valid")
 }
 
-/// Time step each backend is timed at: `implicit_euler` and physics engines at a frame
-/// (1/60 s), explicit methods at 1 ms (the cloth's stable step; cost per step does not depend
-/// on it, stability over the timed steps does).
+/// Time step each backend is timed at: implicit methods and physics engines at a frame
+/// (1/60 s; registry facts [`crate::method::MethodInfo::implicit`] and `engine`), explicit
+/// methods at 1 ms (the cloth's stable step; cost per step does not depend on it, stability
+/// over the timed steps does).
 pub fn bench_dt(name: &str) -> f64 {
-    if name == "implicit_euler"
-        || crate::method::Registry::builtin()
-            .info(name)
-            .is_ok_and(|m| m.engine)
+    if crate::method::Registry::builtin()
+        .info(name)
+        .is_ok_and(|m| m.implicit || m.engine)
     {
         1.0 / 60.0
     } else {

@@ -42,6 +42,7 @@ fn info(name: &'static str, order: Order) -> MethodInfo {
         stability: StabilityTheory::SpectralRadius,
         cost: CostUnit::ForceEvaluations,
         engine: false,
+        implicit: false,
     }
 }
 
