@@ -302,7 +302,12 @@ pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<Sce
         ));
     }
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
-    let frames = ((duration / cfg.frame_dt).round() as u64).max(1);
+    let flag = if cfg.duration.is_some() {
+        "--duration"
+    } else {
+        "--dt"
+    };
+    let frames = crate::scenario::Timing::steps_within(flag, cfg.frame_dt, duration)?;
     let sys = scene.build();
     let s0 = scene.initial_state();
     let grid = TimeGrid::new(cfg.frame_dt, frames, frames);

@@ -296,6 +296,16 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
+    // Too many frames at one substep is the length's fault (the rate's when the length is the
+    // scene's); too many only with the substeps, --max-substeps'.
+    let length_flag = if cfg.duration.is_some() {
+        "--duration"
+    } else {
+        "--hz"
+    };
+    for &hz in &cfg.rates {
+        crate::scenario::Timing::steps_within(length_flag, 1.0 / hz, duration)?;
+    }
     let frames: Vec<u64> = cfg
         .rates
         .iter()
@@ -307,7 +317,8 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
             return Err(Error::option(
                 "--max-substeps",
                 format!(
-                    "{n} frames at {hz} Hz × {} substeps exceeds the limit of {} steps",
+                    "{n} frames at {} Hz × {} substeps exceeds the limit of {} steps",
+                    crate::error::num(hz),
                     cfg.max_substeps,
                     crate::scenario::MAX_STEPS
                 ),
