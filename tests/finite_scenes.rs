@@ -168,3 +168,27 @@ fn twin_a_name_of_255_bytes_is_accepted() {
     accepts(&named(&"a".repeat(255)));
     accepts(&named(&format!("{}a", "é".repeat(127))));
 }
+
+#[test]
+fn a_tiny_negative_mass_is_quoted_in_short_form() {
+    // Printed in full, -1e-300 is over 300 characters long.
+    let text =
+        anchored("2.0", "9.81").replacen("mass = 1.0\n[[spring]]", "mass = -1e-300\n[[spring]]", 1);
+    let out = check(&text);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("particle[1].mass: must be > 0, got -1e-300"),
+        "{err}"
+    );
+    assert!(err.len() < 200, "{err}");
+}
+
+#[test]
+fn twin_a_tiny_positive_mass_is_accepted() {
+    accepts(&anchored("2.0", "9.81").replacen(
+        "mass = 1.0\n[[spring]]",
+        "mass = 1e-300\n[[spring]]",
+        1,
+    ));
+}

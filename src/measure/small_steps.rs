@@ -292,7 +292,10 @@ pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<Sce
     if !(cfg.frame_dt.is_finite() && cfg.frame_dt > 0.0) {
         return Err(Error::option(
             "--dt",
-            format!("must be a finite number > 0, got {}", cfg.frame_dt),
+            format!(
+                "must be a finite number > 0, got {}",
+                crate::error::num(cfg.frame_dt)
+            ),
         ));
     }
     if cfg.budgets.is_empty() || cfg.budgets.contains(&0) {

@@ -4,7 +4,7 @@
 use super::file::{ScenarioFile, SpringLaw, Triple};
 use super::generate;
 use super::{Particle, RunSettings, Scenario, SpringDef};
-use crate::error::{Error, Result};
+use crate::error::{num, Error, Result};
 use crate::model::{DistanceConstraint, Impulse, Vec3};
 use std::collections::HashSet;
 use std::path::Path;
@@ -28,7 +28,7 @@ impl Checker<'_> {
         if x.is_finite() {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be a finite number, got {x}")))
+            Err(self.err(field, format!("must be a finite number, got {}", num(x))))
         }
     }
     fn positive(&self, field: &str, x: f64) -> Result<f64> {
@@ -36,7 +36,7 @@ impl Checker<'_> {
         if x > 0.0 {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be > 0, got {x}")))
+            Err(self.err(field, format!("must be > 0, got {}", num(x))))
         }
     }
     fn non_negative(&self, field: &str, x: f64) -> Result<f64> {
@@ -44,7 +44,7 @@ impl Checker<'_> {
         if x >= 0.0 {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be >= 0, got {x}")))
+            Err(self.err(field, format!("must be >= 0, got {}", num(x))))
         }
     }
     fn triple(&self, field: &str, t: Triple) -> Result<Vec3> {
@@ -556,7 +556,7 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
         if dt > d * (1.0 + 1e-12) {
             return Err(ck.err(
                 "run.dt",
-                format!("{dt} s is longer than run.duration = {d} s: one step would end the run at {dt} s, after its duration; give a step ≤ the duration"),
+                format!("{} s is longer than run.duration = {} s: one step would end the run at {} s, after its duration; give a step ≤ the duration", num(dt), num(d), num(dt)),
             ));
         }
         if d / dt > MAX_STEPS as f64 {

@@ -367,13 +367,16 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
         return Err(Error::option(
             "--tolerance",
-            format!("must be a finite number > 0, got {}", cfg.tolerance),
+            format!(
+                "must be a finite number > 0, got {}",
+                crate::error::num(cfg.tolerance)
+            ),
         ));
     }
     if cfg.safety.is_nan() || cfg.safety < 1.0 {
         return Err(Error::option(
             "--safety",
-            format!("must be ≥ 1, got {}", cfg.safety),
+            format!("must be ≥ 1, got {}", crate::error::num(cfg.safety)),
         ));
     }
     check_timing(&cfg.timing)?;

@@ -240,13 +240,19 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
     if let Some(f) = cfg.rates.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
         return Err(Error::option(
             "--hz",
-            format!("every frame rate must be a finite number > 0 Hz, got {f}"),
+            format!(
+                "every frame rate must be a finite number > 0 Hz, got {}",
+                crate::error::num(*f)
+            ),
         ));
     }
     if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
         return Err(Error::option(
             "--tolerance",
-            format!("must be a finite number > 0 m, got {}", cfg.tolerance),
+            format!(
+                "must be a finite number > 0 m, got {}",
+                crate::error::num(cfg.tolerance)
+            ),
         ));
     }
     if cfg.max_substeps == 0 {
@@ -255,7 +261,7 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
     if let Some(c) = cfg.cost_cap.filter(|c| !(c.is_finite() && *c > 0.0)) {
         return Err(Error::option(
             "--cost-cap",
-            format!("must be a finite number > 0, got {c}"),
+            format!("must be a finite number > 0, got {}", crate::error::num(c)),
         ));
     }
     Ok(())
