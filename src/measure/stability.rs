@@ -533,7 +533,16 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
             ));
         }
         if ms.omega_max > 0.0 {
-            crate::scenario::Timing::steps_within(flag, 1.0 / ms.omega_max, h)?;
+            let step = 1.0 / ms.omega_max;
+            crate::scenario::Timing::steps_within(flag, step, h).map_err(|e| {
+                crate::error::Error::option(
+                    flag,
+                    format!(
+                        "at the step that resolves the fastest mode (hω_max = 1), {}",
+                        e.to_string().trim_start_matches("--horizon: ")
+                    ),
+                )
+            })?;
         } else if let Some(dt) = scene.run.dt {
             crate::scenario::Timing::steps_within(flag, dt, h)?;
         }
