@@ -83,6 +83,28 @@ pub enum Error {
     Step(String),
 }
 
+/// A number as messages print it: as typed when that is short (`0.01`, `250`, `1e-320`), else
+/// in scientific form with five significant digits at most (`1.6667e-2`, `1e300`), so that no
+/// message holds a number hundreds of digits long.
+pub fn num(x: f64) -> String {
+    const SHORT: usize = 12;
+    let plain = format!("{x}");
+    if plain.len() <= SHORT {
+        return plain;
+    }
+    let exact = format!("{x:e}");
+    if exact.len() <= SHORT {
+        return exact;
+    }
+    let rounded = format!("{x:.4e}");
+    match rounded.split_once('e') {
+        Some((m, e)) if m.contains('.') => {
+            format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+        }
+        _ => rounded,
+    }
+}
+
 /// Shorthand for results carrying [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 

@@ -18,25 +18,25 @@ pub struct Args {
     #[arg(long)]
     pub no_frame_rates: bool,
     /// Error bound over the horizon (m for position, relative for energy).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub tolerance: f64,
     /// Which error: position or energy.
     #[arg(long, default_value = "position")]
     pub metric: AdviseMetric,
     /// Horizon (s; default the scene's duration).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub horizon: Option<f64>,
     /// Predictions aim at tolerance / safety.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub safety: f64,
     /// Smallest step tried (s).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub dt_min: Option<f64>,
     /// Largest step tried (s).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub dt_max: Option<f64>,
     /// Steps tried per integrator.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub points: usize,
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
@@ -44,6 +44,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    a.m.check_out()?;
     let scene = load(&a.scenario)?;
     let cfg = AdviseConfig {
         tolerance: a.tolerance,

@@ -16,16 +16,21 @@ use std::time::Instant;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Interleaved rounds per ratio (the minimum per contender is kept).
-    #[arg(long, default_value_t = 11)]
+    #[arg(long, default_value_t = 11, allow_negative_numbers = true)]
     pub rounds: usize,
     /// Cloth size n for the hand-loop and Rapier ratios.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
     pub size: usize,
     /// Cloth size n for the 1→2 thread speedup.
-    #[arg(long, default_value_t = 316)]
+    #[arg(long, default_value_t = 316, allow_negative_numbers = true)]
     pub thread_size: usize,
     /// Cloth sizes for the implicit methods at dt = 1/60, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "32,100,316")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "32,100,316",
+        allow_negative_numbers = true
+    )]
     pub implicit_sizes: Vec<usize>,
     /// Implicit methods timed at each size, comma-separated.
     #[arg(
@@ -40,11 +45,11 @@ pub struct Args {
     pub implicit_solver: String,
     /// Steps per implicit method and size, from rest (180 = the 3 s at 1/60 issue 14 asks
     /// the 316×316 cloth to run without a Newton failure).
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub implicit_steps: usize,
     /// Newton iterations a step may take before it fails (`ImplicitSettings::max_newton`;
     /// default: the implicit methods' own, 50).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub implicit_max_newton: Option<usize>,
     /// Leave out the Rapier ratio.
     #[arg(long)]
@@ -81,6 +86,7 @@ impl Row {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    super::common::check_out(&a.out)?;
     let ok = |n: usize| (2..=1000).contains(&n);
     if !ok(a.size) || !ok(a.thread_size) || a.implicit_sizes.iter().any(|&n| !ok(n)) {
         bail!(

@@ -12,13 +12,18 @@ use std::path::PathBuf;
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Cloth sizes n (an n×n cloth each), comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "8,16,32,64,128")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "8,16,32,64,128",
+        allow_negative_numbers = true
+    )]
     pub sizes: Vec<usize>,
     /// Output directory.
     #[arg(long, default_value = "out/bench-scaling")]
     pub out: PathBuf,
     /// Repetitions per point (the minimum is reported).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true)]
     pub reps: usize,
 }
 
@@ -35,6 +40,7 @@ struct Row {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    super::common::check_out(&a.out)?;
     if a.sizes.is_empty() || a.sizes.iter().any(|&n| !(2..=1000).contains(&n)) {
         bail!(
             "--sizes: each size must be between 2 and 1000, got {:?}",

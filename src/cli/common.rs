@@ -1,10 +1,11 @@
 //! Flags shared by several subcommands and their validation into library values.
 
 use anyhow::{bail, Result};
+use springlab::error::num;
 use springlab::integrate::IntegratorOptions;
 use springlab::run::RunPlan;
-use springlab::scenario::{Scenario, Timing};
-use std::path::PathBuf;
+use springlab::scenario::{Scenario, Timing, MAX_STEPS};
+use std::path::{Path, PathBuf};
 
 /// A step in seconds as typed: a number (`0.01`, `1e-3`) or a fraction (`1/60`).
 pub fn parse_seconds(s: &str) -> std::result::Result<f64, String> {
@@ -35,7 +36,7 @@ pub struct StepArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub hz: Option<f64>,
     /// Number of steps (overrides [run].steps / duration).
-    #[arg(long, conflicts_with = "duration")]
+    #[arg(long, conflicts_with = "duration", allow_negative_numbers = true)]
     pub steps: Option<u64>,
     /// Simulated time in seconds (overrides [run].steps / duration).
     #[arg(long, allow_negative_numbers = true)]
@@ -43,12 +44,12 @@ pub struct StepArgs {
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
     /// Constraint projection sweeps per step for verlet_constraints.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub iterations: usize,
     /// Substeps per frame: native methods take N equal steps of dt/N per frame (bit for bit
     /// the run at dt/N, every N-th state written), Rapier backends N solver substeps.
     /// Default: 1 for native methods, Rapier's own 4 for Rapier backends.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub substeps: Option<u64>,
     #[command(flatten)]
     pub xpbd: super::xpbd_args::XpbdArgs,
@@ -59,7 +60,7 @@ impl StepArgs {
     pub fn plan(&self, scene: &Scenario) -> Result<RunPlan> {
         let hz_dt = match self.hz {
             Some(f) if !(f.is_finite() && f > 0.0) => {
-                bail!("--hz: must be a finite frame rate > 0, got {f}")
+                bail!("--hz: must be a finite frame rate > 0, got {}", num(f))
             }
             Some(f) => Some(1.0 / f),
             None => None,
@@ -73,11 +74,11 @@ impl StepArgs {
             ),
         };
         if !(dt.is_finite() && dt > 0.0) {
-            bail!("{flag}: must give a finite step > 0, got {dt} s");
+            bail!("{flag}: must give a finite step > 0, got {} s", num(dt));
         }
         if let Some(d) = self.duration {
             if !(d.is_finite() && d > 0.0) {
-                bail!("--duration: must be a finite number > 0, got {d}");
+                bail!("--duration: must be a finite number > 0, got {}", num(d));
             }
         }
         if self.steps == Some(0) {
@@ -91,24 +92,26 @@ impl StepArgs {
             bail!("--substeps: must be at least 1");
         }
         self.xpbd.values()?;
-        let dt_flag = self.dt.is_some() || self.hz.is_some();
+        let dt_flag = (self.dt.is_some() || self.hz.is_some()).then_some(flag);
         let mut plan = if let Some(n) = self.steps {
+            if n > MAX_STEPS {
+                bail!("--steps: {n} is above the limit of {MAX_STEPS}");
+            }
             RunPlan::new(dt, n)
         } else if let Some(d) = self.duration.or(scene.run.duration) {
             Timing::step_fits(scene, dt, dt_flag, d)?;
-            RunPlan::for_duration(dt, d)
+            // Too many steps: blame the flag that was given (the step's when both were).
+            let length_flag = match (dt_flag, self.duration) {
+                (Some(f), _) => f,
+                (None, Some(_)) => "--duration",
+                (None, None) => "run.duration",
+            };
+            RunPlan::new(dt, Timing::steps_within(length_flag, dt, d)?)
         } else if let Some(n) = scene.run.steps {
             RunPlan::new(dt, n)
         } else {
             bail!("{}: no run length: give --steps or --duration, or set [run].steps or [run].duration", scene.source.display());
         };
-        if plan.steps > springlab::scenario::MAX_STEPS {
-            bail!(
-                "run length: {} steps exceeds the limit of {}",
-                plan.steps,
-                springlab::scenario::MAX_STEPS
-            );
-        }
         Timing::check_impulses(scene, plan.duration())?;
         Timing::check_frame_impulses(scene, plan.dt, plan.duration())?;
         plan.blowup_factor = blowup_factor;
@@ -127,6 +130,24 @@ impl StepArgs {
             xpbd_iterations: self.xpbd.xpbd_iterations,
         }
     }
+}
+
+/// Refuses an output folder that cannot be one, before any work: `--out` (or a folder above
+/// it) exists and is a file. A folder that does not exist yet is fine (it is created).
+pub fn check_out(out: &Path) -> Result<()> {
+    for p in out.ancestors().filter(|p| !p.as_os_str().is_empty()) {
+        match std::fs::metadata(p) {
+            Ok(m) if m.is_dir() => return Ok(()),
+            Ok(_) if p == out => bail!("--out: {} is a file, not a folder", out.display()),
+            Ok(_) => bail!(
+                "--out: {}: {} is a file, not a folder",
+                out.display(),
+                p.display()
+            ),
+            Err(_) => {}
+        }
+    }
+    Ok(())
 }
 
 /// Loads a scenario, adding nothing to the library's error (it already names the file).

@@ -14,15 +14,15 @@ pub struct Args {
     #[command(flatten)]
     pub m: MeasureArgs,
     /// Step (s, a number or a fraction such as 1/60; default the scene's).
-    #[arg(long, value_parser = super::common::parse_seconds)]
+    #[arg(long, value_parser = super::common::parse_seconds, allow_negative_numbers = true)]
     pub dt: Option<f64>,
     /// Simulated time (s; default the scene's).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
     /// Points per time series in summary.json (0: none).
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, allow_negative_numbers = true)]
     pub series_points: u64,
     /// Also record the paths of the most-travelled particles and snapshots of chains and
     /// cloths (what the report draws).
@@ -32,6 +32,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    a.m.check_out()?;
     let scene = load(&a.scenario)?;
     let cfg = CompareConfig {
         integrators: a.m.integrators.clone(),

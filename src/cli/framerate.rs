@@ -33,13 +33,13 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Largest number of substeps per frame tried.
-    #[arg(long, default_value_t = DEFAULT_MAX_SUBSTEPS)]
+    #[arg(long, default_value_t = DEFAULT_MAX_SUBSTEPS, allow_negative_numbers = true)]
     pub max_substeps: u64,
     /// Largest run tried, in particle-steps (particles × frames × substeps); default no cap.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
     /// Constraint projection sweeps per step for verlet_constraints.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub iterations: usize,
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
@@ -50,12 +50,18 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    if let Some(out) = &a.out {
+        super::common::check_out(out)?;
+    }
     let scene = load(&a.scenario)?;
     if a.iterations == 0 {
         anyhow::bail!("--iterations: must be at least 1");
     }
     if let Some(d) = a.duration.filter(|d| !(d.is_finite() && *d > 0.0)) {
-        anyhow::bail!("--duration: must be a finite number > 0, got {d}");
+        anyhow::bail!(
+            "--duration: must be a finite number > 0, got {}",
+            springlab::error::num(d)
+        );
     }
     let cfg = FramerateConfig {
         rates: a.hz.clone(),

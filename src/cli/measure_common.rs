@@ -31,13 +31,13 @@ pub struct MeasureArgs {
     #[arg(long, value_delimiter = ',')]
     pub integrators: Vec<String>,
     /// Constraint projection sweeps per step for verlet_constraints.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub iterations: usize,
     /// Substeps per step. Rapier backends take this many solver substeps (default 4). In
     /// `compare` the step is a frame and every native method also splits it into this many
     /// equal steps (default 1; bit-identical to dt/N, every N-th state measured); `sweep`,
     /// `stability` and `advise` vary the step itself, so there it sets Rapier's only.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub substeps: Option<usize>,
     #[command(flatten)]
     pub xpbd: super::xpbd_args::XpbdArgs,
@@ -68,6 +68,10 @@ impl MeasureArgs {
     /// Substeps per frame for every backend, when `--substeps` was given (`compare`).
     pub fn frame_substeps(&self) -> Option<u64> {
         self.substeps.map(|n| n as u64)
+    }
+    /// Refuses `--out` when it is a file (before any work).
+    pub fn check_out(&self) -> Result<()> {
+        self.out.as_deref().map_or(Ok(()), super::common::check_out)
     }
     /// The output directory for `command` on `scenario`.
     pub fn out_dir(&self, scenario: &str, command: &str) -> PathBuf {

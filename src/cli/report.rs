@@ -36,6 +36,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    super::common::check_out(&a.out)?;
     let generator = format!("springlab {} report", env!("CARGO_PKG_VERSION"));
     if a.merge {
         let sum = springlab::report::shard::merge_shards(&a.out, &generator, a.quick)?;

@@ -16,7 +16,7 @@ pub struct Args {
     #[command(flatten)]
     pub step: StepArgs,
     /// Write every k-th step to trajectory.csv and energy.csv (the last step always).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub every: u64,
     /// Output directory (default: out/<scenario>/<integrator>/).
     #[arg(long)]
@@ -29,6 +29,9 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    if let Some(out) = &a.out {
+        super::common::check_out(out)?;
+    }
     let scene = load(&a.scenario)?;
     let mut plan = a.step.plan(&scene)?;
     plan.stop_at_verdict = a.stop_at_verdict;

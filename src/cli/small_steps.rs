@@ -18,7 +18,7 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Budgets n (sweeps per frame), comma-separated (default 1,2,4,8,16,32,64).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub budgets: Vec<usize>,
     /// Output directory (default: out/small_steps/).
     #[arg(long)]
@@ -27,6 +27,9 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    if let Some(out) = &a.out {
+        super::common::check_out(out)?;
+    }
     let paths = if a.scenarios.is_empty() {
         vec![
             PathBuf::from("scenarios/stiff_chain.toml"),
@@ -47,7 +50,10 @@ pub fn run(a: Args) -> Result<()> {
     };
     if let Some(d) = cfg.duration {
         if !(d.is_finite() && d > 0.0) {
-            anyhow::bail!("--duration: must be a finite number > 0, got {d}");
+            anyhow::bail!(
+                "--duration: must be a finite number > 0, got {}",
+                springlab::error::num(d)
+            );
         }
     }
     let out = a.out.unwrap_or_else(|| PathBuf::from("out/small_steps"));

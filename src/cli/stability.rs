@@ -3,6 +3,7 @@
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::{bail, Result};
+use springlab::error::num;
 use springlab::measure::stability::{
     analyse, stability_map, write_stability, MapConfig, StabilityConfig, MAP_HEADER,
 };
@@ -17,7 +18,7 @@ pub struct Args {
     #[command(flatten)]
     pub m: MeasureArgs,
     /// Horizon of each empirical trial run (s; default 100 periods of the highest mode).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub horizon: Option<f64>,
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
@@ -32,39 +33,46 @@ pub struct Args {
     #[arg(long)]
     pub map: bool,
     /// Damping multipliers for the map, comma-separated (default 1).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub damping_scales: Vec<f64>,
     /// Stiffness multipliers for the map, comma-separated (default 1/16 … 16, 9 points).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub stiffness_scales: Vec<f64>,
     /// Absolute steps (s) for the map, comma-separated (default: 16 steps with hω from 0.02
     /// to 20 on the unscaled scene).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub dts: Vec<f64>,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    a.m.check_out()?;
     let scene = load(&a.scenario)?;
     if let Some(h) = a.horizon {
         if !(h.is_finite() && h > 0.0) {
-            bail!("--horizon: must be a finite number > 0, got {h}");
+            bail!("--horizon: must be a finite number > 0, got {}", num(h));
         }
     }
     let blowup_factor = a.blowup.value()?;
     for v in &a.stiffness_scales {
         if !(v.is_finite() && *v > 0.0) {
-            bail!("--stiffness-scales: values must be finite and > 0, got {v}");
+            bail!(
+                "--stiffness-scales: values must be finite and > 0, got {}",
+                num(*v)
+            );
         }
     }
     for v in &a.dts {
         if !(v.is_finite() && *v > 0.0) {
-            bail!("--dts: steps must be finite and > 0 s, got {v}");
+            bail!("--dts: steps must be finite and > 0 s, got {}", num(*v));
         }
     }
     for v in &a.damping_scales {
         if !(v.is_finite() && *v >= 0.0) {
-            bail!("--damping-scales: values must be finite and ≥ 0, got {v}");
+            bail!(
+                "--damping-scales: values must be finite and ≥ 0, got {}",
+                num(*v)
+            );
         }
     }
     let cfg = StabilityConfig {

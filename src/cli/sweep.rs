@@ -17,14 +17,14 @@ pub struct Args {
     /// Smallest step of the base grid (s). Default: the step at which the fastest linearised
     /// mode has hω_max = 0.05. Giving it fixes the small end: no refinement below it unless
     /// --extend.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub dt_min: Option<f64>,
     /// Largest step (s). Default: 1.25 × the widest theoretical stability limit of the swept
     /// methods (hω_max = 3 when none has one), at most a quarter of the duration.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub dt_max: Option<f64>,
     /// Number of log-spaced steps in [dt-min, dt-max]. Default: halving-spaced.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub points: Option<usize>,
     /// Refine each method by halving below the base grid until its error is asymptotic (the
     /// local slopes at the finest steps steady), at the reference floor or at the cost cap.
@@ -36,10 +36,10 @@ pub struct Args {
     pub no_extend: bool,
     /// Cost cap per method: steps × particles summed over its runs (default 4e6). It counts
     /// steps, not time: a costly backend (rapier_multibody on a large cloth) can still be slow.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
     /// Simulated time (s; default the scene's duration).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Run only slice I of N (0 ≤ I < N); join the slices with `springlab merge`.
     #[arg(long)]
@@ -50,6 +50,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    a.m.check_out()?;
     let scene = load(&a.scenario)?;
     let cfg = SweepConfig {
         integrators: a.m.integrators.clone(),

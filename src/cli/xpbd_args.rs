@@ -7,10 +7,10 @@ use anyhow::{bail, Result};
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct XpbdArgs {
     /// Substeps per step for xpbd (one step of h is n XPBD substeps of h/n).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub xpbd_substeps: usize,
     /// Constraint sweeps per substep for xpbd.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub xpbd_iterations: usize,
 }
 

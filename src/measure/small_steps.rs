@@ -292,7 +292,10 @@ pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<Sce
     if !(cfg.frame_dt.is_finite() && cfg.frame_dt > 0.0) {
         return Err(Error::option(
             "--dt",
-            format!("must be a finite number > 0, got {}", cfg.frame_dt),
+            format!(
+                "must be a finite number > 0, got {}",
+                crate::error::num(cfg.frame_dt)
+            ),
         ));
     }
     if cfg.budgets.is_empty() || cfg.budgets.contains(&0) {
@@ -302,7 +305,12 @@ pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<Sce
         ));
     }
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
-    let frames = ((duration / cfg.frame_dt).round() as u64).max(1);
+    let flag = if cfg.duration.is_some() {
+        "--duration"
+    } else {
+        "--dt"
+    };
+    let frames = crate::scenario::Timing::steps_within(flag, cfg.frame_dt, duration)?;
     let sys = scene.build();
     let s0 = scene.initial_state();
     let grid = TimeGrid::new(cfg.frame_dt, frames, frames);

@@ -522,6 +522,31 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         // Nothing oscillates: the scene's own duration (an error when it has none).
         None => crate::scenario::Timing::duration(scene, None)?,
     };
+    // A horizon the trial runs cannot cover at a step that resolves the fastest mode
+    // (hω_max = 1) is refused like any run past the step limit.
+    if let Some(h) = cfg.horizon {
+        let flag = "--horizon";
+        if !(h.is_finite() && h > 0.0) {
+            return Err(crate::error::Error::option(
+                flag,
+                format!("must be a finite number > 0, got {}", crate::error::num(h)),
+            ));
+        }
+        if ms.omega_max > 0.0 {
+            let step = 1.0 / ms.omega_max;
+            crate::scenario::Timing::steps_within(flag, step, h).map_err(|e| {
+                crate::error::Error::option(
+                    flag,
+                    format!(
+                        "at the step that resolves the fastest mode (hω_max = 1), {}",
+                        e.to_string().trim_start_matches("--horizon: ")
+                    ),
+                )
+            })?;
+        } else if let Some(dt) = scene.run.dt {
+            crate::scenario::Timing::steps_within(flag, dt, h)?;
+        }
+    }
     let crit = EmpiricalCriterion {
         horizon,
         blowup_factor: cfg.blowup_factor,

@@ -40,7 +40,7 @@ impl Ck<'_> {
             if !c.is_finite() {
                 return Err(self.err(
                     format!("{field}[{k}]"),
-                    format!("must be a finite number, got {c}"),
+                    format!("must be a finite number, got {}", crate::error::num(*c)),
                 ));
             }
         }
@@ -50,21 +50,30 @@ impl Ck<'_> {
         if x.is_finite() && x > 0.0 {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be a finite number > 0, got {x}")))
+            Err(self.err(
+                field,
+                format!("must be a finite number > 0, got {}", crate::error::num(x)),
+            ))
         }
     }
     fn non_negative(&self, field: &str, x: f64) -> Result<f64> {
         if x.is_finite() && x >= 0.0 {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be a finite number >= 0, got {x}")))
+            Err(self.err(
+                field,
+                format!("must be a finite number >= 0, got {}", crate::error::num(x)),
+            ))
         }
     }
     fn unit(&self, field: &str, x: f64) -> Result<f64> {
         if x.is_finite() && (0.0..=1.0).contains(&x) {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be between 0 and 1, got {x}")))
+            Err(self.err(
+                field,
+                format!("must be between 0 and 1, got {}", crate::error::num(x)),
+            ))
         }
     }
 }

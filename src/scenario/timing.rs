@@ -7,7 +7,7 @@
 //! end, [`Timing::check_impulses`]).
 
 use super::Scenario;
-use crate::error::{Error, Result};
+use crate::error::{num, Error, Result};
 
 /// A resolved step and length of run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,7 +26,7 @@ fn positive(flag: &str, v: f64) -> Result<f64> {
     } else {
         Err(Error::option(
             flag,
-            format!("must be a finite number > 0, got {v}"),
+            format!("must be a finite number > 0, got {}", num(v)),
         ))
     }
 }
@@ -75,20 +75,17 @@ impl Timing {
     /// Step and duration with their overrides, and the whole number of steps between them.
     /// A step longer than the duration, or an impulse at or after the run's end, is an error.
     pub fn resolve(scene: &Scenario, dt: Option<f64>, duration: Option<f64>) -> Result<Self> {
-        let dt_flag = dt.is_some();
+        let dt_flag = dt.is_some().then_some("--dt");
+        // The flag to blame for too many steps: the one given, the step's when both are.
+        let length_flag = match (dt_flag, duration.is_some()) {
+            (None, true) => "--duration",
+            (None, false) => "run.duration",
+            (Some(f), _) => f,
+        };
         let dt = Self::step(scene, dt)?;
         let duration = Self::duration(scene, duration)?;
         Self::step_fits(scene, dt, dt_flag, duration)?;
-        let steps = ((duration / dt).round() as u64).max(1);
-        if steps > super::MAX_STEPS {
-            return Err(Error::option(
-                "--dt",
-                format!(
-                    "{dt} s over {duration} s is {steps} steps, above the limit of {}",
-                    super::MAX_STEPS
-                ),
-            ));
-        }
+        let steps = Self::steps_within(length_flag, dt, duration)?;
         Self::check_impulses(scene, dt * steps as f64)?;
         Self::check_frame_impulses(scene, dt, dt * steps as f64)?;
         Ok(Timing {
@@ -98,19 +95,47 @@ impl Timing {
         })
     }
 
+    /// The whole number of steps of `dt` s covering `duration` s (at least 1, rounded to the
+    /// nearest), or an error naming `flag` when it is above [`super::MAX_STEPS`]; the error
+    /// gives the real count even when it does not fit in an integer (or in an f64).
+    pub fn steps_within(flag: &str, dt: f64, duration: f64) -> Result<u64> {
+        let n = (duration / dt).round();
+        if n <= super::MAX_STEPS as f64 {
+            return Ok((n as u64).max(1));
+        }
+        let count = if n.is_finite() {
+            num(n)
+        } else {
+            // Past f64's range (a subnormal step): the count from the logarithms.
+            let l = duration.log10() - dt.log10();
+            let (exp, mant) = (l.floor(), 10f64.powf(l - l.floor()));
+            format!("{}e{exp}", num((mant * 1e3).round() / 1e3))
+        };
+        Err(Error::option(
+            flag,
+            format!(
+                "{} s over {} s is {count} steps, above the limit of {}",
+                num(dt),
+                num(duration),
+                num(super::MAX_STEPS as f64)
+            ),
+        ))
+    }
+
     /// Refuses a step `dt` longer than the `duration` it must cover: the run would end after
-    /// its duration. `dt_flag`: the step came from `--dt` (else from `[run].dt`).
-    pub fn step_fits(scene: &Scenario, dt: f64, dt_flag: bool, duration: f64) -> Result<()> {
+    /// its duration. `flag`: the option that gave the step (`--dt`, `--hz`), `None` when it
+    /// came from `[run].dt`.
+    pub fn step_fits(scene: &Scenario, dt: f64, flag: Option<&str>, duration: f64) -> Result<()> {
         if dt <= duration * (1.0 + 1e-12) {
             return Ok(());
         }
+        let (dt, duration) = (num(dt), num(duration));
         let msg = format!(
             "{dt} s is longer than the duration {duration} s: one step would end the run at {dt} s, after its duration; give a step ≤ the duration"
         );
-        Err(if dt_flag {
-            Error::option("--dt", msg)
-        } else {
-            Error::invalid(&scene.source, "run.dt", msg)
+        Err(match flag {
+            Some(f) => Error::option(f, msg),
+            None => Error::invalid(&scene.source, "run.dt", msg),
         })
     }
 

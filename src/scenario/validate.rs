@@ -4,13 +4,15 @@
 use super::file::{ScenarioFile, SpringLaw, Triple};
 use super::generate;
 use super::{Particle, RunSettings, Scenario, SpringDef};
-use crate::error::{Error, Result};
+use crate::error::{num, Error, Result};
 use crate::model::{DistanceConstraint, Impulse, Vec3};
 use std::collections::HashSet;
 use std::path::Path;
 
 /// Most particles one scene may hold (a 3162×3162 cloth).
 pub const MAX_PARTICLES: usize = 10_000_000;
+/// Longest scene name in bytes: it becomes a directory name, which holds at most 255.
+pub const MAX_NAME_BYTES: usize = 255;
 /// Most steps one run may take.
 pub const MAX_STEPS: u64 = 10_000_000_000;
 
@@ -26,7 +28,7 @@ impl Checker<'_> {
         if x.is_finite() {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be a finite number, got {x}")))
+            Err(self.err(field, format!("must be a finite number, got {}", num(x))))
         }
     }
     fn positive(&self, field: &str, x: f64) -> Result<f64> {
@@ -34,7 +36,7 @@ impl Checker<'_> {
         if x > 0.0 {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be > 0, got {x}")))
+            Err(self.err(field, format!("must be > 0, got {}", num(x))))
         }
     }
     fn non_negative(&self, field: &str, x: f64) -> Result<f64> {
@@ -42,7 +44,7 @@ impl Checker<'_> {
         if x >= 0.0 {
             Ok(x)
         } else {
-            Err(self.err(field, format!("must be >= 0, got {x}")))
+            Err(self.err(field, format!("must be >= 0, got {}", num(x))))
         }
     }
     fn triple(&self, field: &str, t: Triple) -> Result<Vec3> {
@@ -318,7 +320,22 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
             format!("'{name}' cannot be used as a directory name"),
         ));
     }
-    Ok(Scenario {
+    if name.contains('\0') {
+        return Err(ck.err(
+            "name",
+            format!("{name:?} holds a NUL byte, which cannot be in a directory name"),
+        ));
+    }
+    if name.len() > MAX_NAME_BYTES {
+        return Err(ck.err(
+            "name",
+            format!(
+                "is {} bytes long; a directory name holds at most {MAX_NAME_BYTES}",
+                name.len()
+            ),
+        ));
+    }
+    let mut scene = Scenario {
         name,
         description: raw.description.clone().unwrap_or_default(),
         source: file.to_path_buf(),
@@ -332,7 +349,172 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
         blocks,
         collision,
         raw,
-    })
+    };
+    // Checked without the obstacles: their shapes are built by the commands that run the
+    // scene, and their own values were checked above.
+    let collision = scene.collision.take();
+    check_finite(&ck, &scene)?;
+    scene.collision = collision;
+    Ok(scene)
+}
+
+/// The field a particle comes from: `particle[k]`, or the `chain[k]`/`cloth[k]` that made it.
+fn particle_field(scene: &Scenario, p: usize) -> String {
+    if p < scene.raw.particle.len() {
+        return format!("particle[{p}]");
+    }
+    let mut seen = std::collections::HashMap::new();
+    for b in &scene.blocks {
+        let k = seen.entry(b.kind).or_insert(0usize);
+        if (b.first..b.first + b.shape[0] * b.shape[1]).contains(&p) {
+            return format!("{}[{k}]", b.kind);
+        }
+        *k += 1;
+    }
+    format!("particle[{p}]")
+}
+
+/// The field a spring of the scene comes from: `spring[k]`, or the block that made it.
+fn spring_field(scene: &Scenario, s: usize) -> String {
+    if s < scene.raw.spring.len() {
+        format!("spring[{s}]")
+    } else {
+        particle_field(scene, scene.springs[s].i)
+    }
+}
+
+/// Refuses a scene whose initial state f64 cannot hold: a position whose squared distance
+/// from the origin overflows (every distance and energy would be infinite or NaN), an
+/// infinite kinetic, gravitational or elastic energy, an infinite force, or a spring whose
+/// two ends coincide while its rest length is not zero (it has no direction to act along).
+/// The error names the field that holds the value at fault. `scene` comes without its
+/// obstacles (contact forces are not part of the check).
+fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
+    use crate::error::num;
+    let v3 = |v: &Vec3| format!("({}, {}, {})", num(v.x), num(v.y), num(v.z));
+    let at = |p: usize, what: &str| {
+        let f = particle_field(scene, p);
+        if p < scene.raw.particle.len() {
+            (format!("{f}.{what}"), String::new())
+        } else {
+            (f, format!("its particle {p}: "))
+        }
+    };
+    for (p, q) in scene.particles.iter().enumerate() {
+        if !q.position.norm_squared().is_finite() {
+            let (f, who) = at(p, "position");
+            return Err(ck.err(f, format!("{who}the position {} m is too far from the origin for f64: its squared length overflows, so distances and energies would be infinite or NaN (keep every coordinate below 1e154 m)", v3(&q.position))));
+        }
+        if !q.fixed && !(q.mass * q.velocity.norm_squared()).is_finite() {
+            let (f, who) = at(p, "velocity");
+            return Err(ck.err(
+                f,
+                format!(
+                    "{who}the kinetic energy of {} kg at {} m/s is not finite in f64",
+                    num(q.mass),
+                    v3(&q.velocity)
+                ),
+            ));
+        }
+    }
+    for (k, s) in scene
+        .springs
+        .iter()
+        .enumerate()
+        .take(scene.raw.spring.len())
+    {
+        let (a, b) = (scene.particles[s.i].position, scene.particles[s.j].position);
+        let l0 = scene.rest_length(s);
+        if a == b && l0 > 0.0 {
+            return Err(ck.err(
+                format!("spring[{k}].between"),
+                format!("its two ends, particles {} and {}, coincide at {} m while its rest length is {} m: the spring has no direction to push along", s.i, s.j, v3(&a), num(l0)),
+            ));
+        }
+    }
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let spring_at_fault = || {
+        let sp = &sys.springs;
+        (0..sp.len()).find(|&s| {
+            let l = (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
+            let stretch = l - sp.l0[s];
+            !(0.5 * sp.k[s] * stretch * stretch).is_finite()
+        })
+    };
+    let spring_err = |s: usize, what: &str| {
+        let sp = &sys.springs;
+        let l = (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
+        let field = format!("{}.stiffness", spring_field(scene, s));
+        ck.err(field, format!("the {what} of spring {s} (particles {} and {}), stiffness {} N/m at length {} m and rest length {} m, is not finite in f64", sp.i[s], sp.j[s], num(sp.k[s]), num(l), num(sp.l0[s])))
+    };
+    let e = sys.energy(&s0.x, &s0.v);
+    if !e.gravity.is_finite() {
+        return Err(ck.err(
+            "world.gravity",
+            format!(
+                "the initial gravitational energy Σ m g·x of the scene is {} J, not finite in f64",
+                num(e.gravity)
+            ),
+        ));
+    }
+    if !e.elastic.is_finite() {
+        if let Some(s) = spring_at_fault() {
+            return Err(spring_err(s, "energy ½k(l - l0)²"));
+        }
+        if let Some(k) = sys
+            .constraints
+            .iter()
+            .position(|c| !c.energy(&s0.x).is_finite())
+        {
+            return Err(ck.err(
+                format!("constraint[{k}].compliance"),
+                "the initial elastic energy ½·stretch²/compliance is not finite in f64",
+            ));
+        }
+        return Err(ck.err(
+            "(scene)",
+            format!(
+                "the initial elastic energy of the scene is {} J, not finite in f64",
+                num(e.elastic)
+            ),
+        ));
+    }
+    let mut f = vec![Vec3::zeros(); sys.len()];
+    sys.forces(&s0.x, &s0.v, &mut f);
+    if let Some(p) = f
+        .iter()
+        .position(|fi| !(fi.x.is_finite() && fi.y.is_finite() && fi.z.is_finite()))
+    {
+        // The elastic energy was finite, so a spring at fault is one whose force overflows.
+        let sp = &sys.springs;
+        if let Some(s) = (0..sp.len()).find(|&s| {
+            let l = (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
+            !(sp.k[s] * (l - sp.l0[s])).is_finite()
+        }) {
+            return Err(spring_err(s, "force k(l - l0)"));
+        }
+        let q = &scene.particles[p];
+        if let Some(g) = scene.gravity.filter(|g| !(q.mass * g.norm()).is_finite()) {
+            return Err(ck.err(
+                "world.gravity",
+                format!(
+                    "the weight m g of {} kg under {} m/s² is not finite in f64",
+                    num(q.mass),
+                    v3(&g)
+                ),
+            ));
+        }
+        let (field, who) = at(p, "position");
+        return Err(ck.err(
+            field,
+            format!(
+                "{who}the initial force on particle {p} is {} N, not finite in f64",
+                v3(&f[p])
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
@@ -377,7 +559,7 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
         if dt > d * (1.0 + 1e-12) {
             return Err(ck.err(
                 "run.dt",
-                format!("{dt} s is longer than run.duration = {d} s: one step would end the run at {dt} s, after its duration; give a step ≤ the duration"),
+                format!("{} s is longer than run.duration = {} s: one step would end the run at {} s, after its duration; give a step ≤ the duration", num(dt), num(d), num(dt)),
             ));
         }
         if d / dt > MAX_STEPS as f64 {

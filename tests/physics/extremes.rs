@@ -258,24 +258,33 @@ fn zero_rest_length_is_an_isotropic_linear_spring() {
 #[test]
 fn coincident_particles_use_the_documented_fallback() {
     // Two particles at the same point joined by a spring of rest length 1: the direction is
-    // undefined, the fallback force k·d is zero there. At rest they stay put (an equilibrium of
-    // the fallback); moving apart, the spring pushes them to its rest length.
+    // undefined. A file that starts them so is refused (naming the spring); a run can still
+    // bring them together, where the fallback force k·d is zero. At rest there they stay put
+    // (an equilibrium of the fallback); moving apart, the spring pushes them to its rest length.
     let base = "\
         [[particle]]\nposition=[0.0,0.0,0.0]\nmass=1.0\n\
         [[particle]]\nposition=[0.0,0.0,0.0]\nmass=1.0\nVEL\n\
         [[spring]]\nbetween=[0,1]\nstiffness=10.0\nrest_length=1.0\ndamping=0.5\n";
-    let runs = run_all(&scene(&base.replace("VEL", "")), 1e-3, 100);
+    let refused = Scenario::from_toml_str(&base.replace("VEL", ""), "extreme.toml").unwrap_err();
+    assert!(refused.to_string().contains("spring[0]"), "{refused}");
+    // The same pair as a run reaches it: placed apart in the file, then brought together.
+    let coincident = |vel: &str| {
+        let mut s = scene(
+            &base
+                .replacen("position=[0.0,0.0,0.0]", "position=[0.0,0.0,1.0]", 1)
+                .replace("VEL", vel),
+        );
+        s.particles[0].position = Vec3::zeros();
+        s
+    };
+    let runs = run_all(&coincident(""), 1e-3, 100);
     print("coincident at rest", &runs);
     let runs = native(&runs);
     for (name, o) in &runs {
         assert!(o.status.is_ok(), "{name}");
         assert_eq!(o.final_state.x[1], Vec3::zeros(), "{name}");
     }
-    let runs = run_all(
-        &scene(&base.replace("VEL", "velocity=[0.0,1e-3,0.0]")),
-        1e-3,
-        3000,
-    );
+    let runs = run_all(&coincident("velocity=[0.0,1e-3,0.0]"), 1e-3, 3000);
     print("coincident moving", &runs);
     let runs = native(&runs);
     for (name, o) in &runs {

@@ -330,12 +330,32 @@ pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
     let base = scene.run.dt.unwrap_or(horizon / 1000.0);
     let dt_max = cfg.dt_max.unwrap_or((10.0 * base).min(horizon / 4.0));
     let dt_min = cfg.dt_min.unwrap_or(base / 30.0);
+    if cfg.points < 2 {
+        return Err(Error::option(
+            "--points",
+            format!(
+                "must be at least 2 (a grid needs two ends), got {}",
+                cfg.points
+            ),
+        ));
+    }
     if !(dt_min > 0.0 && dt_min <= dt_max) {
         return Err(Error::option(
             "--dt-min",
-            format!("need 0 < dt-min ≤ dt-max, got {dt_min} and {dt_max}"),
+            format!(
+                "need 0 < dt-min ≤ dt-max, got {} and {}",
+                crate::error::num(dt_min),
+                crate::error::num(dt_max)
+            ),
         ));
     }
+    // The finest step over the horizon: the longest run of the grid, held to the step limit.
+    let flag = if cfg.dt_min.is_some() && cfg.horizon.is_none() {
+        "--dt-min"
+    } else {
+        "--horizon"
+    };
+    crate::scenario::Timing::steps_within(flag, dt_min, horizon)?;
     Ok((
         horizon,
         step_grid(dt_min, dt_max, cfg.points.max(2), horizon),
@@ -347,13 +367,16 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
         return Err(Error::option(
             "--tolerance",
-            format!("must be a finite number > 0, got {}", cfg.tolerance),
+            format!(
+                "must be a finite number > 0, got {}",
+                crate::error::num(cfg.tolerance)
+            ),
         ));
     }
     if cfg.safety.is_nan() || cfg.safety < 1.0 {
         return Err(Error::option(
             "--safety",
-            format!("must be ≥ 1, got {}", cfg.safety),
+            format!("must be ≥ 1, got {}", crate::error::num(cfg.safety)),
         ));
     }
     check_timing(&cfg.timing)?;

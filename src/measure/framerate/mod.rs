@@ -240,13 +240,19 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
     if let Some(f) = cfg.rates.iter().find(|f| !(f.is_finite() && **f > 0.0)) {
         return Err(Error::option(
             "--hz",
-            format!("every frame rate must be a finite number > 0 Hz, got {f}"),
+            format!(
+                "every frame rate must be a finite number > 0 Hz, got {}",
+                crate::error::num(*f)
+            ),
         ));
     }
     if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
         return Err(Error::option(
             "--tolerance",
-            format!("must be a finite number > 0 m, got {}", cfg.tolerance),
+            format!(
+                "must be a finite number > 0 m, got {}",
+                crate::error::num(cfg.tolerance)
+            ),
         ));
     }
     if cfg.max_substeps == 0 {
@@ -255,7 +261,7 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
     if let Some(c) = cfg.cost_cap.filter(|c| !(c.is_finite() && *c > 0.0)) {
         return Err(Error::option(
             "--cost-cap",
-            format!("must be a finite number > 0, got {c}"),
+            format!("must be a finite number > 0, got {}", crate::error::num(c)),
         ));
     }
     Ok(())
@@ -296,6 +302,16 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
+    // Too many frames at one substep is the length's fault (the rate's when the length is the
+    // scene's); too many only with the substeps, --max-substeps'.
+    let length_flag = if cfg.duration.is_some() {
+        "--duration"
+    } else {
+        "--hz"
+    };
+    for &hz in &cfg.rates {
+        crate::scenario::Timing::steps_within(length_flag, 1.0 / hz, duration)?;
+    }
     let frames: Vec<u64> = cfg
         .rates
         .iter()
@@ -307,7 +323,8 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
             return Err(Error::option(
                 "--max-substeps",
                 format!(
-                    "{n} frames at {hz} Hz × {} substeps exceeds the limit of {} steps",
+                    "{n} frames at {} Hz × {} substeps exceeds the limit of {} steps",
+                    crate::error::num(hz),
                     cfg.max_substeps,
                     crate::scenario::MAX_STEPS
                 ),

@@ -134,7 +134,7 @@ fn positive(name: &str, v: f64) -> Result<f64> {
     } else {
         Err(Error::option(
             name,
-            format!("must be a finite number > 0, got {v}"),
+            format!("must be a finite number > 0, got {}", crate::error::num(v)),
         ))
     }
 }

@@ -1,0 +1,444 @@
+//! The command line's answers to bad values: one line naming the flag (and, for files, the
+//! path), each OS error once, numbers in short form, and step limits refused at once by every
+//! command. Each refusal has a twin: a valid value near the same edge that gets past the flag.
+//!
+//! Oracles: the error contract (`FLAG: what is wrong`, one line), `springlab::scenario::
+//! MAX_STEPS` with the arithmetic duration / dt, and the OS (a path that is a file cannot be
+//! a folder; a missing file is ENOENT, "os error 2").
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+/// A spring scene of exactly 1 s: step counts are 1 / dt.
+const ONE_SECOND: &str = "[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\nfixed = true\n\
+[[particle]]\nposition = [1.0, 0.0, 0.0]\nmass = 1.0\n\
+[[spring]]\nbetween = [0, 1]\nstiffness = 4.0\nrest_length = 0.5\n\
+[run]\ndt = 0.01\nduration = 1.0\n";
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_springlab"))
+}
+
+fn scene(dir: &Path) -> PathBuf {
+    let p = dir.join("one_second.toml");
+    std::fs::write(&p, ONE_SECOND).unwrap();
+    p
+}
+
+fn spring_scene() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/damped_spring.toml")
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().unwrap()
+}
+
+/// The command failed with exactly one line on stderr, naming `flag`; returns that line.
+fn one_line_error(out: &Output, flag: &str) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!out.status.success(), "accepted; stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "not one line: {err}");
+    assert!(
+        lines[0].starts_with(&format!("error: {flag}:")),
+        "does not start with the flag {flag}: {err}"
+    );
+    lines[0].to_string()
+}
+
+/// The command failed, and not because of `flag` (its value got past validation).
+fn fails_elsewhere(out: &Output, flag: &str, because: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "expected a later refusal: {err}");
+    assert!(!err.contains(&format!("{flag}:")), "{flag} refused: {err}");
+    assert!(err.contains(because), "missing '{because}' in: {err}");
+}
+
+fn succeeds(out: &Output) {
+    assert!(
+        out.status.success(),
+        "refused: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+// Negative numbers reach the validators instead of clap's "unexpected argument".
+
+#[test]
+fn negative_values_are_refused_by_the_flags_own_check() {
+    let sc = spring_scene();
+    let sc = s(&sc);
+    for (args, flag) in [
+        (vec!["compare", sc, "--dt", "-1"], "--dt"),
+        (vec!["compare", sc, "--duration", "-1"], "--duration"),
+        (
+            vec!["advise", sc, "--tolerance", "1e-3", "--dt-min", "-1"],
+            "--dt-min",
+        ),
+        (vec!["advise", sc, "--tolerance", "-1"], "--tolerance"),
+        (vec!["stability", sc, "--horizon", "-1"], "--horizon"),
+        (vec!["sweep", sc, "--dt-min", "-1"], "--dt-min"),
+        (vec!["framerate", sc, "--cost-cap", "-1"], "--cost-cap"),
+    ] {
+        let line = one_line_error(&run(&args), flag);
+        assert!(line.contains("-1"), "value not quoted: {line}");
+        assert!(!line.contains("unexpected argument"), "{line}");
+    }
+}
+
+#[test]
+fn a_negative_whole_number_is_refused_on_one_line_naming_the_flag() {
+    let sc = spring_scene();
+    for (args, flag) in [
+        (vec!["sweep", s(&sc), "--points", "-1"], "--points"),
+        (vec!["run", s(&sc), "-i", "rk4", "--steps", "-3"], "--steps"),
+    ] {
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(!err.contains("unexpected argument"), "{err}");
+        assert!(err.lines().next().unwrap().contains(flag), "{err}");
+    }
+}
+
+#[test]
+fn twin_positive_values_near_zero_get_past_the_same_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = spring_scene();
+    succeeds(&run(&[
+        "compare",
+        s(&sc),
+        "--dt",
+        "0.01",
+        "--duration",
+        "0.05",
+        "--out",
+        s(&dir.path().join("c")),
+    ]));
+    // --dt-min and --tolerance pass; the unknown integrator is refused after them.
+    fails_elsewhere(
+        &run(&[
+            "advise",
+            s(&sc),
+            "--tolerance",
+            "1e-9",
+            "--dt-min",
+            "1e-6",
+            "--integrators",
+            "nosuch",
+        ]),
+        "--dt-min",
+        "nosuch",
+    );
+    succeeds(&run(&[
+        "stability",
+        s(&sc),
+        "--horizon",
+        "1e-3",
+        "--theory-only",
+        "--out",
+        s(&dir.path().join("s")),
+    ]));
+}
+
+// --out naming a file is refused before any work, naming the flag and the path.
+
+#[test]
+fn out_naming_a_file_is_refused_at_once_by_every_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a_file");
+    std::fs::write(&file, "not a folder").unwrap();
+    let f = s(&file);
+    let sc = spring_scene();
+    let sc = s(&sc);
+    let expected = format!("error: --out: {f} is a file, not a folder");
+    for args in [
+        vec!["run", sc, "-i", "rk4", "--out", f],
+        vec!["compare", sc, "--out", f],
+        vec!["sweep", sc, "--out", f],
+        vec!["stability", sc, "--out", f],
+        vec!["advise", sc, "--tolerance", "1e-3", "--out", f],
+        vec!["framerate", sc, "--out", f],
+        vec!["small-steps", sc, "--out", f],
+        vec!["report", "--quick", "--out", f],
+        vec!["merge", sc, "--out", f],
+        vec!["bench-scaling", "--out", f],
+        vec!["bench-ratios", "--out", f],
+    ] {
+        let t0 = Instant::now();
+        let line = one_line_error(&run(&args), "--out");
+        assert_eq!(line, expected, "{args:?}");
+        // Validation, not computation: a quick report takes far longer than this.
+        assert!(t0.elapsed() < Duration::from_secs(10), "{args:?} was slow");
+    }
+}
+
+#[test]
+fn out_below_a_file_names_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a_file");
+    std::fs::write(&file, "").unwrap();
+    let below = file.join("run");
+    let sc = spring_scene();
+    let line = one_line_error(
+        &run(&["run", s(&sc), "-i", "rk4", "--out", s(&below)]),
+        "--out",
+    );
+    assert!(
+        line.ends_with(&format!(
+            "{}: {} is a file, not a folder",
+            s(&below),
+            s(&file)
+        )),
+        "{line}"
+    );
+}
+
+#[test]
+fn twin_out_naming_a_new_or_existing_folder_is_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = spring_scene();
+    let fresh = dir.path().join("new").join("run");
+    for out in [&fresh, &fresh] {
+        succeeds(&run(&[
+            "run",
+            s(&sc),
+            "-i",
+            "rk4",
+            "--steps",
+            "10",
+            "--out",
+            s(out),
+        ]));
+        assert!(out.join("summary.json").is_file());
+    }
+}
+
+// OS errors once.
+
+#[test]
+fn an_os_error_appears_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.toml");
+    let out = run(&["check", s(&missing)]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_eq!(err.matches("os error 2").count(), 1, "{err}");
+    assert!(err.contains("missing.toml"), "{err}");
+    let blocked = dir.path().join("scene.toml");
+    std::fs::write(&blocked, ONE_SECOND).unwrap();
+    let merge = run(&["merge", s(dir.path()), "--out", s(&dir.path().join("m"))]);
+    let err = String::from_utf8_lossy(&merge.stderr);
+    assert!(!merge.status.success());
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+}
+
+#[test]
+fn twin_a_readable_scene_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    succeeds(&run(&["check", s(&scene(dir.path()))]));
+}
+
+// Numbers in short form; the step limit named and counted.
+
+#[test]
+fn a_tiny_frame_rate_is_refused_in_short_form() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let line = one_line_error(
+        &run(&["run", s(&sc), "-i", "rk4", "--hz", "1e-300"]),
+        "--hz",
+    );
+    assert!(line.len() < 200, "{} characters: {line}", line.len());
+    // The step 1/HZ = 1e300 s, longer than the 1 s run.
+    assert!(line.contains("1e300 s"), "{line}");
+}
+
+#[test]
+fn twin_a_frame_rate_of_one_step_per_run_is_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    succeeds(&run(&[
+        "run",
+        s(&sc),
+        "-i",
+        "rk4",
+        "--hz",
+        "1",
+        "--out",
+        s(&dir.path().join("o")),
+    ]));
+}
+
+#[test]
+fn a_subnormal_step_gives_its_real_step_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    let line = one_line_error(
+        &run(&["run", s(&sc), "-i", "rk4", "--dt", "1e-320"]),
+        "--dt",
+    );
+    // 1 s / 1e-320 s = 1e320 steps (past u64 and f64 alike).
+    assert!(line.contains("1e-320 s over 1 s is 1e320 steps"), "{line}");
+    assert!(line.contains("above the limit of 10000000000"), "{line}");
+    assert!(!line.contains("18446744073709551615"), "{line}");
+}
+
+#[test]
+fn the_step_limit_edge_in_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scene(dir.path());
+    // 1 s / 1e-10 s = 1e10 steps = MAX_STEPS: the step passes and --every is refused next.
+    fails_elsewhere(
+        &run(&["run", s(&sc), "-i", "rk4", "--dt", "1e-10", "--every", "0"]),
+        "--dt",
+        "--every",
+    );
+    assert_eq!(springlab::scenario::MAX_STEPS, 10_000_000_000);
+    // 1 s / 9e-11 s = 1.1e10 steps: one past the limit.
+    let line = one_line_error(
+        &run(&["run", s(&sc), "-i", "rk4", "--dt", "9e-11", "--every", "0"]),
+        "--dt",
+    );
+    assert!(line.contains("11111111111 steps"), "{line}");
+}
+
+#[test]
+fn framerate_blames_the_duration_for_too_many_frames() {
+    let sc = spring_scene();
+    // 1e12 s at 30 Hz is 3e13 frames even at one substep.
+    let line = one_line_error(
+        &run(&["framerate", s(&sc), "--hz", "30", "--duration", "1e12"]),
+        "--duration",
+    );
+    assert!(line.contains("3e13 steps"), "{line}");
+    // Twin: 1e9 frames fit at one substep (≤ 1e10); only × 64 substeps do not.
+    one_line_error(
+        &run(&["framerate", s(&sc), "--hz", "1", "--duration", "1e9"]),
+        "--max-substeps",
+    );
+}
+
+#[test]
+fn advise_refuses_a_horizon_past_the_step_limit_at_once() {
+    let sc = spring_scene();
+    let sc = s(&sc);
+    let base = ["advise", sc, "--tolerance", "1e-3", "--dt-min", "1e-3"];
+    let t0 = Instant::now();
+    // 1.1e7 s / 1e-3 s = 1.1e10 steps > MAX_STEPS.
+    let line = one_line_error(
+        &run(&[
+            &base[..],
+            &["--horizon", "1.1e7", "--integrators", "nosuch"],
+        ]
+        .concat()),
+        "--horizon",
+    );
+    assert!(line.contains("11000000000 steps"), "{line}");
+    let line = one_line_error(
+        &run(&["advise", sc, "--tolerance", "1e-3", "--horizon", "1e12"]),
+        "--horizon",
+    );
+    assert!(line.contains("above the limit"), "{line}");
+    assert!(t0.elapsed() < Duration::from_secs(10));
+    // Twin: 1e7 s / 1e-3 s = 1e10 steps, at the limit: refused later, for the integrator.
+    fails_elsewhere(
+        &run(&[&base[..], &["--horizon", "1e7", "--integrators", "nosuch"]].concat()),
+        "--horizon",
+        "nosuch",
+    );
+}
+
+#[test]
+fn small_steps_refuses_a_duration_past_the_step_limit_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = spring_scene();
+    let t0 = Instant::now();
+    // 1e12 s at the 1/60 s frame is 6e13 frames.
+    let line = one_line_error(
+        &run(&[
+            "small-steps",
+            s(&sc),
+            "--duration",
+            "1e12",
+            "--out",
+            s(dir.path()),
+        ]),
+        "--duration",
+    );
+    assert!(line.contains("6e13 steps"), "{line}");
+    assert!(t0.elapsed() < Duration::from_secs(10));
+    // Twin: a short run is measured.
+    succeeds(&run(&[
+        "small-steps",
+        s(&sc),
+        "--duration",
+        "0.1",
+        "--budgets",
+        "1",
+        "--out",
+        s(dir.path()),
+    ]));
+}
+
+#[test]
+fn stability_refuses_a_horizon_past_the_step_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = spring_scene();
+    let line = one_line_error(
+        &run(&[
+            "stability",
+            s(&sc),
+            "--horizon",
+            "1e12",
+            "--out",
+            s(dir.path()),
+        ]),
+        "--horizon",
+    );
+    assert!(line.contains("above the limit"), "{line}");
+    // Twin: a horizon of a few seconds is analysed.
+    succeeds(&run(&[
+        "stability",
+        s(&sc),
+        "--horizon",
+        "2",
+        "--theory-only",
+        "--out",
+        s(dir.path()),
+    ]));
+}
+
+#[test]
+fn advise_needs_at_least_two_points() {
+    let sc = spring_scene();
+    let sc = s(&sc);
+    for p in ["0", "1"] {
+        let line = one_line_error(
+            &run(&["advise", sc, "--tolerance", "1e-3", "--points", p]),
+            "--points",
+        );
+        assert!(line.contains("at least 2"), "{line}");
+    }
+    // Twin: two points pass; the unknown integrator is refused after them.
+    fails_elsewhere(
+        &run(&[
+            "advise",
+            sc,
+            "--tolerance",
+            "1e-3",
+            "--points",
+            "2",
+            "--integrators",
+            "nosuch",
+        ]),
+        "--points",
+        "nosuch",
+    );
+}
