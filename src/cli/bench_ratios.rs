@@ -1,4 +1,4 @@
-//! `springlab bench-ratios`: the cost ratios issue 7 sets targets for, measured in one run
+//! `springlab bench-ratios`: the cost ratios that have targets, measured in one run
 //! with the contenders interleaved (see [`springlab::perf::ratios`]), as `ratios.csv` and
 //! `implicit.csv` (written atomically) and a table on stdout.
 
@@ -43,8 +43,8 @@ pub struct Args {
     /// cholesky_pcg (a build with `--features direct-solver` only).
     #[arg(long, default_value = "block_jacobi_cg")]
     pub implicit_solver: String,
-    /// Steps per implicit method and size, from rest (180 = the 3 s at 1/60 issue 14 asks
-    /// the 316×316 cloth to run without a Newton failure).
+    /// Steps per implicit method and size, from rest (180 = 3 s at 1/60, the run the
+    /// 316×316 cloth must make without a Newton failure).
     #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub implicit_steps: usize,
     /// Newton iterations a step may take before it fails (`ImplicitSettings::max_newton`;
@@ -266,7 +266,7 @@ pub fn run(a: Args) -> Result<()> {
         let mut c: Vec<Contender> = vec![stepping(&sys, &s0, backend("symplectic_euler")?, h, 5)];
         let se = interleaved(a.rounds.min(5), &mut c)?[0];
         for method in &a.implicit_methods {
-            // issue 14's target: implicit Euler on the 100×100 cloth within 100 symplectic steps.
+            // The target: implicit Euler on the 100×100 cloth within 100 symplectic steps.
             let target = if method == "implicit_euler" && n == 100 {
                 "<= 100"
             } else {

@@ -38,7 +38,7 @@ enum Command {
     List(list::Args),
     /// Time every backend on n×n cloths: cost per step against particle count (CSV + log-log SVG).
     BenchScaling(bench_scaling::Args),
-    /// Measure issue 7's cost ratios in one interleaved run: step vs hand loop, Rapier frame vs
+    /// Measure the cost ratios that have targets in one interleaved run: step vs hand loop, Rapier frame vs
     /// step, 1→2 threads, implicit Euler at 1/60 (CSV + table).
     BenchRatios(bench_ratios::Args),
     /// Run every scene through every backend and write plots, pages and summary.json.

@@ -38,7 +38,7 @@ pub struct ScenarioFile {
     pub cloth: Vec<ClothSpec>,
     /// Run settings (step, length, default integrators).
     pub run: Option<RunSpec>,
-    /// Static obstacles (issue 5).
+    /// Static obstacles.
     #[serde(default)]
     pub obstacle: Vec<super::obstacle_file::ObstacleSpec>,
     /// How contacts with obstacles are resolved (default: impulse).

@@ -195,7 +195,7 @@ impl Scenario {
         if let Some(c) = self.drag {
             terms.push(Box::new(Drag { c }));
         }
-        // Obstacles (issue 5): parry shapes and the broad phase are built only when they exist.
+        // Obstacles: parry shapes and the broad phase are built only when they exist.
         let contacts = self.collision.as_ref().map(|c| {
             let set = std::sync::Arc::new(crate::collide::ObstacleSet::build(&c.obstacles));
             if let crate::collide::Response::Penalty { stiffness, damping } = c.response {

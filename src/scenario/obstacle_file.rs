@@ -1,4 +1,4 @@
-//! Serde types of the `[[obstacle]]` and `[collision]` tables (issue 5). One flat table per
+//! Serde types of the `[[obstacle]]` and `[collision]` tables. One flat table per
 //! obstacle: `shape` says which keys apply, and validation rejects keys of other shapes.
 
 use super::file::Triple;

@@ -3,7 +3,9 @@
 mod bad_input;
 mod bench_cli;
 mod check_obstacles;
+mod cli_errors;
 mod defaults_doc;
+mod finite_scenes;
 mod framerate;
 mod interrupt;
 mod measure_cli;
