@@ -70,6 +70,12 @@ pub enum Error {
         /// The underlying I/O error.
         source: std::io::Error,
     },
+    /// Another springlab command holds the lock on the output folder (one writer per folder).
+    #[error("{dir}: another springlab command is writing this folder; wait for it to finish or write elsewhere with --out")]
+    Busy {
+        /// The output folder.
+        dir: PathBuf,
+    },
     /// A method could not be registered: its facts are inconsistent (order 0, a name taken).
     #[error("cannot register method '{name}': {message}")]
     Registration {

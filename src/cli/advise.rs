@@ -61,8 +61,9 @@ pub fn run(a: Args) -> Result<()> {
         frame_rates: !a.no_frame_rates,
         ..Default::default()
     };
-    let adv = advise(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "advise");
+    let _lock = springlab::output::lock_dir(&dir)?;
+    let adv = advise(&scene, &cfg)?;
     let f = write_advice(&dir, &adv)?;
     match &adv.integrator {
         Some(n) => {

@@ -93,6 +93,7 @@ pub fn run(a: Args) -> Result<()> {
             "--size, --thread-size, --implicit-sizes: each cloth size must be between 2 and 1000"
         );
     }
+    let _lock = springlab::output::lock_dir(&a.out)?;
     if a.rounds == 0 || a.implicit_steps == 0 || a.implicit_max_newton == Some(0) {
         bail!("--rounds, --implicit-steps and --implicit-max-newton must be at least 1");
     }

@@ -47,6 +47,7 @@ pub fn run(a: Args) -> Result<()> {
             a.sizes
         );
     }
+    let _lock = springlab::output::lock_dir(&a.out)?;
     if a.reps == 0 {
         bail!("--reps: must be at least 1");
     }

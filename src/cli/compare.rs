@@ -46,8 +46,9 @@ pub fn run(a: Args) -> Result<()> {
         trace: a.trace,
         ..Default::default()
     };
-    let res = compare(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "compare");
+    let _lock = springlab::output::lock_dir(&dir)?;
+    let res = compare(&scene, &cfg)?;
     let files = write_compare(&dir, &res)?;
     let split = res
         .frame_substeps

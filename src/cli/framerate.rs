@@ -78,10 +78,11 @@ pub fn run(a: Args) -> Result<()> {
         progress: true,
         ..Default::default()
     };
-    let fr = framerate(&scene, &cfg)?;
     let dir = a
         .out
         .unwrap_or_else(|| Path::new("out").join(&scene.name).join("framerate"));
+    let _lock = springlab::output::lock_dir(&dir)?;
+    let fr = framerate(&scene, &cfg)?;
     let files = write_framerate(&dir, &fr)?;
     println!(
         "{}: tolerance {} m over {} s, reference {}, events {}",

@@ -18,6 +18,7 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     super::common::check_out(&a.out)?;
+    let _lock = springlab::output::lock_dir(&a.out)?;
     let res = merge(&a.dirs)?;
     let files = write_sweep(&a.out, &res)?;
     println!(

@@ -38,6 +38,11 @@ pub struct Args {
 pub fn run(a: Args) -> Result<()> {
     super::common::check_out(&a.out)?;
     let generator = format!("springlab {} report", env!("CARGO_PKG_VERSION"));
+    // Shards of one report write disjoint scenes side by side: they share the folder.
+    let _lock = match a.shard {
+        Some(_) => springlab::output::lock_dir_shared(&a.out)?,
+        None => springlab::output::lock_dir(&a.out)?,
+    };
     if a.merge {
         let sum = springlab::report::shard::merge_shards(&a.out, &generator, a.quick)?;
         write_overview(&sum, &a.out)?;

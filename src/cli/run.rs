@@ -52,6 +52,12 @@ pub fn run(a: Args) -> Result<()> {
     let dir = a
         .out
         .unwrap_or_else(|| PathBuf::from("out").join(&scene.name).join(&name));
+    let _lock = springlab::output::lock_dir(&dir)?;
+    let (size, warning) = springlab::output::size_notice(sys.len(), plan.steps, a.every);
+    if let Some(w) = warning {
+        eprintln!("warning: {w}");
+    }
+    println!("{size}");
     let mut files = RunFiles::create(&dir, a.every, plan.dt)?;
     // Collision metrics only when the scene has obstacles (contacts.json).
     let mut metrics = springlab::measure::contacts::ContactMetrics::new(&sys, plan.dt);

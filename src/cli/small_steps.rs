@@ -57,6 +57,7 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     let out = a.out.unwrap_or_else(|| PathBuf::from("out/small_steps"));
+    let _lock = springlab::output::lock_dir(&out)?;
     let doc = small_steps(&scenes, &cfg)?;
     let fmt = |v: Option<f64>| v.map_or("-".into(), |x| format!("{x:.3e}"));
     for sc in &doc.scenes {

@@ -85,8 +85,9 @@ pub fn run(a: Args) -> Result<()> {
         progress: true,
         ..Default::default()
     };
-    let rep = analyse(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "stability");
+    let _lock = springlab::output::lock_dir(&dir)?;
+    let rep = analyse(&scene, &cfg)?;
     let mut files = vec![write_stability(&dir, &rep)?];
     println!(
         "{}: ω_max = {:.6} rad/s ({})",

@@ -70,8 +70,6 @@ pub fn run(a: Args) -> Result<()> {
         progress: true,
         ..Default::default()
     };
-    let t0 = std::time::Instant::now();
-    let res = run_sweep(&scene, &cfg)?;
     let dir = match a.shard {
         Some(s) if a.m.out.is_none() => a.m.out_dir(
             &scene.name,
@@ -79,6 +77,9 @@ pub fn run(a: Args) -> Result<()> {
         ),
         _ => a.m.out_dir(&scene.name, "sweep"),
     };
+    let _lock = springlab::output::lock_dir(&dir)?;
+    let t0 = std::time::Instant::now();
+    let res = run_sweep(&scene, &cfg)?;
     let files = write_sweep(&dir, &res)?;
     println!(
         "{}: {} cases, reference {} ({} s), {:.2} s wall",

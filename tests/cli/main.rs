@@ -9,6 +9,7 @@ mod finite_scenes;
 mod framerate;
 mod interrupt;
 mod measure_cli;
+mod output_lock;
 mod report_browser;
 mod report_collision;
 mod report_commands;

@@ -1,0 +1,134 @@
+//! One writer per output folder: an advisory lock (`flock`) on the folder, taken before any
+//! file of it is written and held until the last file is renamed into place.
+//!
+//! On Unix the lock is taken on the folder itself (an open handle on the directory), so it
+//! leaves no file behind; elsewhere it is taken on a hidden `.springlab.lock` file in the
+//! folder, which stays and is simply locked again by the next command. Either way the operating
+//! system releases the lock when the holding process ends, however it ends, so a killed
+//! command never leaves a stale lock.
+
+use crate::error::{Error, Result};
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+/// The lock on an output folder; dropping it releases the folder.
+#[derive(Debug)]
+pub struct DirLock {
+    dir: PathBuf,
+    _handle: Option<File>,
+}
+
+impl DirLock {
+    /// The locked folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+}
+
+/// Creates `dir` if missing and takes its lock for this process alone. Fails at once with
+/// [`Error::Busy`], naming the folder, when another command (or another lock of this process)
+/// holds it. Where the file system offers no locks at all, warns and goes on unguarded.
+pub fn lock_dir(dir: impl AsRef<Path>) -> Result<DirLock> {
+    lock(dir.as_ref(), false)
+}
+
+/// Like [`lock_dir`], but a shared lock: any number of shared holders may write disjoint files
+/// of the folder side by side (shards of one job), while an exclusive holder excludes them all.
+pub fn lock_dir_shared(dir: impl AsRef<Path>) -> Result<DirLock> {
+    lock(dir.as_ref(), true)
+}
+
+fn lock(dir: &Path, shared: bool) -> Result<DirLock> {
+    let werr = |source| Error::Write {
+        file: dir.to_path_buf(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(werr)?;
+    let handle = open_handle(dir).map_err(werr)?;
+    let got = if shared {
+        fs4::FileExt::try_lock_shared(&handle)
+    } else {
+        fs4::FileExt::try_lock(&handle)
+    };
+    match got {
+        Ok(()) => Ok(DirLock {
+            dir: dir.to_path_buf(),
+            _handle: Some(handle),
+        }),
+        Err(fs4::TryLockError::WouldBlock) => Err(Error::Busy {
+            dir: dir.to_path_buf(),
+        }),
+        Err(fs4::TryLockError::Error(e)) => {
+            eprintln!(
+                "warning: {}: cannot lock the output folder ({e}); writing without the one-writer guard",
+                dir.display()
+            );
+            Ok(DirLock {
+                dir: dir.to_path_buf(),
+                _handle: None,
+            })
+        }
+    }
+}
+
+#[cfg(unix)]
+fn open_handle(dir: &Path) -> std::io::Result<File> {
+    File::open(dir)
+}
+
+#[cfg(not(unix))]
+fn open_handle(dir: &Path) -> std::io::Result<File> {
+    std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(dir.join(".springlab.lock"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Oracle: the definition of one writer per folder. While a lock is held a second lock of
+    // the same folder is refused with Busy naming the folder; a different folder locks freely;
+    // once the first lock is dropped the folder locks again.
+    #[test]
+    fn a_held_folder_refuses_a_second_writer_until_released() {
+        let tmp = tempfile::tempdir().unwrap();
+        let a = tmp.path().join("a");
+        let first = lock_dir(&a).unwrap();
+        match lock_dir(&a) {
+            Err(Error::Busy { dir }) => assert_eq!(dir, a),
+            other => panic!("expected Busy, got {other:?}"),
+        }
+        let msg = lock_dir(&a).unwrap_err().to_string();
+        assert!(msg.contains(&a.display().to_string()) && msg.contains("another springlab"));
+        lock_dir(tmp.path().join("b")).expect("another folder is free");
+        drop(first);
+        lock_dir(&a).expect("released on drop");
+    }
+
+    // Oracle: shared locks coexist with each other and exclude an exclusive one, which in turn
+    // excludes them (the flock semantics the shards of one report rely on).
+    #[test]
+    fn shared_locks_coexist_and_exclude_an_exclusive_one() {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path();
+        let s1 = lock_dir_shared(d).unwrap();
+        let _s2 = lock_dir_shared(d).expect("two shared holders");
+        assert!(matches!(lock_dir(d), Err(Error::Busy { .. })));
+        drop(s1);
+        drop(_s2);
+        let _x = lock_dir(d).unwrap();
+        assert!(matches!(lock_dir_shared(d), Err(Error::Busy { .. })));
+    }
+
+    // Oracle: the lock leaves nothing in the folder on Unix (it is taken on the folder itself).
+    #[cfg(unix)]
+    #[test]
+    fn the_lock_leaves_no_file_behind() {
+        let tmp = tempfile::tempdir().unwrap();
+        drop(lock_dir(tmp.path()).unwrap());
+        assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
+    }
+}
