@@ -193,7 +193,7 @@ fn digits(n: u64) -> u64 {
 /// `steps` frames writing every `every`-th: rows × bytes per row, a row being its step, time
 /// and particle index then six numbers (trajectory) or seven (energy). Within about 10 % of
 /// the files a cloth writes (7 % over for the shipped cloth's 1 s; tested on a 30×30 cloth in
-/// `tests/output_lock.rs`).
+/// `tests/cli/output_lock.rs`).
 pub fn projected_run_bytes(particles: usize, steps: u64, every: u64) -> (u64, u64) {
     let frames = written_frames(steps, every);
     let lead = digits(steps) + 1 + NUMBER_BYTES + 1;
