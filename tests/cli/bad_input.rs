@@ -1,17 +1,13 @@
 //! Every class of bad input gives a non-zero exit, an error naming the file and the field, and
 //! no panic. Runs the real binary on files written to a temporary directory.
 
+use crate::support::bin;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const GOOD: &str = "[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\nfixed = true\n\
 [[particle]]\nposition = [1.0, 0.0, 0.0]\nmass = 1.0\n\
 [[spring]]\nbetween = [0, 1]\nstiffness = 2.0\nrest_length = 0.5\n\
 [run]\ndt = 0.01\nsteps = 10\n";
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_springlab"))
-}
 
 fn write(dir: &Path, name: &str, text: &[u8]) -> PathBuf {
     let p = dir.join(name);

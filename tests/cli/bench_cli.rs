@@ -3,21 +3,8 @@
 //! timings. Speed itself is not asserted here: speed claims live in `cargo bench` and in the
 //! commands' own output, never in timed tests.
 
+use crate::support::ok as springlab;
 use std::path::Path;
-use std::process::Command;
-
-fn springlab(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
 
 fn csv_rows(p: &Path) -> Vec<Vec<String>> {
     let mut r = csv::Reader::from_path(p).unwrap();

@@ -6,8 +6,9 @@
 //! MAX_STEPS` with the arithmetic duration / dt, and the OS (a path that is a file cannot be
 //! a folder; a missing file is ENOENT, "os error 2").
 
+use crate::support::bin;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::time::{Duration, Instant};
 
 /// A spring scene of exactly 1 s: step counts are 1 / dt.
@@ -15,10 +16,6 @@ const ONE_SECOND: &str = "[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\n
 [[particle]]\nposition = [1.0, 0.0, 0.0]\nmass = 1.0\n\
 [[spring]]\nbetween = [0, 1]\nstiffness = 4.0\nrest_length = 0.5\n\
 [run]\ndt = 0.01\nduration = 1.0\n";
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_springlab"))
-}
 
 fn scene(dir: &Path) -> PathBuf {
     let p = dir.join("one_second.toml");

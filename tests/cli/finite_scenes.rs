@@ -7,12 +7,9 @@
 //! does not); the closed forms m·g·z and ½k(l - l0)² for the energies; the length of a file
 //! name on Linux and macOS, at most 255 bytes, without '/' or NUL.
 
+use crate::support::bin;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_springlab"))
-}
+use std::process::Output;
 
 fn write(dir: &Path, text: &str) -> PathBuf {
     let p = dir.join("scene.toml");

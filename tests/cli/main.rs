@@ -14,4 +14,5 @@ mod report_browser;
 mod report_collision;
 mod report_commands;
 mod report_files;
+mod support;
 mod verdict_outputs;

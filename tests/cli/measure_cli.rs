@@ -1,21 +1,8 @@
 //! The measuring subcommands end to end: file names, headers, skipped backends, shard + merge.
 //! Oracles: the documented CSV headers and JSON fields; merge equality is exact.
 
+use crate::support::ok as springlab;
 use std::path::Path;
-use std::process::Command;
-
-fn springlab(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
 
 fn read(p: &Path) -> String {
     std::fs::read_to_string(p).unwrap()

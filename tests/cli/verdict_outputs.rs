@@ -5,6 +5,7 @@
 //! Oracles: explicit Euler worked by hand; the verdict's rules (`run::verdict`) for which runs
 //! stop; the command contract of the README.
 
+use crate::support::ok;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -13,16 +14,6 @@ fn springlab(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
-}
-
-fn ok(args: &[&str]) -> String {
-    let out = springlab(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
