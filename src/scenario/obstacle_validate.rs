@@ -217,8 +217,19 @@ fn mesh(ck: &Ck, f: &str, o: &ObstacleSpec) -> Result<ShapeDef> {
         (Some(path), None, None) => {
             let base = ck.file.parent().unwrap_or(Path::new(""));
             let full = base.join(path);
-            let text = std::fs::read_to_string(&full).map_err(|e| {
-                ck.err(format!("{f}.file"), format!("cannot read mesh '{}': {e}", full.display()))
+            let limit = super::parse::MAX_MESH_BYTES;
+            let bytes = super::parse::read_limited(&full, limit)
+                .map_err(|e| {
+                    ck.err(format!("{f}.file"), format!("cannot read mesh '{}': {e}", full.display()))
+                })?
+                .ok_or_else(|| {
+                    ck.err(
+                        format!("{f}.file"),
+                        format!("mesh '{}' is larger than the limit of {} MiB", full.display(), limit >> 20),
+                    )
+                })?;
+            let text = String::from_utf8(bytes).map_err(|_| {
+                ck.err(format!("{f}.file"), format!("mesh '{}' is not UTF-8 text", full.display()))
             })?;
             let m = parse_obj(&text)
                 .map_err(|why| ck.err(format!("{f}.file"), format!("{}: {why}", full.display())))?;

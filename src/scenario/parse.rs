@@ -43,12 +43,39 @@ pub fn parse_toml(text: &str, file: &Path) -> Result<ScenarioFile> {
     })
 }
 
+/// Largest scenario file read (bytes): far above any scene written by hand (generators make
+/// the big ones from a few lines), and a bound on what a wrong path such as /dev/zero costs.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+/// Largest mesh file read (bytes).
+pub const MAX_MESH_BYTES: u64 = 64 << 20;
+
+/// Reads at most `limit` bytes of `path`: `Ok(None)` when the file holds more (it is never
+/// read further, so a device that never ends costs `limit` bytes).
+pub fn read_limited(path: &Path, limit: u64) -> std::io::Result<Option<Vec<u8>>> {
+    use std::io::Read;
+    let mut buf = Vec::new();
+    std::fs::File::open(path)?
+        .take(limit + 1)
+        .read_to_end(&mut buf)?;
+    Ok((buf.len() as u64 <= limit).then_some(buf))
+}
+
 /// Reads and parses a scenario file.
 pub fn read_file(path: &Path) -> Result<(ScenarioFile, String)> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Read {
-        file: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = read_limited(path, MAX_SCENE_BYTES)
+        .map_err(|source| Error::Read {
+            file: path.to_path_buf(),
+            source,
+        })?
+        .ok_or_else(|| Error::Parse {
+            file: path.to_path_buf(),
+            location: String::new(),
+            field: "(document)".into(),
+            message: format!(
+                "larger than the limit of {} MiB for a scenario file: is this a scenario file?",
+                MAX_SCENE_BYTES >> 20
+            ),
+        })?;
     let text = String::from_utf8(bytes).map_err(|e| Error::Parse {
         file: path.to_path_buf(),
         location: String::new(),
