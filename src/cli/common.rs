@@ -100,12 +100,7 @@ impl StepArgs {
             RunPlan::new(dt, n)
         } else if let Some(d) = self.duration.or(scene.run.duration) {
             Timing::step_fits(scene, dt, dt_flag, d)?;
-            // Too many steps: blame the flag that was given (the step's when both were).
-            let length_flag = match (dt_flag, self.duration) {
-                (Some(f), _) => f,
-                (None, Some(_)) => "--duration",
-                (None, None) => "run.duration",
-            };
+            let length_flag = Timing::length_flag(dt_flag, self.duration.is_some());
             RunPlan::new(dt, Timing::steps_within(length_flag, dt, d)?)
         } else if let Some(n) = scene.run.steps {
             RunPlan::new(dt, n)

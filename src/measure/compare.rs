@@ -229,10 +229,8 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 res.reference.kind
             ),
             Some(r) => {
-                let m = |g: fn(&crate::measure::metrics::Metrics) -> f64| o(r.metric(g));
-                let mo = |g: fn(&crate::measure::metrics::Metrics) -> Option<f64>| {
-                    o(r.metrics.as_ref().and_then(g))
-                };
+                // Null for a run that is not ok: every accuracy cell is then empty.
+                let m = r.metrics.as_ref();
                 format!(
                     "{},{},,{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                     r.integrator,
@@ -242,19 +240,19 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                     r.steps_done,
                     r.force_evals,
                     f(r.wall_seconds),
-                    m(|m| m.error_final),
-                    m(|m| m.error_max),
-                    m(|m| m.error_rms),
-                    m(|m| m.energy_drift),
-                    m(|m| m.energy_oscillation),
-                    m(|m| m.energy_error_max),
-                    m(|m| m.energy_balance),
-                    mo(|m| m.momentum_drift),
-                    mo(|m| m.constraint_max),
-                    mo(|m| m.constraint_mean),
-                    mo(|m| m.period),
-                    mo(|m| m.period_error),
-                    mo(|m| m.phase_error),
+                    o(m.map(|m| m.error_final)),
+                    o(m.map(|m| m.error_max)),
+                    o(m.map(|m| m.error_rms)),
+                    o(m.map(|m| m.energy_drift)),
+                    o(m.map(|m| m.energy_oscillation)),
+                    o(m.map(|m| m.energy_error_max)),
+                    o(m.map(|m| m.energy_balance)),
+                    o(m.and_then(|m| m.momentum_drift)),
+                    o(m.and_then(|m| m.constraint_max)),
+                    o(m.and_then(|m| m.constraint_mean)),
+                    o(m.and_then(|m| m.period)),
+                    o(m.and_then(|m| m.period_error)),
+                    o(m.and_then(|m| m.phase_error)),
                     o(r.unstable_time),
                     csv_text(r.unstable_reason.as_deref().unwrap_or("")),
                     res.reference.kind

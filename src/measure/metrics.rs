@@ -26,6 +26,15 @@ use crate::model::{State, System, Vec3};
 use crate::run::{energy_scale, EnergyRecord, Observer};
 use serde::Serialize;
 
+/// Position error e = max over particles |x_i − y_i| (m) between two configurations of the
+/// same particles: the one definition every measure compares positions with.
+pub fn position_error(x: &[Vec3], y: &[Vec3]) -> f64 {
+    x.iter()
+        .zip(y)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max)
+}
+
 /// Least-squares line y = a + b t through points; returns (a, b). Fewer than two distinct
 /// t give b = 0.
 pub fn linear_fit(t: &[f64], y: &[f64]) -> (f64, f64) {
@@ -267,11 +276,7 @@ impl Observer for MetricsObserver<'_> {
         self.m.injected = e.injected;
         let mut err_now = None;
         if let Some(xr) = self.reference.positions(self.grid, step) {
-            let err =
-                s.x.iter()
-                    .zip(xr)
-                    .map(|(a, b)| (a - b).norm())
-                    .fold(0.0, f64::max);
+            let err = position_error(&s.x, xr);
             self.m.error_max = self.m.error_max.max(err);
             self.err_sq += err * err;
             self.m.compared_steps += 1;

@@ -138,13 +138,6 @@ pub fn stretch(sys: &System, x: &[Vec3]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn max_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
-}
-
 /// Watches one split's frames: stretch over every frame, error against the reference over
 /// the compared ones.
 struct SplitObserver<'a> {
@@ -168,7 +161,7 @@ impl Observer for SplitObserver<'_> {
         self.st_sum += st;
         if f <= self.compared {
             if let Some(xr) = self.reference.positions(0, f) {
-                let e = max_distance(&s.x, xr);
+                let e = crate::measure::metrics::position_error(&s.x, xr);
                 self.err_max = self.err_max.max(e);
                 self.err_final = e;
                 self.st_err = self.st_err.max((st - stretch(self.sys, xr)).abs());

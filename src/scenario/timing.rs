@@ -76,12 +76,7 @@ impl Timing {
     /// A step longer than the duration, or an impulse at or after the run's end, is an error.
     pub fn resolve(scene: &Scenario, dt: Option<f64>, duration: Option<f64>) -> Result<Self> {
         let dt_flag = dt.is_some().then_some("--dt");
-        // The flag to blame for too many steps: the one given, the step's when both are.
-        let length_flag = match (dt_flag, duration.is_some()) {
-            (None, true) => "--duration",
-            (None, false) => "run.duration",
-            (Some(f), _) => f,
-        };
+        let length_flag = Self::length_flag(dt_flag, duration.is_some());
         let dt = Self::step(scene, dt)?;
         let duration = Self::duration(scene, duration)?;
         Self::step_fits(scene, dt, dt_flag, duration)?;
@@ -93,6 +88,17 @@ impl Timing {
             steps,
             duration,
         })
+    }
+
+    /// The flag to blame for a run of too many steps: the step's flag when one gave the step
+    /// (`step_flag`), else `--duration` when that flag gave the length, else the scene's
+    /// `run.duration`.
+    pub fn length_flag(step_flag: Option<&'static str>, duration_flag: bool) -> &'static str {
+        match (step_flag, duration_flag) {
+            (Some(f), _) => f,
+            (None, true) => "--duration",
+            (None, false) => "run.duration",
+        }
     }
 
     /// The whole number of steps of `dt` s covering `duration` s (at least 1, rounded to the

@@ -390,7 +390,6 @@ fn spring_field(scene: &Scenario, s: usize) -> String {
 /// The error names the field that holds the value at fault. `scene` comes without its
 /// obstacles (contact forces are not part of the check).
 fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
-    use crate::error::num;
     let v3 = |v: &Vec3| format!("({}, {}, {})", num(v.x), num(v.y), num(v.z));
     let at = |p: usize, what: &str| {
         let f = particle_field(scene, p);
@@ -434,17 +433,16 @@ fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
     }
     let sys = scene.build();
     let s0 = scene.initial_state();
+    let sp = &sys.springs;
+    let length = |s: usize| (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
     let spring_at_fault = || {
-        let sp = &sys.springs;
         (0..sp.len()).find(|&s| {
-            let l = (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
-            let stretch = l - sp.l0[s];
+            let stretch = length(s) - sp.l0[s];
             !(0.5 * sp.k[s] * stretch * stretch).is_finite()
         })
     };
     let spring_err = |s: usize, what: &str| {
-        let sp = &sys.springs;
-        let l = (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
+        let l = length(s);
         let field = format!("{}.stiffness", spring_field(scene, s));
         ck.err(field, format!("the {what} of spring {s} (particles {} and {}), stiffness {} N/m at length {} m and rest length {} m, is not finite in f64", sp.i[s], sp.j[s], num(sp.k[s]), num(l), num(sp.l0[s])))
     };
@@ -487,11 +485,7 @@ fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
         .position(|fi| !(fi.x.is_finite() && fi.y.is_finite() && fi.z.is_finite()))
     {
         // The elastic energy was finite, so a spring at fault is one whose force overflows.
-        let sp = &sys.springs;
-        if let Some(s) = (0..sp.len()).find(|&s| {
-            let l = (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
-            !(sp.k[s] * (l - sp.l0[s])).is_finite()
-        }) {
+        if let Some(s) = (0..sp.len()).find(|&s| !(sp.k[s] * (length(s) - sp.l0[s])).is_finite()) {
             return Err(spring_err(s, "force k(l - l0)"));
         }
         let q = &scene.particles[p];

@@ -185,12 +185,7 @@ pub fn frame_event_floor(scene: &Scenario, reference: &Reference, g: usize) -> R
     let floor = (1..=grid.steps)
         .take_while(|&k| grid.time(k) < horizon)
         .filter_map(|k| Some((reference.positions(g, k)?, lagged.positions(0, k)?)))
-        .map(|(a, b)| {
-            a.iter()
-                .zip(b)
-                .map(|(p, q)| (p - q).norm())
-                .fold(0.0, f64::max)
-        })
+        .map(|(a, b)| super::metrics::position_error(a, b))
         .fold(0.0, f64::max);
     Ok(Some(floor))
 }

@@ -12,9 +12,10 @@
 //! own error). The predictability horizon comes from a perturbed run (initial positions moved
 //! as in [`super::uncertainty`]) at h₀ against the unperturbed one at h₀.
 
-use super::uncertainty::{max_distance, perturbed, PREDICTABILITY_THRESHOLD};
+use super::uncertainty::{perturbed, PREDICTABILITY_THRESHOLD};
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
+use crate::measure::metrics::position_error;
 use crate::method::create as by_name;
 use crate::model::{State, System, Vec3};
 
@@ -136,7 +137,7 @@ pub(super) fn fine_step(
     let horizon_t = times
         .iter()
         .zip(pert.iter().zip(&prev))
-        .find(|(_, (a, b))| max_distance(a, b) > threshold)
+        .find(|(_, (a, b))| position_error(a, b) > threshold)
         .map(|(&t, _)| t);
     let mut h = h0;
     let mut levels = 1;
@@ -151,7 +152,7 @@ pub(super) fn fine_step(
         unc = cur
             .iter()
             .zip(&prev)
-            .map(|(a, b)| max_distance(a, b).max(floor))
+            .map(|(a, b)| position_error(a, b).max(floor))
             .collect();
         prev = cur;
         h = next_h;

@@ -23,6 +23,7 @@
 
 use super::adaptive::{length_scale, positions, solve};
 use crate::error::Result;
+use crate::measure::metrics::position_error;
 use crate::model::{State, System, Vec3};
 
 /// Tolerance of the looser companion solve relative to the main one.
@@ -88,7 +89,7 @@ fn distances(
         None,
         Some(max_steps),
         &mut |i, y| {
-            d[i] = max_distance(&positions(y, n), &main[i]);
+            d[i] = position_error(&positions(y, n), &main[i]);
         },
     )?;
     Ok(done.map(|_| d))
@@ -157,12 +158,4 @@ pub(super) fn companions(
         threshold,
         note,
     })
-}
-
-/// Largest distance between corresponding particles of two position lists (m).
-pub(super) fn max_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(p, q)| (p - q).norm())
-        .fold(0.0, f64::max)
 }
