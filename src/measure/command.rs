@@ -76,8 +76,10 @@ impl CommandLine {
     }
 }
 
-/// `command` with `--out DIR` appended: the line that re-creates the document written to `dir`.
+/// `command` with `--out DIR` appended: the line that re-creates the document written to `dir`
+/// (named by the path it is published under when `dir` is being staged).
 pub fn with_out(command: &str, dir: &Path) -> String {
+    let dir = crate::output::published_path(dir);
     format!("{command} --out {}", shell_word(&dir.display().to_string()))
 }
 

@@ -6,6 +6,10 @@
 //! folder, which stays and is simply locked again by the next command. Either way the operating
 //! system releases the lock when the holding process ends, however it ends, so a killed
 //! command never leaves a stale lock.
+//!
+//! Whoever takes a folder's lock alone first finishes or undoes what a killed command left in
+//! it ([`super::recover`]), so no hidden staging folder or temporary file outlives the next
+//! start. A shared holder recovers only when no one else holds the folder.
 
 use crate::error::{Error, Result};
 use std::fs::File;
@@ -45,10 +49,18 @@ fn lock(dir: &Path, shared: bool) -> Result<DirLock> {
     };
     std::fs::create_dir_all(dir).map_err(werr)?;
     let handle = open_handle(dir).map_err(werr)?;
-    let got = if shared {
-        fs4::FileExt::try_lock_shared(&handle)
-    } else {
-        fs4::FileExt::try_lock(&handle)
+    let got = match fs4::FileExt::try_lock(&handle) {
+        Ok(()) => {
+            say_recovered(dir, &super::recover(dir)?);
+            // flock converts the held lock in place.
+            if shared {
+                fs4::FileExt::try_lock_shared(&handle)
+            } else {
+                Ok(())
+            }
+        }
+        Err(fs4::TryLockError::WouldBlock) if shared => fs4::FileExt::try_lock_shared(&handle),
+        Err(e) => Err(e),
     };
     match got {
         Ok(()) => Ok(DirLock {
@@ -68,6 +80,19 @@ fn lock(dir: &Path, shared: bool) -> Result<DirLock> {
                 _handle: None,
             })
         }
+    }
+}
+
+/// One line on stderr when recovery changed the folder, so the user knows why files moved.
+fn say_recovered(dir: &Path, rec: &super::Recovery) {
+    if !rec.is_empty() {
+        eprintln!(
+            "note: {}: finished {} interrupted commit(s), put back {} earlier output(s) and removed {} leftover(s) of a command that was killed",
+            dir.display(),
+            rec.finished,
+            rec.restored.len(),
+            rec.removed.len()
+        );
     }
 }
 

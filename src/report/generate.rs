@@ -11,7 +11,7 @@ use super::summary::{scene_summary, Document, SceneSummary, Summary};
 use crate::error::{Error, Result};
 use crate::measure::study::{study, SceneStudy, StudyConfig};
 use crate::method::Registry;
-use crate::output::write_atomic;
+use crate::output::{write_atomic, Transaction};
 use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
@@ -105,11 +105,12 @@ pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
 }
 
 /// Writes one scene's documents, charts and page under `out/<scene>/` and returns its summary.
-/// The folder is rewritten whole ([`crate::output::FreshDir`]): it never keeps a file of an
-/// earlier report that this one did not write.
+/// The folder is staged and swapped in whole ([`Transaction`]): it never keeps a file of an
+/// earlier report that this one did not write, and a scene that fails or is killed while being
+/// written leaves its earlier folder as it was.
 pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Result<SceneSummary> {
-    let fresh = crate::output::FreshDir::create(opts.out.join(&s.scenario))?;
-    let dir = fresh.path().to_path_buf();
+    let mut tx = Transaction::new(&opts.out)?;
+    let dir = tx.stage_dir(&s.scenario)?;
     let docs = write_documents(&dir, s)?;
     let link = |k: &str| format!("Document: <code>{k}</code>.");
     let mut figs = Vec::new();
@@ -218,6 +219,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     }
     let mut sum = scene_summary(s, &opts.methods, docs)?;
     sum.verdict = super::verdict::verdict(&sum);
+    sum.file = super::build::file_key(&scene.source);
     write_atomic(
         dir.join("index.html"),
         scene_page(&sum, s, &figs, &sections, &notes).as_bytes(),
@@ -231,7 +233,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
             })?
             .as_bytes(),
     )?;
-    fresh.commit()?;
+    tx.commit()?;
     Ok(sum)
 }
 
@@ -247,17 +249,16 @@ pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<SceneSumma
     write_scene(scene, &s, opts)
 }
 
-/// Writes `index.html`, `README.md` and `summary.json` (last, after every scene page).
+/// Writes `index.html`, `README.md` and `summary.json` (last, after every scene page), as one
+/// transaction: the three always come from the same report.
 pub fn write_overview(sum: &Summary, out: &Path) -> Result<()> {
-    write_atomic(out.join("index.html"), index_page(sum).as_bytes())?;
-    write_atomic(
-        out.join("README.md"),
-        super::markdown::readme(sum).as_bytes(),
-    )?;
     let json = serde_json::to_string_pretty(sum).map_err(|e| Error::Write {
         file: out.join("summary.json"),
         source: std::io::Error::other(e),
     })?;
-    write_atomic(out.join("summary.json"), json.as_bytes())?;
-    Ok(())
+    let mut tx = Transaction::new(out)?;
+    tx.stage_file("index.html", index_page(sum).as_bytes())?;
+    tx.stage_file("README.md", super::markdown::readme(sum).as_bytes())?;
+    tx.stage_file("summary.json", json.as_bytes())?;
+    tx.commit()
 }

@@ -4,8 +4,10 @@
 //! pages, a Markdown overview and `summary.json`. It runs no method and measures nothing.
 //!
 //! Data flows one way: study → [`charts`] (plain [`data`]) → [`plots`] (SVG) and [`summary`]
-//! → [`verdict`], [`html`], [`markdown`]; [`generate`] writes it all.
+//! → [`verdict`], [`html`], [`markdown`]; [`generate`] writes a scene and the overview;
+//! [`build`] runs the whole report.
 
+pub mod build;
 mod charts;
 mod collision_table;
 pub mod data;
@@ -21,5 +23,6 @@ pub mod small_steps;
 pub mod summary;
 mod verdict;
 
+pub use build::{build, BuildConfig, Built};
 pub use generate::{report_scene, scenario_files, write_overview, ReportOptions};
 pub use summary::Summary;

@@ -44,14 +44,23 @@ fn read_json<T: for<'de> Deserialize<'de>>(p: &Path) -> Result<T> {
 }
 
 /// Joins the shards recorded under `out/shards/` into the report's summary (scenes in file
-/// order); errors name the shard file and what is missing or repeated.
+/// order; a failed scene keeps the earlier overview's row, as in [`super::build::assemble`]);
+/// errors name the shard file and what is missing or repeated.
 pub fn merge_shards(out: &Path, generator: &str, quick: bool) -> Result<Summary> {
     let dir = out.join("shards");
-    let rd = std::fs::read_dir(&dir).map_err(|source| Error::Read {
-        file: dir.clone(),
-        source,
-    })?;
+    let rd = match std::fs::read_dir(&dir) {
+        Ok(rd) => Some(rd),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(source) => {
+            return Err(Error::Read {
+                file: dir.clone(),
+                source,
+            })
+        }
+    };
     let mut files: Vec<PathBuf> = rd
+        .into_iter()
+        .flatten()
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
@@ -67,8 +76,7 @@ pub fn merge_shards(out: &Path, generator: &str, quick: bool) -> Result<Summary>
     }
     let mut count = None;
     let mut seen: Vec<bool> = Vec::new();
-    let mut scenes: Vec<(usize, SceneSummary)> = Vec::new();
-    let mut failed: Vec<(usize, String, String)> = Vec::new();
+    let mut outcomes: Vec<(usize, String, std::result::Result<SceneSummary, String>)> = Vec::new();
     for f in &files {
         let rec: ReportShard = read_json(f)?;
         let n = *count.get_or_insert(rec.shard.count);
@@ -89,9 +97,9 @@ pub fn merge_shards(out: &Path, generator: &str, quick: bool) -> Result<Summary>
         }
         for (k, name) in rec.scenes {
             let s: SceneSummary = read_json(&out.join(&name).join("results.json"))?;
-            scenes.push((k, s));
+            outcomes.push((k, s.file.clone(), Ok(s)));
         }
-        failed.extend(rec.failed);
+        outcomes.extend(rec.failed.into_iter().map(|(k, f, e)| (k, f, Err(e))));
     }
     if let Some(missing) = seen.iter().position(|s| !s) {
         return Err(Error::option(
@@ -99,13 +107,14 @@ pub fn merge_shards(out: &Path, generator: &str, quick: bool) -> Result<Summary>
             format!("shard {missing}/{} is missing", seen.len()),
         ));
     }
-    scenes.sort_by_key(|(k, _)| *k);
-    failed.sort_by_key(|(k, _, _)| *k);
-    Ok(Summary {
-        generator: generator.to_string(),
+    outcomes.sort_by_key(|(k, _, _)| *k);
+    let previous = super::build::previous_summary(out);
+    let mut sum = super::build::assemble(
+        generator,
         quick,
-        scenes: scenes.into_iter().map(|(_, s)| s).collect(),
-        failed: failed.into_iter().map(|(_, f, e)| (f, e)).collect(),
-        small_steps: super::small_steps::read_link(out),
-    })
+        outcomes.into_iter().map(|(_, f, r)| (f, r)).collect(),
+        previous.as_ref(),
+    );
+    sum.small_steps = super::small_steps::read_link(out);
+    Ok(sum)
 }

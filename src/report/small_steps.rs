@@ -6,7 +6,7 @@ use super::html::{esc, page};
 use super::plots::common::{svg_grid, Axis, Panel};
 use crate::error::Result;
 use crate::measure::small_steps::{small_steps, write_small_steps, SmallSteps, SmallStepsConfig};
-use crate::output::write_atomic;
+use crate::output::{write_atomic, Transaction};
 use crate::report::data::Series;
 use crate::scenario::Scenario;
 use serde::{Deserialize, Serialize};
@@ -36,10 +36,13 @@ pub fn write_page(scenarios: &Path, out: &Path) -> Result<Option<SmallStepsLink>
         .map(Scenario::from_file)
         .collect::<Result<Vec<_>>>()?;
     let doc = small_steps(&scenes, &SmallStepsConfig::default())?;
-    let dir = out.join("small_steps");
+    // The page and its documents are replaced together (see [`Transaction`]).
+    let mut tx = Transaction::new(out)?;
+    let dir = tx.stage_dir("small_steps")?;
     write_small_steps(&dir, &doc)?;
     write_atomic(dir.join("small_steps.svg"), chart(&doc)?.as_bytes())?;
     write_atomic(dir.join("index.html"), html(&doc).as_bytes())?;
+    tx.commit()?;
     Ok(Some(SmallStepsLink {
         page: "small_steps/index.html".into(),
         verdicts: doc

@@ -118,6 +118,14 @@ pub struct SceneSummary {
     /// Wall time of each part of the study (s): where the report's time went.
     #[serde(default)]
     pub seconds: crate::measure::study::StudySeconds,
+    /// The scenario file's name, by which a later report recognises the scene if it cannot
+    /// load it.
+    #[serde(default)]
+    pub file: String,
+    /// Set when the latest report could not study the scene and kept this earlier row and
+    /// folder: why it failed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed_this_time: Option<String>,
 }
 
 /// The whole report's summary (`summary.json`).
@@ -233,5 +241,7 @@ pub fn scene_summary(
         documents,
         notes: s.notes.clone(),
         seconds: s.seconds,
+        file: String::new(),
+        failed_this_time: None,
     })
 }

@@ -86,6 +86,10 @@ pub fn front_row(s: &SceneSummary) -> FrontRow {
             s.advice_note.as_deref().unwrap_or("none was measured")
         ),
     };
+    let pick = match &s.failed_this_time {
+        Some(_) => format!("(from the previous report; this one failed on the scene) {pick}"),
+        None => pick,
+    };
     FrontRow {
         pick,
         limits: s
