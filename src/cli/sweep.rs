@@ -38,6 +38,11 @@ pub struct Args {
     /// steps, not time: a costly backend (rapier_multibody on a large cloth) can still be slow.
     #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
+    /// Time budget (s of runs, summed over methods and steps; default 180). Each method's
+    /// wall time per step is measured first; where the total would exceed the budget, the
+    /// costliest methods lose their finest steps (or are left out), as the summary states.
+    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::sweep::budget::DEFAULT_BUDGET_SECONDS)]
+    pub budget: f64,
     /// Simulated time (s; default the scene's duration).
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
@@ -68,6 +73,7 @@ pub fn run(a: Args) -> Result<()> {
         blowup_factor: a.blowup.value()?,
         shard: a.shard,
         progress: true,
+        budget_seconds: Some(a.budget),
         ..Default::default()
     };
     let dir = match a.shard {
@@ -127,6 +133,16 @@ pub fn run(a: Args) -> Result<()> {
             if r.extend { "on" } else { "off" },
             r.cost_cap_particle_steps
         );
+        if let Some(b) = &s.budget {
+            for m in b.methods.iter().filter(|m| m.finest > res.plan.base_from) {
+                println!(
+                    "budget: {} runs dt ≥ {} s only: {}",
+                    m.integrator,
+                    fmt_opt(Some(res.plan.dts[m.finest])),
+                    b.sentence(m)
+                );
+            }
+        }
     }
     for f in files {
         println!("wrote {}", f.display());

@@ -11,6 +11,7 @@ mod framerate;
 mod interrupt;
 mod measure_cli;
 mod output_lock;
+mod progress_budget;
 mod report_browser;
 mod report_collision;
 mod report_commands;

@@ -55,6 +55,7 @@ mod reference_uncertainty;
 mod report_plots;
 mod shipped_scenarios;
 mod small_steps;
+mod sweep_budget;
 mod sweep_defaults;
 mod thread_determinism;
 mod verdict_theory;

@@ -29,12 +29,18 @@ pub enum Stop {
     FixedGrid,
     /// The rows end before the rule says they should (a hand-edited or truncated sweep).
     Incomplete,
+    /// The sweep's time budget allows no smaller step for this method.
+    Budget,
 }
 
 impl Stop {
     /// A sentence for notes and the terminal.
-    pub fn describe(&self, plan: &SweepPlan) -> String {
+    pub fn describe(&self, plan: &SweepPlan, name: &str) -> String {
         match self {
+            Stop::Budget => match plan.budget.as_ref().and_then(|b| Some((b, b.of(name)?))) {
+                Some((b, m)) => b.sentence(m),
+                None => "the sweep's time budget".into(),
+            },
             Stop::Asymptotic => "asymptotic range reached".into(),
             Stop::Floor => "the finest step's error is at the reference floor".into(),
             Stop::CostCap => format!(
@@ -102,7 +108,7 @@ pub fn next_step(
     let Some(finest) = runs.iter().min_by_key(|r| r.j) else {
         return Err(Stop::Incomplete);
     };
-    if (plan.base_from..plan.dts.len()).any(|j| !runs.iter().any(|r| r.j == j)) {
+    if (plan.base_start(name)..plan.dts.len()).any(|j| !runs.iter().any(|r| r.j == j)) {
         return Err(Stop::Incomplete);
     }
     if method_fit(plan, floors, saturation, name, runs)
@@ -123,6 +129,9 @@ pub fn next_step(
                 return Err(Stop::NotConverging);
             }
         }
+    }
+    if finest.j <= plan.finest(name) && finest.j > 0 {
+        return Err(Stop::Budget);
     }
     if !plan.rule.extend {
         return Err(Stop::FixedGrid);

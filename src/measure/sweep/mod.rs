@@ -19,10 +19,12 @@
 //!   error is at the reference floor, the cap is reached, or the error stopped falling (less
 //!   than [`extend::STALL_FACTOR`]× over the last three refinements: saturated, chaotic, or a
 //!   reference that misses the physics) ([`extend::next_step`]). The cap counts
-//!   particle-steps, not wall time (which would make the grid irreproducible): a backend
-//!   whose step costs far more than a native method's (Rapier's multibody solver on a large
-//!   cloth) is bounded in steps only; exclude it with `--integrators` or shorten the horizon
-//!   with `--duration` when that matters.
+//!   particle-steps, not wall time, so it is the same on every machine.
+//! - Budget: `springlab sweep` also bounds wall time ([`budget`]): a probe measures each
+//!   method's time per step, and where the projected total exceeds the budget the costliest
+//!   methods lose their finest steps. That decision depends on the machine, so the plan records
+//!   it (the measured costs and each method's finest allowed step) and the summary names it;
+//!   it removes runs and never changes one. Library sweeps (the report's) have no budget.
 //! - Overrides: `--dt-max`, `--dt-min` and `--points` replace their part of the rule exactly.
 //!   Giving `--dt-min` fixes the small end, so no extension runs unless `--extend` asks.
 //!
@@ -38,6 +40,7 @@
 //! whatever the thread count, and a merge of all shards equals the unsharded sweep. At most
 //! one shard per integrator does work.
 
+pub mod budget;
 pub mod extend;
 pub mod plan;
 pub mod shard;
@@ -127,6 +130,9 @@ pub struct SweepConfig {
     pub progress: bool,
     /// Repeat short runs for the wall time.
     pub repeat_short: bool,
+    /// Time budget (s of runs, summed; see [`budget`]); `None`: no budget (the report's
+    /// sweeps, whose engines the study already chose by cost). Not applied to a shard.
+    pub budget_seconds: Option<f64>,
 }
 
 impl Default for SweepConfig {
@@ -146,6 +152,7 @@ impl Default for SweepConfig {
             budget_bytes: DEFAULT_BUDGET_BYTES,
             progress: false,
             repeat_short: true,
+            budget_seconds: None,
         }
     }
 }
@@ -251,9 +258,12 @@ pub fn theoretical_order(plan: &SweepPlan, name: &str) -> Option<u32> {
 
 /// Runs a sweep (or one shard of it): the base grid, then extension rounds.
 pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
-    let plan = plan_sweep(scene, cfg)?;
+    let mut plan = plan_sweep(scene, cfg)?;
     let sys = scene.build();
     let s0 = scene.initial_state();
+    if let (Some(seconds), None) = (cfg.budget_seconds, cfg.shard) {
+        apply_budget(&mut plan, &sys, &s0, cfg, seconds)?;
+    }
     let p = plan.dts.len();
     let owned: Vec<usize> = (0..plan.integrators.len())
         .filter(|&i| cfg.shard.is_none_or(|s| s.owns(i)))
@@ -283,7 +293,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
     };
     let mut pending: Vec<usize> = owned
         .iter()
-        .flat_map(|&i| (plan.base_from..p).map(move |j| i * p + j))
+        .flat_map(|&i| (plan.base_start(&plan.integrators[i])..p).map(move |j| i * p + j))
         .collect();
     let pb = crate::run::progress_bar(
         pending.len() as u64,
@@ -341,4 +351,63 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         res.summary = Some(summarise(&res));
     }
     Ok(res)
+}
+
+/// Probes every method of `plan` and, where the budget cuts, records its allotment in the plan;
+/// a method that fits no step moves to `skipped` with the figures (see [`budget`]).
+fn apply_budget(
+    plan: &mut SweepPlan,
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    cfg: &SweepConfig,
+    seconds: f64,
+) -> Result<()> {
+    if !(seconds.is_finite() && seconds > 0.0) {
+        return Err(Error::option(
+            "--budget",
+            format!(
+                "{} (must be a positive number of seconds)",
+                crate::error::num(seconds)
+            ),
+        ));
+    }
+    let j = plan.base_from;
+    let steps = budget::PROBE_STEPS.min(plan.steps[j]);
+    let mut per_step = Vec::with_capacity(plan.integrators.len());
+    for name in &plan.integrators {
+        let mut integ = cfg.methods.create(name, &cfg.options)?;
+        let run_plan = crate::run::RunPlan::new(plan.dts[j], steps);
+        // A probe that fails costs nothing here: its case runs report the failure.
+        let out = crate::run::run(
+            sys,
+            integ.as_mut(),
+            s0.clone(),
+            &run_plan,
+            &mut crate::run::NoObserver,
+        );
+        per_step.push(match out {
+            Ok(o) if o.steps_done > 0 => o.wall_seconds / o.steps_done as f64,
+            _ => 0.0,
+        });
+    }
+    let b = budget::SweepBudget::new(plan, seconds, &per_step);
+    let none = plan.dts.len();
+    let (kept, left): (Vec<_>, Vec<_>) = b.methods.iter().cloned().partition(|m| m.finest < none);
+    for m in &left {
+        let i = plan
+            .integrators
+            .iter()
+            .position(|n| *n == m.integrator)
+            .expect("planned");
+        plan.integrators.remove(i);
+        plan.orders.remove(i);
+        plan.skipped
+            .push((m.integrator.clone(), format!("left out: {}", b.sentence(m))));
+    }
+    // Recorded only where it acted: a budget that cut nothing leaves the documents as they
+    // would be without it (measured costs vary from run to run).
+    if !left.is_empty() || kept.iter().any(|m| m.finest > 0) {
+        plan.budget = Some(budget::SweepBudget { methods: kept, ..b });
+    }
+    Ok(())
 }

@@ -86,9 +86,23 @@ pub struct SweepPlan {
     pub constraint_iterations: usize,
     /// Substeps of external backends.
     pub substeps: usize,
+    /// The time budget and what it allowed each method, when one was set.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget: Option<super::budget::SweepBudget>,
 }
 
 impl SweepPlan {
+    /// Index in `dts` of the smallest step method `name` may run (the budget's; else 0).
+    pub fn finest(&self, name: &str) -> usize {
+        self.budget
+            .as_ref()
+            .and_then(|b| b.of(name))
+            .map_or(0, |m| m.finest)
+    }
+    /// Index in `dts` of the smallest base-grid step method `name` runs.
+    pub fn base_start(&self, name: &str) -> usize {
+        self.base_from.max(self.finest(name))
+    }
     /// Number of possible cases (integrators × candidate steps); case k is integrator
     /// k / dts.len() at step k mod dts.len().
     pub fn case_count(&self) -> usize {
@@ -225,6 +239,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .switch("extend", cfg.extend == Some(true))
         .switch("no-extend", cfg.extend == Some(false))
         .flag_opt("cost-cap", cfg.cost_cap)
+        .flag_opt("budget", cfg.budget_seconds)
         .flag("duration", plan.duration)
         .flag("substeps", cfg.options.substeps)
         .flag("iterations", cfg.options.constraint_iterations)
@@ -372,5 +387,6 @@ fn finish(
         blowup_factor: cfg.blowup_factor,
         constraint_iterations: cfg.options.constraint_iterations,
         substeps: cfg.options.substeps,
+        budget: None,
     })
 }

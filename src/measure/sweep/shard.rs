@@ -196,7 +196,8 @@ pub fn merge(dirs: &[PathBuf]) -> Result<SweepResult> {
     }
     // Every integrator's base grid must be there; extension cases are there when run.
     let p = f.plan.dts.len();
-    if let Some(k) = (0..slots.len()).find(|&k| k % p >= f.plan.base_from && slots[k].is_none()) {
+    let base = |k: usize| f.plan.base_start(&f.plan.integrators[k / p]);
+    if let Some(k) = (0..slots.len()).find(|&k| k % p >= base(k) && slots[k].is_none()) {
         return Err(Error::option("merge", format!("case {k} is missing")));
     }
     let (case_indices, rows): (Vec<usize>, Vec<SweepRow>) = slots

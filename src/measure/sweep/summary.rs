@@ -56,6 +56,9 @@ pub struct SweepSummary {
     pub integrators: Vec<IntegratorSummary>,
     /// Integrators that do not apply, with the reason.
     pub skipped: Vec<(String, String)>,
+    /// The time budget and what it allowed each method, when one was set.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget: Option<super::budget::SweepBudget>,
 }
 
 /// The summary of a full (unsharded or merged) sweep, computed from its rows only.
@@ -79,7 +82,7 @@ pub fn summarise(res: &SweepResult) -> SweepSummary {
                 .err()
                 .unwrap_or(Stop::Incomplete);
             if fit.observed_order.is_none() {
-                let why = stop.describe(plan);
+                let why = stop.describe(plan, name);
                 fit.note = Some(match fit.note.take() {
                     Some(n) => format!("{n}; refinement stopped: {why}"),
                     None => why,
@@ -115,5 +118,6 @@ pub fn summarise(res: &SweepResult) -> SweepSummary {
         saturation: res.saturation,
         integrators,
         skipped: plan.skipped.clone(),
+        budget: plan.budget.clone(),
     }
 }

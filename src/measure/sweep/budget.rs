@@ -1,0 +1,169 @@
+//! The sweep's time budget: before the cases run, a short probe of each method at the base
+//! grid's smallest step measures its wall time per step, which projects the cost of every
+//! candidate step it might run. When the methods' projected total exceeds the budget, the
+//! budget is shared by water-filling: methods that fit keep every step, and the costliest ones
+//! lose their finest steps (the dearest) down to an equal share; a method whose coarsest step
+//! alone exceeds its share is left out. The plan records each method's measured cost and its
+//! finest allowed step, so the summary states what was left out and why, with the figures.
+//!
+//! The budget counts seconds of runs summed over methods and steps (one thread's worth), so
+//! the decision does not depend on the thread count; it does depend on the machine's speed,
+//! which is why it is recorded and named wherever it cut something (`--budget` raises it).
+
+use super::plan::SweepPlan;
+use serde::{Deserialize, Serialize};
+
+/// Default budget of `springlab sweep` (s of runs, summed over methods and steps).
+pub const DEFAULT_BUDGET_SECONDS: f64 = 180.0;
+
+/// Steps of the probe that measures a method's wall time per step.
+pub const PROBE_STEPS: u64 = 40;
+
+/// One method's measured cost and what the budget allows it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MethodBudget {
+    /// The method.
+    pub integrator: String,
+    /// Its probe's wall time per step (s).
+    pub seconds_per_step: f64,
+    /// Projected wall time of all its candidate steps (s).
+    pub projected_seconds: f64,
+    /// Index in the plan's `dts` of the smallest step it may run (0: every candidate).
+    pub finest: usize,
+}
+
+/// The budget a sweep ran under, when one was set.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SweepBudget {
+    /// The budget (s of runs, summed).
+    pub seconds: f64,
+    /// Per method of the plan, in its order.
+    pub methods: Vec<MethodBudget>,
+}
+
+/// Wall time (s) of running every candidate step from `j` to the coarsest at `per_step`.
+fn cost_from(steps: &[u64], per_step: f64, j: usize) -> f64 {
+    per_step * steps[j..].iter().map(|&n| n as f64).sum::<f64>()
+}
+
+/// The finest allowed step index per method (`steps.len()`: none at all) so that the methods'
+/// projected costs sum to at most `budget`: water-filling on the full projected costs, then
+/// for each method the finest index whose cost fits its share; a method that fits no step is
+/// left out and the others share the budget again.
+pub fn allot(steps: &[u64], per_step: &[f64], budget: f64) -> Vec<usize> {
+    let none = steps.len();
+    let mut out = vec![0; per_step.len()];
+    let mut active: Vec<usize> = (0..per_step.len()).collect();
+    loop {
+        let full: Vec<f64> = active
+            .iter()
+            .map(|&i| cost_from(steps, per_step[i], 0))
+            .collect();
+        if full.iter().sum::<f64>() <= budget {
+            for &i in &active {
+                out[i] = 0;
+            }
+            return out;
+        }
+        // The share m with Σ min(full_i, m) = budget, by bisection (the sum is monotone in m).
+        let (mut lo, mut hi) = (0.0, full.iter().cloned().fold(0.0, f64::max));
+        for _ in 0..200 {
+            let m = 0.5 * (lo + hi);
+            if full.iter().map(|&c| c.min(m)).sum::<f64>() > budget {
+                hi = m;
+            } else {
+                lo = m;
+            }
+        }
+        for &i in &active {
+            out[i] = (0..none)
+                .find(|&j| cost_from(steps, per_step[i], j) <= lo)
+                .unwrap_or(none);
+        }
+        let before = active.len();
+        active.retain(|&i| out[i] < none);
+        if active.len() == before || active.is_empty() {
+            return out;
+        }
+    }
+}
+
+/// A measured figure with three significant digits: plain between 0.001 and 10⁴, else
+/// scientific.
+fn sig3(x: f64) -> String {
+    if x != 0.0 && !(1e-3..1e4).contains(&x.abs()) {
+        return format!("{x:.2e}");
+    }
+    let digits = if x == 0.0 {
+        2
+    } else {
+        (2 - x.abs().log10().floor() as i32).clamp(0, 5) as usize
+    };
+    format!("{x:.digits$}")
+}
+
+impl SweepBudget {
+    /// The budget for `plan`'s methods from their measured wall times per step.
+    pub fn new(plan: &SweepPlan, seconds: f64, per_step: &[f64]) -> Self {
+        let finest = allot(&plan.steps, per_step, seconds);
+        SweepBudget {
+            seconds,
+            methods: plan
+                .integrators
+                .iter()
+                .zip(per_step)
+                .zip(finest)
+                .map(|((n, &s), f)| MethodBudget {
+                    integrator: n.clone(),
+                    seconds_per_step: s,
+                    projected_seconds: cost_from(&plan.steps, s, 0),
+                    finest: f,
+                })
+                .collect(),
+        }
+    }
+    /// The entry of method `name`.
+    pub fn of(&self, name: &str) -> Option<&MethodBudget> {
+        self.methods.iter().find(|m| m.integrator == name)
+    }
+    /// Why `m` runs no step below its allowed one, with the figures.
+    pub fn sentence(&self, m: &MethodBudget) -> String {
+        format!(
+            "the sweep's budget of {} s: its {} candidate steps would take about {} s at {} ms per step (measured over {PROBE_STEPS} steps); `--budget` raises it",
+            sig3(self.seconds),
+            m.integrator,
+            sig3(m.projected_seconds),
+            sig3(m.seconds_per_step * 1e3)
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Oracle: water-filling by hand. Steps 1000, 100, 10 (costs per step-second 1110, 110,
+    // 10); method A at 1 ms/step costs 1.11 s in full, B at 100 ms/step 111 s. A budget of
+    // 20 s lets A keep everything (1.11 s) and leaves B 18.89 s: all of 110 steps' 11 s fits,
+    // 1110 steps' 111 s does not, so B starts at index 1.
+    #[test]
+    fn cheap_methods_keep_all_and_the_costliest_lose_their_finest_steps() {
+        let steps = [1000, 100, 10];
+        assert_eq!(allot(&steps, &[1e-3, 0.1], 20.0), vec![0, 1]);
+        // A budget above the total cuts nothing; one below B's coarsest run (1 s) with A
+        // taking its share leaves B out entirely.
+        assert_eq!(allot(&steps, &[1e-3, 0.1], 200.0), vec![0, 0]);
+        assert_eq!(allot(&steps, &[1e-3, 0.1], 1.5), vec![0, 3]);
+    }
+
+    // Oracle: three significant digits by hand.
+    #[test]
+    fn figures_have_three_significant_digits() {
+        assert_eq!(sig3(1.4836), "1.48");
+        assert_eq!(sig3(0.011628), "0.0116");
+        assert_eq!(sig3(2706.2), "2706");
+        assert_eq!(sig3(180.0), "180");
+        assert_eq!(sig3(1e-6), "1.00e-6");
+        assert_eq!(sig3(0.0), "0.00");
+    }
+}

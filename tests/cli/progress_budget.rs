@@ -1,0 +1,86 @@
+//! Long commands without a terminal: progress lines at most every interval, and the sweep's
+//! time budget through the binary.
+//!
+//! Oracles: the interval's definition (`SPRINGLAB_PROGRESS_INTERVAL`, default 10 s) and the
+//! command's own counts (done ≤ total); a budget far below any run's cost leaves every method
+//! out, naming the budget and the measured figure; a budget that is not a positive number is
+//! refused naming the flag.
+
+use crate::support::bin;
+
+fn sweep(env: Option<&str>, extra: &[&str]) -> std::process::Output {
+    let out = tempfile::tempdir().unwrap();
+    let mut c = bin();
+    c.args([
+        "sweep",
+        "scenarios/hanging_chain.toml",
+        "--integrators",
+        "implicit_euler,implicit_midpoint",
+        "--out",
+    ])
+    .arg(out.path())
+    .args(extra);
+    match env {
+        Some(v) => c.env("SPRINGLAB_PROGRESS_INTERVAL", v),
+        None => c.env_remove("SPRINGLAB_PROGRESS_INTERVAL"),
+    };
+    c.output().unwrap()
+}
+
+fn progress_lines(o: &std::process::Output) -> Vec<(u64, u64)> {
+    String::from_utf8_lossy(&o.stderr)
+        .lines()
+        .filter_map(|l| l.strip_prefix("progress: sweep hanging_chain: "))
+        .map(|l| {
+            let counts = l.split(' ').next().unwrap();
+            let (d, t) = counts.split_once('/').unwrap();
+            (d.parse().unwrap(), t.parse().unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn a_sweep_in_a_pipe_prints_progress_lines() {
+    let o = sweep(Some("0.2"), &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let lines = progress_lines(&o);
+    assert!(!lines.is_empty(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(lines.iter().all(|(d, t)| d <= t && *t > 0));
+}
+
+#[test]
+fn twin_a_sweep_shorter_than_the_default_interval_prints_none() {
+    let o = sweep(None, &[]);
+    assert!(o.status.success());
+    assert!(progress_lines(&o).is_empty());
+}
+
+#[test]
+fn a_tiny_budget_leaves_every_method_out_with_its_figure() {
+    let o = sweep(None, &["--budget", "1e-6"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for m in ["implicit_euler", "implicit_midpoint"] {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(m) && l.contains("skipped"))
+            .unwrap_or_else(|| panic!("{m} not left out:\n{text}"));
+        assert!(
+            line.contains("budget of 1.00e-6 s") && line.contains("ms per step"),
+            "{line}"
+        );
+    }
+}
+
+#[test]
+fn a_budget_that_is_not_positive_is_refused_naming_the_flag() {
+    for bad in ["0", "-1", "inf", "nan"] {
+        let o = sweep(None, &["--budget", bad]);
+        assert!(!o.status.success(), "{bad}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("--budget") && err.lines().count() == 1,
+            "{bad}: {err}"
+        );
+    }
+}
