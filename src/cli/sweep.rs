@@ -38,10 +38,10 @@ pub struct Args {
     /// steps, not time: a costly backend (rapier_multibody on a large cloth) can still be slow.
     #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
-    /// Time budget (s of runs, summed over methods and steps; default 180). Each method's
+    /// Time budget (s of runs, summed over methods and steps; default 120). Each method's
     /// wall time per step is measured first; where the total would exceed the budget, the
     /// costliest methods lose their finest steps (or are left out), as the summary states.
-    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::sweep::budget::DEFAULT_BUDGET_SECONDS)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
     pub budget: f64,
     /// Simulated time (s; default the scene's duration).
     #[arg(long, allow_negative_numbers = true)]

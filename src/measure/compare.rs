@@ -41,6 +41,10 @@ pub struct CompareConfig {
     pub progress: bool,
     /// Record paths and snapshots of each run (for pictures).
     pub trace: bool,
+    /// Time budget (s of runs, summed): each method's time per step is probed first and the
+    /// costliest runs that would exceed it are left out, named with the figure. `None`: no
+    /// budget (the study chooses its engines by its own rule).
+    pub budget_seconds: Option<f64>,
 }
 
 impl Default for CompareConfig {
@@ -56,6 +60,7 @@ impl Default for CompareConfig {
             series_points: 2000,
             progress: false,
             trace: false,
+            budget_seconds: None,
         }
     }
 }
@@ -96,6 +101,68 @@ pub struct CompareResult {
     pub entries: Vec<CompareEntry>,
 }
 
+/// The methods of `names` whose runs fit `budget` (s, summed), cheapest first by their probed
+/// time per step (a frame of `frame_substeps` steps costs that many); the rest go to `skipped`
+/// with the figures. Order is kept.
+#[allow(clippy::too_many_arguments)]
+fn within_budget(
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    cfg: &CompareConfig,
+    names: Vec<String>,
+    dt: f64,
+    steps: u64,
+    budget: f64,
+    skipped: &mut Vec<(String, String)>,
+) -> Result<Vec<String>> {
+    use super::probe::{seconds_per_step, sig3, PROBE_STEPS};
+    if !(budget.is_finite() && budget > 0.0) {
+        return Err(crate::error::Error::option(
+            "--budget",
+            format!(
+                "{} (must be a positive number of seconds)",
+                crate::error::num(budget)
+            ),
+        ));
+    }
+    let n = cfg.frame_substeps.unwrap_or(1);
+    let projected: Vec<f64> = names
+        .iter()
+        .map(|m| {
+            let per =
+                seconds_per_step(sys, s0, &cfg.methods, &cfg.options, m, dt / n as f64, steps);
+            per.map_or(0.0, |p| p * (steps * n) as f64)
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..names.len()).collect();
+    order.sort_by(|&a, &b| projected[a].total_cmp(&projected[b]));
+    let mut spent = 0.0;
+    let mut keep = vec![false; names.len()];
+    for i in order {
+        if spent + projected[i] <= budget {
+            spent += projected[i];
+            keep[i] = true;
+        }
+    }
+    let mut kept = Vec::new();
+    for (i, m) in names.into_iter().enumerate() {
+        if keep[i] {
+            kept.push(m);
+        } else {
+            skipped.push((
+                m.clone(),
+                format!(
+                    "left out: its run would take about {} s ({} ms per step, measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
+                    sig3(projected[i]),
+                    sig3(projected[i] / (steps * n) as f64 * 1e3),
+                    sig3(budget)
+                ),
+            ));
+        }
+    }
+    Ok(kept)
+}
+
 /// Runs the comparison.
 pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let sys = scene.build();
@@ -108,7 +175,11 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     } else {
         cfg.integrators.clone()
     };
-    let (names, skipped) = applicable(&cfg.methods, &sys, &asked, &cfg.options)?;
+    let (names, mut skipped) = applicable(&cfg.methods, &sys, &asked, &cfg.options)?;
+    let names = match cfg.budget_seconds {
+        Some(b) => within_budget(&sys, &s0, cfg, names, dt, steps, b, &mut skipped)?,
+        None => names,
+    };
     let grid = TimeGrid::new(
         dt,
         steps,
@@ -186,6 +257,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         .flag("blowup-factor", cfg.blowup_factor)
         .flag("series-points", cfg.series_points)
         .switch("trace", cfg.trace)
+        .flag_opt("budget", cfg.budget_seconds)
         .render();
     Ok(CompareResult {
         command,

@@ -11,6 +11,7 @@ pub mod framerate;
 pub mod grid;
 pub(crate) mod metrics;
 mod modes;
+pub mod probe;
 pub mod reference;
 pub mod small_steps;
 pub mod stability;

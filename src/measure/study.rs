@@ -37,7 +37,7 @@ use crate::scenario::Scenario;
 use serde::Serialize;
 
 /// Steps of the probe run that measures an engine's time per step before the comparison.
-pub const ENGINE_PROBE_STEPS: u64 = 40;
+pub const ENGINE_PROBE_STEPS: u64 = super::probe::PROBE_STEPS;
 
 /// Largest projected wall time (s) of an engine's compare run for it to take part.
 pub const ENGINE_COMPARE_SECONDS: f64 = 2.0;
@@ -387,23 +387,15 @@ fn engine_probe(
     name: &str,
     timing: crate::scenario::Timing,
 ) -> Result<Option<f64>> {
-    let sys = scene.build();
-    let Ok(mut integ) = cfg.methods.create(name, &cfg.options) else {
-        return Ok(None);
-    };
-    if integ.check(&sys).is_err() {
-        return Ok(None);
-    }
-    let steps = ENGINE_PROBE_STEPS.min(timing.steps);
-    let plan = crate::run::RunPlan::new(timing.dt, steps);
-    let out = crate::run::run(
-        &sys,
-        integ.as_mut(),
-        scene.initial_state(),
-        &plan,
-        &mut crate::run::NoObserver,
-    )?;
-    Ok((out.steps_done > 0).then(|| out.wall_seconds / out.steps_done as f64))
+    Ok(super::probe::seconds_per_step(
+        &scene.build(),
+        &scene.initial_state(),
+        &cfg.methods,
+        &cfg.options,
+        name,
+        timing.dt,
+        timing.steps,
+    ))
 }
 
 /// The study's frame-rate table: every compared method that ran (closed forms aside) whose

@@ -1,5 +1,5 @@
-//! Long commands without a terminal: progress lines at most every interval, and the sweep's
-//! time budget through the binary.
+//! Long commands without a terminal: progress lines at most every interval, and the time
+//! budgets of `sweep` and `compare` through the binary.
 //!
 //! Oracles: the interval's definition (`SPRINGLAB_PROGRESS_INTERVAL`, default 10 s) and the
 //! command's own counts (done ≤ total); a budget far below any run's cost leaves every method
@@ -82,5 +82,45 @@ fn a_budget_that_is_not_positive_is_refused_naming_the_flag() {
             err.contains("--budget") && err.lines().count() == 1,
             "{bad}: {err}"
         );
+    }
+}
+
+fn compare(budget: &str) -> String {
+    let out = tempfile::tempdir().unwrap();
+    let o = bin()
+        .args([
+            "compare",
+            "scenarios/anchored_spring.toml",
+            "--integrators",
+            "rk4,implicit_euler",
+            "--budget",
+            budget,
+            "--out",
+        ])
+        .arg(out.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::read_to_string(out.path().join("compare.csv")).unwrap()
+}
+
+#[test]
+fn compare_leaves_out_what_exceeds_its_budget_with_the_figure() {
+    let csv = compare("1e-9");
+    for m in ["rk4", "implicit_euler"] {
+        let row = csv.lines().find(|l| l.starts_with(m)).unwrap();
+        assert!(
+            row.contains("skipped") && row.contains("ms per step"),
+            "{row}"
+        );
+    }
+}
+
+#[test]
+fn twin_compare_within_its_budget_runs_every_method() {
+    let csv = compare("60");
+    for m in ["rk4", "implicit_euler"] {
+        let row = csv.lines().find(|l| l.starts_with(m)).unwrap();
+        assert!(!row.contains("skipped"), "{row}");
     }
 }

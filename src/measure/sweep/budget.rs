@@ -11,13 +11,8 @@
 //! which is why it is recorded and named wherever it cut something (`--budget` raises it).
 
 use super::plan::SweepPlan;
+use crate::measure::probe::{sig3, PROBE_STEPS};
 use serde::{Deserialize, Serialize};
-
-/// Default budget of `springlab sweep` (s of runs, summed over methods and steps).
-pub const DEFAULT_BUDGET_SECONDS: f64 = 180.0;
-
-/// Steps of the probe that measures a method's wall time per step.
-pub const PROBE_STEPS: u64 = 40;
 
 /// One method's measured cost and what the budget allows it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -88,20 +83,6 @@ pub fn allot(steps: &[u64], per_step: &[f64], budget: f64) -> Vec<usize> {
     }
 }
 
-/// A measured figure with three significant digits: plain between 0.001 and 10⁴, else
-/// scientific.
-fn sig3(x: f64) -> String {
-    if x != 0.0 && !(1e-3..1e4).contains(&x.abs()) {
-        return format!("{x:.2e}");
-    }
-    let digits = if x == 0.0 {
-        2
-    } else {
-        (2 - x.abs().log10().floor() as i32).clamp(0, 5) as usize
-    };
-    format!("{x:.digits$}")
-}
-
 impl SweepBudget {
     /// The budget for `plan`'s methods from their measured wall times per step.
     pub fn new(plan: &SweepPlan, seconds: f64, per_step: &[f64]) -> Self {
@@ -154,16 +135,5 @@ mod tests {
         // taking its share leaves B out entirely.
         assert_eq!(allot(&steps, &[1e-3, 0.1], 200.0), vec![0, 0]);
         assert_eq!(allot(&steps, &[1e-3, 0.1], 1.5), vec![0, 3]);
-    }
-
-    // Oracle: three significant digits by hand.
-    #[test]
-    fn figures_have_three_significant_digits() {
-        assert_eq!(sig3(1.4836), "1.48");
-        assert_eq!(sig3(0.011628), "0.0116");
-        assert_eq!(sig3(2706.2), "2706");
-        assert_eq!(sig3(180.0), "180");
-        assert_eq!(sig3(1e-6), "1.00e-6");
-        assert_eq!(sig3(0.0), "0.00");
     }
 }

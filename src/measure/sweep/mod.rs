@@ -372,24 +372,23 @@ fn apply_budget(
         ));
     }
     let j = plan.base_from;
-    let steps = budget::PROBE_STEPS.min(plan.steps[j]);
-    let mut per_step = Vec::with_capacity(plan.integrators.len());
-    for name in &plan.integrators {
-        let mut integ = cfg.methods.create(name, &cfg.options)?;
-        let run_plan = crate::run::RunPlan::new(plan.dts[j], steps);
-        // A probe that fails costs nothing here: its case runs report the failure.
-        let out = crate::run::run(
-            sys,
-            integ.as_mut(),
-            s0.clone(),
-            &run_plan,
-            &mut crate::run::NoObserver,
-        );
-        per_step.push(match out {
-            Ok(o) if o.steps_done > 0 => o.wall_seconds / o.steps_done as f64,
-            _ => 0.0,
-        });
-    }
+    // A method whose probe fails costs nothing here: its case runs report the failure.
+    let per_step: Vec<f64> = plan
+        .integrators
+        .iter()
+        .map(|name| {
+            crate::measure::probe::seconds_per_step(
+                sys,
+                s0,
+                &cfg.methods,
+                &cfg.options,
+                name,
+                plan.dts[j],
+                plan.steps[j],
+            )
+            .unwrap_or(0.0)
+        })
+        .collect();
     let b = budget::SweepBudget::new(plan, seconds, &per_step);
     let none = plan.dts.len();
     let (kept, left): (Vec<_>, Vec<_>) = b.methods.iter().cloned().partition(|m| m.finest < none);

@@ -1,0 +1,71 @@
+//! A method's wall time per step, measured over a few steps before a command commits to its
+//! runs: the figure the budgets of `sweep` and `compare` and the study's engine choices project
+//! their costs from. It is a measurement, so it varies between machines and runs; whatever it
+//! decides is stated with the figure.
+
+use crate::integrate::IntegratorOptions;
+use crate::method::Registry;
+use crate::model::{State, System};
+
+/// Default time budget of the commands that have one (`sweep`, `compare`): seconds of runs,
+/// summed over methods and steps (one thread's worth).
+pub const DEFAULT_BUDGET_SECONDS: f64 = 120.0;
+
+/// Steps of a probe.
+pub const PROBE_STEPS: u64 = 40;
+
+/// Wall time per step (s) of method `name` at step `dt`, over at most `steps` (capped at
+/// [`PROBE_STEPS`]) steps from `s0`; `None` when the method cannot be made or run on the scene
+/// (the command's own run then reports why).
+pub fn seconds_per_step(
+    sys: &System,
+    s0: &State,
+    methods: &Registry,
+    options: &IntegratorOptions,
+    name: &str,
+    dt: f64,
+    steps: u64,
+) -> Option<f64> {
+    let mut integ = methods.create(name, options).ok()?;
+    integ.check(sys).ok()?;
+    let plan = crate::run::RunPlan::new(dt, PROBE_STEPS.min(steps).max(1));
+    let out = crate::run::run(
+        sys,
+        integ.as_mut(),
+        s0.clone(),
+        &plan,
+        &mut crate::run::NoObserver,
+    )
+    .ok()?;
+    (out.steps_done > 0).then(|| out.wall_seconds / out.steps_done as f64)
+}
+
+/// A measured figure with three significant digits: plain between 0.001 and 10⁴, else
+/// scientific. Budget notes print their figures with it.
+pub fn sig3(x: f64) -> String {
+    if x != 0.0 && !(1e-3..1e4).contains(&x.abs()) {
+        return format!("{x:.2e}");
+    }
+    let digits = if x == 0.0 {
+        2
+    } else {
+        (2 - x.abs().log10().floor() as i32).clamp(0, 5) as usize
+    };
+    format!("{x:.digits$}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Oracle: three significant digits by hand.
+    #[test]
+    fn figures_have_three_significant_digits() {
+        assert_eq!(sig3(1.4836), "1.48");
+        assert_eq!(sig3(0.011628), "0.0116");
+        assert_eq!(sig3(2706.2), "2706");
+        assert_eq!(sig3(180.0), "180");
+        assert_eq!(sig3(1e-6), "1.00e-6");
+        assert_eq!(sig3(0.0), "0.00");
+    }
+}
