@@ -115,16 +115,8 @@ fn within_budget(
     budget: f64,
     skipped: &mut Vec<(String, String)>,
 ) -> Result<Vec<String>> {
-    use super::probe::{seconds_per_step, sig3, PROBE_STEPS};
-    if !(budget.is_finite() && budget > 0.0) {
-        return Err(crate::error::Error::option(
-            "--budget",
-            format!(
-                "{} (must be a positive number of seconds)",
-                crate::error::num(budget)
-            ),
-        ));
-    }
+    use super::probe::{cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS};
+    check_budget(budget)?;
     let n = cfg.frame_substeps.unwrap_or(1);
     let projected: Vec<f64> = names
         .iter()
@@ -134,16 +126,7 @@ fn within_budget(
             per.map_or(0.0, |p| p * (steps * n) as f64)
         })
         .collect();
-    let mut order: Vec<usize> = (0..names.len()).collect();
-    order.sort_by(|&a, &b| projected[a].total_cmp(&projected[b]));
-    let mut spent = 0.0;
-    let mut keep = vec![false; names.len()];
-    for i in order {
-        if spent + projected[i] <= budget {
-            spent += projected[i];
-            keep[i] = true;
-        }
-    }
+    let keep = cheapest_within(&projected, budget);
     let mut kept = Vec::new();
     for (i, m) in names.into_iter().enumerate() {
         if keep[i] {

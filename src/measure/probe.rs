@@ -40,6 +40,36 @@ pub fn seconds_per_step(
     (out.steps_done > 0).then(|| out.wall_seconds / out.steps_done as f64)
 }
 
+/// Refuses a budget that is not a positive number of seconds, naming `--budget`.
+pub fn check_budget(budget: f64) -> crate::error::Result<()> {
+    if budget.is_finite() && budget > 0.0 {
+        return Ok(());
+    }
+    Err(crate::error::Error::option(
+        "--budget",
+        format!(
+            "{} (must be a positive number of seconds)",
+            crate::error::num(budget)
+        ),
+    ))
+}
+
+/// Which of the projected costs (s) fit `budget` together, taken cheapest first: the fill
+/// that keeps the most runs. Ties keep their order.
+pub fn cheapest_within(projected: &[f64], budget: f64) -> Vec<bool> {
+    let mut order: Vec<usize> = (0..projected.len()).collect();
+    order.sort_by(|&a, &b| projected[a].total_cmp(&projected[b]));
+    let mut spent = 0.0;
+    let mut keep = vec![false; projected.len()];
+    for i in order {
+        if spent + projected[i] <= budget {
+            spent += projected[i];
+            keep[i] = true;
+        }
+    }
+    keep
+}
+
 /// A measured figure with three significant digits: plain between 0.001 and 10⁴, else
 /// scientific. Budget notes print their figures with it.
 pub fn sig3(x: f64) -> String {
@@ -57,6 +87,15 @@ pub fn sig3(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // Oracle: the greedy fill by hand: costs 5, 1, 3 in a budget of 4 keep 1 and 3.
+    #[test]
+    fn the_cheapest_runs_that_fit_are_kept() {
+        assert_eq!(cheapest_within(&[5.0, 1.0, 3.0], 4.0), [false, true, true]);
+        assert_eq!(cheapest_within(&[5.0, 1.0, 3.0], 9.0), [true, true, true]);
+        assert!(check_budget(0.0).is_err() && check_budget(f64::NAN).is_err());
+        assert!(check_budget(1e-9).is_ok());
+    }
 
     // Oracle: three significant digits by hand.
     #[test]

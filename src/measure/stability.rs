@@ -399,6 +399,50 @@ pub fn empirical_limit(
     })
 }
 
+/// Per method, why its empirical search is left out (`None`: it runs): the searches that fit
+/// `budget` (s, summed), cheapest first, run; each projected at [`SEARCH_TRIALS`] trials of
+/// `horizon / start` steps at its probed time per step.
+fn searches_over_budget(
+    sys: &System,
+    s0: &State,
+    cfg: &StabilityConfig,
+    names: &[String],
+    starts: &[Option<f64>],
+    horizon: f64,
+    budget: f64,
+) -> Result<Vec<Option<String>>> {
+    use super::probe::{cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS};
+    check_budget(budget)?;
+    let cost: Vec<(f64, f64)> = names
+        .iter()
+        .zip(starts)
+        .map(|(name, start)| match start {
+            Some(h) => {
+                let steps = (horizon / h).ceil().max(1.0);
+                let per =
+                    seconds_per_step(sys, s0, &cfg.methods, &cfg.options, name, *h, steps as u64)
+                        .unwrap_or(0.0);
+                (per, per * steps * SEARCH_TRIALS)
+            }
+            None => (0.0, 0.0),
+        })
+        .collect();
+    let keep = cheapest_within(&cost.iter().map(|c| c.1).collect::<Vec<_>>(), budget);
+    let out = (0..names.len())
+        .map(|i| {
+            (!keep[i]).then(|| {
+                format!(
+                    "empirical search left out: about {} s ({} ms per step measured over {PROBE_STEPS} steps, about {SEARCH_TRIALS} trials over the horizon), beyond what the budget of {} s leaves; `--budget` raises it",
+                    sig3(cost[i].1),
+                    sig3(cost[i].0 * 1e3),
+                    sig3(budget)
+                )
+            })
+        })
+        .collect();
+    Ok(out)
+}
+
 /// Per-integrator stability.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct IntegratorStability {
@@ -463,7 +507,16 @@ pub struct StabilityConfig {
     pub empirical_where_no_theory: bool,
     /// Progress bar (one tick per method) on a terminal.
     pub progress: bool,
+    /// Time budget of the empirical searches (s of runs, summed): each searching method's
+    /// time per step is probed at its first trial step, its search projected at
+    /// [`SEARCH_TRIALS`] trials, and the costliest searches that would exceed the budget are
+    /// left out, named with the figure. `None`: no budget (the study bounds its engines itself).
+    pub budget_seconds: Option<f64>,
 }
+
+/// Trials an empirical search typically takes, for its projected cost: bracketing by doubling
+/// or halving (one to three), then bisection to a 0.1 % bracket (about ten).
+pub const SEARCH_TRIALS: f64 = 14.0;
 
 /// A one-step spectral radius the map must always show as a blow-up.
 pub const RHO_SHOWN: f64 = 1.01;
@@ -505,6 +558,7 @@ impl Default for StabilityConfig {
             theory_only: false,
             empirical_where_no_theory: false,
             progress: false,
+            budget_seconds: None,
         }
     }
 }
@@ -553,6 +607,40 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         dt_min: horizon / 1e6,
         dt_max: horizon / 2.0,
     };
+    // The linear theory per method (cheap), then where each empirical search would start and
+    // which searches the budget allows.
+    let theories: Vec<Option<(Verdict, Option<f64>)>> = names
+        .iter()
+        .map(|name| {
+            let method = cfg.methods.get(name)?;
+            Ok((method.info.linear_theory() && !ms.modes.is_empty())
+                .then(|| theory_limit(method, &cfg.options, &ms)))
+        })
+        .collect::<Result<_>>()?;
+    let starts: Vec<Option<f64>> = names
+        .iter()
+        .zip(&theories)
+        .map(|(name, theory)| {
+            let unconditional = cfg
+                .methods
+                .info(name)
+                .is_ok_and(|m| m.stability == StabilityTheory::Unconditional);
+            let skip = unconditional
+                || cfg.theory_only
+                || (cfg.empirical_where_no_theory && theory.is_some());
+            (!skip).then(|| {
+                theory
+                    .and_then(|t| t.1)
+                    .or(scene.run.dt)
+                    .unwrap_or(horizon / 100.0)
+                    .clamp(crit.dt_min, crit.dt_max)
+            })
+        })
+        .collect();
+    let left_out = match cfg.budget_seconds {
+        Some(b) => searches_over_budget(&sys, &s0, cfg, &names, &starts, horizon, b)?,
+        None => vec![None; names.len()],
+    };
     let pb = crate::run::progress_bar(
         names.len() as u64,
         &format!("stability {}", scene.name),
@@ -560,12 +648,13 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     );
     let results: Vec<Result<IntegratorStability>> = names
         .par_iter()
-        .map(|name| {
+        .enumerate()
+        .map(|(k, name)| {
             let method = cfg.methods.get(name)?;
             let exact = method.info.stability == StabilityTheory::Unconditional;
             let mut note = None;
-            let theory = if method.info.linear_theory() && !ms.modes.is_empty() {
-                Some(theory_limit(method, &cfg.options, &ms))
+            let theory = if let Some(t) = theories[k] {
+                Some(t)
             } else {
                 if ms.modes.is_empty() {
                     note = Some("the linearised scene has no stiffness or damping (constraints are projected, not linearised): empirical only".to_string());
@@ -591,20 +680,23 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
                     note,
                 });
             }
-            let start = theory
-                .and_then(|t| t.1)
-                .or(scene.run.dt)
-                .unwrap_or(horizon / 100.0);
-            let empirical = if cfg.theory_only || (cfg.empirical_where_no_theory && theory.is_some()) {
-                None
-            } else {
-                Some(empirical_limit(&sys, &s0, method, &cfg.options, start, &crit)?)
+            let empirical = match (starts[k], &left_out[k]) {
+                (Some(start), None) => {
+                    Some(empirical_limit(&sys, &s0, method, &cfg.options, start, &crit)?)
+                }
+                (Some(_), Some(why)) => {
+                    note = Some(why.clone());
+                    None
+                }
+                (None, _) => None,
             };
             let (verdict, dt, method) = match (&theory, &empirical) {
                 (Some(t), _) => (t.0, t.1, "spectral_radius"),
                 (None, Some(e)) => (e.verdict, e.max_stable_dt, "empirical_bisection"),
                 (None, None) => {
-                    note = Some("no linear theory applies and the empirical search was skipped (--theory-only)".into());
+                    if left_out[k].is_none() {
+                        note = Some("no linear theory applies and the empirical search was skipped (--theory-only)".into());
+                    }
                     (Verdict::NotAnalysed, None, "none")
                 }
             };
@@ -638,6 +730,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         .flag("xpbd-iterations", cfg.options.xpbd_iterations)
         .flag("horizon", horizon)
         .flag("blowup-factor", cfg.blowup_factor)
+        .flag_opt("budget", cfg.budget_seconds)
         .switch("theory-only", cfg.theory_only)
         .switch("empirical-where-no-theory", cfg.empirical_where_no_theory)
         .render();

@@ -102,16 +102,18 @@ fn watch(pb: &ProgressBar, msg: &str) {
 /// The line for one bar: `progress: MSG: DONE/TOTAL, ELAPSED s elapsed, about ETA s left`.
 fn progress_line(msg: &str, pb: &ProgressBar) -> String {
     let pos = pb.position();
-    let eta = if pos > 0 {
-        format!(", about {:.0} s left", pb.eta().as_secs_f64())
+    let len = pb.length().unwrap_or(0);
+    let elapsed = pb.elapsed().as_secs_f64();
+    // At the average rate so far: a stuck last item shows a growing wait, not a wild guess.
+    let eta = if pos > 0 && len >= pos {
+        format!(
+            ", about {:.0} s left",
+            elapsed * (len - pos) as f64 / pos as f64
+        )
     } else {
         String::new()
     };
-    format!(
-        "progress: {msg}: {pos}/{} done, {:.0} s elapsed{eta}",
-        pb.length().unwrap_or(0),
-        pb.elapsed().as_secs_f64()
-    )
+    format!("progress: {msg}: {pos}/{len} done, {elapsed:.0} s elapsed{eta}")
 }
 
 fn report_lines() {

@@ -124,3 +124,66 @@ fn twin_compare_within_its_budget_runs_every_method() {
         assert!(!row.contains("skipped"), "{row}");
     }
 }
+
+fn measure(cmd: &[&str], budget: &str, doc: &str) -> serde_json::Value {
+    let out = tempfile::tempdir().unwrap();
+    let o = bin()
+        .args(cmd)
+        .args(["--budget", budget, "--out"])
+        .arg(out.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&std::fs::read(out.path().join(doc)).unwrap()).unwrap()
+}
+
+const STABILITY: [&str; 4] = [
+    "stability",
+    "scenarios/anchored_spring.toml",
+    "--integrators",
+    "xpbd",
+];
+
+#[test]
+fn stability_leaves_out_a_search_beyond_its_budget_with_the_figure() {
+    let doc = measure(&STABILITY, "1e-9", "stability.json");
+    let x = &doc["integrators"][0];
+    assert_eq!(x["verdict"], "not_analysed");
+    let note = x["note"].as_str().unwrap();
+    assert!(
+        note.contains("left out") && note.contains("ms per step"),
+        "{note}"
+    );
+}
+
+#[test]
+fn twin_stability_within_its_budget_searches() {
+    let doc = measure(&STABILITY, "120", "stability.json");
+    assert_eq!(doc["integrators"][0]["method"], "empirical_bisection");
+}
+
+const ADVISE: [&str; 6] = [
+    "advise",
+    "scenarios/anchored_spring.toml",
+    "--tolerance",
+    "1e-3",
+    "--integrators",
+    "rk4",
+];
+
+#[test]
+fn advise_leaves_out_a_method_beyond_its_budget_with_the_figure() {
+    let doc = measure(&ADVISE, "1e-9", "advice.json");
+    assert!(doc["integrator"].is_null());
+    let text = doc.to_string();
+    assert!(
+        text.contains("left out") && text.contains("ms per step"),
+        "{text}"
+    );
+}
+
+#[test]
+fn twin_advise_within_its_budget_answers() {
+    let doc = measure(&ADVISE, "120", "advice.json");
+    assert_eq!(doc["integrator"], "rk4");
+}

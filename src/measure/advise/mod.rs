@@ -91,6 +91,11 @@ pub struct AdviseConfig {
     /// Add the game view (`frame_rates` at [`FRAME_RATES`]); `--no-frame-rates` leaves it out
     /// (the report's frame-rate section answers that question with `springlab framerate`).
     pub frame_rates: bool,
+    /// Time budget (s of runs, summed): each method's time per step is probed at the grid's
+    /// smallest step and its grid runs projected (doubled for verification and frame rates);
+    /// the costliest methods that would exceed it are left out, named with the figure. `None`:
+    /// no budget (the study chooses its engines by its own rule).
+    pub budget_seconds: Option<f64>,
 }
 
 impl Default for AdviseConfig {
@@ -110,6 +115,7 @@ impl Default for AdviseConfig {
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             timing: ADVICE_TIMING,
             frame_rates: true,
+            budget_seconds: None,
         }
     }
 }
@@ -363,6 +369,55 @@ pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
 }
 
 /// Finds the cheapest verified integrator and step for the tolerance.
+/// The methods whose grid runs fit `budget` (s, summed), cheapest first; each projected from
+/// its time per step probed at the grid's smallest step, over the grid's steps, doubled for
+/// the verification and frame-rate runs that follow. The rest go to `unable` with the figures.
+fn within_budget(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    names: Vec<String>,
+    grid: &[(f64, u64)],
+    budget: f64,
+    unable: &mut Vec<(String, String)>,
+) -> Result<Vec<String>> {
+    use crate::measure::probe::{
+        cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS,
+    };
+    check_budget(budget)?;
+    let (sys, s0) = (scene.build(), scene.initial_state());
+    let Some(&(dt, steps)) = grid.iter().min_by(|a, b| a.0.total_cmp(&b.0)) else {
+        return Ok(names);
+    };
+    let total: f64 = grid.iter().map(|g| g.1 as f64).sum::<f64>() * 2.0;
+    let cost: Vec<(f64, f64)> = names
+        .iter()
+        .map(|n| {
+            let per = seconds_per_step(&sys, &s0, &cfg.methods, &cfg.options, n, dt, steps)
+                .unwrap_or(0.0);
+            (per, per * total)
+        })
+        .collect();
+    let keep = cheapest_within(&cost.iter().map(|c| c.1).collect::<Vec<_>>(), budget);
+    let mut kept = Vec::new();
+    for (i, n) in names.into_iter().enumerate() {
+        if keep[i] {
+            kept.push(n);
+        } else {
+            unable.push((
+                n,
+                format!(
+                    "left out: its runs would take about {} s ({} ms per step measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
+                    sig3(cost[i].1),
+                    sig3(cost[i].0 * 1e3),
+                    sig3(budget)
+                ),
+            ));
+        }
+    }
+    Ok(kept)
+}
+
+/// Runs the advice: the grid, the prediction per method, its verification and the pick.
 pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
         return Err(Error::option(
@@ -394,6 +449,9 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             names.retain(|m| *m != n);
             unable.push((n, "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
         }
+    }
+    if let Some(b) = cfg.budget_seconds {
+        names = within_budget(scene, cfg, names, &grid, b, &mut unable)?;
     }
     let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
     let set = CaseSettings {
@@ -536,6 +594,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .flag("xpbd-substeps", cfg.options.xpbd_substeps)
         .flag("xpbd-iterations", cfg.options.xpbd_iterations)
         .switch("no-frame-rates", !cfg.frame_rates)
+        .flag_opt("budget", cfg.budget_seconds)
         .render();
     Ok(Advice {
         command,

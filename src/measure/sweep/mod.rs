@@ -362,15 +362,7 @@ fn apply_budget(
     cfg: &SweepConfig,
     seconds: f64,
 ) -> Result<()> {
-    if !(seconds.is_finite() && seconds > 0.0) {
-        return Err(Error::option(
-            "--budget",
-            format!(
-                "{} (must be a positive number of seconds)",
-                crate::error::num(seconds)
-            ),
-        ));
-    }
+    crate::measure::probe::check_budget(seconds)?;
     let j = plan.base_from;
     // A method whose probe fails costs nothing here: its case runs report the failure.
     let per_step: Vec<f64> = plan
