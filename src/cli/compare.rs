@@ -64,20 +64,29 @@ pub fn run(a: Args) -> Result<()> {
         scene.name, res.dt, res.steps, res.reference.kind
     );
     println!(
-        "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
-        "backend", "status", "err final", "err max", "E drift/s", "E balance", "evals", "wall s"
+        "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+        "backend",
+        "status",
+        "err final",
+        "err max",
+        "E drift/s",
+        "E balance",
+        "strain max",
+        "evals",
+        "wall s"
     );
     for e in &res.entries {
         match &e.result {
             Some(r) => {
                 println!(
-                    "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+                    "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
                     e.integrator,
                     e.status,
                     fmt_opt(r.metric(|m| m.error_final)),
                     fmt_opt(r.metric(|m| m.error_max)),
                     fmt_opt(r.metric(|m| m.energy_drift)),
                     fmt_opt(r.metric(|m| m.energy_balance)),
+                    fmt_opt(r.metric(|m| m.strain_max)),
                     r.force_evals,
                     fmt_opt(Some(r.wall_seconds))
                 );

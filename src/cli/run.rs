@@ -1,6 +1,7 @@
 //! `springlab run`: one scenario, one integrator, full outputs.
 
 use super::common::{load, StepArgs};
+use super::measure_common::fmt_opt;
 use anyhow::{bail, Result};
 use springlab::output::{write_run, RunFiles, RunSummary};
 use std::path::PathBuf;
@@ -61,6 +62,8 @@ pub fn run(a: Args) -> Result<()> {
     let mut files = RunFiles::create(&dir, a.every, plan.dt)?;
     // Collision metrics only when the scene has obstacles (contacts.json).
     let mut metrics = springlab::measure::contacts::ContactMetrics::new(&sys, plan.dt);
+    let s0 = scene.initial_state();
+    let mut quality = springlab::measure::QualityObserver::new(&sys, &s0, plan.dt, plan.duration());
     let mut bar = springlab::run::ProgressObserver::new(
         plan.steps,
         &format!("{} with {name}", scene.name),
@@ -69,20 +72,23 @@ pub fn run(a: Args) -> Result<()> {
     let out = springlab::run::run(
         &sys,
         integ.as_mut(),
-        scene.initial_state(),
+        s0,
         &plan,
-        &mut (&mut files, (metrics.as_mut(), &mut bar)),
+        &mut (&mut files, (metrics.as_mut(), (&mut quality, &mut bar))),
     )?;
     files.commit()?;
-    if let Some(m) = &metrics {
-        let r = m.report();
-        springlab::measure::contacts::write_report(&dir, &r)?;
+    let contacts = metrics.as_ref().map(|m| m.report());
+    if let Some(r) = &contacts {
+        springlab::measure::contacts::write_report(&dir, r)?;
         println!(
             "contacts ({}): {} events ({} open), restitution {:.4} measured vs {:.4} expected (mean of {} impacts), max penetration {:.3e} m, {} tunnelling",
             r.response, r.events_total, r.open_contacts, r.restitution.mean, r.expected_restitution.mean,
-            r.restitution.count, r.penetration.max, r.tunnelling_count
+            r.restitution.count, r.penetration_max(), r.tunnelling_count
         );
     }
+    // Quality observables as compare reports them: none for a run that is not ok.
+    let finished = out.status.is_ok() && out.steps_done == plan.steps;
+    let q = finished.then(|| quality.quality());
     // Rapier splits frames itself with its solver substeps (the options'); native methods
     // with the plan's.
     let substeps = if integ.splits_frames() {
@@ -93,6 +99,13 @@ pub fn run(a: Args) -> Result<()> {
     let summary = RunSummary {
         substeps,
         events: sys.events.label(),
+        strain_max: q.map(|q| q.strain_max),
+        penetration_max: contacts
+            .as_ref()
+            .filter(|_| finished)
+            .map(|c| c.penetration_max()),
+        energy_drift_rate: q.map(|q| q.energy_drift_rate),
+        rest_jitter: q.map(|q| q.rest_jitter),
         ..RunSummary::new(&scene.name, &name, plan.dt, plan.steps, &out)
     };
     write_run(&dir, &summary)?;
@@ -127,6 +140,13 @@ pub fn run(a: Args) -> Result<()> {
     println!(
         "energy: total {:.6e} J -> {:.6e} J ({change}); kinetic {:.4e}, gravity {:.4e}, elastic {:.4e}, dissipated {:.4e}, injected {:.4e}",
         e0.total, e1.total, e1.kinetic, e1.gravity, e1.elastic, e1.dissipated, e1.injected
+    );
+    println!(
+        "quality: strain max {}, penetration max {} m, energy drift rate {} J/s, rest jitter {}",
+        fmt_opt(summary.strain_max),
+        fmt_opt(summary.penetration_max),
+        fmt_opt(summary.energy_drift_rate),
+        fmt_opt(summary.rest_jitter)
     );
     println!("wrote {}", dir.display());
     Ok(())

@@ -288,6 +288,7 @@ pub fn run_case(
         }
         wall = Timing::of(&samples).median_seconds;
     }
+    let contacts = contacts.map(|c| c.report());
     let (unstable_time, unstable_reason) = match &out.status {
         Status::Ok => (None, None),
         Status::Unstable { time, reason, .. } => (Some(*time), Some(reason.clone())),
@@ -302,10 +303,13 @@ pub fn run_case(
         status: out.status.label().to_string(),
         unstable_time,
         unstable_reason,
-        metrics: out.status.is_ok().then(|| obs.metrics()),
+        metrics: out.status.is_ok().then(|| Metrics {
+            penetration_max: contacts.as_ref().map(ContactReport::penetration_max),
+            ..obs.metrics()
+        }),
         series: (set.series_points > 0).then(|| obs.series.clone()),
         trace: trace.map(|t| t.trace),
-        contacts: contacts.map(|c| c.report()),
+        contacts,
     })
 }
 

@@ -4,6 +4,7 @@ use super::case::{applicable, asked_or_all, run_case, CaseResult, CaseSettings};
 use super::command::{with_out, CommandLine};
 use super::contacts::ContactReport;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use super::metrics::Metrics;
 use super::reference::{Reference, ReferenceInfo};
 use super::trace::{longest_paths, TraceSpec};
 use crate::error::Result;
@@ -258,7 +259,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
 }
 
 /// The header of `compare.csv`.
-pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,period,period_error,phase_error,unstable_time,unstable_reason,reference";
+pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,unstable_time,unstable_reason,reference";
 
 fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -268,53 +269,64 @@ fn csv_text(s: &str) -> String {
     }
 }
 
+/// The accuracy and quality cells of one row, in [`COMPARE_HEADER`]'s order from
+/// `error_final` to `phase_error`; all empty for a run that is not ok (`None`).
+fn metric_cells(m: Option<&Metrics>) -> Vec<String> {
+    let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
+    vec![
+        o(m.map(|m| m.error_final)),
+        o(m.map(|m| m.error_max)),
+        o(m.map(|m| m.error_rms)),
+        o(m.map(|m| m.energy_drift)),
+        o(m.map(|m| m.energy_drift_rate)),
+        o(m.map(|m| m.energy_oscillation)),
+        o(m.map(|m| m.energy_error_max)),
+        o(m.map(|m| m.energy_balance)),
+        o(m.and_then(|m| m.momentum_drift)),
+        o(m.and_then(|m| m.constraint_max)),
+        o(m.and_then(|m| m.constraint_mean)),
+        o(m.map(|m| m.strain_max)),
+        o(m.and_then(|m| m.penetration_max)),
+        o(m.map(|m| m.rest_jitter)),
+        o(m.and_then(|m| m.period)),
+        o(m.and_then(|m| m.period_error)),
+        o(m.and_then(|m| m.phase_error)),
+    ]
+}
+
 /// Writes `compare.csv` and `summary.json` into `dir`.
 pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
     let mut csv = String::from(COMPARE_HEADER);
     csv.push('\n');
     let f = |v: f64| format!("{v:e}");
-    let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
     for e in &res.entries {
-        let line = match &e.result {
-            None => format!(
-                "{},skipped,{},{},,,,,,,,,,,,,,,,,,,,{}",
-                e.integrator,
-                csv_text(e.skip_reason.as_deref().unwrap_or("")),
-                f(res.dt),
-                res.reference.kind
-            ),
-            Some(r) => {
-                // Null for a run that is not ok: every accuracy cell is then empty.
-                let m = r.metrics.as_ref();
-                format!(
-                    "{},{},,{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                    r.integrator,
-                    r.status,
-                    f(r.dt),
-                    r.steps,
-                    r.steps_done,
-                    r.force_evals,
-                    f(r.wall_seconds),
-                    o(m.map(|m| m.error_final)),
-                    o(m.map(|m| m.error_max)),
-                    o(m.map(|m| m.error_rms)),
-                    o(m.map(|m| m.energy_drift)),
-                    o(m.map(|m| m.energy_oscillation)),
-                    o(m.map(|m| m.energy_error_max)),
-                    o(m.map(|m| m.energy_balance)),
-                    o(m.and_then(|m| m.momentum_drift)),
-                    o(m.and_then(|m| m.constraint_max)),
-                    o(m.and_then(|m| m.constraint_mean)),
-                    o(m.and_then(|m| m.period)),
-                    o(m.and_then(|m| m.period_error)),
-                    o(m.and_then(|m| m.phase_error)),
-                    o(r.unstable_time),
-                    csv_text(r.unstable_reason.as_deref().unwrap_or("")),
-                    res.reference.kind
-                )
+        let mut cells = vec![e.integrator.clone()];
+        match &e.result {
+            None => {
+                cells.push("skipped".into());
+                cells.push(csv_text(e.skip_reason.as_deref().unwrap_or("")));
+                cells.push(f(res.dt));
+                cells.extend(["", "", "", ""].map(String::from));
+                cells.extend(metric_cells(None));
+                cells.extend(["", ""].map(String::from));
             }
-        };
-        csv.push_str(&line);
+            Some(r) => {
+                cells.push(r.status.clone());
+                cells.push(String::new());
+                cells.push(f(r.dt));
+                cells.push(r.steps.to_string());
+                cells.push(r.steps_done.to_string());
+                cells.push(r.force_evals.to_string());
+                cells.push(f(r.wall_seconds));
+                // Null for a run that is not ok: every accuracy cell is then empty.
+                cells.extend(metric_cells(r.metrics.as_ref()));
+                cells.push(r.unstable_time.map_or(String::new(), f));
+                cells.push(csv_text(r.unstable_reason.as_deref().unwrap_or("")));
+            }
+        }
+        cells.push(res.reference.kind.clone());
+        debug_assert_eq!(cells.len(), COMPARE_HEADER.split(',').count());
+        csv.push_str(&cells.join(","));
         csv.push('\n');
     }
     let doc = CompareResult {

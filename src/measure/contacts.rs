@@ -243,6 +243,13 @@ pub struct ContactReport {
 }
 
 impl ContactReport {
+    /// Deepest penetration into any obstacle over the run (m, ≥ 0; 0 without contact): the
+    /// largest per-event maximum, which is the largest penetration of any accepted state in
+    /// contact. The one number every document and page shows as the run's penetration.
+    pub fn penetration_max(&self) -> f64 {
+        self.penetration.max
+    }
+
     /// The listed impacts the restitution summary covers (approaching at least as fast as
     /// `impact_speed_floor`, with a measured e), each with its measured e, in listing order.
     pub fn summary_impacts(&self) -> impl Iterator<Item = (&ContactEvent, f64)> + '_ {

@@ -11,6 +11,15 @@
 //! - Momentum drift = max over t of |P(t) − P(0) − Σ impulses so far| (kg·m/s), only for
 //!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
 //! - Constraint violation: max and mean over steps of the largest |‖x_j − x_i‖ − L|.
+//! - Quality observables, needing no reference ([`QualityObserver`], which `run` uses on its
+//!   own): strain max = max over the observed states (step 0 and every frame) of the largest
+//!   |l/l0 − 1| of any spring with l0 > 0 or distance constraint ([`strain_max`]); energy drift
+//!   rate = least-squares slope over t of the balance total(t) − total(0) (J/s, the absolute
+//!   counterpart of the relative drift); rest jitter = kinetic energy at the last frame over the
+//!   scene's [`energy_scale`] (the verdict's scale): the motion a method leaves in a scene that
+//!   should have come to rest (elsewhere it is merely the kinetic share at the end). Penetration
+//!   max is the contact metrics' deepest penetration
+//!   ([`super::contacts::ContactReport::penetration_max`]), carried over, not measured again.
 //! - Period and phase, only when the tracked velocity component has one dominant mode: the
 //!   reference's zero crossings are evenly spaced
 //!   ([`super::reference::period`]), else all four period fields are absent (null). The run's
@@ -32,6 +41,22 @@ pub fn position_error(x: &[Vec3], y: &[Vec3]) -> f64 {
     x.iter()
         .zip(y)
         .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max)
+}
+
+/// Largest strain |l/l0 − 1| at positions `x` over every spring with a rest length l0 > 0 and
+/// every distance constraint (l0 its length), l = |x_j − x_i|; 0 without either. A serial
+/// loop in index order, so the value is the same bits whatever the thread count.
+pub fn strain_max(sys: &System, x: &[Vec3]) -> f64 {
+    let sp = &sys.springs;
+    let springs = (0..sp.len())
+        .filter(|&s| sp.l0[s] > 0.0)
+        .map(|s| (sp.i[s] as usize, sp.j[s] as usize, sp.l0[s]));
+    let rods = sys.constraints.iter().map(|c| (c.i, c.j, c.length));
+    springs
+        .chain(rods)
+        .filter(|&(_, _, l0)| l0 > 0.0)
+        .map(|(i, j, l0)| ((x[j] - x[i]).norm() / l0 - 1.0).abs())
         .fold(0.0, f64::max)
 }
 
@@ -115,6 +140,9 @@ pub struct Metrics {
     pub compared_steps: u64,
     /// Slope of the relative energy error (1/s).
     pub energy_drift: f64,
+    /// Slope of the energy balance total(t) − total(0) (J/s): the drift in joules per second,
+    /// from the same samples ([`Quality::energy_drift_rate`]).
+    pub energy_drift_rate: f64,
     /// Peak-to-peak of the relative energy error about its linear fit.
     pub energy_oscillation: f64,
     /// Maximum |relative energy error|.
@@ -131,6 +159,17 @@ pub struct Metrics {
     pub constraint_max: Option<f64>,
     /// Mean constraint violation (m).
     pub constraint_mean: Option<f64>,
+    /// Largest strain |l/l0 − 1| of any spring (l0 > 0) or distance constraint over the run
+    /// ([`Quality::strain_max`]).
+    pub strain_max: f64,
+    /// Deepest penetration into any obstacle over the run (m), read off the contact metrics
+    /// ([`super::contacts::ContactReport::penetration_max`]). Absent (null) for a scene
+    /// without obstacles, and where contacts were not measured (sweeps and advice leave them
+    /// off, see [`super::case::CaseSettings::contacts`]).
+    pub penetration_max: Option<f64>,
+    /// Kinetic energy at the last frame over the scene's energy scale
+    /// ([`Quality::rest_jitter`]); meaningful for scenes that come to rest.
+    pub rest_jitter: f64,
     /// Measured period of the tracked component (s), from its crossings matched to the
     /// reference's. Absent (null), like the three below, when the reference's crossings do not
     /// show one dominant mode ([`super::reference::DOMINANT_MODE_UNCLEAR`]).
@@ -156,6 +195,108 @@ pub struct Series {
     pub energy: Vec<EnergyRecord>,
 }
 
+/// The quality observables of one run that need no reference (see the module docs).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Quality {
+    /// Largest |l/l0 − 1| of any spring (l0 > 0) or distance constraint over the observed
+    /// states: step 0 and the end of every frame ([`strain_max`]).
+    pub strain_max: f64,
+    /// Least-squares slope over t of the energy balance total(t) − total(0) (J/s), `total`
+    /// the [`EnergyRecord`] account (K + G + E + dissipated − injected), so damping's work is
+    /// in it and an exact solution has slope 0.
+    pub energy_drift_rate: f64,
+    /// Kinetic energy at the last frame over the scene's [`energy_scale`]: what motion a
+    /// method leaves in a scene that should have come to rest (numerical jitter). Reported for
+    /// every run; where the scene is still moving at the end it is only its kinetic share.
+    pub rest_jitter: f64,
+}
+
+/// The observer computing [`Quality`]: what [`MetricsObserver`] reports of it, and what
+/// `run` reports without a reference. O(springs + constraints) per observed state.
+pub struct QualityObserver<'a> {
+    sys: &'a System,
+    dt: f64,
+    /// The scene's [`energy_scale`] over the run (J).
+    scale: f64,
+    e0: Option<f64>,
+    /// The energy balance's least-squares line, updated state by state.
+    fit: OnlineFit,
+    strain_max: f64,
+    kinetic: f64,
+}
+
+/// A least-squares slope updated one point at a time (Welford's running means and
+/// co-moments), so a run of any length is fitted in constant memory: `run` streams its frames
+/// and keeps none. Serial, so the same bits whatever the thread count.
+#[derive(Debug, Clone, Copy, Default)]
+struct OnlineFit {
+    n: f64,
+    mean_t: f64,
+    mean_y: f64,
+    /// Σ (t − t̄)(y − ȳ).
+    sty: f64,
+    /// Σ (t − t̄)².
+    stt: f64,
+}
+
+impl OnlineFit {
+    fn push(&mut self, t: f64, y: f64) {
+        self.n += 1.0;
+        let dt = t - self.mean_t;
+        self.mean_t += dt / self.n;
+        self.mean_y += (y - self.mean_y) / self.n;
+        self.sty += dt * (y - self.mean_y);
+        self.stt += dt * (t - self.mean_t);
+    }
+    /// The slope; 0 for fewer than two distinct t (as [`linear_fit`]).
+    fn slope(&self) -> f64 {
+        if self.stt > 0.0 {
+            self.sty / self.stt
+        } else {
+            0.0
+        }
+    }
+}
+
+impl<'a> QualityObserver<'a> {
+    /// Observes a run of `sys` from `s0` with frame step `dt` over `horizon` seconds (the
+    /// horizon enters the energy scale as it does the runner's verdict).
+    pub fn new(sys: &'a System, s0: &State, dt: f64, horizon: f64) -> Self {
+        QualityObserver {
+            sys,
+            dt,
+            scale: energy_scale(sys, s0, horizon),
+            e0: None,
+            fit: OnlineFit::default(),
+            strain_max: 0.0,
+            kinetic: 0.0,
+        }
+    }
+
+    /// The observables of the states seen so far (call after the run).
+    pub fn quality(&self) -> Quality {
+        Quality {
+            strain_max: self.strain_max,
+            energy_drift_rate: self.fit.slope(),
+            rest_jitter: if self.scale > 0.0 {
+                self.kinetic / self.scale
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+impl Observer for QualityObserver<'_> {
+    fn observe(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
+        let e0 = *self.e0.get_or_insert(e.total);
+        self.fit.push(step as f64 * self.dt, e.total - e0);
+        self.strain_max = self.strain_max.max(strain_max(self.sys, &s.x));
+        self.kinetic = e.kinetic;
+        Ok(())
+    }
+}
+
 /// The observer computing [`Metrics`] (and optionally a [`Series`]) of a run on grid `grid`
 /// of a [`Reference`].
 pub struct MetricsObserver<'a> {
@@ -167,6 +308,8 @@ pub struct MetricsObserver<'a> {
     e_scale: f64,
     t: Vec<f64>,
     eps: Vec<f64>,
+    /// The quality observables, from the same observed states.
+    quality: QualityObserver<'a>,
     err_sq: f64,
     m: Metrics,
     p0: Option<Vec3>,
@@ -193,10 +336,11 @@ impl<'a> MetricsObserver<'a> {
         series_points: u64,
     ) -> Self {
         let g = reference.grids[grid];
+        let quality = QualityObserver::new(sys, s0, g.dt, g.time(g.steps));
         let e = sys.state_energy(s0);
         let mut e_scale = e.kinetic.abs() + e.gravity.abs() + e.elastic.abs();
         if e_scale <= 0.0 {
-            e_scale = energy_scale(sys, s0, g.time(g.steps));
+            e_scale = quality.scale;
         }
         if e_scale <= 0.0 {
             e_scale = 1.0;
@@ -215,6 +359,7 @@ impl<'a> MetricsObserver<'a> {
             e_scale,
             t: Vec::new(),
             eps: Vec::new(),
+            quality,
             err_sq: 0.0,
             m: Metrics {
                 constraint_max: (!sys.constraints.is_empty()).then_some(0.0),
@@ -245,6 +390,10 @@ impl<'a> MetricsObserver<'a> {
         m.energy_oscillation = detrended_peak_to_peak(&self.t, &self.eps, a, b);
         m.energy_error_max = self.eps.iter().fold(0.0, |acc, e| acc.max(e.abs()));
         m.energy_balance = self.eps.last().copied().unwrap_or(0.0);
+        let q = self.quality.quality();
+        m.strain_max = q.strain_max;
+        m.energy_drift_rate = q.energy_drift_rate;
+        m.rest_jitter = q.rest_jitter;
         if self.cons_n > 0 {
             m.constraint_mean = Some(self.cons_sum / self.cons_n as f64);
         }
@@ -272,6 +421,7 @@ impl Observer for MetricsObserver<'_> {
         let eps = (e.total - e0) / self.e_scale;
         self.t.push(t);
         self.eps.push(eps);
+        self.quality.observe(step, s, e)?;
         self.m.dissipated = e.dissipated;
         self.m.injected = e.injected;
         let mut err_now = None;
@@ -345,6 +495,31 @@ mod tests {
         assert!((b - 3.0).abs() < 0.05);
         let ptp = detrended_peak_to_peak(&t, &y2, a, b);
         assert!((ptp - 1.0).abs() < 0.02, "{ptp}");
+    }
+
+    #[test]
+    fn the_streamed_slope_is_the_two_pass_slope() {
+        // Oracle: the two-pass least-squares formula (linear_fit) on the same points: a line
+        // 2 + 3t exactly, then a line plus a cosine; a single point has slope 0 in both.
+        let t: Vec<f64> = (0..1001).map(|i| i as f64 * 0.01).collect();
+        for y in [
+            t.iter().map(|t| 2.0 + 3.0 * t).collect::<Vec<f64>>(),
+            t.iter().map(|t| -1.0 + 0.5 * t + (7.0 * t).cos()).collect(),
+        ] {
+            let mut fit = OnlineFit::default();
+            for (ti, yi) in t.iter().zip(&y) {
+                fit.push(*ti, *yi);
+            }
+            let b = linear_fit(&t, &y).1;
+            assert!(
+                (fit.slope() - b).abs() < 1e-12 * b.abs(),
+                "{} {b}",
+                fit.slope()
+            );
+        }
+        let mut one = OnlineFit::default();
+        one.push(1.0, 5.0);
+        assert_eq!(one.slope(), 0.0);
     }
 
     #[test]

@@ -18,3 +18,5 @@ pub mod stability;
 pub mod study;
 pub mod sweep;
 mod trace;
+
+pub use metrics::{strain_max, Metrics, Quality, QualityObserver};

@@ -136,11 +136,24 @@ pub struct RunSummary {
     /// the run stopped, or when those are all 0 (a scene starting at rest at the origin of its
     /// potentials), where only the change in joules means anything.
     pub energy_error: Option<f64>,
+    /// Largest strain |l/l0 − 1| of any spring (l0 > 0) or distance constraint over the run
+    /// (the measure layer's quality observables, as `compare` reports them); `None` for a run
+    /// that is not ok, like the three below.
+    pub strain_max: Option<f64>,
+    /// Deepest penetration into any obstacle (m), as `contacts.json` has it; `None` also for a
+    /// scene without obstacles.
+    pub penetration_max: Option<f64>,
+    /// Least-squares slope of the energy balance `total` − its initial value (J/s).
+    pub energy_drift_rate: Option<f64>,
+    /// Kinetic energy at the last frame over the scene's energy scale (meaningful for scenes
+    /// that come to rest).
+    pub rest_jitter: Option<f64>,
 }
 
 impl RunSummary {
     /// Summarises an outcome of one step per frame with exact events (set `substeps` and
-    /// `events` afterwards for other runs).
+    /// `events` afterwards for other runs, and the quality observables where they were
+    /// measured).
     pub fn new(scenario: &str, integrator: &str, dt: f64, steps: u64, out: &RunOutcome) -> Self {
         let e0 = out.initial_energy;
         let scale = e0.kinetic.abs() + e0.gravity.abs() + e0.elastic.abs();
@@ -163,6 +176,10 @@ impl RunSummary {
             final_energy: out.final_energy,
             energy_change: finished.then_some(d),
             energy_error: (finished && scale > 0.0).then(|| d / scale),
+            strain_max: None,
+            penetration_max: None,
+            energy_drift_rate: None,
+            rest_jitter: None,
         }
     }
 }

@@ -61,7 +61,7 @@ pub fn section(st: &SceneStudy) -> Option<String> {
             if has_e { num(c.restitution.mean) } else { "—".into() },
             if has_e { num(c.expected_restitution.mean) } else { "—".into() },
             if has_e { num(c.restitution_worst_deviation) } else { "—".into() },
-            sci(c.penetration.max),
+            sci(c.penetration_max()),
             sci(expected_pen),
             if c.slides_unmeasured.is_some() {
                 "no free slides".to_string()

@@ -84,7 +84,7 @@ fn backend_rows(s: &SceneSummary) -> String {
     let mut rows = String::new();
     for b in &s.backends {
         rows += &format!(
-            "<tr class=\"{}\"><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>\n",
+            "<tr class=\"{}\"><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>\n",
             esc(&b.status),
             esc(&b.backend),
             b.order,
@@ -92,6 +92,8 @@ fn backend_rows(s: &SceneSummary) -> String {
             cell(b.max_position_error, 2),
             drift_cell(b.max_energy_drift),
             drift_cell(b.final_energy_change),
+            cell(b.energy_drift_rate, 2),
+            cell(b.strain_max, 2),
             order_cell(b),
             esc(&stable_cell(b)),
             evals_cell(b),
@@ -101,7 +103,7 @@ fn backend_rows(s: &SceneSummary) -> String {
     rows
 }
 
-const TABLE_HEAD: &str = "<th class=\"l\">backend</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy error</th><th>final energy change</th><th>observed order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>wall time (ms)</th>";
+const TABLE_HEAD: &str = "<th class=\"l\">backend</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy error</th><th>final energy change</th><th>energy drift rate (J/s)</th><th>strain max</th><th>observed order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>wall time (ms)</th>";
 
 fn documents(s: &SceneSummary) -> String {
     let mut out = String::from("<h2>Documents</h2>\n<p class=\"note\">Every number on this page comes from these files, written by the commands beside them; re-running a command gives the same numbers (wall times aside).</p>\n<table>\n<tr><th class=\"l\">document</th><th class=\"l\">command</th></tr>\n");
@@ -171,7 +173,7 @@ pub fn scene_page(
         esc(&s.verdict)
     );
     body += &format!(
-        "<h2>Comparison at dt = {} over {} s</h2>\n<p class=\"note\">From <a href=\"compare/summary.json\">compare/summary.json</a> and <a href=\"compare/compare.csv\">compare/compare.csv</a>. Reference: {}. Position error is the largest distance of any particle from the reference; energy error is |E(t) − E(0)| relative to the scene's energy scale, E the total account (kinetic + gravity + elastic + dissipated − injected).</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",
+        "<h2>Comparison at dt = {} over {} s</h2>\n<p class=\"note\">From <a href=\"compare/summary.json\">compare/summary.json</a> and <a href=\"compare/compare.csv\">compare/compare.csv</a>. Reference: {}. Position error is the largest distance of any particle from the reference; energy error is |E(t) − E(0)| relative to the scene's energy scale, E the total account (kinetic + gravity + elastic + dissipated − injected); energy drift rate is the least-squares slope of E(t) − E(0) in joules per second; strain max is the largest |l/l0 − 1| of any spring or rod over the run.</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",
         esc(&dt_words(s.dt)),
         cell(Some(s.duration), 3),
         esc(&s.reference),
@@ -187,7 +189,7 @@ pub fn scene_page(
                 esc(&b.backend),
                 cell(b.restitution_measured, 3),
                 cell(b.restitution_expected, 3),
-                cell(b.max_penetration, 2),
+                cell(b.penetration_max, 2),
                 b.tunnelling.map_or("—".into(), |t| t.to_string())
             );
         }

@@ -46,15 +46,16 @@ pub fn readme(sum: &Summary) -> String {
     out += "\n## All methods at each scene's step\n\n";
     for s in &sum.scenes {
         out += &format!("### [{}]({})\n\n{}\n\n", md(&s.scene), s.page, s.verdict);
-        out += "| backend | order | status | max position error (m) | max energy error | observed order | stable step | force evaluations | wall time (ms) |\n|---|---:|---|---:|---:|---:|---|---:|---:|\n";
+        out += "| backend | order | status | max position error (m) | max energy error | strain max | observed order | stable step | force evaluations | wall time (ms) |\n|---|---:|---|---:|---:|---:|---:|---|---:|---:|\n";
         for b in &s.backends {
             out += &format!(
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
                 md(&b.backend),
                 b.order,
                 md(&status_cell(b)),
                 cell(b.max_position_error, 2),
                 drift_cell(b.max_energy_drift),
+                cell(b.strain_max, 2),
                 order_cell(b),
                 md(&stable_cell(b)),
                 evals_cell(b),

@@ -29,6 +29,13 @@ pub struct BackendSummary {
     pub max_energy_drift: Option<f64>,
     /// Signed relative energy error at the end (compare's `energy_balance`).
     pub final_energy_change: Option<f64>,
+    /// Slope of the energy balance over the run (J/s; compare's `energy_drift_rate`).
+    pub energy_drift_rate: Option<f64>,
+    /// Largest strain |l/l0 − 1| of any spring or rod over the run (compare's `strain_max`).
+    pub strain_max: Option<f64>,
+    /// Kinetic energy at the end over the scene's energy scale (compare's `rest_jitter`;
+    /// meaningful for scenes that come to rest).
+    pub rest_jitter: Option<f64>,
     /// The stability report's verdict, when it was analysed.
     pub stability: Option<Verdict>,
     /// The stability report's largest stable step (s).
@@ -48,8 +55,9 @@ pub struct BackendSummary {
     pub restitution_measured: Option<f64>,
     /// Mean specified restitution over the same events.
     pub restitution_expected: Option<f64>,
-    /// Deepest penetration of any contact (m).
-    pub max_penetration: Option<f64>,
+    /// Deepest penetration into any obstacle (m; compare's `penetration_max`, the contact
+    /// metrics' own); null without obstacles and for a run that is not ok.
+    pub penetration_max: Option<f64>,
     /// Paths that passed through an obstacle between two accepted states.
     pub tunnelling: Option<u64>,
     /// Force evaluations of the comparison run (null for methods that never evaluate ours).
@@ -191,6 +199,9 @@ pub fn scene_summary(
             final_position_error: r.metric(|m| m.error_final).and_then(finite),
             max_energy_drift: r.metric(|m| m.energy_error_max).and_then(finite),
             final_energy_change: r.metric(|m| m.energy_balance).and_then(finite),
+            energy_drift_rate: r.metric(|m| m.energy_drift_rate).and_then(finite),
+            strain_max: r.metric(|m| m.strain_max).and_then(finite),
+            rest_jitter: r.metric(|m| m.rest_jitter).and_then(finite),
             stability: stab.map(|i| i.verdict),
             stable_dt: stab.and_then(|i| i.max_stable_dt),
             stable_h_omega: stab.and_then(|i| i.h_omega),
@@ -208,9 +219,11 @@ pub fn scene_summary(
             restitution_expected: contacts
                 .filter(|c| c.expected_restitution.count > 0)
                 .and_then(|c| finite(c.expected_restitution.mean)),
-            max_penetration: contacts
-                .filter(|c| c.penetration.count > 0)
-                .and_then(|c| finite(c.penetration.max)),
+            penetration_max: r
+                .metrics
+                .as_ref()
+                .and_then(|m| m.penetration_max)
+                .and_then(finite),
             tunnelling: contacts.map(|c| c.tunnelling_count),
             force_evals: (info.cost == crate::method::CostUnit::ForceEvaluations)
                 .then_some(r.force_evals),

@@ -39,6 +39,7 @@ mod measure_stability;
 mod measure_sweep;
 mod method_registry;
 mod newton_stall;
+mod quality_observables;
 mod rapier_contact_model;
 mod rapier_hanging_chain;
 mod rapier_obstacles;

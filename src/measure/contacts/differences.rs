@@ -30,9 +30,9 @@ pub fn measured(d: &Difference, backend: &str, c: &ContactReport) -> Option<Stri
             Some(match rest {
                 Some(g) => format!(
                     "deepest penetration {:.2e} m, resting gap at the end {g:.2e} m",
-                    c.penetration.max
+                    c.penetration_max()
                 ),
-                None => format!("deepest penetration {:.2e} m", c.penetration.max),
+                None => format!("deepest penetration {:.2e} m", c.penetration_max()),
             })
         }
         // Compare measures no tangential loss per impact; the test does.
