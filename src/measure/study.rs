@@ -435,8 +435,7 @@ fn study_framerate(
         .iter()
         .map(|&hz| super::framerate::frames_at(duration, hz) as f64)
         .sum();
-    // Doubling to the limit (2·max − 1 substeps in all) and bisecting below it (< max more).
-    let worst = frames * (3 * max_substeps) as f64;
+    let worst = super::framerate::worst_case_substeps(frames, max_substeps);
     let ran = compared
         .entries
         .iter()

@@ -1,5 +1,5 @@
 //! Long commands without a terminal: progress lines at most every interval, and the time
-//! budgets of `sweep` and `compare` through the binary.
+//! budgets of `sweep`, `compare`, `stability`, `advise` and `framerate` through the binary.
 //!
 //! Oracles: the interval's definition (`SPRINGLAB_PROGRESS_INTERVAL`, default 10 s) and the
 //! command's own counts (done ≤ total); a budget far below any run's cost leaves every method
@@ -186,4 +186,29 @@ fn advise_leaves_out_a_method_beyond_its_budget_with_the_figure() {
 fn twin_advise_within_its_budget_answers() {
     let doc = measure(&ADVISE, "120", "advice.json");
     assert_eq!(doc["integrator"], "rk4");
+}
+
+const FRAMERATE: [&str; 6] = [
+    "framerate",
+    "scenarios/anchored_spring.toml",
+    "--integrators",
+    "rk4",
+    "--hz",
+    "60",
+];
+
+#[test]
+fn framerate_leaves_out_a_search_beyond_its_budget_with_the_figure() {
+    let doc = measure(&FRAMERATE, "1e-9", "framerate.json");
+    let text = doc["skipped"].to_string();
+    assert!(
+        text.contains("left out") && text.contains("ms per substep"),
+        "{text}"
+    );
+}
+
+#[test]
+fn twin_framerate_within_its_budget_searches() {
+    let doc = measure(&FRAMERATE, "120", "framerate.json");
+    assert!(doc["skipped"].as_array().unwrap().is_empty(), "{doc}");
 }

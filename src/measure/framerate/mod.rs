@@ -69,6 +69,10 @@ pub struct FramerateConfig {
     pub progress: bool,
     /// How the table's runs are timed.
     pub timing: TimingRule,
+    /// Time budget (s of runs, summed): each method's worst-case search is projected from its
+    /// time per substep, probed first; the costliest searches that would exceed it are left
+    /// out, named with the figure. `None`: no budget (the study chooses by its own rule).
+    pub budget_seconds: Option<f64>,
 }
 
 impl Default for FramerateConfig {
@@ -85,6 +89,7 @@ impl Default for FramerateConfig {
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             progress: false,
             timing: FRAMERATE_TIMING,
+            budget_seconds: None,
         }
     }
 }
@@ -291,7 +296,77 @@ fn meets(c: &CaseResult, tolerance: f64) -> bool {
     c.metric(|m| m.error_max).is_some_and(|e| e <= tolerance)
 }
 
-/// Measures every backend at every frame rate.
+/// Substeps a worst-case search runs over `frames` frames (summed over the rates): doubling to
+/// `max_substeps` (2·max − 1 substeps per frame in all) and bisecting below it (fewer than max
+/// more). Budgets project a search's cost from it.
+pub fn worst_case_substeps(frames: f64, max_substeps: u64) -> f64 {
+    frames * (3 * max_substeps) as f64
+}
+
+/// The methods whose worst-case searches fit `budget` (s, summed), cheapest first; each
+/// projected from its time per substep (an engine's probe at the fastest rate divided by its
+/// solver substeps). The rest go to `skipped` with the figures.
+fn within_budget(
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    cfg: &FramerateConfig,
+    names: Vec<String>,
+    frames: f64,
+    budget: f64,
+    skipped: &mut Vec<(String, String)>,
+) -> Result<Vec<String>> {
+    use crate::measure::probe::{
+        cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS,
+    };
+    check_budget(budget)?;
+    let hz = cfg.rates.iter().cloned().fold(0.0, f64::max);
+    let worst = worst_case_substeps(frames, cfg.max_substeps);
+    let cost: Vec<(f64, f64)> = names
+        .iter()
+        .map(|n| {
+            let per = seconds_per_step(
+                sys,
+                s0,
+                &cfg.methods,
+                &cfg.options,
+                n,
+                1.0 / hz,
+                PROBE_STEPS,
+            )
+            .unwrap_or(0.0);
+            let engine = cfg.methods.info(n).is_ok_and(|m| m.engine);
+            let per_substep = if engine {
+                per / cfg.options.substeps.max(1) as f64
+            } else {
+                per
+            };
+            (per_substep, per_substep * worst)
+        })
+        .collect();
+    let keep = cheapest_within(&cost.iter().map(|c| c.1).collect::<Vec<_>>(), budget);
+    let mut kept = Vec::new();
+    for (i, n) in names.into_iter().enumerate() {
+        if keep[i] {
+            kept.push(n);
+        } else {
+            skipped.push((
+                n,
+                format!(
+                    "left out: its search (up to {} substeps at {} rates) could take about {} s ({} ms per substep measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
+                    cfg.max_substeps,
+                    cfg.rates.len(),
+                    sig3(cost[i].1),
+                    sig3(cost[i].0 * 1e3),
+                    sig3(budget)
+                ),
+            ));
+        }
+    }
+    Ok(kept)
+}
+
+/// Measures every backend at every frame rate: per method and rate, the fewest substeps that
+/// meet the tolerance.
 pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     check(cfg)?;
     let sys = scene.build();
@@ -328,10 +403,14 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         crate::scenario::Timing::check_impulses(scene, end)?;
         crate::scenario::Timing::check_frame_impulses(scene, 1.0 / hz, end)?;
     }
-    let (mut names, skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+    let (mut names, mut skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Closed forms solve special scenes exactly; they are not a frame-rate choice.
         names.retain(|n| cfg.methods.info(n).is_ok_and(|m| m.order != Order::Exact));
+    }
+    if let Some(b) = cfg.budget_seconds {
+        let frames_sum: f64 = frames.iter().map(|&n| n as f64).sum();
+        names = within_budget(&sys, &s0, cfg, names, frames_sum, b, &mut skipped)?;
     }
     let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, cfg.rates.len(), sys.len());
     let grids: Vec<TimeGrid> = cfg
@@ -451,6 +530,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .flag_opt("cost-cap", cfg.cost_cap)
         .flag("iterations", cfg.options.constraint_iterations)
         .flag("blowup-factor", cfg.blowup_factor)
+        .flag_opt("budget", cfg.budget_seconds)
         .render();
     let u = reference.info.uncertainty;
     let reference_note = (u > cfg.tolerance).then(|| {
