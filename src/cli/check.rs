@@ -121,6 +121,17 @@ pub fn run(a: Args) -> Result<()> {
     for (name, why) in refused {
         println!("  not {name}: {why}");
     }
+    if let Some(e) = &scene.expect {
+        use springlab::measure::expect::{describe, expectations};
+        println!("expect: {} (`springlab expect` measures it)", describe(e));
+        let list = expectations(e);
+        if list.is_empty() {
+            println!("  (no checks: the run only has to complete)");
+        }
+        for x in list {
+            println!("  {x}");
+        }
+    }
     Ok(())
 }
 

@@ -6,6 +6,7 @@ mod bench_scaling;
 mod check;
 mod common;
 mod compare;
+mod expect;
 mod framerate;
 mod list;
 mod measure_common;
@@ -54,6 +55,9 @@ enum Command {
     /// Each backend at game frame rates: the run at one substep, the fewest substeps meeting a
     /// tolerance, and the cost per frame (framerate.csv, framerate.json).
     Framerate(framerate::Args),
+    /// Hold scenes to their `[expect]` tables: run each one's integrator and step against
+    /// the reference, print pass/FAIL per expectation, optionally write JUnit XML.
+    Expect(expect::Args),
     /// Join the shard directories of one sweep.
     Merge(merge::Args),
     /// Small Steps replicated: xpbd's n substeps × 1 iteration against 1 step × n iterations
@@ -76,6 +80,7 @@ pub fn main() -> ExitCode {
         Command::Advise(a) => advise::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Framerate(a) => framerate::run(a),
+        Command::Expect(a) => expect::run(a),
         Command::Merge(a) => merge::run(a),
         Command::SmallSteps(a) => small_steps::run(a),
     };

@@ -6,6 +6,7 @@ pub mod command;
 pub mod compare;
 pub mod contacts;
 mod dop853;
+pub mod expect;
 mod fit;
 pub mod framerate;
 pub mod grid;

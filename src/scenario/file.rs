@@ -43,6 +43,8 @@ pub struct ScenarioFile {
     pub obstacle: Vec<super::obstacle_file::ObstacleSpec>,
     /// How contacts with obstacles are resolved (default: impulse).
     pub collision: Option<super::obstacle_file::CollisionSpec>,
+    /// What a run of this scene must achieve (`springlab expect`).
+    pub expect: Option<ExpectSpec>,
 }
 
 /// `[world]`: gravity and drag; absent values mean the term does not exist.
@@ -192,4 +194,26 @@ pub struct RunSpec {
     pub integrators: Option<Vec<String>>,
     /// When impulses take effect: "exact" (default) or "frame".
     pub events: Option<String>,
+}
+
+/// `[expect]`: the integrator, step and limits a scene is held to by `springlab expect`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ExpectSpec {
+    /// Integrator name (a registered method).
+    pub integrator: String,
+    /// Frame rate in Hz (exclusive with `dt`).
+    pub hz: Option<f64>,
+    /// Frame step in s (exclusive with `hz`).
+    pub dt: Option<f64>,
+    /// Steps per frame (default 1).
+    pub substeps: Option<i64>,
+    /// Whether the run must stay stable.
+    pub stable: Option<bool>,
+    /// Largest position error against the reference, m.
+    pub max_position_error: Option<f64>,
+    /// Largest |l/l0 − 1| of any spring or rod during the run.
+    pub max_strain: Option<f64>,
+    /// Largest |slope| of the energy balance, J/s.
+    pub max_energy_drift_rate: Option<f64>,
 }

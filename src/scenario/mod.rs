@@ -33,7 +33,7 @@ mod timing;
 mod validate;
 pub use validate::{MAX_PARTICLES, MAX_STEPS};
 
-pub use file::{ScenarioFile, SpringLaw};
+pub use file::{ExpectSpec, ScenarioFile, SpringLaw};
 pub use generate::Block;
 pub use timing::Timing;
 
@@ -131,8 +131,30 @@ pub struct Scenario {
     pub blocks: Vec<Block>,
     /// Obstacles and contact response; `None` when the scene has no obstacles.
     pub collision: Option<crate::collide::CollisionSetup>,
+    /// What a run of this scene must achieve, when the file has an `[expect]` table.
+    pub expect: Option<Expect>,
     /// The raw file, for later stages that read more tables.
     pub raw: ScenarioFile,
+}
+
+/// A validated `[expect]` table: one integrator at one frame step, and the limits its run
+/// is held to (each check optional).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expect {
+    /// Integrator name (registered).
+    pub integrator: String,
+    /// Frame step (s): `1/hz` or `dt`.
+    pub frame_dt: f64,
+    /// Steps per frame (≥ 1).
+    pub substeps: u64,
+    /// `Some(true)`: the run must stay stable.
+    pub stable: Option<bool>,
+    /// Largest position error (m) over the reference's predictable horizon.
+    pub max_position_error: Option<f64>,
+    /// Largest |l/l0 − 1| of any spring or rod.
+    pub max_strain: Option<f64>,
+    /// Largest |slope| of the energy balance (J/s).
+    pub max_energy_drift_rate: Option<f64>,
 }
 
 impl Scenario {

@@ -3,7 +3,7 @@
 
 use super::file::{ScenarioFile, SpringLaw, Triple};
 use super::generate;
-use super::{Particle, RunSettings, Scenario, SpringDef};
+use super::{Expect, Particle, RunSettings, Scenario, SpringDef};
 use crate::error::{num, Error, Result};
 use crate::model::{DistanceConstraint, Impulse, Vec3};
 use std::collections::HashSet;
@@ -335,6 +335,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
             ),
         ));
     }
+    let expect = validate_expect(&ck, &raw)?;
     let mut scene = Scenario {
         name,
         description: raw.description.clone().unwrap_or_default(),
@@ -348,6 +349,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
         run,
         blocks,
         collision,
+        expect,
         raw,
     };
     // Checked without the obstacles: their shapes are built by the commands that run the
@@ -586,4 +588,54 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
         integrators,
         events,
     })
+}
+
+/// Checks `[expect]`: a registered integrator, exactly one positive finite `hz` or `dt`,
+/// `substeps` ≥ 1, and positive finite limits.
+fn validate_expect(ck: &Checker, raw: &ScenarioFile) -> Result<Option<Expect>> {
+    let Some(e) = &raw.expect else {
+        return Ok(None);
+    };
+    let registry = crate::method::Registry::builtin();
+    if registry.find(&e.integrator).is_none() {
+        return Err(ck.err(
+            "expect.integrator",
+            format!(
+                "unknown integrator '{}'; known: {}",
+                e.integrator,
+                registry.names().join(", ")
+            ),
+        ));
+    }
+    let frame_dt = match (e.hz, e.dt) {
+        (Some(_), Some(_)) => {
+            return Err(ck.err("expect", "give exactly one of `hz` and `dt`, not both"))
+        }
+        (None, None) => return Err(ck.err("expect", "give exactly one of `hz` and `dt`")),
+        (Some(hz), None) => 1.0 / ck.positive("expect.hz", hz)?,
+        (None, Some(dt)) => ck.positive("expect.dt", dt)?,
+    };
+    let substeps = match e.substeps {
+        None => 1,
+        Some(n) if (1..=MAX_STEPS as i64).contains(&n) => n as u64,
+        Some(n) => {
+            return Err(ck.err(
+                "expect.substeps",
+                format!("must be between 1 and {MAX_STEPS}, got {n}"),
+            ))
+        }
+    };
+    let limit = |field: &str, v: Option<f64>| -> Result<Option<f64>> {
+        v.map(|x| ck.positive(&format!("expect.{field}"), x))
+            .transpose()
+    };
+    Ok(Some(Expect {
+        integrator: e.integrator.clone(),
+        frame_dt,
+        substeps,
+        stable: e.stable,
+        max_position_error: limit("max_position_error", e.max_position_error)?,
+        max_strain: limit("max_strain", e.max_strain)?,
+        max_energy_drift_rate: limit("max_energy_drift_rate", e.max_energy_drift_rate)?,
+    }))
 }

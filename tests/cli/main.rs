@@ -5,6 +5,7 @@ mod bench_cli;
 mod check_obstacles;
 mod cli_errors;
 mod defaults_doc;
+mod expect;
 mod faults;
 mod finite_scenes;
 mod framerate;

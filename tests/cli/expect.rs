@@ -1,0 +1,220 @@
+//! `springlab expect`: scenes held to their `[expect]` tables, with oracles that do not depend
+//! on the integrators' accuracy: limits far above or below what the scene itself implies.
+
+use crate::support::{bin, ok};
+use std::path::{Path, PathBuf};
+
+/// A 1 kg mass on a 100 N/m spring (ω = 10 rad/s) started 10 % stretched, then `expect`.
+/// The strain oscillates between −0.1 and 0.1; the energy is 0.5 J.
+fn spring_scene(dir: &Path, name: &str, duration: f64, expect: &str) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            r#"
+[[particle]]
+position = [0.0, 0.0, 0.0]
+mass = 1.0
+fixed = true
+
+[[particle]]
+position = [1.1, 0.0, 0.0]
+mass = 1.0
+
+[[spring]]
+between = [0, 1]
+stiffness = 100.0
+rest_length = 1.0
+
+[run]
+dt = 0.01
+duration = {duration}
+
+{expect}
+"#
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// Limits far above what a 600 Hz velocity Verlet run measures: the strain is 0.1 at most,
+/// the amplitude 0.1 m bounds any sensible position error, the energy (0.5 J) drifts far less
+/// than 1 J/s.
+const PASSING: &str = r#"[expect]
+integrator = "velocity_verlet"
+hz = 600
+stable = true
+max_position_error = 0.1
+max_strain = 1.0
+max_energy_drift_rate = 1.0
+"#;
+
+/// The same run with max_strain = 0.05: the spring starts 10 % stretched, so the strain is at
+/// least 0.1 at t = 0 whatever the integrator does. The other three still pass.
+const STRAIN_TOO_TIGHT: &str = r#"[expect]
+integrator = "velocity_verlet"
+hz = 600
+stable = true
+max_position_error = 0.1
+max_strain = 0.05
+max_energy_drift_rate = 1.0
+"#;
+
+/// Explicit Euler at dt = 0.5 s, ω dt = 5, far beyond its limit 2/ω: each step multiplies the
+/// amplitude by about √(1 + 25) ≈ 5, so over 10 s (20 steps) the run blows up. Both the
+/// stability and the (generous) strain limit fail: an unstable run has no number.
+const UNSTABLE: &str = r#"[expect]
+integrator = "explicit_euler"
+hz = 2
+stable = true
+max_strain = 1.0
+"#;
+
+fn run(args: &[&str]) -> (bool, String, String) {
+    let out = bin().args(args).output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn expect_passes_fails_and_writes_junit() {
+    let dir = tempfile::tempdir().unwrap();
+    let pass = spring_scene(dir.path(), "pass", 2.0, PASSING);
+    let tight = spring_scene(dir.path(), "tight", 2.0, STRAIN_TOO_TIGHT);
+    let unstable = spring_scene(dir.path(), "unstable", 10.0, UNSTABLE);
+    let (p, t, u) = (
+        pass.to_str().unwrap(),
+        tight.to_str().unwrap(),
+        unstable.to_str().unwrap(),
+    );
+
+    // All four expectations hold: exit 0, four pass lines.
+    let out = ok(&["expect", p]);
+    assert_eq!(out.matches(" pass").count(), 4, "{out}");
+    assert!(!out.contains("FAIL"), "{out}");
+
+    // The tight strain limit fails alone; the exit is non-zero and the summary names it.
+    let (success, out, err) = run(&["expect", t]);
+    assert!(!success);
+    assert_eq!(out.matches("FAIL").count(), 1, "{out}");
+    assert!(err.contains("1 of 4 expectations failed"), "{err}");
+    assert!(err.contains("max_strain"), "{err}");
+
+    // The unstable run fails `stable` and shows no number for the strain.
+    let (success, out, _) = run(&["expect", u]);
+    assert!(!success);
+    assert_eq!(out.matches("FAIL").count(), 2, "{out}");
+    assert!(out.contains("—, run unstable at t ="), "{out}");
+
+    // JUnit: one testcase per expectation (4 + 4 + 2), one failure per failing one (0 + 1 + 2),
+    // classname the scene as given.
+    let xml_path = dir.path().join("expect.xml");
+    let (success, _, _) = run(&["expect", p, t, u, "--junit", xml_path.to_str().unwrap()]);
+    assert!(!success);
+    let xml = std::fs::read_to_string(&xml_path).unwrap();
+    let doc = roxmltree::Document::parse(&xml).unwrap();
+    let suite = doc.root_element();
+    assert_eq!(suite.tag_name().name(), "testsuite");
+    assert_eq!(suite.attribute("name"), Some("springlab expect"));
+    assert_eq!(suite.attribute("tests"), Some("10"));
+    assert_eq!(suite.attribute("failures"), Some("3"));
+    let cases: Vec<_> = suite
+        .children()
+        .filter(|n| n.has_tag_name("testcase"))
+        .collect();
+    assert_eq!(cases.len(), 10);
+    let failing = |scene: &str| {
+        cases
+            .iter()
+            .filter(|c| c.attribute("classname") == Some(scene))
+            .filter(|c| c.children().any(|f| f.has_tag_name("failure")))
+            .count()
+    };
+    let count = |scene: &str| {
+        cases
+            .iter()
+            .filter(|c| c.attribute("classname") == Some(scene))
+            .count()
+    };
+    assert_eq!((count(p), failing(p)), (4, 0));
+    assert_eq!((count(t), failing(t)), (4, 1));
+    assert_eq!((count(u), failing(u)), (2, 2));
+    let strain = cases
+        .iter()
+        .find(|c| {
+            c.attribute("classname") == Some(t) && c.attribute("name") == Some("max_strain ≤ 0.05")
+        })
+        .expect("the tight strain testcase");
+    let msg = strain
+        .children()
+        .find(|f| f.has_tag_name("failure"))
+        .and_then(|f| f.attribute("message"))
+        .unwrap();
+    assert!(msg.contains("> limit 0.05"), "{msg}");
+}
+
+#[test]
+fn expect_without_table_is_skipped_unless_nothing_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = spring_scene(dir.path(), "plain", 1.0, "");
+    let pass = spring_scene(dir.path(), "pass", 2.0, PASSING);
+    // Next to a scene that passes, a scene without [expect] is listed as skipped: exit 0.
+    let out = ok(&["expect", plain.to_str().unwrap(), pass.to_str().unwrap()]);
+    assert!(out.contains("plain.toml"), "{out}");
+    assert!(out.contains("no [expect] table"), "{out}");
+    assert!(out.contains("skipped"), "{out}");
+    // Alone, nothing is checked: an error, exit non-zero.
+    let (success, _, err) = run(&["expect", plain.to_str().unwrap()]);
+    assert!(!success);
+    assert!(err.contains("has an [expect] table"), "{err}");
+}
+
+#[test]
+fn expect_table_errors_name_the_field_and_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let typo = spring_scene(
+        dir.path(),
+        "typo",
+        1.0,
+        "[expect]\nintegrator = \"rk4\"\nhz = 60\nmax_strian = 0.1\n",
+    );
+    let (success, _, err) = run(&["check", typo.to_str().unwrap()]);
+    assert!(!success);
+    assert!(err.contains("expect.max_strian"), "{err}");
+    assert!(err.contains("typo.toml"), "{err}");
+
+    let both = spring_scene(
+        dir.path(),
+        "both",
+        1.0,
+        "[expect]\nintegrator = \"rk4\"\nhz = 60\ndt = 0.01\n",
+    );
+    let (success, _, err) = run(&["check", both.to_str().unwrap()]);
+    assert!(!success);
+    assert!(err.contains("both.toml") && err.contains("expect"), "{err}");
+    assert!(err.contains("exactly one of `hz` and `dt`"), "{err}");
+
+    let unknown = spring_scene(
+        dir.path(),
+        "unknown",
+        1.0,
+        "[expect]\nintegrator = \"no_such_method\"\nhz = 60\n",
+    );
+    let (success, _, err) = run(&["check", unknown.to_str().unwrap()]);
+    assert!(!success);
+    assert!(err.contains("expect.integrator"), "{err}");
+}
+
+#[test]
+fn check_shows_the_expectations() {
+    let dir = tempfile::tempdir().unwrap();
+    let pass = spring_scene(dir.path(), "pass", 2.0, PASSING);
+    let out = ok(&["check", pass.to_str().unwrap()]);
+    assert!(out.contains("expect: velocity_verlet"), "{out}");
+    assert!(out.contains("max_strain ≤ 1"), "{out}");
+    assert!(out.contains("max_position_error ≤ 0.1 m"), "{out}");
+}
