@@ -111,6 +111,19 @@ pub fn num(x: f64) -> String {
     }
 }
 
+/// A finite number with `sig` significant digits, as tables and notes print measured figures:
+/// plain between 1e-3 and 1e5 (`0.0116`, `2706`), else scientific (`1.00e-6`); zero is `0`.
+pub fn significant(v: f64, sig: usize) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-3..1e5).contains(&v.abs()) {
+        let digits = (sig as i32 - 1 - v.abs().log10().floor() as i32).max(0) as usize;
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.prec$e}", prec = sig.saturating_sub(1))
+    }
+}
+
 /// Shorthand for results carrying [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 

@@ -116,34 +116,23 @@ fn within_budget(
     budget: f64,
     skipped: &mut Vec<(String, String)>,
 ) -> Result<Vec<String>> {
-    use super::probe::{cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS};
+    use super::probe::{check_budget, seconds_per_step, split_by_budget, Cost};
     check_budget(budget)?;
     let n = cfg.frame_substeps.unwrap_or(1);
-    let projected: Vec<f64> = names
+    let costs: Vec<Cost> = names
         .iter()
         .map(|m| {
             let per =
-                seconds_per_step(sys, s0, &cfg.methods, &cfg.options, m, dt / n as f64, steps);
-            per.map_or(0.0, |p| p * (steps * n) as f64)
+                seconds_per_step(sys, s0, &cfg.methods, &cfg.options, m, dt / n as f64, steps)
+                    .unwrap_or(0.0);
+            Cost {
+                per_unit: per,
+                projected: per * (steps * n) as f64,
+            }
         })
         .collect();
-    let keep = cheapest_within(&projected, budget);
-    let mut kept = Vec::new();
-    for (i, m) in names.into_iter().enumerate() {
-        if keep[i] {
-            kept.push(m);
-        } else {
-            skipped.push((
-                m.clone(),
-                format!(
-                    "left out: its run would take about {} s ({} ms per step, measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
-                    sig3(projected[i]),
-                    sig3(projected[i] / (steps * n) as f64 * 1e3),
-                    sig3(budget)
-                ),
-            ));
-        }
-    }
+    let (kept, left) = split_by_budget(names, &costs, budget, "its run", "step");
+    skipped.extend(left);
     Ok(kept)
 }
 

@@ -49,9 +49,7 @@ pub fn position_error(x: &[Vec3], y: &[Vec3]) -> f64 {
 /// loop in index order, so the value is the same bits whatever the thread count.
 pub fn strain_max(sys: &System, x: &[Vec3]) -> f64 {
     let sp = &sys.springs;
-    let springs = (0..sp.len())
-        .filter(|&s| sp.l0[s] > 0.0)
-        .map(|s| (sp.i[s] as usize, sp.j[s] as usize, sp.l0[s]));
+    let springs = (0..sp.len()).map(|s| (sp.i[s] as usize, sp.j[s] as usize, sp.l0[s]));
     let rods = sys.constraints.iter().map(|c| (c.i, c.j, c.length));
     springs
         .chain(rods)

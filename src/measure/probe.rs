@@ -70,18 +70,52 @@ pub fn cheapest_within(projected: &[f64], budget: f64) -> Vec<bool> {
     keep
 }
 
-/// A measured figure with three significant digits: plain between 0.001 and 10⁴, else
-/// scientific. Budget notes print their figures with it.
-pub fn sig3(x: f64) -> String {
-    if x != 0.0 && !(1e-3..1e4).contains(&x.abs()) {
-        return format!("{x:.2e}");
+/// A method's probed cost: wall time per unit (a step, or a substep) and the projected wall
+/// time of the runs a command would make.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cost {
+    /// Wall time per unit (s).
+    pub per_unit: f64,
+    /// Projected wall time of the command's runs of it (s).
+    pub projected: f64,
+}
+
+/// Splits `names` (with their `costs`) into those that fit `budget` together, cheapest first
+/// ([`cheapest_within`]), in their order, and the rest, each with why: "left out: WHAT would
+/// take about … s (… ms per UNIT, measured over …), beyond what the budget of … s leaves".
+/// The one rule every command's budget applies; the sweep's water-filling refines it per step.
+pub fn split_by_budget(
+    names: Vec<String>,
+    costs: &[Cost],
+    budget: f64,
+    what: &str,
+    unit: &str,
+) -> (Vec<String>, Vec<(String, String)>) {
+    let keep = cheapest_within(
+        &costs.iter().map(|c| c.projected).collect::<Vec<_>>(),
+        budget,
+    );
+    let (mut kept, mut left) = (Vec::new(), Vec::new());
+    for ((n, c), k) in names.into_iter().zip(costs).zip(keep) {
+        if k {
+            kept.push(n);
+        } else {
+            let why = format!(
+                "left out: {what} would take about {} s ({} ms per {unit}, measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
+                sig3(c.projected),
+                sig3(c.per_unit * 1e3),
+                sig3(budget)
+            );
+            left.push((n, why));
+        }
     }
-    let digits = if x == 0.0 {
-        2
-    } else {
-        (2 - x.abs().log10().floor() as i32).clamp(0, 5) as usize
-    };
-    format!("{x:.digits$}")
+    (kept, left)
+}
+
+/// A measured figure with three significant digits ([`crate::error::significant`], the
+/// tables' rule), as budget notes print their figures.
+pub fn sig3(x: f64) -> String {
+    crate::error::significant(x, 3)
 }
 
 #[cfg(test)]
@@ -97,7 +131,7 @@ mod tests {
         assert!(check_budget(1e-9).is_ok());
     }
 
-    // Oracle: three significant digits by hand.
+    // Oracle: three significant digits by hand (zero prints as the tables print it).
     #[test]
     fn figures_have_three_significant_digits() {
         assert_eq!(sig3(1.4836), "1.48");
@@ -105,6 +139,6 @@ mod tests {
         assert_eq!(sig3(2706.2), "2706");
         assert_eq!(sig3(180.0), "180");
         assert_eq!(sig3(1e-6), "1.00e-6");
-        assert_eq!(sig3(0.0), "0.00");
+        assert_eq!(sig3(0.0), "0");
     }
 }

@@ -411,9 +411,9 @@ fn searches_over_budget(
     horizon: f64,
     budget: f64,
 ) -> Result<Vec<Option<String>>> {
-    use super::probe::{cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS};
+    use super::probe::{check_budget, seconds_per_step, split_by_budget, Cost};
     check_budget(budget)?;
-    let cost: Vec<(f64, f64)> = names
+    let costs: Vec<Cost> = names
         .iter()
         .zip(starts)
         .map(|(name, start)| match start {
@@ -422,25 +422,23 @@ fn searches_over_budget(
                 let per =
                     seconds_per_step(sys, s0, &cfg.methods, &cfg.options, name, *h, steps as u64)
                         .unwrap_or(0.0);
-                (per, per * steps * SEARCH_TRIALS)
+                Cost {
+                    per_unit: per,
+                    projected: per * steps * SEARCH_TRIALS,
+                }
             }
-            None => (0.0, 0.0),
+            None => Cost {
+                per_unit: 0.0,
+                projected: 0.0,
+            },
         })
         .collect();
-    let keep = cheapest_within(&cost.iter().map(|c| c.1).collect::<Vec<_>>(), budget);
-    let out = (0..names.len())
-        .map(|i| {
-            (!keep[i]).then(|| {
-                format!(
-                    "empirical search left out: about {} s ({} ms per step measured over {PROBE_STEPS} steps, about {SEARCH_TRIALS} trials over the horizon), beyond what the budget of {} s leaves; `--budget` raises it",
-                    sig3(cost[i].1),
-                    sig3(cost[i].0 * 1e3),
-                    sig3(budget)
-                )
-            })
-        })
-        .collect();
-    Ok(out)
+    let what = format!("its empirical search (about {SEARCH_TRIALS} trials over the horizon)");
+    let (_, left) = split_by_budget(names.to_vec(), &costs, budget, &what, "step");
+    Ok(names
+        .iter()
+        .map(|n| left.iter().find(|l| l.0 == *n).map(|l| l.1.clone()))
+        .collect())
 }
 
 /// Per-integrator stability.

@@ -26,16 +26,7 @@ pub fn drawable(v: f64, log: bool) -> bool {
 /// value, so no NaN or `inf` is ever printed.
 pub fn cell(v: Option<f64>, sig: usize) -> String {
     match v {
-        Some(v) if v.is_finite() => {
-            if v == 0.0 {
-                "0".into()
-            } else if (1e-3..1e5).contains(&v.abs()) {
-                let digits = (sig as i32 - 1 - v.abs().log10().floor() as i32).max(0) as usize;
-                format!("{v:.digits$}")
-            } else {
-                format!("{v:.prec$e}", prec = sig.saturating_sub(1))
-            }
-        }
+        Some(v) if v.is_finite() => crate::error::significant(v, sig),
         _ => "—".into(),
     }
 }

@@ -380,40 +380,26 @@ fn within_budget(
     budget: f64,
     unable: &mut Vec<(String, String)>,
 ) -> Result<Vec<String>> {
-    use crate::measure::probe::{
-        cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS,
-    };
+    use crate::measure::probe::{check_budget, seconds_per_step, split_by_budget, Cost};
     check_budget(budget)?;
     let (sys, s0) = (scene.build(), scene.initial_state());
     let Some(&(dt, steps)) = grid.iter().min_by(|a, b| a.0.total_cmp(&b.0)) else {
         return Ok(names);
     };
     let total: f64 = grid.iter().map(|g| g.1 as f64).sum::<f64>() * 2.0;
-    let cost: Vec<(f64, f64)> = names
+    let costs: Vec<Cost> = names
         .iter()
         .map(|n| {
             let per = seconds_per_step(&sys, &s0, &cfg.methods, &cfg.options, n, dt, steps)
                 .unwrap_or(0.0);
-            (per, per * total)
+            Cost {
+                per_unit: per,
+                projected: per * total,
+            }
         })
         .collect();
-    let keep = cheapest_within(&cost.iter().map(|c| c.1).collect::<Vec<_>>(), budget);
-    let mut kept = Vec::new();
-    for (i, n) in names.into_iter().enumerate() {
-        if keep[i] {
-            kept.push(n);
-        } else {
-            unable.push((
-                n,
-                format!(
-                    "left out: its runs would take about {} s ({} ms per step measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
-                    sig3(cost[i].1),
-                    sig3(cost[i].0 * 1e3),
-                    sig3(budget)
-                ),
-            ));
-        }
-    }
+    let (kept, left) = split_by_budget(names, &costs, budget, "its runs", "step");
+    unable.extend(left);
     Ok(kept)
 }
 

@@ -316,12 +316,12 @@ fn within_budget(
     skipped: &mut Vec<(String, String)>,
 ) -> Result<Vec<String>> {
     use crate::measure::probe::{
-        cheapest_within, check_budget, seconds_per_step, sig3, PROBE_STEPS,
+        check_budget, seconds_per_step, split_by_budget, Cost, PROBE_STEPS,
     };
     check_budget(budget)?;
     let hz = cfg.rates.iter().cloned().fold(0.0, f64::max);
     let worst = worst_case_substeps(frames, cfg.max_substeps);
-    let cost: Vec<(f64, f64)> = names
+    let costs: Vec<Cost> = names
         .iter()
         .map(|n| {
             let per = seconds_per_step(
@@ -335,33 +335,24 @@ fn within_budget(
             )
             .unwrap_or(0.0);
             let engine = cfg.methods.info(n).is_ok_and(|m| m.engine);
-            let per_substep = if engine {
+            let per_unit = if engine {
                 per / cfg.options.substeps.max(1) as f64
             } else {
                 per
             };
-            (per_substep, per_substep * worst)
+            Cost {
+                per_unit,
+                projected: per_unit * worst,
+            }
         })
         .collect();
-    let keep = cheapest_within(&cost.iter().map(|c| c.1).collect::<Vec<_>>(), budget);
-    let mut kept = Vec::new();
-    for (i, n) in names.into_iter().enumerate() {
-        if keep[i] {
-            kept.push(n);
-        } else {
-            skipped.push((
-                n,
-                format!(
-                    "left out: its search (up to {} substeps at {} rates) could take about {} s ({} ms per substep measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
-                    cfg.max_substeps,
-                    cfg.rates.len(),
-                    sig3(cost[i].1),
-                    sig3(cost[i].0 * 1e3),
-                    sig3(budget)
-                ),
-            ));
-        }
-    }
+    let what = format!(
+        "its search (up to {} substeps at {} rates)",
+        cfg.max_substeps,
+        cfg.rates.len()
+    );
+    let (kept, left) = split_by_budget(names, &costs, budget, &what, "substep");
+    skipped.extend(left);
     Ok(kept)
 }
 
