@@ -172,7 +172,7 @@ fn main() -> springlab::Result<()> {
         &AdviseConfig {
             methods: methods.clone(),
             integrators: mine.to_vec(),
-            tolerance: 1e-3,
+            tolerance: Some(1e-3),
             ..Default::default()
         },
     )?;

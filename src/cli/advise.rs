@@ -3,7 +3,8 @@
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::Result;
-use springlab::measure::advise::{advise, write_advice, AdviseConfig, AdviseMetric};
+use springlab::measure::advise::{advise, write_advice, AdviseConfig};
+use springlab::measure::tolerance::Metric;
 use std::path::PathBuf;
 
 /// Flags of `springlab advise`.
@@ -22,12 +23,15 @@ pub struct Args {
     /// are left out, named with the figure.
     #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
     pub budget: f64,
-    /// Error bound over the horizon (m for position, relative for energy).
+    /// Position tolerance (m; default the scene's [run] tolerance, else 1 % of its motion
+    /// scale). Strain and energy are held to it over the motion scale.
     #[arg(long, allow_negative_numbers = true)]
-    pub tolerance: f64,
-    /// Which error: position or energy.
-    #[arg(long, default_value = "position")]
-    pub metric: AdviseMetric,
+    pub tolerance: Option<f64>,
+    /// Which error: position (over the predictable range), strain, energy or statistics
+    /// (position before the predictability horizon, the reference ensemble past it); default
+    /// statistics where the scene has a horizon before its end, else position.
+    #[arg(long)]
+    pub metric: Option<Metric>,
     /// Horizon (s; default the scene's duration).
     #[arg(long, allow_negative_numbers = true)]
     pub horizon: Option<f64>,
@@ -45,12 +49,23 @@ pub struct Args {
     pub points: usize,
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
+    /// Append the advised answer to the scenario file as an [expect] table (method, step,
+    /// stable, position error within the tolerance, strain and energy drift rate with a
+    /// margin over the verified run's), for `springlab expect` to hold the scene to it.
+    #[arg(long)]
+    pub write_expect: bool,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     let scene = load(&a.scenario)?;
+    if a.write_expect && scene.expect.is_some() {
+        anyhow::bail!(
+            "{}: expect: the file already has an [expect] table; remove it to write a new one (--write-expect)",
+            a.scenario.display()
+        );
+    }
     let cfg = AdviseConfig {
         tolerance: a.tolerance,
         metric: a.metric,
@@ -71,6 +86,18 @@ pub fn run(a: Args) -> Result<()> {
     let _lock = springlab::output::lock_dir(&dir)?;
     let adv = advise(&scene, &cfg)?;
     let f = write_advice(&dir, &adv)?;
+    println!(
+        "{}: judged by {} (bound {} {}; position tolerance {} m: {})",
+        scene.name,
+        adv.metric.name(),
+        fmt_opt(Some(adv.tolerance)),
+        adv.metric.unit(),
+        fmt_opt(Some(adv.position_tolerance.value)),
+        adv.position_tolerance.source
+    );
+    if let Some(n) = &adv.metric_note {
+        println!("  {n}");
+    }
     match &adv.integrator {
         Some(n) => {
             let evals = match adv.cost_per_second {
@@ -93,7 +120,11 @@ pub fn run(a: Args) -> Result<()> {
                     .map_or(0, |c| c.timing.repetitions),
             );
         }
-        None => println!("{}: nothing meets the tolerance on the grid", scene.name),
+        None => println!(
+            "{}: no candidate meets it on the steps tried (down to {} s)",
+            scene.name,
+            fmt_opt(adv.grid.first().copied())
+        ),
     }
     println!(
         "{:<22} {:>12} {:>14} {:>12} {:>12} {:>12}",
@@ -131,5 +162,19 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     println!("wrote {}", f.display());
+    if a.write_expect {
+        let Some(spec) = springlab::measure::advise::expect_table(&adv) else {
+            anyhow::bail!(
+                "--write-expect: no candidate met the bound, so there is no answer to hold {} to",
+                a.scenario.display()
+            );
+        };
+        let path = springlab::scenario::append_expect::append_expect(
+            &a.scenario,
+            &spec,
+            &format!("The answer verified by: {}", adv.command),
+        )?;
+        println!("appended an [expect] table to {}", path.display());
+    }
     Ok(())
 }

@@ -5,7 +5,7 @@ use super::common::load;
 use anyhow::Result;
 use springlab::integrate::IntegratorOptions;
 use springlab::measure::framerate::{
-    framerate, write_framerate, FramerateConfig, DEFAULT_MAX_SUBSTEPS, DEFAULT_TOLERANCE,
+    framerate, write_framerate, FramerateConfig, DEFAULT_MAX_SUBSTEPS,
 };
 use std::path::{Path, PathBuf};
 
@@ -22,9 +22,15 @@ pub struct Args {
         default_value = "30,60,120,144,240"
     )]
     pub hz: Vec<f64>,
-    /// Largest acceptable maximum position error over the run (m).
-    #[arg(long, default_value_t = DEFAULT_TOLERANCE, allow_negative_numbers = true)]
-    pub tolerance: f64,
+    /// Position tolerance (m; default the scene's [run] tolerance, else 1 % of its motion
+    /// scale). Strain and energy are held to it over the motion scale.
+    #[arg(long, allow_negative_numbers = true)]
+    pub tolerance: Option<f64>,
+    /// Which error: position (over the predictable range), strain, energy or statistics
+    /// (position before the predictability horizon, the reference ensemble past it); default
+    /// statistics where the scene has a horizon before its end, else position.
+    #[arg(long)]
+    pub metric: Option<springlab::measure::tolerance::Metric>,
     /// Integrators or backends, comma-separated (default: every one that applies, except
     /// closed forms).
     #[arg(long, value_delimiter = ',')]
@@ -71,6 +77,7 @@ pub fn run(a: Args) -> Result<()> {
     let cfg = FramerateConfig {
         rates: a.hz.clone(),
         tolerance: a.tolerance,
+        metric: a.metric,
         integrators: a.integrators.clone(),
         options: IntegratorOptions {
             constraint_iterations: a.iterations,
@@ -91,12 +98,23 @@ pub fn run(a: Args) -> Result<()> {
     let fr = framerate(&scene, &cfg)?;
     let files = write_framerate(&dir, &fr)?;
     println!(
-        "{}: tolerance {} m over {} s, reference {}, events {}",
-        scene.name, fr.tolerance, fr.duration, fr.reference.kind, fr.events
+        "{}: judged by {} (bound {} {}; position tolerance {} m: {}) over {} s, reference {}, events {}",
+        scene.name,
+        fr.metric.name(),
+        fr.tolerance,
+        fr.metric.unit(),
+        fr.position_tolerance.value,
+        fr.position_tolerance.source,
+        fr.duration,
+        fr.reference.kind,
+        fr.events
     );
+    if let Some(n) = &fr.metric_note {
+        println!("  {n}");
+    }
     println!(
         "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>10}",
-        "backend", "hz", "1 substep", "err 1 (m)", "needed", "err (m)", "wall/frame", "evals/fr"
+        "backend", "hz", "1 substep", "error 1", "needed", "error", "wall/frame", "evals/fr"
     );
     let e3 = super::measure_common::fmt_opt;
     for e in &fr.entries {
@@ -104,7 +122,7 @@ pub fn run(a: Args) -> Result<()> {
         let (needed, err, wall, evals) = match &e.fewest {
             Some(f) => (
                 f.substeps.to_string(),
-                e3(f.max_position_error),
+                e3(f.error),
                 e3(f.wall_seconds_per_frame),
                 f.force_evals_per_frame
                     .map_or("—".to_string(), |x| format!("{x:.0}")),
@@ -116,7 +134,7 @@ pub fn run(a: Args) -> Result<()> {
             e.backend,
             e.hz,
             one.status,
-            e3(one.max_position_error),
+            e3(one.error),
             needed,
             err,
             wall,

@@ -9,6 +9,8 @@ use super::reference::{Reference, ReferenceInfo};
 use super::trace::{longest_paths, TraceSpec};
 use crate::error::Result;
 use crate::integrate::IntegratorOptions;
+use crate::measure::statistics::Ensemble;
+use crate::measure::tolerance::Tolerance;
 use crate::method::Registry;
 use crate::output::write_atomic;
 use crate::scenario::{Scenario, Timing};
@@ -46,6 +48,9 @@ pub struct CompareConfig {
     /// costliest runs that would exceed it are left out, named with the figure. `None`: no
     /// budget (the study chooses its engines by its own rule).
     pub budget_seconds: Option<f64>,
+    /// Position tolerance (m) behind the statistics' floors; None: the scene's
+    /// `[run] tolerance`, else 1 % of its motion scale.
+    pub tolerance: Option<f64>,
 }
 
 impl Default for CompareConfig {
@@ -62,6 +67,7 @@ impl Default for CompareConfig {
             progress: false,
             trace: false,
             budget_seconds: None,
+            tolerance: None,
         }
     }
 }
@@ -100,6 +106,11 @@ pub struct CompareResult {
     pub frame_substeps: Option<u64>,
     /// One entry per backend, in the order asked.
     pub entries: Vec<CompareEntry>,
+    /// The position tolerance behind the statistics' floors, and where it came from.
+    pub position_tolerance: Tolerance,
+    /// The reference's ensemble past its predictability horizon, when it has one: what each
+    /// entry's `metrics.statistics` is judged against.
+    pub ensemble: Option<Ensemble>,
 }
 
 /// The methods of `names` whose runs fit `budget` (s, summed), cheapest first by their probed
@@ -158,7 +169,13 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         steps,
         max_samples_for(DEFAULT_BUDGET_BYTES, 1, sys.len()),
     );
-    let reference = Reference::compute(&sys, &s0, &[grid], grid.time(steps))?;
+    let mut reference = Reference::compute(&sys, &s0, &[grid], grid.time(steps))?;
+    let position_tolerance = crate::measure::tolerance::resolve(
+        cfg.tolerance,
+        scene.run.tolerance,
+        reference.motion_scale(),
+    );
+    reference.add_ensemble(&sys, &s0, position_tolerance.value)?;
     let trace = cfg.trace.then(|| TraceSpec {
         tracked: longest_paths(
             &reference,
@@ -235,6 +252,8 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     Ok(CompareResult {
         command,
         scenario: scene.name.clone(),
+        position_tolerance,
+        ensemble: reference.ensemble.clone(),
         reference: reference.info,
         dt,
         steps,
@@ -248,7 +267,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
 }
 
 /// The header of `compare.csv`.
-pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,unstable_time,unstable_reason,reference";
+pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,error_max_predictable,strain_error,statistics_score,statistics_consistent,unstable_time,unstable_reason,reference";
 
 fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -280,6 +299,14 @@ fn metric_cells(m: Option<&Metrics>) -> Vec<String> {
         o(m.and_then(|m| m.period)),
         o(m.and_then(|m| m.period_error)),
         o(m.and_then(|m| m.phase_error)),
+        o(m.map(|m| m.error_max_predictable)),
+        o(m.map(|m| m.strain_error)),
+        o(m.and_then(|m| m.statistics.as_ref())
+            .map(crate::measure::statistics::worst_score)),
+        m.and_then(|m| m.statistics.as_ref())
+            .map_or(String::new(), |s| {
+                s.values().all(|v| v.consistent).to_string()
+            }),
     ]
 }
 

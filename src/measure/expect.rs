@@ -94,11 +94,10 @@ pub fn skipped_row(scene: &str) -> ExpectRow {
 }
 
 /// The config of the one-method comparison an expectation is measured with.
-fn config(e: &Expect, duration: Option<f64>) -> CompareConfig {
+fn config(e: &Expect) -> CompareConfig {
     CompareConfig {
         integrators: vec![e.integrator.clone()],
         dt: Some(e.frame_dt),
-        duration,
         frame_substeps: Some(e.substeps),
         series_points: 0,
         budget_seconds: None,
@@ -133,14 +132,14 @@ fn numeric(
 /// names the scene in the rows (its path as given). A scene without `[expect]` gives one
 /// skipped row saying so.
 ///
-/// The position error is compared over the reference's predictable horizon: when the
-/// reference is not predictable over the whole run, the run is made again, shortened to that
-/// horizon, for the position error alone, and the measured cell says so.
+/// The position error is compared over the reference's predictable horizon (compare's
+/// `error_max_predictable`): when the reference is not predictable over the whole run, the
+/// measured cell says up to when.
 pub fn check_scene(scene: &Scenario, label: &str) -> Result<Vec<ExpectRow>> {
     let Some(e) = &scene.expect else {
         return Ok(vec![skipped_row(label)]);
     };
-    let res = compare(scene, &config(e, None))?;
+    let res = compare(scene, &config(e))?;
     let case = res.entries.first().and_then(|en| en.result.clone());
     let skip = res
         .entries
@@ -189,22 +188,17 @@ pub fn check_scene(scene: &Scenario, label: &str) -> Result<Vec<ExpectRow>> {
                 "—, the reference is not predictable past t = {} s, shorter than one frame",
                 sig3(h)
             )),
-            (Some(h), None) => {
-                let short = compare(scene, &config(e, Some(h)))?;
-                let c = short.entries.first().and_then(|en| en.result.clone());
-                match (not_ok(&c), c.and_then(|c| c.metrics)) {
-                    (Some(why), _) => Err(why),
-                    (None, Some(m)) => Ok((
-                        m.error_max,
-                        format!(
-                            " (up to t = {} s: the reference is predictable only that far of {} s)",
-                            sig3(short.duration),
-                            sig3(res.duration)
-                        ),
-                    )),
-                    (None, None) => Err("—, no metrics".into()),
-                }
-            }
+            (Some(h), None) => match &metrics {
+                Some(m) => Ok((
+                    m.error_max_predictable,
+                    format!(
+                        " (up to t = {} s: the reference is predictable only that far of {} s)",
+                        sig3(h),
+                        sig3(res.duration)
+                    ),
+                )),
+                None => Err("—, no metrics".into()),
+            },
         };
         checks.push(numeric(
             "max_position_error",

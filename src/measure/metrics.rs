@@ -30,10 +30,12 @@
 
 use super::reference::period::match_crossings;
 use super::reference::{Reference, Tracked};
+use super::statistics::{Statistic, WindowReader};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 use crate::run::{energy_scale, EnergyRecord, Observer};
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// Position error e = max over particles |x_i − y_i| (m) between two configurations of the
 /// same particles: the one definition every measure compares positions with.
@@ -178,6 +180,18 @@ pub struct Metrics {
     pub period_error: Option<f64>,
     /// Phase error at the last matched crossing (rad), unwrapped over the run.
     pub phase_error: Option<f64>,
+    /// Maximum position error over the compared steps before the reference's predictability
+    /// horizon (m): what position error can verify; `error_max` where all is predictable.
+    #[serde(default)]
+    pub error_max_predictable: f64,
+    /// |strain max − the reference's largest strain at the compared steps|: how much more (or
+    /// less) the run stretches than the solution does.
+    #[serde(default)]
+    pub strain_error: f64,
+    /// Past the predictability horizon, each observable of the run against the reference's
+    /// ensemble ([`super::statistics`]); null where all is predictable or there is no ensemble.
+    #[serde(default)]
+    pub statistics: Option<BTreeMap<String, Statistic>>,
 }
 
 /// Decimated time series for plots (finite values only; a blow-up ends the series).
@@ -321,6 +335,10 @@ pub struct MetricsObserver<'a> {
     /// The series, when asked for.
     pub series: Series,
     last_err: f64,
+    /// The reference's largest strain at the compared steps.
+    strain_ref: f64,
+    /// Reads the statistics window, when the reference has an ensemble.
+    window: Option<WindowReader>,
 }
 
 impl<'a> MetricsObserver<'a> {
@@ -373,6 +391,11 @@ impl<'a> MetricsObserver<'a> {
             series_stride,
             series: Series::default(),
             last_err: 0.0,
+            strain_ref: 0.0,
+            window: reference
+                .ensemble
+                .as_ref()
+                .map(|e| WindowReader::new(&e.times, g.dt, g.steps)),
         }
     }
 
@@ -392,6 +415,10 @@ impl<'a> MetricsObserver<'a> {
         m.strain_max = q.strain_max;
         m.energy_drift_rate = q.energy_drift_rate;
         m.rest_jitter = q.rest_jitter;
+        m.strain_error = (q.strain_max - self.strain_ref).abs();
+        if let (Some(w), Some(e)) = (&self.window, &self.reference.ensemble) {
+            m.statistics = w.observed().map(|o| e.judge(&o));
+        }
         if self.cons_n > 0 {
             m.constraint_mean = Some(self.cons_sum / self.cons_n as f64);
         }
@@ -420,12 +447,19 @@ impl Observer for MetricsObserver<'_> {
         self.t.push(t);
         self.eps.push(eps);
         self.quality.observe(step, s, e)?;
+        if let Some(w) = &mut self.window {
+            w.observe(self.sys, step, s);
+        }
         self.m.dissipated = e.dissipated;
         self.m.injected = e.injected;
         let mut err_now = None;
         if let Some(xr) = self.reference.positions(self.grid, step) {
             let err = position_error(&s.x, xr);
             self.m.error_max = self.m.error_max.max(err);
+            if self.reference.predictable_at(t) {
+                self.m.error_max_predictable = self.m.error_max_predictable.max(err);
+            }
+            self.strain_ref = self.strain_ref.max(strain_max(self.sys, xr));
             self.err_sq += err * err;
             self.m.compared_steps += 1;
             self.last_err = err;

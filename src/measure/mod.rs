@@ -1,6 +1,7 @@
 //! Measuring the speed–accuracy trade: references, metrics, convergence, stability, advice.
 
 pub mod advise;
+pub mod answer;
 pub mod case;
 pub mod command;
 pub mod compare;
@@ -16,8 +17,10 @@ pub mod probe;
 pub mod reference;
 pub mod small_steps;
 pub mod stability;
+pub mod statistics;
 pub mod study;
 pub mod sweep;
+pub mod tolerance;
 mod trace;
 
 pub use metrics::{strain_max, Metrics, Quality, QualityObserver};

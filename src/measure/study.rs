@@ -67,9 +67,6 @@ pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 /// that section).
 pub const FRAMERATE_NOTE_PREFIX: &str = "Frame rates";
 
-/// Default advice tolerance of a study: 1 mm of position error over the scene's duration.
-pub const DEFAULT_TOLERANCE: f64 = 1e-3;
-
 /// The sweep's cost cap per method (particle-steps) in a full study: a tenth of a default
 /// `springlab sweep`'s, so the 32×32 cloth's sweep stays within seconds.
 pub const STUDY_COST_CAP: f64 = 4e5;
@@ -87,8 +84,9 @@ pub struct StudyConfig {
     pub methods: Registry,
     /// Integrator options.
     pub options: IntegratorOptions,
-    /// Position tolerance of the advice (m).
-    pub tolerance: f64,
+    /// Position tolerance of every answer (m); None: each scene's `[run] tolerance`, else 1 %
+    /// of its motion scale ([`crate::measure::tolerance`]).
+    pub tolerance: Option<f64>,
     /// A coarse pass (for tests and previews): fewer sweep points, no empirical stability
     /// search, a short advice grid.
     pub quick: bool,
@@ -103,7 +101,7 @@ impl Default for StudyConfig {
         StudyConfig {
             methods: Registry::builtin(),
             options: IntegratorOptions::default(),
-            tolerance: DEFAULT_TOLERANCE,
+            tolerance: None,
             quick: false,
             progress: false,
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
@@ -132,6 +130,8 @@ pub struct SceneStudy {
     pub framerate: Option<Framerate>,
     /// Why there is no frame-rate table, when there is none.
     pub framerate_note: Option<String>,
+    /// The scene's answer at a free step and at its game rate ([`super::answer`]).
+    pub answer: super::answer::Answer,
     /// What took part where, and what was left out and why.
     pub notes: Vec<String>,
     /// Wall time of each part (s), for the report's budget.
@@ -204,6 +204,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             progress: cfg.progress,
             blowup_factor: cfg.blowup_factor,
             trace: true,
+            tolerance: cfg.tolerance,
             ..Default::default()
         },
     )?;
@@ -231,6 +232,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         methods: cfg.methods.clone(),
         options: cfg.options,
         tolerance: cfg.tolerance,
+        ensemble: compared.ensemble.clone(),
         points: if cfg.quick { 4 } else { 8 },
         progress: cfg.progress,
         blowup_factor: cfg.blowup_factor,
@@ -332,23 +334,9 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
             exact.join(", ")
         ));
     }
-    let uncertainty = compared.reference.uncertainty;
     let mut advice_note = None;
     let advice = if candidates.is_empty() {
         advice_note = Some("no candidate applies".to_string());
-        None
-    } else if uncertainty > cfg.tolerance {
-        // The reference cannot tell errors below its own uncertainty from zero, so no step
-        // can be verified to the tolerance (a chaotic scene past its predictable range).
-        advice_note = Some(format!(
-            "the reference cannot verify {} m: its own uncertainty over the scene's duration is {:.2e} m{}",
-            cfg.tolerance,
-            uncertainty,
-            compared
-                .reference
-                .predictability_horizon
-                .map_or(String::new(), |h| format!(" (predictable for {h:.3} s)"))
-        ));
         None
     } else {
         Some(advise(
@@ -363,7 +351,18 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let (framerate, framerate_note) =
         study_framerate(scene, cfg, &compared, &probed_out, &mut notes)?;
     lap(&mut seconds.framerate);
+    let answer = super::answer::answer(
+        &cfg.methods,
+        &compared,
+        advice.as_ref(),
+        advice_note.as_deref(),
+        framerate.as_ref(),
+        framerate_note.as_deref(),
+        scene.run.hz.unwrap_or(super::answer::GAME_HZ),
+        &scene.name,
+    )?;
     Ok(SceneStudy {
+        answer,
         framerate,
         framerate_note,
         seconds,
@@ -410,27 +409,18 @@ fn study_framerate(
     probed_out: &[(String, f64)],
     notes: &mut Vec<String>,
 ) -> Result<(Option<Framerate>, Option<String>)> {
-    let rates: Vec<f64> = if cfg.quick {
-        vec![60.0]
+    let game = scene.run.hz.unwrap_or(super::answer::GAME_HZ);
+    let mut rates: Vec<f64> = if cfg.quick {
+        vec![]
     } else {
         super::framerate::DEFAULT_RATES.to_vec()
     };
-    let max_substeps = if cfg.quick { 4 } else { FRAMERATE_MAX_SUBSTEPS };
-    let mut duration = crate::scenario::Timing::duration(scene, None)?;
-    // Past the reference's predictable range no backend can be verified to the tolerance:
-    // the table covers the range the reference vouches for (its command says so).
-    let tolerance = FramerateConfig::default().tolerance;
-    let horizon = compared
-        .reference
-        .predictability_horizon
-        .filter(|_| compared.reference.uncertainty > tolerance);
-    if let Some(h) = horizon {
-        notes.push(format!(
-            "{FRAMERATE_NOTE_PREFIX} over the first {h:.3} s: the reference's uncertainty over the whole {duration} s ({:.2e} m) exceeds the {tolerance} m tolerance, and it is predictable for {h:.3} s.",
-            compared.reference.uncertainty
-        ));
-        duration = h;
+    if !rates.contains(&game) {
+        rates.push(game);
+        rates.sort_by(f64::total_cmp);
     }
+    let max_substeps = if cfg.quick { 4 } else { FRAMERATE_MAX_SUBSTEPS };
+    let duration = crate::scenario::Timing::duration(scene, None)?;
     let frames: f64 = rates
         .iter()
         .map(|&hz| super::framerate::frames_at(duration, hz) as f64)
@@ -506,7 +496,8 @@ fn study_framerate(
             methods: cfg.methods.clone(),
             options: cfg.options,
             max_substeps,
-            duration: horizon,
+            tolerance: cfg.tolerance,
+            ensemble: compared.ensemble.clone(),
             blowup_factor: cfg.blowup_factor,
             progress: cfg.progress,
             timing: super::case::TimingRule {

@@ -236,10 +236,11 @@ fn front_tr(s: &SceneSummary) -> String {
         }
     };
     format!(
-        "<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
+        "<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
         esc(&s.page),
         esc(&s.scene),
-        esc(&r.pick),
+        esc(&r.free),
+        esc(&r.game),
         lines(&r.limits),
         lines(&r.blew)
     )
@@ -252,7 +253,7 @@ pub fn index_page(sum: &Summary) -> String {
     if sum.quick {
         body += "<p class=\"note\"><strong>Quick pass</strong> (<code>--quick</code>): coarse sweeps, theory-only stability; numbers are indicative only.</p>\n";
     }
-    body += "<h2>What to use</h2>\n<table>\n<tr><th class=\"l\">scene</th><th class=\"l\">advised method and step (stated tolerance)</th><th class=\"l\">stable steps</th><th class=\"l\">blew up at the scene's step</th></tr>\n";
+    body += "<h2>What to use</h2>\n<table>\n<tr><th class=\"l\">scene</th><th class=\"l\">free step: method and step (what verified it)</th><th class=\"l\">game rate: method and substeps per frame</th><th class=\"l\">stable steps</th><th class=\"l\">blew up at the scene's step</th></tr>\n";
     for s in &sum.scenes {
         body += &front_tr(s);
     }

@@ -15,7 +15,7 @@ pub fn readme(sum: &Summary) -> String {
     if sum.quick {
         out += "_Quick pass (`--quick`): coarse sweeps, theory-only stability; numbers are indicative only._\n\n";
     }
-    out += "## What to use\n\n| scene | advised method and step (stated tolerance) | stable steps | blew up at the scene's step |\n|---|---|---|---|\n";
+    out += "## What to use\n\n| scene | free step: method and step (what verified it) | game rate: method and substeps per frame | stable steps | blew up at the scene's step |\n|---|---|---|---|---|\n";
     for s in &sum.scenes {
         let r = front_row(s);
         let lines = |v: &[String]| {
@@ -26,10 +26,11 @@ pub fn readme(sum: &Summary) -> String {
             }
         };
         out += &format!(
-            "| [{}]({}) | {} | {} | {} |\n",
+            "| [{}]({}) | {} | {} | {} | {} |\n",
             md(&s.scene),
             s.page,
-            md(&r.pick),
+            md(&r.free),
+            md(&r.game),
             lines(&r.limits),
             lines(&r.blew)
         );

@@ -66,23 +66,6 @@ pub struct BackendSummary {
     pub wall_seconds: f64,
 }
 
-/// What to use on a scene: the advice's pick, at its stated tolerance.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Pick {
-    /// Position tolerance (m).
-    pub tolerance: f64,
-    /// Over this horizon (s).
-    pub horizon: f64,
-    /// The method, when one meets the tolerance.
-    pub integrator: Option<String>,
-    /// Its step (s).
-    pub dt: Option<f64>,
-    /// The error measured at that step (m).
-    pub verified_error: Option<f64>,
-    /// Its wall time per simulated second (s/s).
-    pub wall_per_second: Option<f64>,
-}
-
 /// A document of the scene folder, the command that re-creates it, and what it holds.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Document {
@@ -107,10 +90,10 @@ pub struct SceneSummary {
     pub reference: String,
     /// Highest linearised frequency (rad/s), when the scene has one.
     pub omega_max: Option<f64>,
-    /// What to use.
-    pub pick: Option<Pick>,
-    /// Why there is no advice, when there is none.
-    pub advice_note: Option<String>,
+    /// What to use, at a free step and at the game's frame rate (the study's
+    /// [`crate::measure::answer`]); null only in rows of an older report.
+    #[serde(default)]
+    pub answer: Option<crate::measure::answer::Answer>,
     /// One row per backend that ran.
     pub backends: Vec<BackendSummary>,
     /// Backends that refused the scene, with the reason.
@@ -230,14 +213,6 @@ pub fn scene_summary(
             wall_seconds: r.wall_seconds,
         });
     }
-    let pick = s.advice.as_ref().map(|a| Pick {
-        tolerance: a.tolerance,
-        horizon: a.horizon,
-        integrator: a.integrator.clone(),
-        dt: a.dt,
-        verified_error: a.verified_error,
-        wall_per_second: a.wall_per_second,
-    });
     Ok(SceneSummary {
         scene: s.scenario.clone(),
         description: s.description.clone(),
@@ -245,8 +220,7 @@ pub fn scene_summary(
         duration: s.compare.duration,
         reference: reference_words(s),
         omega_max: (s.stability.omega_max > 0.0).then_some(s.stability.omega_max),
-        pick,
-        advice_note: s.advice_note.clone(),
+        answer: Some(s.answer.clone()),
         backends,
         skipped,
         verdict: String::new(),

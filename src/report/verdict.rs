@@ -3,6 +3,7 @@
 
 use super::finite::cell;
 use super::summary::{BackendSummary, SceneSummary};
+use crate::measure::answer::{FreeStep, GameRate};
 use crate::measure::stability::Verdict;
 
 /// A step as people write it: `1/60 s` when 1/dt is a whole number, else decimals.
@@ -33,35 +34,89 @@ pub fn limit_words(b: &BackendSummary) -> String {
     }
 }
 
-/// The sentence that answers "what should I use here?".
-pub fn pick_sentence(s: &SceneSummary) -> Option<String> {
-    let Some(p) = s.pick.as_ref() else {
-        return s.advice_note.as_ref().map(|n| format!("No advice: {n}."));
+/// An answer's error against its bound, in words: `position error 2.1e-3 m ≤ 1.0e-2 m`, or for
+/// statistics the score and what it stands for.
+fn judged(metric: &str, error: Option<f64>, bound: f64, position_tolerance: f64) -> String {
+    let rel = match error {
+        Some(e) if e <= bound => "≤",
+        Some(_) => ">",
+        None => "vs",
     };
-    Some(match (&p.integrator, p.dt) {
-        (Some(m), Some(dt)) => format!(
-            "Use {m} at dt = {} for a position error within {} m over {} s (verified: {} m, at {} s of wall time per simulated second).",
-            dt_words(dt),
-            cell(Some(p.tolerance), 2),
-            cell(Some(p.horizon), 3),
-            cell(p.verified_error, 2),
-            cell(p.wall_per_second, 2)
+    match metric {
+        "position" => format!(
+            "position error {} m {rel} {} m",
+            cell(error, 2),
+            cell(Some(bound), 2)
         ),
-        _ => format!(
-            "No method meets a position error of {} m over {} s on the advice grid.",
-            cell(Some(p.tolerance), 2),
-            cell(Some(p.horizon), 3)
+        "statistics" => format!(
+            "statistics score {} {rel} 1: positions within {} m before the predictability horizon, every observable within the reference ensemble's spread after it",
+            cell(error, 2),
+            cell(Some(position_tolerance), 2)
         ),
-    })
+        m => format!("{m} error {} {rel} {}", cell(error, 2), cell(Some(bound), 2)),
+    }
 }
 
-/// A scene's answer on the front page, as plain text: what to use, each analysed method's
-/// stable step, and what blew up at the scene's step. The HTML and Markdown overviews both
-/// render this one row.
+/// The free-step answer in words, labelled where it only reports what was verified.
+pub fn free_words(a: &FreeStep) -> String {
+    match (&a.integrator, a.dt) {
+        (Some(m), Some(dt)) if a.meets => format!(
+            "{m} at dt = {} ({})",
+            dt_words(dt),
+            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+        ),
+        (Some(m), Some(dt)) => format!(
+            "{}: {m} at dt = {} ({})",
+            a.verified,
+            dt_words(dt),
+            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+        ),
+        _ => a.verified.clone(),
+    }
+}
+
+/// The game-rate answer in words, labelled where it only reports what was verified.
+pub fn game_words(a: &GameRate) -> String {
+    let per_frame = a.wall_seconds_per_frame.map_or(String::new(), |w| {
+        format!("; {} ms per frame", cell(Some(w * 1e3), 2))
+    });
+    match (&a.integrator, a.substeps) {
+        (Some(m), Some(n)) if a.meets => format!(
+            "{m} × {n} substep{} at {} Hz ({}{per_frame})",
+            if n == 1 { "" } else { "s" },
+            cell(Some(a.hz), 3),
+            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+        ),
+        (Some(m), Some(n)) => format!(
+            "{}: {m} × {n} at {} Hz ({}{per_frame})",
+            a.verified,
+            cell(Some(a.hz), 3),
+            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+        ),
+        _ => a.verified.clone(),
+    }
+}
+
+/// The sentence that answers "what should I use here?".
+pub fn pick_sentence(s: &SceneSummary) -> Option<String> {
+    let a = s.answer.as_ref()?;
+    Some(format!(
+        "With a free step: {}. At {} Hz: {}.",
+        free_words(&a.free_step),
+        cell(Some(a.game_rate.hz), 3),
+        game_words(&a.game_rate)
+    ))
+}
+
+/// A scene's answer on the front page, as plain text: what to use at a free step and at the
+/// game rate, each analysed method's stable step, and what blew up at the scene's step. The
+/// HTML and Markdown overviews both render this one row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrontRow {
-    /// The advised method and step at the stated tolerance, or why there is none.
-    pub pick: String,
+    /// The free-step answer.
+    pub free: String,
+    /// The game-rate answer.
+    pub game: String,
     /// `method: limit` per analysed method.
     pub limits: Vec<String>,
     /// `method at t = … s` per run that blew up.
@@ -70,28 +125,17 @@ pub struct FrontRow {
 
 /// The front-page row of a scene.
 pub fn front_row(s: &SceneSummary) -> FrontRow {
-    let pick = match &s.pick {
-        Some(p) => match (&p.integrator, p.dt) {
-            (Some(m), Some(dt)) => format!(
-                "{m} at dt = {} (error {} m ≤ {} m over {} s)",
-                dt_words(dt),
-                cell(p.verified_error, 2),
-                cell(Some(p.tolerance), 2),
-                cell(Some(p.horizon), 3)
-            ),
-            _ => format!("nothing meets {} m on the grid", cell(Some(p.tolerance), 2)),
-        },
-        None => format!(
-            "no advice: {}",
-            s.advice_note.as_deref().unwrap_or("none was measured")
-        ),
+    let (free, game) = match &s.answer {
+        Some(a) => (free_words(&a.free_step), game_words(&a.game_rate)),
+        None => ("not measured".into(), "not measured".into()),
     };
-    let pick = match &s.failed_this_time {
-        Some(_) => format!("(from the previous report; this one failed on the scene) {pick}"),
-        None => pick,
+    let stale = |t: String| match &s.failed_this_time {
+        Some(_) => format!("(from the previous report; this one failed on the scene) {t}"),
+        None => t,
     };
     FrontRow {
-        pick,
+        free: stale(free),
+        game: stale(game),
         limits: s
             .backends
             .iter()

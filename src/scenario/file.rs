@@ -194,6 +194,10 @@ pub struct RunSpec {
     pub integrators: Option<Vec<String>>,
     /// When impulses take effect: "exact" (default) or "frame".
     pub events: Option<String>,
+    /// Position tolerance of the scene's answers (m; default 1 % of the motion scale).
+    pub tolerance: Option<f64>,
+    /// The game's frame rate (Hz) its answer is given at (default 60).
+    pub hz: Option<f64>,
 }
 
 /// `[expect]`: the integrator, step and limits a scene is held to by `springlab expect`.

@@ -23,6 +23,7 @@
 //! assert_eq!(sys.active_terms(), vec!["springs"]);
 //! ```
 
+pub mod append_expect;
 pub mod file;
 mod generate;
 mod obj;
@@ -102,6 +103,11 @@ pub struct RunSettings {
     pub integrators: Vec<String>,
     /// When impulses take effect: at their time, or at the next frame boundary.
     pub events: crate::model::Events,
+    /// Position tolerance of the scene's answers (m), when the scene gives one; else
+    /// [`crate::measure::tolerance`] derives it from the motion.
+    pub tolerance: Option<f64>,
+    /// The game's frame rate (Hz) of the scene's answer, when the scene gives one (else 60).
+    pub hz: Option<f64>,
 }
 
 /// A validated scene: everything needed to build a [`System`] and its initial [`State`].

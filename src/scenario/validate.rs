@@ -521,6 +521,8 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
             duration: None,
             integrators: Vec::new(),
             events: Default::default(),
+            tolerance: None,
+            hz: None,
         });
     };
     let dt = match r.dt {
@@ -581,12 +583,22 @@ fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
         Some(e) => crate::model::Events::parse(e).map_err(|why| ck.err("run.events", why))?,
         None => Default::default(),
     };
+    let tolerance = match r.tolerance {
+        Some(t) => Some(ck.positive("run.tolerance", t)?),
+        None => None,
+    };
+    let hz = match r.hz {
+        Some(h) => Some(ck.positive("run.hz", h)?),
+        None => None,
+    };
     Ok(RunSettings {
         dt,
         steps,
         duration,
         integrators,
         events,
+        tolerance,
+        hz,
     })
 }
 

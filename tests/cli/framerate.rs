@@ -48,7 +48,7 @@ fn symplectic_euler_needs_ceil_h_omega_max_over_two() {
         &scene,
         &FramerateConfig {
             rates: rates.clone(),
-            tolerance: 1e3,
+            tolerance: Some(1e3),
             blowup_factor: 100.0,
             integrators: vec!["symplectic_euler".into()],
             ..Default::default()

@@ -3,7 +3,8 @@
 //!
 //! Both tests compare costs measured in one run of the advisor (ratios, not timed thresholds).
 
-use springlab::measure::advise::{advise, AdviseConfig, AdviseMetric};
+use springlab::measure::advise::{advise, AdviseConfig};
+use springlab::measure::tolerance::Metric;
 use springlab::model::State;
 use springlab::run::{run, EnergyRecord, Observer, RunPlan};
 use springlab::scenario::Scenario;
@@ -40,8 +41,8 @@ duration = 2.0
 fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
     let scene = Scenario::from_toml_str(ROPE, "rope30.toml").unwrap();
     let cfg = AdviseConfig {
-        tolerance: 0.1,
-        metric: AdviseMetric::Position,
+        tolerance: Some(0.1),
+        metric: Some(Metric::Position),
         horizon: Some(2.0),
         integrators: vec![
             "velocity_verlet".into(),
@@ -160,8 +161,8 @@ impl Observer for FallErr {
 fn free_fall_pick_is_exact_at_the_largest_grid_step() {
     let scene = Scenario::from_toml_str(FREE_FALL, "free_fall.toml").unwrap();
     let cfg = AdviseConfig {
-        tolerance: 1e-3,
-        metric: AdviseMetric::Position,
+        tolerance: Some(1e-3),
+        metric: Some(Metric::Position),
         points: 6,
         ..Default::default()
     };

@@ -19,7 +19,7 @@ fn kicked(events: &str) -> Scenario {
 fn config() -> FramerateConfig {
     FramerateConfig {
         rates: vec![30.0],
-        tolerance: 1e-3,
+        tolerance: Some(1e-3),
         integrators: vec!["symplectic_euler".into()],
         max_substeps: 8,
         ..Default::default()

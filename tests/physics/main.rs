@@ -23,6 +23,7 @@ mod collide_wall;
 mod conservation;
 mod convergence;
 mod energy_behaviour;
+mod ensemble_statistics;
 mod extremes;
 mod extremes_map;
 mod framerate_floor;

@@ -2,7 +2,8 @@
 //! Oracle: the anchored spring's closed form x(t) = 1 + 0.5 cos(2t) (k = 4, m = 1, l0 = 1,
 //! released at rest from 1.5 m), evaluated here, not through springlab's reference.
 
-use springlab::measure::advise::{advise, AdviseConfig, AdviseMetric};
+use springlab::measure::advise::{advise, AdviseConfig};
+use springlab::measure::tolerance::Metric;
 use springlab::model::State;
 use springlab::run::{run, EnergyRecord, Observer, RunPlan};
 use springlab::scenario::Scenario;
@@ -23,8 +24,8 @@ fn advised_step_meets_the_tolerance_when_rerun() {
     let scene = Scenario::from_file("scenarios/anchored_spring.toml").unwrap();
     let tol = 1e-4;
     let cfg = AdviseConfig {
-        tolerance: tol,
-        metric: AdviseMetric::Position,
+        tolerance: Some(tol),
+        metric: Some(Metric::Position),
         horizon: Some(5.0),
         points: 8,
         ..Default::default()

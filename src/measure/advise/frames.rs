@@ -3,10 +3,10 @@
 //! the same cost as the pick ([`super::cost`]).
 
 use super::cost::{force_evals_per_second, rank, CostKey, PickedBy};
-use super::{error_of, AdviseMetric};
 use crate::error::Result;
 use crate::measure::case::{CaseResult, TimedRun, Timing};
 use crate::measure::grid::TimeGrid;
+use crate::measure::tolerance::Judge;
 use crate::method::Registry;
 use serde::Serialize;
 
@@ -115,8 +115,7 @@ impl FramePlan {
         methods: &Registry,
         names: &[String],
         res: &[CaseResult],
-        metric: AdviseMetric,
-        tolerance: f64,
+        judge: &Judge,
     ) -> Result<Vec<FrameRate>> {
         let np = names.len();
         self.rates
@@ -129,18 +128,18 @@ impl FramePlan {
                     .map(|(pi, name)| {
                         let one = &res[2 * (fi * np + pi)];
                         let sub = &res[2 * (fi * np + pi) + 1];
-                        let se = error_of(sub, metric);
+                        let se = judge.error(sub);
                         let (cost, why) = force_evals_per_second(
                             methods,
                             name,
                             sub.force_evals,
                             sub.dt * sub.steps as f64,
                         )?;
-                        let meets = se.is_some_and(|e| e <= tolerance);
+                        let meets = se.is_some_and(|e| e <= judge.bound);
                         Ok(FrameEntry {
                             integrator: name.clone(),
                             one_step_status: one.status.clone(),
-                            one_step_error: error_of(one, metric),
+                            one_step_error: judge.error(one),
                             substeps: self.substeps[fi][pi],
                             substep_error: se,
                             meets_tolerance: meets,

@@ -28,6 +28,8 @@ use super::reference::{Reference, ReferenceInfo};
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
+use crate::measure::statistics::Ensemble;
+use crate::measure::tolerance::{Judge, Metric, Tolerance};
 use crate::method::{Order, Registry};
 use crate::scenario::Scenario;
 use cost::{force_evals_per_second, rank, CostKey};
@@ -35,37 +37,15 @@ use frames::FramePlan;
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// Which error the tolerance bounds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AdviseMetric {
-    /// Maximum position error over the horizon (m).
-    Position,
-    /// Maximum |relative energy error| over the horizon.
-    Energy,
-}
-
-impl std::str::FromStr for AdviseMetric {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "position" => Ok(AdviseMetric::Position),
-            "energy" => Ok(AdviseMetric::Energy),
-            _ => Err(Error::option(
-                "--metric",
-                format!("expected position or energy, got '{s}'"),
-            )),
-        }
-    }
-}
-
 /// Options of [`advise`].
 #[derive(Debug, Clone)]
 pub struct AdviseConfig {
-    /// Error bound (m for position, relative for energy).
-    pub tolerance: f64,
-    /// Which error.
-    pub metric: AdviseMetric,
+    /// Position tolerance (m); None: the scene's `[run] tolerance`, else 1 % of its motion
+    /// scale ([`crate::measure::tolerance`]).
+    pub tolerance: Option<f64>,
+    /// Which error; None: statistics past a predictability horizon, else position
+    /// ([`crate::measure::tolerance::default_metric`]).
+    pub metric: Option<Metric>,
     /// Horizon (s; default the scene's duration).
     pub horizon: Option<f64>,
     /// Candidates (empty: every applicable integrator except the closed form).
@@ -96,13 +76,16 @@ pub struct AdviseConfig {
     /// the costliest methods that would exceed it are left out, named with the figure. `None`:
     /// no budget (the study chooses its engines by its own rule).
     pub budget_seconds: Option<f64>,
+    /// An ensemble already made for this scene over the same horizon (the study passes
+    /// compare's); None: made here when the statistics metric needs it.
+    pub ensemble: Option<Ensemble>,
 }
 
 impl Default for AdviseConfig {
     fn default() -> Self {
         AdviseConfig {
-            tolerance: 1e-3,
-            metric: AdviseMetric::Position,
+            tolerance: None,
+            metric: None,
             horizon: None,
             integrators: vec![],
             methods: Registry::builtin(),
@@ -116,6 +99,7 @@ impl Default for AdviseConfig {
             timing: ADVICE_TIMING,
             frame_rates: true,
             budget_seconds: None,
+            ensemble: None,
         }
     }
 }
@@ -139,6 +123,10 @@ pub struct Choice {
     pub cost_per_second_reason: Option<String>,
     /// The repeated timing behind `wall_per_second` (wall seconds of the whole run).
     pub timing: Timing,
+    /// Largest strain of the chosen run ([`crate::measure::Metrics::strain_max`]).
+    pub strain_max: Option<f64>,
+    /// Slope of the chosen run's energy balance (J/s).
+    pub energy_drift_rate: Option<f64>,
 }
 
 /// `advice.json`.
@@ -150,10 +138,15 @@ pub struct Advice {
     pub scenario: String,
     /// Reference used.
     pub reference: ReferenceInfo,
-    /// Tolerance.
+    /// The bound every candidate's error is held to, in the metric's unit ([`Judge::bound`]).
     pub tolerance: f64,
-    /// Metric.
-    pub metric: AdviseMetric,
+    /// The metric that decided.
+    pub metric: Metric,
+    /// The position tolerance (m) and where it came from.
+    pub position_tolerance: Tolerance,
+    /// Why the metric differs from the default one, when it does (an ensemble that could not
+    /// be made).
+    pub metric_note: Option<String>,
     /// Horizon (s).
     pub horizon: f64,
     /// Safety factor.
@@ -185,13 +178,6 @@ pub struct Advice {
     pub grid: Vec<f64>,
     /// The frame-rate view.
     pub frame_rates: Vec<FrameRate>,
-}
-
-pub(super) fn error_of(c: &CaseResult, m: AdviseMetric) -> Option<f64> {
-    match m {
-        AdviseMetric::Position => c.metric(|m| m.error_max),
-        AdviseMetric::Energy => c.metric(|m| m.energy_error_max),
-    }
 }
 
 /// Why a candidate whose smallest grid step misses tolerance / `safety` gets no advice, in
@@ -229,12 +215,24 @@ pub fn unable_reason(errors: &[(f64, Option<f64>)], tolerance: f64, safety: f64)
     }
 }
 
+/// What the first reference of an advice decides for the rest: the judge, and the ensemble
+/// the statistics metric needs (computed once, shared by the verification's reference).
+#[derive(Default)]
+struct Decided {
+    judge: Option<Judge>,
+    ensemble: Option<Ensemble>,
+    metric_note: Option<String>,
+}
+
+/// Runs `jobs` (method, grid) against one reference of their grids; the first call decides
+/// the judge (and the ensemble, for the statistics metric) in `decided`.
 fn run_grids(
     scene: &Scenario,
+    cfg: &AdviseConfig,
     jobs: &[(String, TimeGrid)],
     horizon: f64,
     set: &CaseSettings,
-    progress: bool,
+    decided: &mut Decided,
 ) -> Result<(ReferenceInfo, Vec<CaseResult>)> {
     let sys = scene.build();
     let s0 = scene.initial_state();
@@ -249,11 +247,32 @@ fn run_grids(
             }
         })
         .collect();
-    let reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    let mut reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    match &decided.judge {
+        None => {
+            let (judge, note) = crate::measure::tolerance::decide(
+                cfg.metric,
+                cfg.tolerance,
+                scene.run.tolerance,
+                &mut reference,
+                &sys,
+                &s0,
+                cfg.ensemble.as_ref(),
+            )?;
+            decided.ensemble = reference.ensemble.clone();
+            decided.metric_note = note;
+            decided.judge = Some(judge);
+        }
+        Some(j) => {
+            if let Some(e) = &decided.ensemble {
+                reference.use_ensemble(e, j.tolerance.value);
+            }
+        }
+    }
     let pb = crate::run::progress_bar(
         jobs.len() as u64,
         &format!("advise {}", scene.name),
-        progress,
+        cfg.progress,
     );
     let out: Vec<Result<CaseResult>> = jobs
         .par_iter()
@@ -274,7 +293,7 @@ impl Choice {
         methods: &Registry,
         c: &CaseResult,
         pred: f64,
-        metric: AdviseMetric,
+        judge: &Judge,
         timing: Timing,
     ) -> Result<Self> {
         let simulated = c.dt * c.steps as f64;
@@ -283,11 +302,13 @@ impl Choice {
             integrator: c.integrator.clone(),
             dt: c.dt,
             predicted_error: pred,
-            verified_error: error_of(c, metric).unwrap_or(f64::INFINITY),
+            verified_error: judge.error(c).unwrap_or(f64::INFINITY),
             wall_per_second: timing.median_seconds / simulated,
             cost_per_second: cost,
             cost_per_second_reason: why,
             timing,
+            strain_max: c.metric(|m| m.strain_max),
+            energy_drift_rate: c.metric(|m| m.energy_drift_rate),
         })
     }
 }
@@ -403,17 +424,67 @@ fn within_budget(
     Ok(kept)
 }
 
-/// Runs the advice: the grid, the prediction per method, its verification and the pick.
-pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
-    if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
-        return Err(Error::option(
-            "--tolerance",
-            format!(
-                "must be a finite number > 0, got {}",
-                crate::error::num(cfg.tolerance)
-            ),
-        ));
+/// Most times the grid is extended downwards (each time by the grid's own span) when no
+/// candidate meets the bound on it.
+pub const GRID_EXTENSIONS: usize = 2;
+
+/// Largest run of an extended grid, in particle-steps: a finer grid than this is not tried.
+pub const EXTENSION_PARTICLE_STEPS: f64 = 5e7;
+
+/// One candidate's prediction from its grid row: the step, its predicted error and the last
+/// passing grid run; or why it cannot meet the bound.
+type Prediction = (String, TimeGrid, f64, CaseResult);
+
+/// The predictions of every candidate from the grid runs `cases` (candidate-major).
+fn predict(
+    names: &[String],
+    cases: &[CaseResult],
+    points: usize,
+    horizon: f64,
+    max_samples: u64,
+    judge: &Judge,
+    safety: f64,
+) -> (Vec<Prediction>, Vec<(String, String)>) {
+    let target = judge.bound / safety;
+    let (mut predictions, mut unable) = (Vec::new(), Vec::new());
+    for (i, name) in names.iter().enumerate() {
+        let row = &cases[i * points..(i + 1) * points];
+        let mut last_pass = None;
+        for (j, c) in row.iter().enumerate() {
+            match judge.error(c) {
+                Some(e) if e <= target => last_pass = Some(j),
+                _ => break,
+            }
+        }
+        let Some(j) = last_pass else {
+            let errors: Vec<(f64, Option<f64>)> =
+                row.iter().map(|c| (c.dt, judge.error(c))).collect();
+            unable.push((name.clone(), unable_reason(&errors, judge.bound, safety)));
+            continue;
+        };
+        let ej = judge.error(&row[j]).expect("passed");
+        let (mut dt, mut pred) = (row[j].dt, ej);
+        if let Some(next) = row.get(j + 1) {
+            if let Some(en) = judge.error(next) {
+                if ej > 0.0 && en > ej {
+                    let slope = (en / ej).ln() / (next.dt / row[j].dt).ln();
+                    let d = row[j].dt * (target / ej).powf(1.0 / slope);
+                    dt = d.clamp(row[j].dt, next.dt);
+                    pred = ej * (dt / row[j].dt).powf(slope);
+                }
+            }
+        }
+        let steps = ((horizon / dt).ceil() as u64).max(1);
+        let g = TimeGrid::new(horizon / steps as f64, steps, max_samples);
+        predictions.push((name.clone(), g, pred, row[j].clone()));
     }
+    (predictions, unable)
+}
+
+/// Runs the advice: the grid (extended downwards while nothing meets the bound and the runs
+/// stay affordable), the prediction per method, its verification and the pick.
+pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
+    crate::measure::tolerance::check(cfg.tolerance)?;
     if cfg.safety.is_nan() || cfg.safety < 1.0 {
         return Err(Error::option(
             "--safety",
@@ -422,7 +493,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     }
     check_timing(&cfg.timing)?;
     let sys = scene.build();
-    let (horizon, grid) = step_grid_of(scene, cfg)?;
+    let (horizon, mut grid) = step_grid_of(scene, cfg)?;
     let (mut names, mut unable) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Exact methods are closed forms for special scenes, not general integrators.
@@ -439,7 +510,6 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     if let Some(b) = cfg.budget_seconds {
         names = within_budget(scene, cfg, names, &grid, b, &mut unable)?;
     }
-    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
     let set = CaseSettings {
         methods: cfg.methods.clone(),
         options: cfg.options,
@@ -451,53 +521,61 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         contacts: false,
         substeps: None,
     };
-    let jobs: Vec<(String, TimeGrid)> = names
-        .iter()
-        .flat_map(|n| {
-            grid.iter()
-                .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
-        })
-        .collect();
-    let (reference, cases) = run_grids(scene, &jobs, horizon, &set, cfg.progress)?;
-    let target = cfg.tolerance / cfg.safety;
-    // Per integrator: the prediction from the grid.
-    let mut predictions: Vec<(String, TimeGrid, f64, CaseResult)> = Vec::new();
-    for (i, name) in names.iter().enumerate() {
-        let row = &cases[i * grid.len()..(i + 1) * grid.len()];
-        let mut last_pass = None;
-        for (j, c) in row.iter().enumerate() {
-            match error_of(c, cfg.metric) {
-                Some(e) if e <= target => last_pass = Some(j),
-                _ => break,
-            }
+    let mut decided = Decided::default();
+    let mut tried: Vec<f64> = Vec::new();
+    let mut extensions = 0;
+    let (reference, predictions, cant) = loop {
+        let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
+        let jobs: Vec<(String, TimeGrid)> = names
+            .iter()
+            .flat_map(|n| {
+                grid.iter()
+                    .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
+            })
+            .collect();
+        let (reference, cases) = run_grids(scene, cfg, &jobs, horizon, &set, &mut decided)?;
+        let judge = decided
+            .judge
+            .as_ref()
+            .expect("decided by the first reference");
+        let (p, cant) = predict(
+            &names,
+            &cases,
+            grid.len(),
+            horizon,
+            max_samples,
+            judge,
+            cfg.safety,
+        );
+        tried.extend(grid.iter().map(|g| g.0));
+        let finest = grid.iter().map(|g| g.0).fold(f64::INFINITY, f64::min);
+        let span = grid.iter().map(|g| g.0).fold(0.0, f64::max) / finest;
+        let next_min = finest / span;
+        let affordable = sys.len() as f64 * horizon / next_min <= EXTENSION_PARTICLE_STEPS
+            && crate::scenario::Timing::steps_within("--dt-min", next_min, horizon).is_ok();
+        if !p.is_empty()
+            || names.is_empty()
+            || cfg.dt_min.is_some()
+            || extensions >= GRID_EXTENSIONS
+            || !affordable
+            || !(span > 1.0)
+        {
+            break (reference, p, cant);
         }
-        let Some(j) = last_pass else {
-            let errors: Vec<(f64, Option<f64>)> = row
-                .iter()
-                .map(|c| (c.dt, error_of(c, cfg.metric)))
-                .collect();
-            unable.push((
-                name.clone(),
-                unable_reason(&errors, cfg.tolerance, cfg.safety),
-            ));
-            continue;
-        };
-        let ej = error_of(&row[j], cfg.metric).expect("passed");
-        let (mut dt, mut pred) = (row[j].dt, ej);
-        if let Some(next) = row.get(j + 1) {
-            if let Some(en) = error_of(next, cfg.metric) {
-                if ej > 0.0 && en > ej {
-                    let slope = (en / ej).ln() / (next.dt / row[j].dt).ln();
-                    let d = row[j].dt * (target / ej).powf(1.0 / slope);
-                    dt = d.clamp(row[j].dt, next.dt);
-                    pred = ej * (dt / row[j].dt).powf(slope);
-                }
-            }
-        }
-        let steps = ((horizon / dt).ceil() as u64).max(1);
-        let g = TimeGrid::new(horizon / steps as f64, steps, max_samples);
-        predictions.push((name.clone(), g, pred, row[j].clone()));
-    }
+        grid = step_grid(next_min, finest, cfg.points.max(2), horizon)
+            .into_iter()
+            .filter(|g| g.0 < finest)
+            .collect();
+        extensions += 1;
+    };
+    unable.extend(cant);
+    tried.sort_by(f64::total_cmp);
+    tried.dedup();
+    let judge = decided
+        .judge
+        .clone()
+        .expect("decided by the first reference");
+    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
     // Verification runs, and the frame-rate runs, against one more reference.
     let names: Vec<String> = predictions.iter().map(|p| p.0.clone()).collect();
     let plan = FramePlan::new(
@@ -514,20 +592,20 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
                 .map(|(pi, g)| (names[pi].clone(), g)),
         )
         .collect();
-    let (_, vres) = run_grids(scene, &vjobs, horizon, &set, cfg.progress)?;
+    let (_, vres) = run_grids(scene, cfg, &vjobs, horizon, &set, &mut decided)?;
     let np = predictions.len();
     // The chosen run of each candidate: the verified one, else the last passing grid step.
     let chosen: Vec<(&CaseResult, f64)> = predictions
         .iter()
         .enumerate()
         .map(
-            |(pi, (_, _, pred, fallback))| match error_of(&vres[pi], cfg.metric) {
-                Some(e) if e <= cfg.tolerance => (&vres[pi], *pred),
-                _ => (fallback, error_of(fallback, cfg.metric).unwrap_or(0.0)),
+            |(pi, (_, _, pred, fallback))| match judge.error(&vres[pi]) {
+                Some(e) if e <= judge.bound => (&vres[pi], *pred),
+                _ => (fallback, judge.error(fallback).unwrap_or(0.0)),
             },
         )
         .collect();
-    let mut view = plan.entries(&cfg.methods, &names, &vres[np..], cfg.metric, cfg.tolerance)?;
+    let mut view = plan.entries(&cfg.methods, &names, &vres[np..], &judge)?;
     // Timing: every chosen run and every frame entry that meets the tolerance, once each,
     // interleaved on this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
@@ -556,19 +634,15 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     };
     let choices: Vec<Choice> = chosen
         .iter()
-        .map(|&(c, pred)| Choice::new(&cfg.methods, c, pred, cfg.metric, timing_of(&run_of(c))))
+        .map(|&(c, pred)| Choice::new(&cfg.methods, c, pred, &judge, timing_of(&run_of(c))))
         .collect::<Result<_>>()?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     plan.apply_timings(&mut view, &timing_of, &scene.name)?;
     let pick = alternatives.first().cloned();
-    let metric = match cfg.metric {
-        AdviseMetric::Position => "position",
-        AdviseMetric::Energy => "energy",
-    };
     let asked = super::case::asked_or_all(&cfg.methods, &cfg.integrators);
     let command = super::command::CommandLine::new("advise", &scene.source)
-        .flag("tolerance", cfg.tolerance)
-        .flag("metric", metric)
+        .flag_opt("tolerance", cfg.tolerance)
+        .flag_opt("metric", cfg.metric.map(Metric::name))
         .flag("horizon", horizon)
         .list("integrators", &asked)
         .flag("safety", cfg.safety)
@@ -586,8 +660,10 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         command,
         scenario: scene.name.clone(),
         reference,
-        tolerance: cfg.tolerance,
-        metric: cfg.metric,
+        tolerance: judge.bound,
+        metric: judge.metric,
+        position_tolerance: judge.tolerance.clone(),
+        metric_note: decided.metric_note.clone(),
         horizon,
         safety: cfg.safety,
         cost: CostMeasure::new(&cfg.timing),
@@ -601,7 +677,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         cost_per_second_reason: pick.as_ref().and_then(|p| p.cost_per_second_reason.clone()),
         alternatives,
         unable,
-        grid: grid.iter().map(|g| g.0).collect(),
+        grid: tried,
         frame_rates: view,
     })
 }
@@ -645,4 +721,28 @@ mod tests {
         let r = unable_reason(&[(1e-3, None), (2e-3, None)], tol, safety);
         assert_eq!(r, "unstable at every step of the grid");
     }
+}
+
+/// The `[expect]` table that holds a scene to the advice's pick, or None without a pick: the
+/// pick's method and step (one substep), stable, its position error within the position
+/// tolerance, its strain within the verified run's plus the relative tolerance (the tolerance
+/// over the motion scale), and its energy drift rate within twice the verified run's.
+pub fn expect_table(adv: &Advice) -> Option<crate::scenario::file::ExpectSpec> {
+    let pick = adv.alternatives.first()?;
+    let motion = if adv.reference.motion_scale > 0.0 {
+        adv.reference.motion_scale
+    } else {
+        1.0
+    };
+    let relative = adv.position_tolerance.value / motion;
+    Some(crate::scenario::file::ExpectSpec {
+        integrator: pick.integrator.clone(),
+        hz: None,
+        dt: Some(pick.dt),
+        substeps: Some(1),
+        stable: Some(true),
+        max_position_error: Some(adv.position_tolerance.value),
+        max_strain: pick.strain_max.map(|s| s + relative),
+        max_energy_drift_rate: pick.energy_drift_rate.map(|r| 2.0 * r.abs()),
+    })
 }

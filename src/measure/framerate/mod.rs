@@ -29,6 +29,8 @@ use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
 use crate::integrate::IntegratorOptions;
+use crate::measure::statistics::Ensemble;
+use crate::measure::tolerance::{Judge, Metric, Tolerance};
 use crate::method::{Order, Registry};
 use crate::model::Events;
 use crate::scenario::Scenario;
@@ -38,9 +40,6 @@ use serde::Serialize;
 /// Frame rates asked by default (Hz): the common game and display rates.
 pub const DEFAULT_RATES: [f64; 5] = [30.0, 60.0, 120.0, 144.0, 240.0];
 
-/// Default position tolerance (m): 1 cm, about what a player sees on a metre-sized object.
-pub const DEFAULT_TOLERANCE: f64 = 1e-2;
-
 /// Default largest substep count searched per frame.
 pub const DEFAULT_MAX_SUBSTEPS: u64 = 64;
 
@@ -49,8 +48,14 @@ pub const DEFAULT_MAX_SUBSTEPS: u64 = 64;
 pub struct FramerateConfig {
     /// Frame rates (Hz).
     pub rates: Vec<f64>,
-    /// Largest acceptable maximum position error over the run (m).
-    pub tolerance: f64,
+    /// Position tolerance (m); None: the scene's `[run] tolerance`, else 1 % of its motion
+    /// scale ([`crate::measure::tolerance`]).
+    pub tolerance: Option<f64>,
+    /// Which error decides; None: statistics past a predictability horizon, else position.
+    pub metric: Option<Metric>,
+    /// An ensemble already made for this scene over the same run (the study passes
+    /// compare's); None: made here when the statistics metric needs it.
+    pub ensemble: Option<Ensemble>,
     /// Backends (empty: every applicable one except closed forms).
     pub integrators: Vec<String>,
     /// The methods to choose from.
@@ -79,7 +84,9 @@ impl Default for FramerateConfig {
     fn default() -> Self {
         FramerateConfig {
             rates: DEFAULT_RATES.to_vec(),
-            tolerance: DEFAULT_TOLERANCE,
+            tolerance: None,
+            metric: None,
+            ensemble: None,
             integrators: vec![],
             methods: Registry::builtin(),
             options: IntegratorOptions::default(),
@@ -123,6 +130,8 @@ pub struct FrameRun {
     pub status: String,
     /// Stable and within the tolerance.
     pub meets_tolerance: bool,
+    /// The error by the document's metric ([`Framerate::metric`]), held to its bound.
+    pub error: Option<f64>,
     /// Maximum position error over the accepted frames (m), compare's `error_max`.
     pub max_position_error: Option<f64>,
     /// Slope of the relative energy error (1/s), compare's `energy_drift`.
@@ -206,8 +215,14 @@ pub struct Framerate {
     pub reference: ReferenceInfo,
     /// When impulses took effect in the runs (`exact` or `frame`).
     pub events: &'static str,
-    /// Position tolerance (m).
+    /// The bound every run's error is held to, in the metric's unit.
     pub tolerance: f64,
+    /// The metric that decided.
+    pub metric: Metric,
+    /// The position tolerance (m) and where it came from.
+    pub position_tolerance: Tolerance,
+    /// Why the metric differs from the default one, when it does.
+    pub metric_note: Option<String>,
     /// Simulated time asked (s); each rate runs the nearest whole number of frames.
     pub duration: f64,
     /// Frame rates (Hz).
@@ -222,8 +237,8 @@ pub struct Framerate {
     pub entries: Vec<RateEntry>,
     /// Backends that cannot run the scene, with the reason.
     pub skipped: Vec<(String, String)>,
-    /// Set when the reference's own uncertainty exceeds the tolerance: then no run can be
-    /// verified to it (a chaotic scene past its predictable range), and "none" means that.
+    /// Set when the reference's own uncertainty before its predictability horizon exceeds
+    /// the position tolerance: then no run can be verified to it, and "none" means that.
     pub reference_note: Option<String>,
 }
 
@@ -246,15 +261,7 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
             ),
         ));
     }
-    if !(cfg.tolerance.is_finite() && cfg.tolerance > 0.0) {
-        return Err(Error::option(
-            "--tolerance",
-            format!(
-                "must be a finite number > 0 m, got {}",
-                crate::error::num(cfg.tolerance)
-            ),
-        ));
-    }
+    crate::measure::tolerance::check(cfg.tolerance)?;
     if cfg.max_substeps == 0 {
         return Err(Error::option("--max-substeps", "must be at least 1"));
     }
@@ -268,18 +275,14 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
 }
 
 /// The measured part of a run (timing filled in later).
-fn frame_run(
-    methods: &Registry,
-    c: &CaseResult,
-    substeps: u64,
-    tolerance: f64,
-) -> Result<FrameRun> {
+fn frame_run(methods: &Registry, c: &CaseResult, substeps: u64, judge: &Judge) -> Result<FrameRun> {
     let (evals, why) =
         force_evals_per_second(methods, &c.integrator, c.force_evals, c.steps as f64)?;
     Ok(FrameRun {
         substeps,
         status: c.status.clone(),
-        meets_tolerance: meets(c, tolerance),
+        meets_tolerance: judge.meets(c),
+        error: judge.error(c),
         max_position_error: c.metric(|m| m.error_max),
         energy_drift: c.metric(|m| m.energy_drift),
         wall_seconds_per_frame: None,
@@ -289,11 +292,6 @@ fn frame_run(
         unstable_time: c.unstable_time,
         unstable_reason: c.unstable_reason.clone(),
     })
-}
-
-/// Stable and within `tolerance`: what the search asks of a substep count.
-fn meets(c: &CaseResult, tolerance: f64) -> bool {
-    c.metric(|m| m.error_max).is_some_and(|e| e <= tolerance)
 }
 
 /// Substeps a worst-case search runs over `frames` frames (summed over the rates): doubling to
@@ -411,7 +409,16 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .map(|(hz, &n)| TimeGrid::new(1.0 / hz, n, max_samples))
         .collect();
     let horizon = grids.iter().map(|g| g.time(g.steps)).fold(0.0, f64::max);
-    let reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    let mut reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    let (judge, metric_note) = crate::measure::tolerance::decide(
+        cfg.metric,
+        cfg.tolerance,
+        scene.run.tolerance,
+        &mut reference,
+        &sys,
+        &s0,
+        cfg.ensemble.as_ref(),
+    )?;
     let set = CaseSettings {
         methods: cfg.methods.clone(),
         options: cfg.options,
@@ -450,7 +457,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                     ..set.clone()
                 };
                 let c = run_case(&sys, &s0, &reference, r, name, &s)?;
-                let ok = meets(&c, cfg.tolerance);
+                let ok = judge.meets(&c);
                 runs.push((n, c));
                 Ok(Some(ok))
             };
@@ -461,9 +468,9 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                     .map(|(_, c)| c)
                     .expect("every tried count has its run")
             };
-            let one = frame_run(&cfg.methods, of(1), 1, cfg.tolerance)?;
+            let one = frame_run(&cfg.methods, of(1), 1, &judge)?;
             let fewest = match found.fewest {
-                Some(n) => Some(frame_run(&cfg.methods, of(n), n, cfg.tolerance)?),
+                Some(n) => Some(frame_run(&cfg.methods, of(n), n, &judge)?),
                 None => None,
             };
             let largest = found.tried.iter().map(|t| t.0).max().unwrap_or(1);
@@ -479,7 +486,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                     format!("none up to --max-substeps {}", cfg.max_substeps)
                 };
                 match floors[r] {
-                    Some(f) if f > cfg.tolerance => format!(
+                    Some(f) if f > judge.tolerance.value => format!(
                         "{base}: with events = \"frame\" the kicks move to frame boundaries, which alone puts the exact solution {f:.3e} m from the reference, above the tolerance; no substep count removes that floor"
                     ),
                     Some(f) => format!(
@@ -507,7 +514,8 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
     let command = CommandLine::new("framerate", &scene.source)
         .list("hz", &cfg.rates)
-        .flag("tolerance", cfg.tolerance)
+        .flag_opt("tolerance", cfg.tolerance)
+        .flag_opt("metric", cfg.metric.map(Metric::name))
         .list(
             "integrators",
             &names
@@ -524,19 +532,24 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .flag_opt("budget", cfg.budget_seconds)
         .render();
     let u = reference.info.uncertainty;
-    let reference_note = (u > cfg.tolerance).then(|| {
-        format!(
-            "the reference's own uncertainty over the run is {u:.2e} m, above the tolerance {} m: no run can be verified to it; try a shorter --duration",
-            cfg.tolerance
-        )
-    });
+    let reference_note = (reference.info.predictability_horizon.is_none()
+        && u > judge.tolerance.value)
+        .then(|| {
+            format!(
+                "the reference's own uncertainty over the run is {u:.2e} m, above the tolerance {} m: no run can be verified to it",
+                judge.tolerance.value
+            )
+        });
     Ok(Framerate {
         reference_note,
         command,
         scenario: scene.name.clone(),
         reference: reference.info,
         events: sys.events.label(),
-        tolerance: cfg.tolerance,
+        tolerance: judge.bound,
+        metric: judge.metric,
+        position_tolerance: judge.tolerance.clone(),
+        metric_note,
         duration,
         rates: cfg.rates.clone(),
         max_substeps: cfg.max_substeps,

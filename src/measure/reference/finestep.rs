@@ -55,10 +55,27 @@ fn run_at(
     horizon: f64,
     h: f64,
 ) -> Result<(Vec<Vec<Vec3>>, u64)> {
+    let mut out = vec![Vec::new(); times.len()];
+    let evals = run_with(sys, s0, times, horizon, h, &mut |i, s| out[i] = s.x.clone())?;
+    Ok((out, evals))
+}
+
+/// One run of the fine-step integrator with its contact stage at step `h` from `s0` to
+/// `horizon`, calling `sink(i, state)` at each of the sorted `times` (steps shortened to land
+/// on them); returns the force evaluations. The fine-step reference and its ensemble members
+/// ([`super::ensemble`]) are both this loop: a reference run is not a [`crate::run::run`] (its
+/// steps land on sample times and impulse times, which the runner's fixed grid does not).
+pub(super) fn run_with(
+    sys: &System,
+    s0: &State,
+    times: &[f64],
+    horizon: f64,
+    h: f64,
+    sink: &mut dyn FnMut(usize, &State),
+) -> Result<u64> {
     let mut integ = by_name(FINE_INTEGRATOR, &IntegratorOptions::default())?;
     let mut s = s0.clone();
     s.t = 0.0;
-    let mut out = vec![Vec::new(); times.len()];
     let mut next = 0;
     let mut imp = 0;
     let mut evals = 0;
@@ -68,7 +85,7 @@ fn run_at(
     integ.reset();
     loop {
         while next < times.len() && times[next] <= s.t + eps {
-            out[next] = s.x.clone();
+            sink(next, &s);
             next += 1;
         }
         while imp < sys.impulses.len() && sys.impulses[imp].time <= s.t + eps {
@@ -105,10 +122,10 @@ fn run_at(
         }
     }
     while next < times.len() {
-        out[next] = s.x.clone();
+        sink(next, &s);
         next += 1;
     }
-    Ok((out, evals))
+    Ok(evals)
 }
 
 /// The converged fine-step reference of `sys` from `s0` at `times`, starting at step `h0`.

@@ -25,6 +25,7 @@
 
 mod adaptive;
 pub mod contacts;
+mod ensemble;
 pub mod finestep;
 pub mod period;
 mod rhs;
@@ -91,6 +92,15 @@ pub struct ReferenceInfo {
     /// Times a particle went into held (resting or sliding) contact.
     #[serde(default)]
     pub holds: u64,
+    /// Largest displacement of any particle from its initial position over the horizon (m):
+    /// the scene's motion scale ([`Reference::motion_scale`]), which default tolerances are
+    /// relative to.
+    #[serde(default)]
+    pub motion_scale: f64,
+    /// How the ensemble past the predictability horizon was made, or why there is none; null
+    /// when none was asked for or the whole horizon is predictable.
+    #[serde(default)]
+    pub ensemble: Option<String>,
 }
 
 /// How to compute the reference.
@@ -130,6 +140,10 @@ pub struct Reference {
     motion: f64,
     /// Per grid, per compared step: the measured uncertainty (m).
     unc: Vec<Vec<f64>>,
+    /// The ensemble past the predictability horizon, once [`Reference::add_ensemble`] made it.
+    pub ensemble: Option<crate::measure::statistics::Ensemble>,
+    /// How an ensemble member is solved: the reference's own solver.
+    member_solver: Option<ensemble::MemberSolver>,
 }
 
 /// The velocity component whose sign changes mark the scene's oscillation: the free
@@ -240,6 +254,8 @@ impl Reference {
                 uncertainty_method: String::new(),
                 impacts: 0,
                 holds: 0,
+                motion_scale: 0.0,
+                ensemble: None,
             },
             grids: grids.to_vec(),
             samples,
@@ -248,11 +264,14 @@ impl Reference {
             down_crossings: Vec::new(),
             motion: 0.0,
             unc: grids.iter().map(|g| vec![0.0; g.sample_count()]).collect(),
+            ensemble: None,
+            member_solver: None,
         };
         if method == ReferenceMethod::Auto
             && has_closed_form(sys)
             && r.fill_analytic(sys, s0).is_ok()
         {
+            r.info.motion_scale = r.motion_scale();
             return Ok(r);
         }
         r.crossings.clear();
@@ -266,7 +285,42 @@ impl Reference {
             r.fill_dop853(sys, s0)?;
         }
         r.info.accuracy = r.info.uncertainty;
+        r.info.motion_scale = r.motion_scale();
         Ok(r)
+    }
+
+    /// Takes `e`, an ensemble already made for this scene over the same run, judged at position
+    /// tolerance `tolerance` (m): how one study or advice pays for its ensemble once.
+    pub fn use_ensemble(&mut self, e: &crate::measure::statistics::Ensemble, tolerance: f64) {
+        let mut e = e.clone();
+        e.tolerance = tolerance;
+        e.relative_tolerance = tolerance / self.motion_scale();
+        self.info.ensemble = Some(e.method.clone());
+        self.ensemble = Some(e);
+    }
+
+    /// Adds the ensemble over the window from the predictability horizon to the end
+    /// ([`crate::measure::statistics`]), its floors from the position tolerance `tolerance`
+    /// (m); nothing when the whole horizon is predictable. Where the members cannot finish,
+    /// [`ReferenceInfo::ensemble`] says why and there is no ensemble.
+    pub fn add_ensemble(&mut self, sys: &System, s0: &State, tolerance: f64) -> Result<()> {
+        let (Some(start), Some(solver)) = (self.info.predictability_horizon, self.member_solver)
+        else {
+            return Ok(());
+        };
+        let end = self.info.horizon;
+        if start >= end {
+            return Ok(());
+        }
+        let relative = tolerance / self.motion_scale();
+        match ensemble::ensemble(sys, s0, start, end, solver, tolerance, relative)? {
+            Ok(e) => {
+                self.info.ensemble = Some(e.method.clone());
+                self.ensemble = Some(e);
+            }
+            Err(why) => self.info.ensemble = Some(format!("no ensemble: {why}")),
+        }
+        Ok(())
     }
 
     /// Measured uncertainty of the reference positions at step `n` of grid `g` (m); between
@@ -437,6 +491,9 @@ impl Reference {
         self.crossings = out.crossings;
         self.down_crossings = out.down_crossings;
         self.motion = out.motion;
+        self.member_solver = Some(ensemble::dop853_members(
+            out.stats.steps + out.stats.rejected,
+        ));
         // Never below the tolerance the solver was asked for.
         let floor = REFERENCE_TOL * length_scale(s0);
         let comp = uncertainty::companions(
@@ -502,6 +559,7 @@ impl Reference {
         let floor = ROUND_OFF * length_scale(s0);
         let fine = finestep::fine_step(sys, s0, &times, self.info.horizon, h0, floor)?;
         self.motion = fine.motion;
+        self.member_solver = Some(ensemble::MemberSolver::FineStep { h: fine.step });
         for (e, x) in ents.iter().zip(fine.samples) {
             self.samples[e.grid][e.idx] = x;
         }

@@ -1,0 +1,283 @@
+//! A scene's answer, in two forms a programmer asks for: the method and step to use when the
+//! step is free, and the method and substeps per frame at a game's frame rate.
+//!
+//! Both come from the study's own documents (one computation per fact): the free step is the
+//! advice's pick ([`super::advise`]); the game rate is the cheapest row of the frame-rate
+//! table ([`super::framerate`]) at the scene's rate ([`GAME_HZ`] unless `[run] hz` says
+//! otherwise) that meets the bound, ranked by the advice's cost rule
+//! ([`super::advise::cost::rank`]). Each says by which metric and tolerance it was judged.
+//!
+//! Where no method meets the bound, the answer says what *was* verified and answers on that,
+//! labelled `meets: false`: the most accurate run that stayed stable (the compared step for
+//! the free step, one substep per frame for the game rate), with its error by the same metric.
+
+use super::advise::cost::{rank, CostKey};
+use super::advise::Advice;
+use super::compare::CompareResult;
+use super::framerate::Framerate;
+use super::tolerance::Metric;
+use crate::error::Result;
+use crate::method::{Order, Registry};
+use serde::{Deserialize, Serialize};
+
+/// The game frame rate an answer is given at unless the scene names one (Hz).
+pub const GAME_HZ: f64 = 60.0;
+
+/// The answer when the step is free.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FreeStep {
+    /// Method (null when nothing ran stably).
+    pub integrator: Option<String>,
+    /// Step (s).
+    pub dt: Option<f64>,
+    /// The metric that judged it.
+    pub metric: String,
+    /// The bound its error is held to, in the metric's unit.
+    pub tolerance: f64,
+    /// The position tolerance (m) behind the bound.
+    pub position_tolerance: f64,
+    /// Its error by the metric (verified by running it).
+    pub error: Option<f64>,
+    /// Median wall time per simulated second (s/s), where measured.
+    pub wall_seconds_per_simulated_second: Option<f64>,
+    /// True when the error is within the bound; false for a labelled fallback.
+    pub meets: bool,
+    /// What was verified, in words.
+    pub verified: String,
+}
+
+/// The answer at a game's frame rate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GameRate {
+    /// Frame rate (Hz).
+    pub hz: f64,
+    /// Method (null when none ran stably at this rate).
+    pub integrator: Option<String>,
+    /// Substeps per frame.
+    pub substeps: Option<u64>,
+    /// The metric that judged it.
+    pub metric: String,
+    /// The bound its error is held to, in the metric's unit.
+    pub tolerance: f64,
+    /// The position tolerance (m) behind the bound.
+    pub position_tolerance: f64,
+    /// Its error by the metric.
+    pub error: Option<f64>,
+    /// Median wall time per frame (s), where measured.
+    pub wall_seconds_per_frame: Option<f64>,
+    /// True when the error is within the bound; false for a labelled fallback.
+    pub meets: bool,
+    /// What was verified, in words.
+    pub verified: String,
+}
+
+/// Both answers of a scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Answer {
+    /// When the step is free.
+    pub free_step: FreeStep,
+    /// At the game's frame rate.
+    pub game_rate: GameRate,
+}
+
+fn sig(v: f64) -> String {
+    crate::error::significant(v, 3)
+}
+
+/// The free-step answer from the advice, or the labelled fallback from the comparison.
+pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) -> FreeStep {
+    let metric = advice.metric;
+    let base = FreeStep {
+        integrator: None,
+        dt: None,
+        metric: metric.name().into(),
+        tolerance: advice.tolerance,
+        position_tolerance: advice.position_tolerance.value,
+        error: None,
+        wall_seconds_per_simulated_second: None,
+        meets: false,
+        verified: String::new(),
+    };
+    if let (Some(m), Some(dt)) = (&advice.integrator, advice.dt) {
+        return FreeStep {
+            integrator: Some(m.clone()),
+            dt: Some(dt),
+            error: advice.verified_error,
+            wall_seconds_per_simulated_second: advice.wall_per_second,
+            meets: true,
+            verified: format!(
+                "{} ≤ {} {}, verified by running it",
+                metric.name(),
+                sig(advice.tolerance),
+                metric.unit()
+            ),
+            ..base
+        };
+    }
+    let finest = advice.grid.first().copied().unwrap_or(f64::NAN);
+    let best = compared
+        .entries
+        .iter()
+        .filter_map(|e| e.result.as_ref())
+        .filter(|r| {
+            methods
+                .info(&r.integrator)
+                .is_ok_and(|i| i.order != Order::Exact)
+        })
+        .filter_map(|r| {
+            let m = r.metrics.as_ref()?;
+            Some((r, metric.error(m, advice.position_tolerance.value)?))
+        })
+        .min_by(|a, b| {
+            a.1.total_cmp(&b.1)
+                .then(a.0.integrator.cmp(&b.0.integrator))
+        });
+    match best {
+        Some((r, e)) => FreeStep {
+            integrator: Some(r.integrator.clone()),
+            dt: Some(r.dt),
+            error: Some(e),
+            wall_seconds_per_simulated_second: Some(r.wall_seconds / (r.dt * r.steps as f64)),
+            verified: format!(
+                "stable only: no method met {} ≤ {} {} on steps down to {} s; the most accurate stable run at the scene's step is shown",
+                metric.name(),
+                sig(advice.tolerance),
+                metric.unit(),
+                sig(finest)
+            ),
+            ..base
+        },
+        None => FreeStep {
+            verified: "no method ran stably at the scene's step; see the stability limits".into(),
+            ..base
+        },
+    }
+}
+
+/// The game-rate answer at `hz` from the frame-rate table: the cheapest row meeting the bound
+/// by the advice's cost rule, or the labelled fallback (the most accurate stable run at one
+/// substep).
+pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str) -> Result<GameRate> {
+    let metric = fr.metric;
+    let base = GameRate {
+        hz,
+        integrator: None,
+        substeps: None,
+        metric: metric.name().into(),
+        tolerance: fr.tolerance,
+        position_tolerance: fr.position_tolerance.value,
+        error: None,
+        wall_seconds_per_frame: None,
+        meets: false,
+        verified: String::new(),
+    };
+    let at: Vec<_> = fr.entries.iter().filter(|e| e.hz == hz).collect();
+    let meeting: Vec<_> = at
+        .iter()
+        .filter_map(|e| Some((e, e.fewest.as_ref()?)))
+        .filter(|(_, f)| f.meets_tolerance && f.wall_seconds_per_frame.is_some())
+        .collect();
+    if !meeting.is_empty() {
+        let keys: Vec<CostKey> = meeting
+            .iter()
+            .map(|(e, f)| CostKey {
+                integrator: e.backend.clone(),
+                wall_per_second: f.wall_seconds_per_frame.unwrap_or(f64::NAN) * hz,
+                force_evals_per_second: f.force_evals_per_frame.map(|x| x * hz),
+            })
+            .collect();
+        let (order, _) = rank(&keys, scenario)?;
+        let (e, f) = meeting[order[0]];
+        return Ok(GameRate {
+            integrator: Some(e.backend.clone()),
+            substeps: Some(f.substeps),
+            error: f.error,
+            wall_seconds_per_frame: f.wall_seconds_per_frame,
+            meets: true,
+            verified: format!(
+                "{} ≤ {} {} at {} substep(s) per frame, the cheapest that does",
+                metric.name(),
+                sig(fr.tolerance),
+                metric.unit(),
+                f.substeps
+            ),
+            ..base
+        });
+    }
+    let best = at
+        .iter()
+        .filter_map(|e| Some((e, e.one_substep.error?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.backend.cmp(&b.0.backend)));
+    Ok(match best {
+        Some((e, err)) => GameRate {
+            integrator: Some(e.backend.clone()),
+            substeps: Some(1),
+            error: Some(err),
+            wall_seconds_per_frame: e.one_substep.wall_seconds_per_frame,
+            verified: format!(
+                "stable only: no method met {} ≤ {} {} up to {} substeps per frame; the most accurate stable run at one substep is shown",
+                metric.name(),
+                sig(fr.tolerance),
+                metric.unit(),
+                fr.max_substeps
+            ),
+            ..base
+        },
+        None => GameRate {
+            verified: format!("no method ran stably at {} Hz", sig(hz)),
+            ..base
+        },
+    })
+}
+
+/// The answer of a study's documents; `hz` the scene's game rate. Without an advice or a
+/// frame-rate table the missing half says why (`advice_note`, `framerate_note`).
+#[allow(clippy::too_many_arguments)]
+pub fn answer(
+    methods: &Registry,
+    compared: &CompareResult,
+    advice: Option<&Advice>,
+    advice_note: Option<&str>,
+    framerate: Option<&Framerate>,
+    framerate_note: Option<&str>,
+    hz: f64,
+    scenario: &str,
+) -> Result<Answer> {
+    let metric = Metric::Position;
+    let none_free = |why: &str| FreeStep {
+        integrator: None,
+        dt: None,
+        metric: metric.name().into(),
+        tolerance: compared.position_tolerance.value,
+        position_tolerance: compared.position_tolerance.value,
+        error: None,
+        wall_seconds_per_simulated_second: None,
+        meets: false,
+        verified: why.into(),
+    };
+    let free_step = match advice {
+        Some(a) => free_step(methods, a, compared),
+        None => none_free(advice_note.unwrap_or("no advice was measured")),
+    };
+    let game_rate = match framerate {
+        Some(f) => game_rate(f, hz, scenario)?,
+        None => GameRate {
+            hz,
+            integrator: None,
+            substeps: None,
+            metric: metric.name().into(),
+            tolerance: compared.position_tolerance.value,
+            position_tolerance: compared.position_tolerance.value,
+            error: None,
+            wall_seconds_per_frame: None,
+            meets: false,
+            verified: framerate_note
+                .unwrap_or("no frame-rate table was measured")
+                .into(),
+        },
+    };
+    Ok(Answer {
+        free_step,
+        game_rate,
+    })
+}

@@ -1,0 +1,288 @@
+//! The tolerance a scene's answers are held to, and the metrics an answer can be judged by.
+//!
+//! Tolerance: the scene's `[run] tolerance` (m of position error) when it gives one, else
+//! [`RELATIVE_TOLERANCE`] (1 %) of its motion scale: the largest displacement of any particle
+//! from its start over the run, as the reference measures it. The motion, not the geometry,
+//! because an error is seen against what moves: a 1 mm oscillation of a 1 m spring held to
+//! 1 cm would pass any method that kept it still.
+//!
+//! Metrics ([`Metric`]), each giving one error per run from its [`Metrics`]:
+//! - `position`: the largest position error before the reference's predictability horizon
+//!   (all of the run where it is predictable), m, against the tolerance;
+//! - `strain`: |strain max − the solution's strain max|, against the tolerance relative to the
+//!   motion scale (1 % by default): over- or under-stretching;
+//! - `energy`: the largest |relative energy error|, against the relative tolerance;
+//! - `statistics`: the worst of (position error before the horizon / tolerance) and every
+//!   observable's score against the reference's ensemble past it
+//!   ([`super::statistics`]), against 1: what can be verified of a chaotic scene over its
+//!   whole duration.
+//!
+//! Past the horizon position error measures the chaos, not the method, so [`default_metric`]
+//! is `statistics` where the reference has a horizon before the run's end and `position`
+//! elsewhere.
+
+use super::metrics::Metrics;
+use super::reference::ReferenceInfo;
+use crate::error::{Error, Result};
+use serde::Serialize;
+
+/// Default tolerance relative to the motion scale.
+pub const RELATIVE_TOLERANCE: f64 = 0.01;
+
+/// What an answer is judged by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Metric {
+    /// Largest position error over the predictable range (m).
+    Position,
+    /// |strain max − the solution's|.
+    Strain,
+    /// Largest |relative energy error|.
+    Energy,
+    /// Position before the horizon and the ensemble's statistics past it (scores, ≤ 1).
+    Statistics,
+}
+
+impl Metric {
+    /// The name used in flags and documents.
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Position => "position",
+            Metric::Strain => "strain",
+            Metric::Energy => "energy",
+            Metric::Statistics => "statistics",
+        }
+    }
+
+    /// The error of a run's metrics by this metric, with the position tolerance `tolerance`
+    /// (m); None where the metric cannot be read (statistics without an ensemble window).
+    pub fn error(self, m: &Metrics, tolerance: f64) -> Option<f64> {
+        match self {
+            Metric::Position => Some(m.error_max_predictable),
+            Metric::Strain => Some(m.strain_error),
+            Metric::Energy => Some(m.energy_error_max),
+            Metric::Statistics => {
+                let stats = m.statistics.as_ref()?;
+                Some(
+                    (m.error_max_predictable / tolerance)
+                        .max(super::statistics::worst_score(stats)),
+                )
+            }
+        }
+    }
+
+    /// The bound the error is held to, given the position tolerance (m) and the motion scale
+    /// (m).
+    pub fn bound(self, tolerance: f64, motion_scale: f64) -> f64 {
+        match self {
+            Metric::Position => tolerance,
+            Metric::Strain | Metric::Energy => tolerance / motion_scale,
+            Metric::Statistics => 1.0,
+        }
+    }
+
+    /// The bound's unit, for documents.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Metric::Position => "m",
+            Metric::Strain => "strain",
+            Metric::Energy => "relative energy",
+            Metric::Statistics => "score (1 = the ensemble's allowance)",
+        }
+    }
+}
+
+impl std::str::FromStr for Metric {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "position" => Ok(Metric::Position),
+            "strain" => Ok(Metric::Strain),
+            "energy" => Ok(Metric::Energy),
+            "statistics" => Ok(Metric::Statistics),
+            _ => Err(Error::option(
+                "--metric",
+                format!("expected position, strain, energy or statistics, got '{s}'"),
+            )),
+        }
+    }
+}
+
+/// The metric an answer uses unless asked: `statistics` past a predictability horizon before
+/// the run's end, else `position`.
+pub fn default_metric(reference: &ReferenceInfo) -> Metric {
+    match reference.predictability_horizon {
+        Some(h) if h < reference.horizon => Metric::Statistics,
+        _ => Metric::Position,
+    }
+}
+
+/// A resolved position tolerance and where it came from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Tolerance {
+    /// Position tolerance (m).
+    pub value: f64,
+    /// Where it came from, in words.
+    pub source: String,
+}
+
+/// The tolerance of a scene: `asked` (a flag), else `scene` (`[run] tolerance`), else
+/// [`RELATIVE_TOLERANCE`] × `motion_scale`.
+pub fn resolve(asked: Option<f64>, scene: Option<f64>, motion_scale: f64) -> Tolerance {
+    match (asked, scene) {
+        (Some(v), _) => Tolerance {
+            value: v,
+            source: "--tolerance".into(),
+        },
+        (None, Some(v)) => Tolerance {
+            value: v,
+            source: "the scene's [run] tolerance".into(),
+        },
+        (None, None) => Tolerance {
+            value: RELATIVE_TOLERANCE * motion_scale,
+            source: format!(
+                "{} % of the motion scale {} m (the largest displacement of any particle over the run, by the reference)",
+                RELATIVE_TOLERANCE * 100.0,
+                crate::error::significant(motion_scale, 3)
+            ),
+        },
+    }
+}
+
+/// Checks a tolerance flag's value.
+pub fn check(asked: Option<f64>) -> Result<()> {
+    match asked {
+        Some(t) if !(t.is_finite() && t > 0.0) => Err(Error::option(
+            "--tolerance",
+            format!("must be a finite number > 0, got {}", crate::error::num(t)),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// How runs are judged: a metric, the position tolerance and the bound the metric's error is
+/// held to. One value carried through a command, so every run of it is judged alike.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Judge {
+    /// The metric.
+    pub metric: Metric,
+    /// The position tolerance and where it came from.
+    pub tolerance: Tolerance,
+    /// The bound the metric's error is held to ([`Metric::bound`]), in [`Judge::unit`].
+    pub bound: f64,
+    /// The bound's unit.
+    pub unit: &'static str,
+}
+
+impl Judge {
+    /// The judge of `metric` (default [`default_metric`]) at tolerance `asked` (else the
+    /// scene's, else the default) on a scene whose reference is `reference`.
+    pub fn new(
+        metric: Option<Metric>,
+        asked: Option<f64>,
+        scene: Option<f64>,
+        reference: &ReferenceInfo,
+    ) -> Self {
+        let metric = metric.unwrap_or_else(|| default_metric(reference));
+        let motion = if reference.motion_scale > 0.0 {
+            reference.motion_scale
+        } else {
+            1.0
+        };
+        let tolerance = resolve(asked, scene, motion);
+        Judge {
+            metric,
+            bound: metric.bound(tolerance.value, motion),
+            unit: metric.unit(),
+            tolerance,
+        }
+    }
+
+    /// The error of a run by the metric; None for a run that is not ok or where the metric
+    /// cannot be read.
+    pub fn error(&self, c: &super::case::CaseResult) -> Option<f64> {
+        c.metrics
+            .as_ref()
+            .and_then(|m| self.metric.error(m, self.tolerance.value))
+    }
+
+    /// True when the run is ok and its error is within the bound.
+    pub fn meets(&self, c: &super::case::CaseResult) -> bool {
+        self.error(c).is_some_and(|e| e <= self.bound)
+    }
+
+    /// One line for people: metric, bound and where the tolerance came from.
+    pub fn describe(&self) -> String {
+        match self.metric {
+            Metric::Position => format!(
+                "position error within {} m ({})",
+                crate::error::significant(self.bound, 3),
+                self.tolerance.source
+            ),
+            Metric::Statistics => format!(
+                "position error within {} m before the predictability horizon and every observable within the reference ensemble's allowance past it (tolerance: {})",
+                crate::error::significant(self.tolerance.value, 3),
+                self.tolerance.source
+            ),
+            m => format!(
+                "{} error within {} (the tolerance {} m over the motion scale; {})",
+                m.name(),
+                crate::error::significant(self.bound, 3),
+                crate::error::significant(self.tolerance.value, 3),
+                self.tolerance.source
+            ),
+        }
+    }
+}
+
+/// The judge of a command on `reference` (of `sys` from `s0`), giving the reference the
+/// ensemble the statistics metric needs: `prepared` when the caller has one for this scene,
+/// else computed. With the metric left to its default, a scene whose ensemble cannot be made
+/// is judged by position over its predictable range, and the returned note says why; asked
+/// for by name, statistics without an ensemble is an error.
+pub fn decide(
+    metric: Option<Metric>,
+    asked: Option<f64>,
+    scene_tolerance: Option<f64>,
+    reference: &mut super::reference::Reference,
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    prepared: Option<&super::statistics::Ensemble>,
+) -> Result<(Judge, Option<String>)> {
+    let judge = Judge::new(metric, asked, scene_tolerance, &reference.info);
+    if judge.metric != Metric::Statistics {
+        return Ok((judge, None));
+    }
+    match prepared {
+        Some(e) => reference.use_ensemble(e, judge.tolerance.value),
+        None => reference.add_ensemble(sys, s0, judge.tolerance.value)?,
+    }
+    if reference.ensemble.is_some() {
+        return Ok((judge, None));
+    }
+    let why = reference
+        .info
+        .ensemble
+        .clone()
+        .unwrap_or_else(|| "the reference is predictable over the whole run".into());
+    if metric.is_some() {
+        return Err(Error::option(
+            "--metric",
+            format!(
+                "statistics need an ensemble past the reference's predictability horizon: {why}"
+            ),
+        ));
+    }
+    let judge = Judge::new(
+        Some(Metric::Position),
+        asked,
+        scene_tolerance,
+        &reference.info,
+    );
+    Ok((
+        judge,
+        Some(format!(
+            "position over the predictable range instead of statistics: {why}"
+        )),
+    ))
+}
