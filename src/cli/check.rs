@@ -96,6 +96,17 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(t) = &own_run {
         println!("run: dt = {} s, {} steps ({} s)", t.dt, t.steps, t.duration);
     }
+    println!(
+        "answers: tolerance {}; at a free step and at {} Hz",
+        match scene.run.tolerance {
+            Some(t) => format!("{t} m ([run] tolerance)"),
+            None => format!(
+                "{} % of the motion scale (the reference measures it when a command runs)",
+                springlab::measure::tolerance::RELATIVE_TOLERANCE * 100.0
+            ),
+        },
+        scene.run.hz.unwrap_or(springlab::measure::answer::GAME_HZ)
+    );
     for (k, im) in sys.impulses.iter().enumerate().take(limit) {
         let d = im.delta_v;
         println!(

@@ -106,6 +106,42 @@ pub fn run(a: Args) -> Result<()> {
             ),
         }
     }
+    if let Some(en) = &res.ensemble {
+        println!(
+            "past the predictability horizon (t ≥ {} s), against an ensemble of {} references (position tolerance {} m: {}):",
+            fmt_opt(Some(en.start)),
+            en.members.len(),
+            fmt_opt(Some(res.position_tolerance.value)),
+            res.position_tolerance.source
+        );
+        for e in &res.entries {
+            let Some(stats) = e
+                .result
+                .as_ref()
+                .and_then(|r| r.metrics.as_ref())
+                .and_then(|m| m.statistics.as_ref())
+            else {
+                continue;
+            };
+            let off: Vec<String> = stats
+                .iter()
+                .filter(|(_, s)| !s.consistent)
+                .map(|(k, s)| {
+                    format!(
+                        "{k} {} (ensemble {} ± {})",
+                        fmt_opt(Some(s.method_mean)),
+                        fmt_opt(Some(s.ensemble_mean)),
+                        fmt_opt(Some(s.ensemble_spread))
+                    )
+                })
+                .collect();
+            if off.is_empty() {
+                println!("{:<22} consistent on every observable", e.integrator);
+            } else {
+                println!("{:<22} inconsistent: {}", e.integrator, off.join("; "));
+            }
+        }
+    }
     for f in files {
         println!("wrote {}", f.display());
     }

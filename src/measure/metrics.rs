@@ -28,6 +28,7 @@
 //!   reference interval between the first and last pair, period error relative to the
 //!   reference's mean spacing T_ref, phase error 2π·(t − t_ref)/T_ref at the last pair.
 
+use super::apexes::Apexes;
 use super::reference::period::match_crossings;
 use super::reference::{Reference, Tracked};
 use super::statistics::{Statistic, WindowReader};
@@ -58,6 +59,12 @@ pub fn strain_max(sys: &System, x: &[Vec3]) -> f64 {
         .filter(|&(_, _, l0)| l0 > 0.0)
         .map(|(i, j, l0)| ((x[j] - x[i]).norm() / l0 - 1.0).abs())
         .fold(0.0, f64::max)
+}
+
+/// True for a scene whose accuracy is judged bounce by bounce ([`super::apexes`]): it has
+/// obstacles and gravity.
+pub fn bouncing(sys: &System) -> bool {
+    crate::collide::of(sys).is_some() && sys.gravity.is_some_and(|g| g.norm() > 0.0)
 }
 
 /// Least-squares line y = a + b t through points; returns (a, b). Fewer than two distinct
@@ -192,6 +199,11 @@ pub struct Metrics {
     /// ensemble ([`super::statistics`]); null where all is predictable or there is no ensemble.
     #[serde(default)]
     pub statistics: Option<BTreeMap<String, Statistic>>,
+    /// On a scene with obstacles and gravity: the largest |apex height − the reference's|
+    /// over matched bounces (m; [`super::apexes`]), which one impact's timing does not
+    /// dominate; null elsewhere.
+    #[serde(default)]
+    pub apex_error: Option<f64>,
 }
 
 /// Decimated time series for plots (finite values only; a blow-up ends the series).
@@ -339,6 +351,9 @@ pub struct MetricsObserver<'a> {
     strain_ref: f64,
     /// Reads the statistics window, when the reference has an ensemble.
     window: Option<WindowReader>,
+    /// Apex heights of the run and of the reference at the compared steps, on a scene with
+    /// obstacles and gravity.
+    apexes: Option<(Apexes, Apexes)>,
 }
 
 impl<'a> MetricsObserver<'a> {
@@ -396,6 +411,12 @@ impl<'a> MetricsObserver<'a> {
                 .ensemble
                 .as_ref()
                 .map(|e| WindowReader::new(&e.times, g.dt, g.steps)),
+            apexes: bouncing(sys).then(|| {
+                let threshold = super::tolerance::RELATIVE_TOLERANCE * reference.motion_scale();
+                let gravity = sys.gravity.expect("a bouncing scene has gravity");
+                let a = Apexes::new(gravity, &sys.free, threshold);
+                (a.clone(), a)
+            }),
         }
     }
 
@@ -416,6 +437,7 @@ impl<'a> MetricsObserver<'a> {
         m.energy_drift_rate = q.energy_drift_rate;
         m.rest_jitter = q.rest_jitter;
         m.strain_error = (q.strain_max - self.strain_ref).abs();
+        m.apex_error = self.apexes.as_ref().and_then(|(a, r)| a.error(r));
         if let (Some(w), Some(e)) = (&self.window, &self.reference.ensemble) {
             m.statistics = w.observed().map(|o| e.judge(&o));
         }
@@ -460,6 +482,10 @@ impl Observer for MetricsObserver<'_> {
                 self.m.error_max_predictable = self.m.error_max_predictable.max(err);
             }
             self.strain_ref = self.strain_ref.max(strain_max(self.sys, xr));
+            if let Some((a, r)) = &mut self.apexes {
+                a.push(&s.x);
+                r.push(xr);
+            }
             self.err_sq += err * err;
             self.m.compared_steps += 1;
             self.last_err = err;

@@ -2,6 +2,7 @@
 
 pub mod advise;
 pub mod answer;
+pub mod apexes;
 pub mod case;
 pub mod command;
 pub mod compare;

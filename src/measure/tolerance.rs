@@ -12,14 +12,18 @@
 //! - `strain`: |strain max − the solution's strain max|, against the tolerance relative to the
 //!   motion scale (1 % by default): over- or under-stretching;
 //! - `energy`: the largest |relative energy error|, against the relative tolerance;
+//! - `impacts`: on a scene with obstacles and gravity, the largest |apex height − the
+//!   reference's| over matched bounces (m; [`super::apexes`]), against the tolerance: a
+//!   bounce a little early or late, which moves position error at equal times by twice the
+//!   impact speed times the lag, costs nothing if it reaches the right height;
 //! - `statistics`: the worst of (position error before the horizon / tolerance) and every
 //!   observable's score against the reference's ensemble past it
 //!   ([`super::statistics`]), against 1: what can be verified of a chaotic scene over its
 //!   whole duration.
 //!
 //! Past the horizon position error measures the chaos, not the method, so [`default_metric`]
-//! is `statistics` where the reference has a horizon before the run's end and `position`
-//! elsewhere.
+//! is `statistics` where the reference has a horizon before the run's end, `impacts` on other
+//! scenes with obstacles and gravity, and `position` elsewhere.
 
 use super::metrics::Metrics;
 use super::reference::ReferenceInfo;
@@ -41,6 +45,8 @@ pub enum Metric {
     Energy,
     /// Position before the horizon and the ensemble's statistics past it (scores, ≤ 1).
     Statistics,
+    /// Apex heights bounce by bounce (m).
+    Impacts,
 }
 
 impl Metric {
@@ -51,6 +57,7 @@ impl Metric {
             Metric::Strain => "strain",
             Metric::Energy => "energy",
             Metric::Statistics => "statistics",
+            Metric::Impacts => "impacts",
         }
     }
 
@@ -61,6 +68,8 @@ impl Metric {
             Metric::Position => Some(m.error_max_predictable),
             Metric::Strain => Some(m.strain_error),
             Metric::Energy => Some(m.energy_error_max),
+            // Nothing bounced: nothing hides behind an impact's timing.
+            Metric::Impacts => Some(m.apex_error.unwrap_or(m.error_max_predictable)),
             Metric::Statistics => {
                 let stats = m.statistics.as_ref()?;
                 Some(
@@ -75,7 +84,7 @@ impl Metric {
     /// (m).
     pub fn bound(self, tolerance: f64, motion_scale: f64) -> f64 {
         match self {
-            Metric::Position => tolerance,
+            Metric::Position | Metric::Impacts => tolerance,
             Metric::Strain | Metric::Energy => tolerance / motion_scale,
             Metric::Statistics => 1.0,
         }
@@ -84,7 +93,7 @@ impl Metric {
     /// The bound's unit, for documents.
     pub fn unit(self) -> &'static str {
         match self {
-            Metric::Position => "m",
+            Metric::Position | Metric::Impacts => "m",
             Metric::Strain => "strain",
             Metric::Energy => "relative energy",
             Metric::Statistics => "score (1 = the ensemble's allowance)",
@@ -100,19 +109,22 @@ impl std::str::FromStr for Metric {
             "strain" => Ok(Metric::Strain),
             "energy" => Ok(Metric::Energy),
             "statistics" => Ok(Metric::Statistics),
+            "impacts" => Ok(Metric::Impacts),
             _ => Err(Error::option(
                 "--metric",
-                format!("expected position, strain, energy or statistics, got '{s}'"),
+                format!("expected position, strain, energy, statistics or impacts, got '{s}'"),
             )),
         }
     }
 }
 
 /// The metric an answer uses unless asked: `statistics` past a predictability horizon before
-/// the run's end, else `position`.
-pub fn default_metric(reference: &ReferenceInfo) -> Metric {
+/// the run's end, else `impacts` on a `bouncing` scene (obstacles and gravity), else
+/// `position`.
+pub fn default_metric(reference: &ReferenceInfo, bouncing: bool) -> Metric {
     match reference.predictability_horizon {
         Some(h) if h < reference.horizon => Metric::Statistics,
+        _ if bouncing => Metric::Impacts,
         _ => Metric::Position,
     }
 }
@@ -176,14 +188,16 @@ pub struct Judge {
 
 impl Judge {
     /// The judge of `metric` (default [`default_metric`]) at tolerance `asked` (else the
-    /// scene's, else the default) on a scene whose reference is `reference`.
+    /// scene's, else the default) on a scene whose reference is `reference`; `bouncing` as
+    /// [`super::metrics::bouncing`].
     pub fn new(
         metric: Option<Metric>,
         asked: Option<f64>,
         scene: Option<f64>,
         reference: &ReferenceInfo,
+        bouncing: bool,
     ) -> Self {
-        let metric = metric.unwrap_or_else(|| default_metric(reference));
+        let metric = metric.unwrap_or_else(|| default_metric(reference, bouncing));
         let motion = if reference.motion_scale > 0.0 {
             reference.motion_scale
         } else {
@@ -219,6 +233,11 @@ impl Judge {
                 crate::error::significant(self.bound, 3),
                 self.tolerance.source
             ),
+            Metric::Impacts => format!(
+                "apex heights bounce by bounce within {} m of the reference's ({})",
+                crate::error::significant(self.bound, 3),
+                self.tolerance.source
+            ),
             Metric::Statistics => format!(
                 "position error within {} m before the predictability horizon and every observable within the reference ensemble's allowance past it (tolerance: {})",
                 crate::error::significant(self.tolerance.value, 3),
@@ -249,7 +268,14 @@ pub fn decide(
     s0: &crate::model::State,
     prepared: Option<&super::statistics::Ensemble>,
 ) -> Result<(Judge, Option<String>)> {
-    let judge = Judge::new(metric, asked, scene_tolerance, &reference.info);
+    let bouncing = super::metrics::bouncing(sys);
+    let judge = Judge::new(metric, asked, scene_tolerance, &reference.info, bouncing);
+    if judge.metric == Metric::Impacts && !bouncing {
+        return Err(Error::option(
+            "--metric",
+            "impacts need a scene with obstacles and gravity (bounces to compare)",
+        ));
+    }
     if judge.metric != Metric::Statistics {
         return Ok((judge, None));
     }
@@ -273,16 +299,20 @@ pub fn decide(
             ),
         ));
     }
+    let fallback = if bouncing {
+        Metric::Impacts
+    } else {
+        Metric::Position
+    };
     let judge = Judge::new(
-        Some(Metric::Position),
+        Some(fallback),
         asked,
         scene_tolerance,
         &reference.info,
+        bouncing,
     );
     Ok((
         judge,
-        Some(format!(
-            "position over the predictable range instead of statistics: {why}"
-        )),
+        Some(format!("{} instead of statistics: {why}", fallback.name())),
     ))
 }

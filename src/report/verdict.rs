@@ -53,6 +53,11 @@ fn judged(metric: &str, error: Option<f64>, bound: f64, position_tolerance: f64)
             cell(error, 2),
             cell(Some(position_tolerance), 2)
         ),
+        "impacts" => format!(
+            "apex heights, bounce by bounce, within {} m {rel} {} m of the reference's",
+            cell(error, 2),
+            cell(Some(bound), 2)
+        ),
         m => format!("{m} error {} {rel} {}", cell(error, 2), cell(Some(bound), 2)),
     }
 }

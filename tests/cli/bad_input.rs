@@ -148,6 +148,18 @@ fn non_positive_dt() {
 }
 
 #[test]
+fn non_positive_tolerance_or_frame_rate() {
+    rejects(
+        &good_with("dt = 0.01", "dt = 0.01\ntolerance = 0.0"),
+        &["run.tolerance", "> 0"],
+    );
+    rejects(
+        &good_with("dt = 0.01", "dt = 0.01\nhz = -60.0"),
+        &["run.hz", "> 0"],
+    );
+}
+
+#[test]
 fn both_or_neither_of_steps_and_duration() {
     rejects(
         &good_with("steps = 10", "steps = 10\nduration = 1.0"),

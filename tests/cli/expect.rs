@@ -218,3 +218,45 @@ fn check_shows_the_expectations() {
     assert!(out.contains("max_strain ≤ 1"), "{out}");
     assert!(out.contains("max_position_error ≤ 0.1 m"), "{out}");
 }
+
+// `advise --write-expect` appends the verified answer; `expect` then holds the scene to it (a
+// pass by construction: the same run, re-made). The twin: a second `--write-expect` refuses,
+// leaving the file byte for byte as it was.
+#[test]
+fn advise_writes_the_answer_that_expect_then_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = spring_scene(dir.path(), "advised", 1.0, "");
+    let p = scene.to_str().unwrap();
+    let out = ok(&[
+        "advise",
+        p,
+        "--integrators",
+        "velocity_verlet",
+        "--points",
+        "3",
+        "--no-frame-rates",
+        "--write-expect",
+        "--out",
+        dir.path().join("adv").to_str().unwrap(),
+    ]);
+    assert!(out.contains("appended an [expect] table"), "{out}");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(text.contains("[expect]") && text.contains("integrator = \"velocity_verlet\""));
+    assert!(
+        text.contains("# The answer verified by: springlab advise"),
+        "{text}"
+    );
+    let junit = dir.path().join("junit.xml");
+    let out = ok(&["expect", p, "--junit", junit.to_str().unwrap()]);
+    assert!(!out.contains("FAIL"), "{out}");
+    let xml = std::fs::read_to_string(&junit).unwrap();
+    assert!(
+        xml.contains("failures=\"0\"") && xml.contains("max_strain"),
+        "{xml}"
+    );
+
+    let (done, _, err) = run(&["advise", p, "--write-expect", "--points", "3"]);
+    assert!(!done, "a second --write-expect must refuse");
+    assert!(err.contains("already has an [expect] table"), "{err}");
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), text);
+}

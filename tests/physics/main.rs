@@ -7,6 +7,7 @@ mod rapier_support;
 
 mod advise_cost;
 mod analytic_closed_form;
+mod bounce_apexes;
 mod collide_bounce;
 mod collide_coulomb;
 mod collide_energy_books;

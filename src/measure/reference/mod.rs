@@ -415,6 +415,19 @@ impl Reference {
             starts.push(s);
         }
         ends.push(horizon);
+        // The motion scale on a fixed grid of each segment (independent of the sample times).
+        for (seg, start) in starts.iter().enumerate() {
+            let (t0, t1) = (start.t, ends[seg]);
+            let n = ((t1 - t0) / horizon * ANALYTIC_MOTION_POINTS)
+                .ceil()
+                .max(16.0) as u64;
+            for k in 0..=n {
+                let s = eval(start, t0 + (t1 - t0) * k as f64 / n as f64)?;
+                for (a, b) in s.x.iter().zip(&s0.x) {
+                    self.motion = self.motion.max((a - b).norm());
+                }
+            }
+        }
         for e in entries(&self.grids) {
             // Impulse at τ acts on times > τ (the runner samples the pre-impulse state at τ).
             let seg = ends
@@ -580,6 +593,9 @@ impl Reference {
         Ok(())
     }
 }
+
+/// Points over the horizon at which the closed form's motion scale is read.
+const ANALYTIC_MOTION_POINTS: f64 = 4000.0;
 
 /// Round-off level of positions relative to the length scale.
 const ROUND_OFF: f64 = 1e-14;
