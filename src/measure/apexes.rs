@@ -138,7 +138,7 @@ mod tests {
             }
             // Closed form: flight n starts at impact time t_n with speed v_n.
             let (mut t0, mut v, mut y) = (0.0, 0.0, h0);
-            let mut yt = h0;
+            let yt;
             loop {
                 let tf = (v + (v * v + 2.0 * g * y).sqrt()) / g;
                 if t.max(0.0) < t0 + tf || tf < 1e-9 {

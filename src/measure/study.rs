@@ -67,6 +67,15 @@ pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 /// that section).
 pub const FRAMERATE_NOTE_PREFIX: &str = "Frame rates";
 
+/// The study's timing of a frame-rate table's run: once.
+pub const ONE_TIMED_RUN: super::case::TimingRule = super::case::TimingRule {
+    min_repetitions: 1,
+    min_total_seconds: 0.0,
+    cap_seconds: f64::INFINITY,
+    cap_repetitions: 1,
+    max_repetitions: 1,
+};
+
 /// Time budget of a study's advice (s of runs, summed over its candidates): the costliest
 /// candidates whose grid runs would not fit are left out with the figure (on the 32×32 cloth,
 /// the implicit methods, whose finest grid runs take tens of seconds each).
@@ -506,13 +515,7 @@ fn study_framerate(
             ensemble: compared.ensemble.clone(),
             blowup_factor: cfg.blowup_factor,
             progress: cfg.progress,
-            timing: super::case::TimingRule {
-                min_repetitions: 1,
-                min_total_seconds: 0.0,
-                cap_seconds: f64::INFINITY,
-                cap_repetitions: 1,
-                max_repetitions: 1,
-            },
+            timing: ONE_TIMED_RUN,
             ..Default::default()
         },
     )?;

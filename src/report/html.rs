@@ -257,7 +257,11 @@ pub fn index_page(sum: &Summary) -> String {
     for s in &sum.scenes {
         body += &front_tr(s);
     }
-    body += "</table>\n";
+    body += "</table>\n<p>How the answers are judged:</p>\n<ul>\n";
+    for n in super::verdict::judging_notes(crate::measure::study::FRAMERATE_MAX_SUBSTEPS) {
+        body += &format!("<li>{}</li>\n", esc(&n));
+    }
+    body += "</ul>\n";
     if let Some(ss) = &sum.small_steps {
         body += &format!(
             "<h2>Small Steps, replicated</h2>\n<p>n XPBD substeps × 1 iteration against 1 step × n iterations at 60 Hz: <a href=\"{}\">the page</a>.</p>\n<ul>\n",

@@ -35,6 +35,10 @@ pub fn readme(sum: &Summary) -> String {
             lines(&r.blew)
         );
     }
+    out += "\nHow the answers are judged:\n\n";
+    for n in super::verdict::judging_notes(crate::measure::study::FRAMERATE_MAX_SUBSTEPS) {
+        out += &format!("- {}\n", md(&n));
+    }
     if let Some(ss) = &sum.small_steps {
         out += &format!(
             "\n## Small Steps, replicated\n\nn XPBD substeps × 1 iteration against 1 step × n iterations at 60 Hz: [the page]({}).\n\n",

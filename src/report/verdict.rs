@@ -16,6 +16,15 @@ pub fn dt_words(dt: f64) -> String {
     }
 }
 
+/// A frame rate as people write it: `60` for a whole number, else three significant digits.
+fn hz_words(hz: f64) -> String {
+    if hz.fract() == 0.0 && hz.abs() < 1e9 {
+        format!("{hz:.0}")
+    } else {
+        cell(Some(hz), 3)
+    }
+}
+
 fn pct(v: f64) -> String {
     format!("{}%", cell(Some(100.0 * v), 2))
 }
@@ -62,6 +71,18 @@ fn judged(metric: &str, error: Option<f64>, bound: f64, position_tolerance: f64)
     }
 }
 
+/// How the front page's answers are judged, one sentence per rule (the HTML and Markdown
+/// overviews both list these).
+pub fn judging_notes(max_substeps: u64) -> Vec<String> {
+    vec![
+        format!("Tolerance: the scene's [run] tolerance, else {} % of its motion scale (the largest displacement of any particle over the run, as the reference measures it).", crate::measure::tolerance::RELATIVE_TOLERANCE * 100.0),
+        "Position: the largest position error against the reference over its predictable range.".into(),
+        format!("Statistics (chaotic scenes): past the reference's predictability horizon two correct solvers part by macroscopic amounts, so each run is compared with an ensemble of {} references started at the reference's own uncertainty: its time-mean centre of mass, radius of gyration, kinetic energy and largest strain must each lie within {} ensemble spreads plus what the tolerance allows (score ≤ 1), and its positions before the horizon within the tolerance.", crate::measure::statistics::ENSEMBLE_SIZE, crate::measure::statistics::SPREADS),
+        "Impacts (scenes with obstacles and gravity): apex heights, bounce by bounce, against the reference's. A bounce a little early or late would show at equal times as about twice the impact speed times the lag; here it costs nothing if it reaches the right height, while a wrong restitution or a lost bounce does. Sliding across gravity is not judged by it (compare's position error shows it).".into(),
+        format!("Game rate: the cheapest method and fewest substeps per frame (up to {max_substeps}) at 60 Hz, or the scene's [run] hz, meeting the same bound. \"Stable only\" marks an answer where nothing met the bound: it shows the most accurate stable run and its error instead."),
+    ]
+}
+
 /// The free-step answer in words, labelled where it only reports what was verified.
 pub fn free_words(a: &FreeStep) -> String {
     match (&a.integrator, a.dt) {
@@ -89,13 +110,13 @@ pub fn game_words(a: &GameRate) -> String {
         (Some(m), Some(n)) if a.meets => format!(
             "{m} × {n} substep{} at {} Hz ({}{per_frame})",
             if n == 1 { "" } else { "s" },
-            cell(Some(a.hz), 3),
+            hz_words(a.hz),
             judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
         ),
         (Some(m), Some(n)) => format!(
             "{}: {m} × {n} at {} Hz ({}{per_frame})",
             a.verified,
-            cell(Some(a.hz), 3),
+            hz_words(a.hz),
             judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
         ),
         _ => a.verified.clone(),
@@ -108,7 +129,7 @@ pub fn pick_sentence(s: &SceneSummary) -> Option<String> {
     Some(format!(
         "With a free step: {}. At {} Hz: {}.",
         free_words(&a.free_step),
-        cell(Some(a.game_rate.hz), 3),
+        hz_words(a.game_rate.hz),
         game_words(&a.game_rate)
     ))
 }
@@ -161,6 +182,11 @@ pub fn verdict(s: &SceneSummary) -> String {
     let mut out = Vec::new();
     if let Some(p) = pick_sentence(s) {
         out.push(p);
+    }
+    match s.answer.as_ref().map(|a| a.free_step.metric.as_str()) {
+        Some("impacts") => out.push("On this bouncing scene accuracy is judged by apex heights, bounce by bounce, against the reference's, not by position at equal times: a bounce a little early or late would dominate that (about twice the impact speed times the lag) while reaching the right height.".into()),
+        Some("statistics") => out.push("This scene is chaotic: past the reference's predictability horizon position error measures the chaos, not the method, so each run is judged there by its time-mean centre of mass, radius of gyration, kinetic energy and strain against an ensemble of references.".into()),
+        _ => {}
     }
     let bs = &s.backends;
     let unstable: Vec<String> = bs

@@ -558,7 +558,8 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             || cfg.dt_min.is_some()
             || extensions >= GRID_EXTENSIONS
             || !affordable
-            || !(span > 1.0)
+            || span.is_nan()
+            || span <= 1.0
         {
             break (reference, p, cant);
         }
@@ -693,6 +694,30 @@ pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<std::path::Pa
     crate::output::write_atomic(dir.join("advice.json"), &json)
 }
 
+/// The `[expect]` table that holds a scene to the advice's pick, or None without a pick: the
+/// pick's method and step (one substep), stable, its position error within the position
+/// tolerance, its strain within the verified run's plus the relative tolerance (the tolerance
+/// over the motion scale), and its energy drift rate within twice the verified run's.
+pub fn expect_table(adv: &Advice) -> Option<crate::scenario::file::ExpectSpec> {
+    let pick = adv.alternatives.first()?;
+    let motion = if adv.reference.motion_scale > 0.0 {
+        adv.reference.motion_scale
+    } else {
+        1.0
+    };
+    let relative = adv.position_tolerance.value / motion;
+    Some(crate::scenario::file::ExpectSpec {
+        integrator: pick.integrator.clone(),
+        hz: None,
+        dt: Some(pick.dt),
+        substeps: Some(1),
+        stable: Some(true),
+        max_position_error: Some(adv.position_tolerance.value),
+        max_strain: pick.strain_max.map(|s| s + relative),
+        max_energy_drift_rate: pick.energy_drift_rate.map(|r| 2.0 * r.abs()),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::unable_reason;
@@ -721,28 +746,4 @@ mod tests {
         let r = unable_reason(&[(1e-3, None), (2e-3, None)], tol, safety);
         assert_eq!(r, "unstable at every step of the grid");
     }
-}
-
-/// The `[expect]` table that holds a scene to the advice's pick, or None without a pick: the
-/// pick's method and step (one substep), stable, its position error within the position
-/// tolerance, its strain within the verified run's plus the relative tolerance (the tolerance
-/// over the motion scale), and its energy drift rate within twice the verified run's.
-pub fn expect_table(adv: &Advice) -> Option<crate::scenario::file::ExpectSpec> {
-    let pick = adv.alternatives.first()?;
-    let motion = if adv.reference.motion_scale > 0.0 {
-        adv.reference.motion_scale
-    } else {
-        1.0
-    };
-    let relative = adv.position_tolerance.value / motion;
-    Some(crate::scenario::file::ExpectSpec {
-        integrator: pick.integrator.clone(),
-        hz: None,
-        dt: Some(pick.dt),
-        substeps: Some(1),
-        stable: Some(true),
-        max_position_error: Some(adv.position_tolerance.value),
-        max_strain: pick.strain_max.map(|s| s + relative),
-        max_energy_drift_rate: pick.energy_drift_rate.map(|r| 2.0 * r.abs()),
-    })
 }
