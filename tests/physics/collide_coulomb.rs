@@ -134,8 +134,9 @@ fn check_incline(collision: &str, e: f64, integrators: &[&str]) {
 
 #[test]
 fn incline_acceleration_is_g_sin_minus_mu_cos_for_points_and_finite_radii() {
-    // A user's case: the radius-0 particle used to be put back by the swept test in ~206 of
-    // 1000 steps (s = 1.25 m instead of 1.6029 m).
+    // A radius-0 particle resting on the incline must slide the full distance: a swept test
+    // that put it back on every step it grazed the surface would cover about 1.25 m of the
+    // 1.6029 m instead.
     let all = natives();
     let all: Vec<&str> = all
         .iter()

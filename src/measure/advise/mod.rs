@@ -424,9 +424,14 @@ fn within_budget(
     Ok(kept)
 }
 
-/// Most times the grid is extended downwards (each time by the grid's own span) when no
-/// candidate meets the bound on it.
+/// Most times the grid is extended downwards (each time by [`EXTENSION_FACTOR`], or the grid's
+/// own span when smaller) when no candidate meets the bound on it; only candidates still
+/// converging (ok at the finest step, their smallest error there) go on.
 pub const GRID_EXTENSIONS: usize = 2;
+
+/// Largest factor by which one extension lowers the grid's smallest step (or the grid's own
+/// span, when smaller).
+pub const EXTENSION_FACTOR: f64 = 30.0;
 
 /// Largest run of an extended grid, in particle-steps: a finer grid than this is not tried.
 pub const EXTENSION_PARTICLE_STEPS: f64 = 5e7;
@@ -550,11 +555,20 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         tried.extend(grid.iter().map(|g| g.0));
         let finest = grid.iter().map(|g| g.0).fold(f64::INFINITY, f64::min);
         let span = grid.iter().map(|g| g.0).fold(0.0, f64::max) / finest;
-        let next_min = finest / span;
+        let next_min = finest / span.min(EXTENSION_FACTOR);
         let affordable = sys.len() as f64 * horizon / next_min <= EXTENSION_PARTICLE_STEPS
             && crate::scenario::Timing::steps_within("--dt-min", next_min, horizon).is_ok();
+        // Only a candidate still converging goes on: ok at the finest step, and its error
+        // there the smallest of its row (the grid is ascending in the step).
+        let converging: Vec<bool> = (0..names.len())
+            .map(|i| {
+                let row = &cases[i * grid.len()..(i + 1) * grid.len()];
+                let errors: Vec<Option<f64>> = row.iter().map(|c| judge.error(c)).collect();
+                errors[0].is_some_and(|e0| errors.iter().flatten().all(|&e| e0 <= e))
+            })
+            .collect();
         if !p.is_empty()
-            || names.is_empty()
+            || !converging.contains(&true)
             || cfg.dt_min.is_some()
             || extensions >= GRID_EXTENSIONS
             || !affordable
@@ -563,6 +577,14 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         {
             break (reference, p, cant);
         }
+        let kept: Vec<String> = names
+            .iter()
+            .zip(&converging)
+            .filter(|(_, &c)| c)
+            .map(|(n, _)| n.clone())
+            .collect();
+        unable.extend(cant.into_iter().filter(|(n, _)| !kept.contains(n)));
+        names = kept;
         grid = step_grid(next_min, finest, cfg.points.max(2), horizon)
             .into_iter()
             .filter(|g| g.0 < finest)
