@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::integrate::IntegratorOptions;
 use crate::method::Registry;
 use crate::model::{State, System};
-use crate::run::{run, NoObserver, RunPlan, Status};
+use crate::run::{run, NoObserver, RunPlan, RunStatus, Status};
 use serde::Serialize;
 
 /// Runs shorter than this (integrator wall time, s) are repeated and the median kept.
@@ -184,7 +184,7 @@ pub struct CaseResult {
     /// Integrator wall time (s); for a short run the median of [`SHORT_RUN_RULE`]'s repetitions.
     pub wall_seconds: f64,
     /// `ok` or `unstable`.
-    pub status: String,
+    pub status: RunStatus,
     /// Time of the blow-up (s), for unstable runs.
     pub unstable_time: Option<f64>,
     /// Which measure tripped, for unstable runs.
@@ -206,7 +206,7 @@ pub struct CaseResult {
 impl CaseResult {
     /// True when the run finished every step and was judged stable.
     pub fn ok(&self) -> bool {
-        self.status == "ok"
+        self.status.is_ok()
     }
     /// One metric of an ok run (`None` for a run that is not ok: no number where there is none).
     pub fn metric(&self, f: impl Fn(&Metrics) -> f64) -> Option<f64> {
@@ -300,7 +300,7 @@ pub fn run_case(
         steps_done: out.steps_done,
         force_evals: out.force_evals,
         wall_seconds: wall,
-        status: out.status.label().to_string(),
+        status: out.status.kind(),
         unstable_time,
         unstable_reason,
         metrics: out.status.is_ok().then(|| Metrics {

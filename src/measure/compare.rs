@@ -223,7 +223,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         let r = r?;
         entries.push(CompareEntry {
             integrator: r.integrator.clone(),
-            status: r.status.clone(),
+            status: r.status.label().to_string(),
             skip_reason: None,
             result: Some(r),
         });
@@ -327,7 +327,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 cells.extend(["", ""].map(String::from));
             }
             Some(r) => {
-                cells.push(r.status.clone());
+                cells.push(r.status.label().to_string());
                 cells.push(String::new());
                 cells.push(f(r.dt));
                 cells.push(r.steps.to_string());

@@ -336,7 +336,7 @@ pub fn empirical_limit(
         let mut integ = method.create(opts);
         let plan = RunPlan {
             dt: h,
-            steps: ((crit.horizon / h).ceil() as u64).max(1),
+            steps: crate::model::covering_steps(crit.horizon, h),
             substeps: 1,
             blowup_factor: crit.blowup_factor,
             stop_at_verdict: true,

@@ -7,6 +7,7 @@ pub use parallel::PARALLEL_MIN_SPRINGS;
 mod post_step;
 mod springs;
 mod state;
+mod steps;
 mod system;
 mod term;
 
@@ -15,5 +16,6 @@ pub use jacobian::Jacobian;
 pub use post_step::{PostStep, StageStep};
 pub use springs::Springs;
 pub use state::{State, Vec3};
+pub use steps::{covering_steps, whole_steps};
 pub use system::{DistanceConstraint, Energy, Impulse, System};
 pub use term::{Drag, EnergyKind, ForceTerm, Gravity};

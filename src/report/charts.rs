@@ -109,7 +109,7 @@ pub fn convergence(s: &SceneStudy) -> Option<ConvergenceData> {
             })
             .collect();
         let unstable = rows
-            .filter(|r| r.status != "ok")
+            .filter(|r| !r.status.is_ok())
             .map(|r| r.dt)
             .reduce(f64::max);
         let top = points.iter().map(|p| p[1]).reduce(f64::max).unwrap_or(1.0);

@@ -68,7 +68,7 @@ pub fn evals_cell(b: &BackendSummary) -> String {
 pub fn status_cell(b: &BackendSummary) -> String {
     match b.blowup_time {
         Some(t) => format!("unstable at t = {} s", cell(Some(t), 3)),
-        None => b.status.clone(),
+        None => b.status.to_string(),
     }
 }
 
@@ -85,7 +85,7 @@ fn backend_rows(s: &SceneSummary) -> String {
     for b in &s.backends {
         rows += &format!(
             "<tr class=\"{}\"><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>\n",
-            esc(&b.status),
+            esc(b.status.label()),
             esc(&b.backend),
             b.order,
             esc(&status_cell(b)),

@@ -40,7 +40,7 @@ const LINE_LENGTH_FACTOR: f64 = 1.5;
 #[derive(Debug, Serialize)]
 struct Run {
     name: String,
-    status: String,
+    status: crate::run::RunStatus,
     /// Time of the blow-up (s), when the run blew up.
     unstable_time: Option<f64>,
     /// Frames recorded (a run that blew up has fewer).
@@ -100,7 +100,7 @@ pub fn playback(s: &SceneStudy, scene: &Scenario, plane: [usize; 2]) -> Option<(
                 let frames = &r.trace.as_ref().expect("filtered").frames;
                 Run {
                     name: r.integrator.clone(),
-                    status: r.status.clone(),
+                    status: r.status,
                     unstable_time: r.unstable_time,
                     count: frames.len(),
                     frames: encode(frames, plane, bounds),
@@ -116,7 +116,7 @@ pub fn playback(s: &SceneStudy, scene: &Scenario, plane: [usize; 2]) -> Option<(
 /// The box every stable run's frames span (all runs' first frames when none is stable),
 /// padded by 5 % and made square enough to keep the aspect ratio readable.
 fn bounds(runs: &[&CaseResult], plane: [usize; 2]) -> Option<[f64; 4]> {
-    let ok: Vec<&&CaseResult> = runs.iter().filter(|r| r.status == "ok").collect();
+    let ok: Vec<&&CaseResult> = runs.iter().filter(|r| r.status.is_ok()).collect();
     let mut b = [
         f64::INFINITY,
         f64::NEG_INFINITY,

@@ -16,7 +16,7 @@ pub struct BackendSummary {
     /// Theoretical order: a number, or `"exact"`.
     pub order: Order,
     /// `ok` or `unstable`.
-    pub status: String,
+    pub status: crate::run::RunStatus,
     /// Time of the blow-up (s), when it blew up.
     pub blowup_time: Option<f64>,
     /// Which measure tripped, when it blew up.
@@ -175,7 +175,7 @@ pub fn scene_summary(
         backends.push(BackendSummary {
             backend: r.integrator.clone(),
             order: info.order,
-            status: r.status.clone(),
+            status: r.status,
             blowup_time: r.unstable_time,
             blowup_reason: r.unstable_reason.clone(),
             max_position_error: r.metric(|m| m.error_max).and_then(finite),

@@ -171,7 +171,7 @@ pub fn front_row(s: &SceneSummary) -> FrontRow {
         blew: s
             .backends
             .iter()
-            .filter(|b| b.status != "ok")
+            .filter(|b| !b.status.is_ok())
             .map(|b| format!("{} at t = {} s", b.backend, cell(b.blowup_time, 3)))
             .collect(),
     }
@@ -191,7 +191,7 @@ pub fn verdict(s: &SceneSummary) -> String {
     let bs = &s.backends;
     let unstable: Vec<String> = bs
         .iter()
-        .filter(|b| b.status != "ok")
+        .filter(|b| !b.status.is_ok())
         .map(|b| {
             format!(
                 "{} (t = {} s: {})",
@@ -208,7 +208,7 @@ pub fn verdict(s: &SceneSummary) -> String {
     );
     let mut acc: Vec<(&str, f64)> = bs
         .iter()
-        .filter(|b| b.status == "ok" && b.order != crate::method::Order::Exact)
+        .filter(|b| b.status.is_ok() && b.order != crate::method::Order::Exact)
         .filter_map(|b| b.max_position_error.map(|e| (b.backend.as_str(), e)))
         .collect();
     acc.sort_by(|a, b| a.1.total_cmp(&b.1));
@@ -238,7 +238,7 @@ pub fn verdict(s: &SceneSummary) -> String {
     }
     let drift = bs
         .iter()
-        .filter(|b| b.status == "ok")
+        .filter(|b| b.status.is_ok())
         .filter_map(|b| b.max_energy_drift.map(|d| (b, d)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
     if let Some((b, d)) = drift.filter(|(_, d)| *d > 0.01) {

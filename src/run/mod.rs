@@ -10,6 +10,6 @@ pub mod verdict;
 pub use energy::EnergyRecord;
 pub use observer::{NoObserver, Observer};
 pub use progress::{bar as progress_bar, ProgressObserver};
-pub use runner::{run, RunOutcome, RunPlan, Status};
+pub use runner::{run, RunOutcome, RunPlan, RunStatus, Status};
 pub use scale::{characteristic_length, energy_scale};
 pub use verdict::DEFAULT_BLOWUP_FACTOR;

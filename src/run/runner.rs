@@ -48,7 +48,7 @@ impl RunPlan {
     }
     /// A plan covering `duration` (rounded to the nearest whole number of steps, at least 1).
     pub fn for_duration(dt: f64, duration: f64) -> Self {
-        Self::new(dt, ((duration / dt).round() as u64).max(1))
+        Self::new(dt, crate::model::whole_steps(duration, dt))
     }
     /// The same plan with `n` substeps per frame (at least 1).
     pub fn with_substeps(self, n: u64) -> Self {
@@ -81,7 +81,45 @@ pub enum Status {
     },
 }
 
+/// A run's status as documents spell it (`ok` or `unstable`): what a finished run is compared
+/// by, as a value rather than a string.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunStatus {
+    /// Every step finished with a finite state and bounded energy.
+    Ok,
+    /// The run grew without bound, or its step failed.
+    Unstable,
+}
+
+impl RunStatus {
+    /// True for [`RunStatus::Ok`].
+    pub fn is_ok(self) -> bool {
+        self == RunStatus::Ok
+    }
+    /// `ok` or `unstable`.
+    pub fn label(self) -> &'static str {
+        match self {
+            RunStatus::Ok => "ok",
+            RunStatus::Unstable => "unstable",
+        }
+    }
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.label())
+    }
+}
+
 impl Status {
+    /// The status without its details.
+    pub fn kind(&self) -> RunStatus {
+        match self {
+            Status::Ok => RunStatus::Ok,
+            Status::Unstable { .. } => RunStatus::Unstable,
+        }
+    }
     /// True for [`Status::Ok`].
     pub fn is_ok(&self) -> bool {
         matches!(self, Status::Ok)

@@ -107,7 +107,7 @@ impl Timing {
     pub fn steps_within(flag: &str, dt: f64, duration: f64) -> Result<u64> {
         let n = (duration / dt).round();
         if n <= super::MAX_STEPS as f64 {
-            return Ok((n as u64).max(1));
+            return Ok(crate::model::whole_steps(duration, dt));
         }
         let count = if n.is_finite() {
             num(n)

@@ -116,7 +116,7 @@ fn check_orders(res: &SweepResult) -> (usize, String) {
                 // The fitted window starts at the smallest usable step.
                 let usable_min = rows
                     .iter()
-                    .filter(|(j, r)| r.status == "ok" && r.error_max.unwrap() > res.floors[*j])
+                    .filter(|(j, r)| r.status.is_ok() && r.error_max.unwrap() > res.floors[*j])
                     .map(|(_, r)| r.dt)
                     .fold(f64::INFINITY, f64::min);
                 assert_eq!(s.fit.dt_range.unwrap()[0], usable_min, "{name}\n{table}");
@@ -184,7 +184,7 @@ fn rope_never_prints_an_order_off_theory() {
             .case_indices
             .iter()
             .zip(&res.rows)
-            .filter(|(k, r)| *k / p == i && r.status == "ok")
+            .filter(|(k, r)| *k / p == i && r.status.is_ok())
             .map(|(_, r)| (r.dt, r.error_max.unwrap()))
             .collect();
         e.sort_by(|a, b| b.0.total_cmp(&a.0));

@@ -22,7 +22,7 @@ pub struct FrameEntry {
     /// Integrator name.
     pub integrator: String,
     /// Status with one step per frame.
-    pub one_step_status: String,
+    pub one_step_status: crate::run::RunStatus,
     /// Error with one step per frame (None when unstable).
     pub one_step_error: Option<f64>,
     /// Substeps per frame needed to meet the tolerance (from its recommended step).
@@ -138,7 +138,7 @@ impl FramePlan {
                         let meets = se.is_some_and(|e| e <= judge.bound);
                         Ok(FrameEntry {
                             integrator: name.clone(),
-                            one_step_status: one.status.clone(),
+                            one_step_status: one.status,
                             one_step_error: judge.error(one),
                             substeps: self.substeps[fi][pi],
                             substep_error: se,

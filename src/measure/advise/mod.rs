@@ -479,7 +479,7 @@ fn predict(
                 }
             }
         }
-        let steps = ((horizon / dt).ceil() as u64).max(1);
+        let steps = crate::model::covering_steps(horizon, dt);
         let g = TimeGrid::new(horizon / steps as f64, steps, max_samples);
         predictions.push((name.clone(), g, pred, row[j].clone()));
     }

@@ -127,7 +127,7 @@ pub struct FrameRun {
     /// Substeps per frame.
     pub substeps: u64,
     /// `ok` or `unstable`.
-    pub status: String,
+    pub status: crate::run::RunStatus,
     /// Stable and within the tolerance.
     pub meets_tolerance: bool,
     /// The error by the document's metric ([`Framerate::metric`]), held to its bound.
@@ -245,7 +245,7 @@ pub struct Framerate {
 /// Whole frames at `hz` covering `duration` s (the nearest count, at least 1): how every
 /// frame-rate view (this one and advice's) turns a duration into frames.
 pub fn frames_at(duration: f64, hz: f64) -> u64 {
-    ((duration * hz).round() as u64).max(1)
+    crate::model::whole_steps(duration * hz, 1.0)
 }
 
 fn check(cfg: &FramerateConfig) -> Result<()> {
@@ -280,7 +280,7 @@ fn frame_run(methods: &Registry, c: &CaseResult, substeps: u64, judge: &Judge) -
         force_evals_per_second(methods, &c.integrator, c.force_evals, c.steps as f64)?;
     Ok(FrameRun {
         substeps,
-        status: c.status.clone(),
+        status: c.status,
         meets_tolerance: judge.meets(c),
         error: judge.error(c),
         max_position_error: c.metric(|m| m.error_max),

@@ -35,7 +35,7 @@ pub(super) fn time_entries(
     for e in entries.iter() {
         for r in std::iter::once(&e.one_substep).chain(e.fewest.as_ref()) {
             let t = run_of(e, r);
-            if r.status == "ok" && !runs.contains(&t) {
+            if r.status.is_ok() && !runs.contains(&t) {
                 runs.push(t);
             }
         }

@@ -179,7 +179,7 @@ pub struct SweepRow {
     /// Relative energy drift (1/s).
     pub energy_drift: Option<f64>,
     /// `ok` or `unstable`.
-    pub status: String,
+    pub status: crate::run::RunStatus,
 }
 
 /// The CSV header of `sweep.csv`.
@@ -198,7 +198,7 @@ impl SweepRow {
             error_max: c.metric(|m| m.error_max),
             error_rms: c.metric(|m| m.error_rms),
             energy_drift: c.metric(|m| m.energy_drift),
-            status: c.status.clone(),
+            status: c.status,
         }
     }
     fn csv_line(&self) -> String {
@@ -221,7 +221,7 @@ impl SweepRow {
         Run {
             j,
             error: self.error_max,
-            ok: self.status == "ok",
+            ok: self.status.is_ok(),
         }
     }
 }

@@ -133,7 +133,7 @@ pub fn step_grid(dt_min: f64, dt_max: f64, points: usize, duration: f64) -> Vec<
             0.0
         };
         let dt = dt_min * (dt_max / dt_min).powf(f);
-        let steps = ((duration / dt).round() as u64).max(1);
+        let steps = crate::model::whole_steps(duration, dt);
         if out.last().is_none_or(|&(_, s)| s != steps) && !out.iter().any(|&(_, s)| s == steps) {
             out.push((duration / steps as f64, steps));
         }
