@@ -156,8 +156,9 @@ pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) 
 
 /// The game-rate answer at `hz` from the frame-rate table: the cheapest row meeting the bound
 /// by the advice's cost rule, or the labelled fallback (the most accurate stable run at one
-/// substep).
-pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str) -> Result<GameRate> {
+/// substep). `left_out` names the methods the table did not run (for time), which the
+/// fallback's words must not count among those that failed.
+pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -> Result<GameRate> {
     let metric = fr.metric;
     let base = GameRate {
         hz,
@@ -208,6 +209,14 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str) -> Result<GameRate> {
         .iter()
         .filter_map(|e| Some((e, e.one_substep.error?)))
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.backend.cmp(&b.0.backend)));
+    let untried = if left_out.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " (not run here, for time: {}; `springlab framerate` runs them)",
+            left_out.join(", ")
+        )
+    };
     Ok(match best {
         Some((e, err)) => GameRate {
             integrator: Some(e.backend.clone()),
@@ -215,7 +224,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str) -> Result<GameRate> {
             error: Some(err),
             wall_seconds_per_frame: e.one_substep.wall_seconds_per_frame,
             verified: format!(
-                "stable only: no method met {} ≤ {} {} up to {} substeps per frame; the most accurate stable run at one substep is shown",
+                "stable only: no method tried met {} ≤ {} {} up to {} substeps per frame{untried}; the most accurate stable run at one substep is shown",
                 metric.name(),
                 sig(fr.tolerance),
                 metric.unit(),
@@ -230,7 +239,8 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str) -> Result<GameRate> {
     })
 }
 
-/// The answer of a study's documents; `hz` the scene's game rate. Without an advice or a
+/// The answer of a study's documents; `hz` the scene's game rate, `framerate_left_out` the
+/// methods the frame-rate table left out for time. Without an advice or a
 /// frame-rate table the missing half says why (`advice_note`, `framerate_note`).
 #[allow(clippy::too_many_arguments)]
 pub fn answer(
@@ -240,6 +250,7 @@ pub fn answer(
     advice_note: Option<&str>,
     framerate: Option<&Framerate>,
     framerate_note: Option<&str>,
+    framerate_left_out: &[String],
     hz: f64,
     scenario: &str,
 ) -> Result<Answer> {
@@ -260,7 +271,7 @@ pub fn answer(
         None => none_free(advice_note.unwrap_or("no advice was measured")),
     };
     let game_rate = match framerate {
-        Some(f) => game_rate(f, hz, scenario)?,
+        Some(f) => game_rate(f, hz, scenario, framerate_left_out)?,
         None => GameRate {
             hz,
             integrator: None,

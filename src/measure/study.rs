@@ -363,7 +363,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         )?)
     };
     lap(&mut seconds.advice);
-    let (framerate, framerate_note) =
+    let (framerate, framerate_note, framerate_left_out) =
         study_framerate(scene, cfg, &compared, &probed_out, &mut notes)?;
     lap(&mut seconds.framerate);
     let answer = super::answer::answer(
@@ -373,6 +373,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         advice_note.as_deref(),
         framerate.as_ref(),
         framerate_note.as_deref(),
+        &framerate_left_out,
         scene.run.hz.unwrap_or(super::answer::GAME_HZ),
         &scene.name,
     )?;
@@ -416,14 +417,15 @@ fn engine_probe(
 /// worst-case search projects within [`FRAMERATE_METHOD_SECONDS`] (an engine:
 /// [`FRAMERATE_ENGINE_SECONDS`]), from its compare run's wall time per step (an engine's per
 /// solver substep: its compare run used `options.substeps`), and every engine compare left
-/// out (`probed_out`: its probe's time per step) under the same rule.
+/// out (`probed_out`: its probe's time per step) under the same rule. Returns the table, why
+/// there is none, and the methods left out for time.
 fn study_framerate(
     scene: &Scenario,
     cfg: &StudyConfig,
     compared: &CompareResult,
     probed_out: &[(String, f64)],
     notes: &mut Vec<String>,
-) -> Result<(Option<Framerate>, Option<String>)> {
+) -> Result<(Option<Framerate>, Option<String>, Vec<String>)> {
     let game = scene.run.hz.unwrap_or(super::answer::GAME_HZ);
     let mut rates: Vec<f64> = if cfg.quick {
         vec![]
@@ -455,7 +457,7 @@ fn study_framerate(
         .filter(|(n, _)| is_engine(n))
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(n, _)| (*n).clone());
-    let mut chosen = Vec::new();
+    let (mut chosen, mut left_out) = (Vec::new(), Vec::new());
     for (name, per_step) in measured {
         let Ok(info) = cfg.methods.info(name) else {
             continue;
@@ -475,6 +477,7 @@ fn study_framerate(
             FRAMERATE_METHOD_SECONDS
         };
         if projected > budget {
+            left_out.push(name.clone());
             notes.push(format!(
                 "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {} measured in {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
                 per_substep * 1e3,
@@ -501,7 +504,11 @@ fn study_framerate(
             .map(|e| e.integrator.clone()),
     );
     if chosen.is_empty() {
-        return Ok((None, Some("no method fits the frame-rate budget".into())));
+        return Ok((
+            None,
+            Some("no method fits the frame-rate budget".into()),
+            left_out,
+        ));
     }
     let fr = framerate(
         scene,
@@ -519,5 +526,5 @@ fn study_framerate(
             ..Default::default()
         },
     )?;
-    Ok((Some(fr), None))
+    Ok((Some(fr), None, left_out))
 }
