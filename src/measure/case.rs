@@ -57,7 +57,7 @@ pub const SHORT_RUN_RULE: TimingRule = TimingRule {
 
 /// Repeated wall-time measurements of one run, summarised.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Timing {
+pub struct WallTimes {
     /// Runs timed.
     pub repetitions: usize,
     /// Median integrator wall time of one run (s): the kept statistic.
@@ -70,11 +70,14 @@ pub struct Timing {
     pub spread: f64,
 }
 
-impl Timing {
+impl WallTimes {
     /// Summarises `samples` (wall seconds of each run; not empty). The median of an even count
     /// is the mean of the two middle values.
-    pub fn of(samples: &[f64]) -> Timing {
-        assert!(!samples.is_empty(), "Timing::of needs at least one sample");
+    pub fn of(samples: &[f64]) -> WallTimes {
+        assert!(
+            !samples.is_empty(),
+            "WallTimes::of needs at least one sample"
+        );
         let mut v = samples.to_vec();
         v.sort_by(f64::total_cmp);
         let n = v.len();
@@ -84,7 +87,7 @@ impl Timing {
             0.5 * (v[n / 2 - 1] + v[n / 2])
         };
         let (lo, hi) = (v[0], v[n - 1]);
-        Timing {
+        WallTimes {
             repetitions: n,
             median_seconds: median,
             min_seconds: lo,
@@ -137,14 +140,14 @@ pub fn frame_setup(
 /// Times every run in `runs` on this thread, interleaved round-robin (A, B, C, A, B, C, …)
 /// so that a drift of the machine's speed touches all of them alike; a run leaves the rotation
 /// once `rule` is satisfied. Each repetition uses a fresh integrator and no observer; the time
-/// is the runner's integrator wall time. Returns one [`Timing`] per run, in input order.
+/// is the runner's integrator wall time. Returns one [`WallTimes`] per run, in input order.
 pub fn time_interleaved(
     sys: &System,
     s0: &State,
     runs: &[TimedRun],
     set: &CaseSettings,
     rule: &TimingRule,
-) -> Result<Vec<Timing>> {
+) -> Result<Vec<WallTimes>> {
     let mut samples: Vec<Vec<f64>> = vec![Vec::new(); runs.len()];
     let mut totals = vec![0.0; runs.len()];
     loop {
@@ -165,7 +168,7 @@ pub fn time_interleaved(
             break;
         }
     }
-    Ok(samples.iter().map(|s| Timing::of(s)).collect())
+    Ok(samples.iter().map(|s| WallTimes::of(s)).collect())
 }
 
 /// The outcome of one case: cost, status and metrics.
@@ -286,7 +289,7 @@ pub fn run_case(
             let o = run(sys, again.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             samples.push(o.wall_seconds);
         }
-        wall = Timing::of(&samples).median_seconds;
+        wall = WallTimes::of(&samples).median_seconds;
     }
     let contacts = contacts.map(|c| c.report());
     let (unstable_time, unstable_reason) = match &out.status {
@@ -355,14 +358,14 @@ mod tests {
     // even count), worked by hand.
     #[test]
     fn timing_keeps_the_median_not_the_minimum() {
-        let t = Timing::of(&[3.0, 1.0, 2.0, 10.0, 2.5]);
+        let t = WallTimes::of(&[3.0, 1.0, 2.0, 10.0, 2.5]);
         assert_eq!(t.median_seconds, 2.5);
         assert_eq!(
             (t.min_seconds, t.max_seconds, t.repetitions),
             (1.0, 10.0, 5)
         );
         assert_eq!(t.spread, 9.0 / 2.5);
-        assert_eq!(Timing::of(&[4.0, 1.0, 2.0, 3.0]).median_seconds, 2.5);
+        assert_eq!(WallTimes::of(&[4.0, 1.0, 2.0, 3.0]).median_seconds, 2.5);
     }
 
     #[test]

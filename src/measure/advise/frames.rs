@@ -4,7 +4,7 @@
 
 use super::cost::{force_evals_per_second, rank, CostKey, PickedBy};
 use crate::error::Result;
-use crate::measure::case::{CaseResult, TimedRun, Timing};
+use crate::measure::case::{CaseResult, TimedRun, WallTimes};
 use crate::measure::grid::TimeGrid;
 use crate::measure::tolerance::Judge;
 use crate::method::Registry;
@@ -37,7 +37,7 @@ pub struct FrameEntry {
     /// Why `wall_per_second` is null.
     pub wall_per_second_reason: Option<String>,
     /// The repeated timing behind `wall_per_second`.
-    pub timing: Option<Timing>,
+    pub timing: Option<WallTimes>,
     /// Force evaluations per simulated second at that many substeps; null for a backend that
     /// has no such count.
     pub cost_per_second: Option<f64>,
@@ -191,7 +191,7 @@ impl FramePlan {
     pub(super) fn apply_timings(
         &self,
         view: &mut [FrameRate],
-        timing_of: &dyn Fn(&TimedRun) -> Timing,
+        timing_of: &dyn Fn(&TimedRun) -> WallTimes,
         scenario: &str,
     ) -> Result<()> {
         for (fi, fr) in view.iter_mut().enumerate() {

@@ -21,7 +21,8 @@ pub use cost::{CostMeasure, PickedBy, ADVICE_TIMING, TIE_BAND};
 pub use frames::{FrameEntry, FrameRate, FRAME_RATES};
 
 use super::case::{
-    applicable, run_case, time_interleaved, CaseResult, CaseSettings, TimedRun, Timing, TimingRule,
+    applicable, run_case, time_interleaved, CaseResult, CaseSettings, TimedRun, TimingRule,
+    WallTimes,
 };
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -122,7 +123,7 @@ pub struct Choice {
     /// Why `cost_per_second` is null.
     pub cost_per_second_reason: Option<String>,
     /// The repeated timing behind `wall_per_second` (wall seconds of the whole run).
-    pub timing: Timing,
+    pub timing: WallTimes,
     /// Largest strain of the chosen run ([`crate::measure::Metrics::strain_max`]).
     pub strain_max: Option<f64>,
     /// Slope of the chosen run's energy balance (J/s).
@@ -294,7 +295,7 @@ impl Choice {
         c: &CaseResult,
         pred: f64,
         judge: &Judge,
-        timing: Timing,
+        timing: WallTimes,
     ) -> Result<Self> {
         let simulated = c.dt * c.steps as f64;
         let (cost, why) = force_evals_per_second(methods, &c.integrator, c.force_evals, simulated)?;
@@ -648,7 +649,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         }
     }
     let timings = time_interleaved(&sys, &scene.initial_state(), &runs, &set, &cfg.timing)?;
-    let timing_of = |r: &TimedRun| -> Timing {
+    let timing_of = |r: &TimedRun| -> WallTimes {
         let k = runs
             .iter()
             .position(|x| x == r)

@@ -23,7 +23,7 @@ pub use timing::FRAMERATE_TIMING;
 pub use write::{write_framerate, FRAMERATE_HEADER};
 
 use super::advise::cost::force_evals_per_second;
-use super::case::{applicable, run_case, CaseResult, CaseSettings, Timing, TimingRule};
+use super::case::{applicable, run_case, CaseResult, CaseSettings, TimingRule, WallTimes};
 use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -139,7 +139,7 @@ pub struct FrameRun {
     /// Median integrator wall time per frame (s); null for an unstable run (not timed).
     pub wall_seconds_per_frame: Option<f64>,
     /// The repeated timing behind it.
-    pub timing: Option<Timing>,
+    pub timing: Option<WallTimes>,
     /// Force evaluations per frame; null for a backend without such a count.
     pub force_evals_per_frame: Option<f64>,
     /// Why `force_evals_per_frame` is null.
