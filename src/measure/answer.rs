@@ -80,6 +80,43 @@ pub struct Answer {
     pub game_rate: GameRate,
 }
 
+impl FreeStep {
+    /// No method: judged by `metric` against `bound` (position tolerance `position` m), with
+    /// `why` saying what was verified instead.
+    fn none(metric: Metric, bound: f64, position: f64, why: String) -> Self {
+        FreeStep {
+            integrator: None,
+            dt: None,
+            metric: metric.name().into(),
+            tolerance: bound,
+            position_tolerance: position,
+            error: None,
+            wall_seconds_per_simulated_second: None,
+            meets: false,
+            verified: why,
+        }
+    }
+}
+
+impl GameRate {
+    /// No method at `hz`: judged by `metric` against `bound` (position tolerance `position`
+    /// m), with `why` saying what was verified instead.
+    fn none(hz: f64, metric: Metric, bound: f64, position: f64, why: String) -> Self {
+        GameRate {
+            hz,
+            integrator: None,
+            substeps: None,
+            metric: metric.name().into(),
+            tolerance: bound,
+            position_tolerance: position,
+            error: None,
+            wall_seconds_per_frame: None,
+            meets: false,
+            verified: why,
+        }
+    }
+}
+
 fn sig(v: f64) -> String {
     crate::error::significant(v, 3)
 }
@@ -87,17 +124,12 @@ fn sig(v: f64) -> String {
 /// The free-step answer from the advice, or the labelled fallback from the comparison.
 pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) -> FreeStep {
     let metric = advice.metric;
-    let base = FreeStep {
-        integrator: None,
-        dt: None,
-        metric: metric.name().into(),
-        tolerance: advice.tolerance,
-        position_tolerance: advice.position_tolerance.value,
-        error: None,
-        wall_seconds_per_simulated_second: None,
-        meets: false,
-        verified: String::new(),
-    };
+    let base = FreeStep::none(
+        metric,
+        advice.tolerance,
+        advice.position_tolerance.value,
+        String::new(),
+    );
     if let (Some(m), Some(dt)) = (&advice.integrator, advice.dt) {
         return FreeStep {
             integrator: Some(m.clone()),
@@ -160,18 +192,13 @@ pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) 
 /// fallback's words must not count among those that failed.
 pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -> Result<GameRate> {
     let metric = fr.metric;
-    let base = GameRate {
+    let base = GameRate::none(
         hz,
-        integrator: None,
-        substeps: None,
-        metric: metric.name().into(),
-        tolerance: fr.tolerance,
-        position_tolerance: fr.position_tolerance.value,
-        error: None,
-        wall_seconds_per_frame: None,
-        meets: false,
-        verified: String::new(),
-    };
+        metric,
+        fr.tolerance,
+        fr.position_tolerance.value,
+        String::new(),
+    );
     let at: Vec<_> = fr.entries.iter().filter(|e| e.hz == hz).collect();
     let meeting: Vec<_> = at
         .iter()
@@ -254,38 +281,27 @@ pub fn answer(
     hz: f64,
     scenario: &str,
 ) -> Result<Answer> {
-    let metric = Metric::Position;
-    let none_free = |why: &str| FreeStep {
-        integrator: None,
-        dt: None,
-        metric: metric.name().into(),
-        tolerance: compared.position_tolerance.value,
-        position_tolerance: compared.position_tolerance.value,
-        error: None,
-        wall_seconds_per_simulated_second: None,
-        meets: false,
-        verified: why.into(),
-    };
+    let position = compared.position_tolerance.value;
     let free_step = match advice {
         Some(a) => free_step(methods, a, compared),
-        None => none_free(advice_note.unwrap_or("no advice was measured")),
+        None => FreeStep::none(
+            Metric::Position,
+            position,
+            position,
+            advice_note.unwrap_or("no advice was measured").into(),
+        ),
     };
     let game_rate = match framerate {
         Some(f) => game_rate(f, hz, scenario, framerate_left_out)?,
-        None => GameRate {
+        None => GameRate::none(
             hz,
-            integrator: None,
-            substeps: None,
-            metric: metric.name().into(),
-            tolerance: compared.position_tolerance.value,
-            position_tolerance: compared.position_tolerance.value,
-            error: None,
-            wall_seconds_per_frame: None,
-            meets: false,
-            verified: framerate_note
+            Metric::Position,
+            position,
+            position,
+            framerate_note
                 .unwrap_or("no frame-rate table was measured")
                 .into(),
-        },
+        ),
     };
     Ok(Answer {
         free_step,

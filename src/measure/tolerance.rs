@@ -198,11 +198,8 @@ impl Judge {
         bouncing: bool,
     ) -> Self {
         let metric = metric.unwrap_or_else(|| default_metric(reference, bouncing));
-        let motion = if reference.motion_scale > 0.0 {
-            reference.motion_scale
-        } else {
-            1.0
-        };
+        // Never 0: the reference's motion scale is 1 m where nothing moves.
+        let motion = reference.motion_scale;
         let tolerance = resolve(asked, scene, motion);
         Judge {
             metric,

@@ -723,12 +723,7 @@ pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<std::path::Pa
 /// over the motion scale), and its energy drift rate within twice the verified run's.
 pub fn expect_table(adv: &Advice) -> Option<crate::scenario::file::ExpectSpec> {
     let pick = adv.alternatives.first()?;
-    let motion = if adv.reference.motion_scale > 0.0 {
-        adv.reference.motion_scale
-    } else {
-        1.0
-    };
-    let relative = adv.position_tolerance.value / motion;
+    let relative = adv.position_tolerance.value / adv.reference.motion_scale;
     Some(crate::scenario::file::ExpectSpec {
         integrator: pick.integrator.clone(),
         hz: None,

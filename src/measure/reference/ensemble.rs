@@ -12,12 +12,13 @@
 //! Members run in parallel, each sequentially, so the result is the same bits whatever the
 //! thread count. Cost: about [`ENSEMBLE_SIZE`] / 1.8 main solves of work.
 
-use super::adaptive::{length_scale, solve};
+use super::adaptive::solve;
+use super::rhs::unpack_x;
 use super::uncertainty::{LOOSE_FACTOR, PERTURBATION};
 use super::REFERENCE_TOL;
 use crate::error::Result;
 use crate::measure::statistics::{instant, window_times, Accumulator, Ensemble, ENSEMBLE_SIZE};
-use crate::model::{State, System, Vec3};
+use crate::model::{State, System};
 use rayon::prelude::*;
 
 /// The solver an ensemble member uses.
@@ -32,24 +33,15 @@ pub(super) enum MemberSolver {
 /// Member `k`'s initial state: every free particle coordinate moved by ± `PERTURBATION` ×
 /// the length scale, the signs from a SplitMix64 stream seeded with `k`.
 fn member_start(sys: &System, s0: &State, k: usize) -> State {
-    let eps = PERTURBATION * length_scale(s0);
     let mut state = (k as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    let mut next_bit = || {
+    let mut next_bit = |_: usize, _: usize| {
         state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = state;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         (z ^ (z >> 31)) & 1 == 1
     };
-    let mut s = s0.clone();
-    for (p, x) in s.x.iter_mut().enumerate() {
-        if sys.free[p] {
-            for c in 0..3 {
-                x[c] += if next_bit() { eps } else { -eps };
-            }
-        }
-    }
-    s
+    super::uncertainty::perturbed_with(sys, s0, &mut next_bit)
 }
 
 /// One member's observables over `times`, or None when its solver gave up.
@@ -73,14 +65,8 @@ fn member(
                 None,
                 Some(max_steps),
                 &mut |_, y| {
-                    let x: Vec<Vec3> = (0..n)
-                        .map(|p| Vec3::new(y[3 * p], y[3 * p + 1], y[3 * p + 2]))
-                        .collect();
-                    let v: Vec<Vec3> = (0..n)
-                        .map(|p| {
-                            Vec3::new(y[3 * n + 3 * p], y[3 * n + 3 * p + 1], y[3 * n + 3 * p + 2])
-                        })
-                        .collect();
+                    // The state vector is positions then velocities ([`super::rhs::pack`]).
+                    let (x, v) = (unpack_x(y, n), unpack_x(&y[3 * n..], n));
                     acc.push(&instant(sys, &x, &v));
                 },
             )?;

@@ -57,12 +57,23 @@ pub(super) struct Companions {
 /// `s0` with every free particle's position moved by `PERTURBATION` × the length scale, in a
 /// fixed alternating pattern of signs.
 pub(super) fn perturbed(sys: &System, s0: &State) -> State {
+    perturbed_with(sys, s0, &mut |p, c| (3 * p + c) % 2 == 0)
+}
+
+/// `s0` with every free particle coordinate moved by ± `PERTURBATION` × the length scale, + where
+/// `plus(particle, axis)` (asked in particle, then axis order): the one perturbation the
+/// companion solve and the ensemble members share.
+pub(super) fn perturbed_with(
+    sys: &System,
+    s0: &State,
+    plus: &mut dyn FnMut(usize, usize) -> bool,
+) -> State {
     let eps = PERTURBATION * length_scale(s0);
     let mut s = s0.clone();
     for (p, x) in s.x.iter_mut().enumerate() {
         if sys.free[p] {
-            for k in 0..3 {
-                x[k] += if (3 * p + k) % 2 == 0 { eps } else { -eps };
+            for c in 0..3 {
+                x[c] += if plus(p, c) { eps } else { -eps };
             }
         }
     }
