@@ -8,7 +8,8 @@
 //! interleaved in one process by `springlab bench-ratios`, which is steadier on a noisy machine.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use springlab::integrate::{Integrator, IntegratorOptions};
+use springlab::integrate::Integrator;
+use springlab::method::MethodOptions;
 use springlab::model::{State, System, Vec3};
 use springlab::perf::{backends_for, bench_dt, cloth, hand_step};
 use std::hint::black_box;
@@ -110,7 +111,7 @@ fn steps(c: &mut Criterion) {
         // Rapier (`rapier_impulse`) appears here once registered in `springlab::backend`.
         for name in backends_for(&scene).into_iter().filter(|n| selected(n)) {
             let dt = bench_dt(name);
-            let mut integ = springlab::method::create(name, &IntegratorOptions::default()).unwrap();
+            let mut integ = springlab::method::create(name, &MethodOptions::default()).unwrap();
             g.bench_function(BenchmarkId::new(name, n), |b| {
                 b.iter_custom(|iters| timed_steps(&sys, &s0, integ.as_mut(), dt, iters))
             });
@@ -165,7 +166,7 @@ fn threads(c: &mut Criterion) {
             b.iter(|| pool.install(|| black_box(sys.accelerations(&s0.x, &s0.v, &mut a))))
         });
         let mut integ =
-            springlab::method::create("symplectic_euler", &IntegratorOptions::default()).unwrap();
+            springlab::method::create("symplectic_euler", &MethodOptions::default()).unwrap();
         g.bench_function(BenchmarkId::new("symplectic_euler", t), |b| {
             b.iter_custom(|iters| {
                 pool.install(|| timed_steps(&sys, &s0, integ.as_mut(), 1e-3, iters))

@@ -9,17 +9,28 @@ use springlab::measure::advise::{advise, AdviseConfig};
 use springlab::measure::compare::{compare, CompareConfig};
 use springlab::measure::stability::{analyse, StabilityConfig};
 use springlab::measure::sweep::{run_sweep, SweepConfig};
-use springlab::method::{CostUnit, Method, MethodInfo, Order, Registry, StabilityTheory};
+use springlab::method::{Method, MethodInfo, MethodOptions, OptionSpec, Registry};
 use springlab::model::{State, System, Vec3};
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::file::{ParticleSpec, RunSpec, ScenarioFile, SpringSpec};
 use springlab::scenario::{Scenario, SpringLaw};
 
 /// The "game loop" scheme many engines ship: symplectic Euler with a velocity damping factor
-/// per frame (v *= 0.999), which quietly removes energy.
+/// per frame (v *= 0.999 by default), which quietly removes energy.
 struct GameEuler {
     a: Vec<Vec3>,
+    /// The factor v is multiplied by each step.
+    keep: f64,
 }
+
+/// The option game_euler reads, declared once: its flag, default, least value and help. The
+/// registry lists it in the method's facts, and every recorded command carries its value.
+const DAMPING_PPM: OptionSpec = OptionSpec {
+    flag: "game-damping-ppm",
+    default: 1000,
+    min: 0,
+    help: "Velocity removed per step by game_euler, in parts per million",
+};
 
 impl Integrator for GameEuler {
     fn name(&self) -> &str {
@@ -30,7 +41,7 @@ impl Integrator for GameEuler {
         sys.accelerations(&s.x, &s.v, &mut self.a);
         for p in 0..s.len() {
             if sys.free[p] {
-                s.v[p] = (s.v[p] + self.a[p] * h) * 0.999;
+                s.v[p] = (s.v[p] + self.a[p] * h) * self.keep;
                 s.x[p] += s.v[p] * h;
             }
         }
@@ -71,34 +82,40 @@ fn main() -> springlab::Result<()> {
     // Register the method once, with its facts.
     let methods = Registry::builtin().with(Method::new(
         MethodInfo {
-            name: "game_euler",
-            aliases: &[],
-            order: Order::Finite(1),
-            summary: "symplectic Euler with a 0.999 velocity damping per step",
-            stability: StabilityTheory::SpectralRadius,
-            cost: CostUnit::ForceEvaluations,
-            engine: false,
-            implicit: false,
+            options: &[DAMPING_PPM],
+            ..MethodInfo::native(
+                "game_euler",
+                1,
+                "symplectic Euler with a velocity damping per step (--game-damping-ppm)",
+            )
         },
-        |_| Box::new(GameEuler { a: Vec::new() }),
+        |o| {
+            Box::new(GameEuler {
+                a: Vec::new(),
+                keep: 1.0 - o.get(&DAMPING_PPM) as f64 * 1e-6,
+            })
+        },
     ))?;
     let sys = scene.build();
     let mine = ["game_euler", "symplectic_euler", "velocity_verlet", "rk4"].map(String::from);
 
     // run: one trajectory.
     let plan = RunPlan::for_duration(1.0 / 60.0, 10.0);
-    let mut game = methods.create("game_euler", &Default::default())?;
-    let out = run(
-        &sys,
-        game.as_mut(),
-        scene.initial_state(),
-        &plan,
-        &mut NoObserver,
-    )?;
-    println!(
-        "run: game_euler keeps {:.1}% of its energy after 10 s",
-        100.0 * out.final_energy.total / out.initial_energy.total
-    );
+    for ppm in [DAMPING_PPM.default, 0] {
+        let opts = MethodOptions::default().with(&DAMPING_PPM, ppm);
+        let mut game = methods.create("game_euler", &opts)?;
+        let out = run(
+            &sys,
+            game.as_mut(),
+            scene.initial_state(),
+            &plan,
+            &mut NoObserver,
+        )?;
+        println!(
+            "run: game_euler at --game-damping-ppm {ppm} keeps {:.1}% of its energy after 10 s",
+            100.0 * out.final_energy.total / out.initial_energy.total
+        );
+    }
 
     // compare: side by side against the closed form.
     let cmp = compare(
@@ -110,7 +127,7 @@ fn main() -> springlab::Result<()> {
             ..Default::default()
         },
     )?;
-    println!("compare against {}:", cmp.reference.kind);
+    println!("compare against {} ({}):", cmp.reference.kind, cmp.command);
     for e in &cmp.entries {
         match e.result.as_ref().map(|r| (r, r.metrics.as_ref())) {
             Some((r, Some(m))) => println!(

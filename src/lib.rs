@@ -48,9 +48,9 @@ pub mod scenario;
 
 // What a library user needs most, at the top: a scene, a method, a run, a study.
 pub use error::{Error, Result};
-pub use integrate::{Integrator, IntegratorOptions};
+pub use integrate::Integrator;
 pub use measure::study::{study, SceneStudy, StudyConfig};
-pub use method::{Method, MethodInfo, Registry};
+pub use method::{Method, MethodInfo, MethodOptions, Registry};
 pub use model::{State, System, Vec3};
 pub use run::{run, RunOutcome, RunPlan, Status};
 pub use scenario::Scenario;

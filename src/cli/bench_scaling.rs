@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Result};
 use plotters::prelude::*;
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::output::write_atomic;
 use springlab::perf::{backends_for, bench_dt, cloth, time_per_step};
 use std::path::PathBuf;
@@ -56,7 +56,7 @@ pub fn run(a: Args) -> Result<()> {
         let scene = cloth(n);
         let springs = scene.springs.len();
         for name in backends_for(&scene) {
-            let mut integ = springlab::method::create(name, &IntegratorOptions::default())?;
+            let mut integ = springlab::method::create(name, &MethodOptions::default())?;
             let dt = bench_dt(name);
             // About 10⁶ spring updates per repetition, at least 2 steps.
             let steps = (1_000_000 / springs.max(1)).clamp(2, 500);

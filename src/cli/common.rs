@@ -2,7 +2,7 @@
 
 use anyhow::{bail, Result};
 use springlab::error::num;
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::run::RunPlan;
 use springlab::scenario::{Scenario, Timing, MAX_STEPS};
 use std::path::{Path, PathBuf};
@@ -43,16 +43,13 @@ pub struct StepArgs {
     pub duration: Option<f64>,
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
-    /// Constraint projection sweeps per step for verlet_constraints.
-    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
-    pub iterations: usize,
     /// Substeps per frame: native methods take N equal steps of dt/N per frame (bit for bit
     /// the run at dt/N, every N-th state written), Rapier backends N solver substeps.
     /// Default: 1 for native methods, Rapier's own 4 for Rapier backends.
     #[arg(long, allow_negative_numbers = true)]
     pub substeps: Option<u64>,
     #[command(flatten)]
-    pub xpbd: super::xpbd_args::XpbdArgs,
+    pub method: super::method_args::MethodArgs,
 }
 
 impl StepArgs {
@@ -85,13 +82,9 @@ impl StepArgs {
             bail!("--steps: must be at least 1");
         }
         let blowup_factor = self.blowup.value()?;
-        if self.iterations == 0 {
-            bail!("--iterations: must be at least 1");
-        }
         if self.substeps == Some(0) {
             bail!("--substeps: must be at least 1");
         }
-        self.xpbd.values()?;
         let dt_flag = (self.dt.is_some() || self.hz.is_some()).then_some(flag);
         let mut plan = if let Some(n) = self.steps {
             if n > MAX_STEPS {
@@ -114,16 +107,13 @@ impl StepArgs {
         Ok(plan)
     }
 
-    /// Integrator options from the flags.
-    pub fn options(&self) -> IntegratorOptions {
-        IntegratorOptions {
-            constraint_iterations: self.iterations,
-            substeps: self
-                .substeps
-                .map_or(IntegratorOptions::default().substeps, |n| n as usize),
-            xpbd_substeps: self.xpbd.xpbd_substeps,
-            xpbd_iterations: self.xpbd.xpbd_iterations,
+    /// Method options from the flags; `--substeps` is also an engine's solver substeps.
+    pub fn options(&self) -> MethodOptions {
+        let mut o = self.method.options();
+        if let Some(n) = self.substeps {
+            o.substeps = n as usize;
         }
+        o
     }
 }
 

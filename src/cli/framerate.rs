@@ -3,7 +3,6 @@
 
 use super::common::load;
 use anyhow::Result;
-use springlab::integrate::IntegratorOptions;
 use springlab::measure::framerate::{
     framerate, write_framerate, FramerateConfig, DEFAULT_MAX_SUBSTEPS,
 };
@@ -49,9 +48,8 @@ pub struct Args {
     /// exceed the budget are left out, named with the figure.
     #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
     pub budget: f64,
-    /// Constraint projection sweeps per step for verlet_constraints.
-    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
-    pub iterations: usize,
+    #[command(flatten)]
+    pub method: super::method_args::MethodArgs,
     #[command(flatten)]
     pub blowup: super::measure_common::BlowupArg,
     /// Output directory (default: out/<scenario>/framerate/).
@@ -65,9 +63,6 @@ pub fn run(a: Args) -> Result<()> {
         super::common::check_out(out)?;
     }
     let scene = load(&a.scenario)?;
-    if a.iterations == 0 {
-        anyhow::bail!("--iterations: must be at least 1");
-    }
     if let Some(d) = a.duration.filter(|d| !(d.is_finite() && *d > 0.0)) {
         anyhow::bail!(
             "--duration: must be a finite number > 0, got {}",
@@ -79,10 +74,7 @@ pub fn run(a: Args) -> Result<()> {
         tolerance: a.tolerance,
         metric: a.metric,
         integrators: a.integrators.clone(),
-        options: IntegratorOptions {
-            constraint_iterations: a.iterations,
-            ..Default::default()
-        },
+        options: a.method.options(),
         duration: a.duration,
         max_substeps: a.max_substeps,
         cost_cap: a.cost_cap,

@@ -1,4 +1,5 @@
-//! `springlab list`: the integrators and the shipped scenarios, one line each.
+//! `springlab list`: the methods (with the options each reads) and the shipped scenarios, one
+//! line each.
 
 use anyhow::Result;
 use springlab::scenario::Scenario;
@@ -22,8 +23,13 @@ pub fn run(a: Args) -> Result<()> {
         } else {
             format!(" (alias {})", i.aliases.join(", "))
         };
+        let options: String = i
+            .options
+            .iter()
+            .map(|o| format!(" [--{} N, default {}]", o.flag, o.default))
+            .collect();
         println!(
-            "  {:<22} order {:<5} {}{aliases}",
+            "  {:<22} order {:<5} {}{aliases}{options}",
             i.name,
             i.order.to_string(),
             i.summary

@@ -1,7 +1,7 @@
 //! Flags shared by the measuring subcommands (sweep, stability, advise, compare).
 
 use anyhow::{bail, Result};
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use std::path::{Path, PathBuf};
 
 /// `--blowup-factor`: one flag, one default and one help text for every command.
@@ -30,9 +30,6 @@ pub struct MeasureArgs {
     /// Integrators or backends, comma-separated (default: every one that applies).
     #[arg(long, value_delimiter = ',')]
     pub integrators: Vec<String>,
-    /// Constraint projection sweeps per step for verlet_constraints.
-    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
-    pub iterations: usize,
     /// Substeps per step. Rapier backends take this many solver substeps (default 4). In
     /// `compare` the step is a frame and every native method also splits it into this many
     /// equal steps (default 1; bit-identical to dt/N, every N-th state measured); `sweep`,
@@ -40,30 +37,23 @@ pub struct MeasureArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub substeps: Option<usize>,
     #[command(flatten)]
-    pub xpbd: super::xpbd_args::XpbdArgs,
+    pub method: super::method_args::MethodArgs,
     /// Output directory (default: out/<scenario>/<command>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
 
 impl MeasureArgs {
-    /// Integrator options, validated.
-    pub fn options(&self) -> Result<IntegratorOptions> {
-        if self.iterations == 0 {
-            bail!("--iterations: must be at least 1");
-        }
+    /// Method options, validated; `--substeps` is also an engine's solver substeps.
+    pub fn options(&self) -> Result<MethodOptions> {
         if self.substeps == Some(0) {
             bail!("--substeps: must be at least 1");
         }
-        let (xpbd_substeps, xpbd_iterations) = self.xpbd.values()?;
-        Ok(IntegratorOptions {
-            constraint_iterations: self.iterations,
-            substeps: self
-                .substeps
-                .unwrap_or(IntegratorOptions::default().substeps),
-            xpbd_substeps,
-            xpbd_iterations,
-        })
+        let mut o = self.method.options();
+        if let Some(n) = self.substeps {
+            o.substeps = n;
+        }
+        Ok(o)
     }
     /// Substeps per frame for every backend, when `--substeps` was given (`compare`).
     pub fn frame_substeps(&self) -> Option<u64> {

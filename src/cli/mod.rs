@@ -11,12 +11,12 @@ mod framerate;
 mod list;
 mod measure_common;
 mod merge;
+mod method_args;
 mod report;
 mod run;
 mod small_steps;
 mod stability;
 mod sweep;
-mod xpbd_args;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -20,6 +20,9 @@ use super::{ensure_len, Integrator, StepStats};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 
+/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+const NAME: &str = "bdf2";
+
 /// BDF2 with a backward-Euler start, on the shared Newton + block-Jacobi-PCG core.
 #[derive(Debug, Default)]
 pub struct Bdf2 {
@@ -37,7 +40,7 @@ pub struct Bdf2 {
 
 impl Integrator for Bdf2 {
     fn name(&self) -> &str {
-        "bdf2"
+        NAME
     }
     fn reset(&mut self) {
         self.h_prev = None;
@@ -67,7 +70,7 @@ impl Integrator for Bdf2 {
         if start {
             (power, evals) = self
                 .newton
-                .solve(sys, &s.x, &s.v, h, Stop::SecondOrder, "bdf2")?;
+                .solve(sys, &s.x, &s.v, h, Stop::SecondOrder, NAME)?;
             dissipated = power * h;
         } else {
             for p in 0..n {
@@ -87,7 +90,7 @@ impl Integrator for Bdf2 {
                 &self.v_base,
                 2.0 * h / 3.0,
                 Stop::SecondOrder,
-                "bdf2",
+                NAME,
             )?;
             dissipated = 0.5 * h * (self.power + power);
         }

@@ -15,6 +15,9 @@ use super::{Integrator, StepStats};
 use crate::error::Result;
 use crate::model::{State, System};
 
+/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+const NAME: &str = "implicit_euler";
+
 /// Backward Euler with Newton + block-Jacobi-preconditioned CG.
 #[derive(Debug, Default)]
 pub struct ImplicitEuler {
@@ -24,7 +27,7 @@ pub struct ImplicitEuler {
 
 impl Integrator for ImplicitEuler {
     fn name(&self) -> &str {
-        "implicit_euler"
+        NAME
     }
     fn newton(&self) -> Option<&Newton> {
         Some(&self.newton)
@@ -36,9 +39,9 @@ impl Integrator for ImplicitEuler {
         self.newton.reset();
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
-        let (power, evals) =
-            self.newton
-                .solve(sys, &s.x, &s.v, h, Stop::FirstOrder, "implicit_euler")?;
+        let (power, evals) = self
+            .newton
+            .solve(sys, &s.x, &s.v, h, Stop::FirstOrder, NAME)?;
         s.v.copy_from_slice(self.newton.v());
         s.x.copy_from_slice(self.newton.x());
         s.t += h;

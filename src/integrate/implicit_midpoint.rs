@@ -16,6 +16,9 @@ use super::{Integrator, StepStats};
 use crate::error::Result;
 use crate::model::{State, System};
 
+/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+const NAME: &str = "implicit_midpoint";
+
 /// Implicit midpoint with the shared Newton + block-Jacobi-preconditioned CG core.
 #[derive(Debug, Default)]
 pub struct ImplicitMidpoint {
@@ -25,7 +28,7 @@ pub struct ImplicitMidpoint {
 
 impl Integrator for ImplicitMidpoint {
     fn name(&self) -> &str {
-        "implicit_midpoint"
+        NAME
     }
     fn newton(&self) -> Option<&Newton> {
         Some(&self.newton)
@@ -37,14 +40,9 @@ impl Integrator for ImplicitMidpoint {
         self.newton.reset();
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
-        let (power, evals) = self.newton.solve(
-            sys,
-            &s.x,
-            &s.v,
-            0.5 * h,
-            Stop::SecondOrder,
-            "implicit_midpoint",
-        )?;
+        let (power, evals) =
+            self.newton
+                .solve(sys, &s.x, &s.v, 0.5 * h, Stop::SecondOrder, NAME)?;
         let (xm, u) = (self.newton.x(), self.newton.v());
         for p in 0..s.len() {
             if sys.free[p] {

@@ -14,6 +14,9 @@ use super::{Integrator, StepStats};
 use crate::error::Result;
 use crate::model::{State, System};
 
+/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+const NAME: &str = "linear_implicit_euler";
+
 /// Baraff–Witkin linearly implicit Euler on the shared block-Jacobi-PCG core.
 #[derive(Debug, Default)]
 pub struct LinearImplicitEuler {
@@ -23,7 +26,7 @@ pub struct LinearImplicitEuler {
 
 impl Integrator for LinearImplicitEuler {
     fn name(&self) -> &str {
-        "linear_implicit_euler"
+        NAME
     }
     fn newton(&self) -> Option<&Newton> {
         Some(&self.newton)
@@ -35,9 +38,7 @@ impl Integrator for LinearImplicitEuler {
         self.newton.reset();
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
-        let (power, evals) =
-            self.newton
-                .solve_linearized(sys, &s.x, &s.v, h, "linear_implicit_euler")?;
+        let (power, evals) = self.newton.solve_linearized(sys, &s.x, &s.v, h, NAME)?;
         s.v.copy_from_slice(self.newton.v());
         s.x.copy_from_slice(self.newton.x());
         s.t += h;

@@ -12,7 +12,6 @@ mod implicit_euler;
 mod implicit_midpoint;
 mod linear_implicit_euler;
 mod newton;
-mod options;
 mod rattle;
 mod rk;
 mod shake;
@@ -27,7 +26,6 @@ pub use implicit_euler::ImplicitEuler;
 pub use implicit_midpoint::ImplicitMidpoint;
 pub use linear_implicit_euler::LinearImplicitEuler;
 pub use newton::{ImplicitSettings, LinearSolver, Newton};
-pub use options::IntegratorOptions;
 pub use rattle::{Rattle, RattleSettings};
 pub use rk::{RungeKutta, Tableau};
 pub use verlet::{PositionVerlet, VelocityVerlet};
@@ -74,13 +72,15 @@ pub trait Integrator: Send {
         }
     }
     /// True when the method resolves obstacle contacts itself (a physics engine), so the
-    /// runner must not apply springlab's post-step contact stage on top.
+    /// runner must not apply springlab's post-step contact stage on top. The registry checks
+    /// it against the method's `MethodInfo::contacts` fact.
     fn handles_contacts(&self) -> bool {
         false
     }
     /// True for a backend that splits each frame into substeps itself (a physics engine's
-    /// solver substeps, [`IntegratorOptions::substeps`]): the runner then passes it whole
-    /// frames instead of splitting them into `RunPlan::substeps` steps.
+    /// solver substeps, `MethodOptions::substeps`): the runner then passes it whole frames
+    /// instead of splitting them into `RunPlan::substeps` steps. The registry checks it
+    /// against the method's `MethodInfo::splits_frames` fact.
     fn splits_frames(&self) -> bool {
         false
     }
@@ -98,7 +98,8 @@ pub trait Integrator: Send {
     }
     /// k of a k-step (multistep) method: how many past states, the current one included, its
     /// next step reads once started (2 for BDF2); 1 for one-step methods. The linear
-    /// stability analysis identifies a k-step recurrence from it.
+    /// stability analysis identifies a k-step recurrence from it. The registry checks it
+    /// against the method's `MethodInfo::recurrence_steps` fact.
     fn recurrence_steps(&self) -> usize {
         1
     }

@@ -6,7 +6,7 @@ use super::metrics::{Metrics, MetricsObserver, Series};
 use super::reference::Reference;
 use super::trace::{Trace, TraceObserver, TraceSpec};
 use crate::error::Result;
-use crate::integrate::IntegratorOptions;
+use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::model::{State, System};
 use crate::run::{run, NoObserver, RunPlan, RunStatus, Status};
@@ -122,7 +122,7 @@ pub fn frame_setup(
     dt: f64,
     steps: u64,
     substeps: Option<u64>,
-) -> (RunPlan, IntegratorOptions) {
+) -> (RunPlan, MethodOptions) {
     let plan = RunPlan {
         dt,
         steps,
@@ -130,7 +130,7 @@ pub fn frame_setup(
         blowup_factor: set.blowup_factor,
         stop_at_verdict: true,
     };
-    let mut options = set.options;
+    let mut options = set.options.clone();
     if let Some(n) = substeps {
         options.substeps = n.max(1) as usize;
     }
@@ -223,7 +223,7 @@ pub struct CaseSettings {
     /// The methods cases are run with (built-ins unless a library user added theirs).
     pub methods: Registry,
     /// Integrator options.
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Blow-up factor of the runner.
     pub blowup_factor: f64,
     /// Series points (0: none).
@@ -245,7 +245,7 @@ impl Default for CaseSettings {
     fn default() -> Self {
         CaseSettings {
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 0,
             repeat_short: true,
@@ -333,7 +333,7 @@ pub fn applicable(
     methods: &Registry,
     sys: &System,
     asked: &[String],
-    opts: &IntegratorOptions,
+    opts: &MethodOptions,
 ) -> Result<(Vec<String>, Vec<(String, String)>)> {
     let (mut ok, mut skipped) = (Vec::new(), Vec::new());
     for n in asked_or_all(methods, asked) {

@@ -6,6 +6,7 @@
 //! back the very same bits. Methods a library user registered are named like the built-ins;
 //! re-running such a command needs the same registry (the library API), not the CLI.
 
+use crate::method::{MethodOptions, Registry};
 use std::fmt::Display;
 use std::path::Path;
 
@@ -58,6 +59,14 @@ impl CommandLine {
         }
         let joined: Vec<String> = values.iter().map(|v| v.to_string()).collect();
         self.flag(name, joined.join(","))
+    }
+    /// Adds `--flag value` for every option the methods of `methods` read (their declared
+    /// schema, in registration order), at its value in `opts`.
+    pub fn method_options(self, methods: &Registry, opts: &MethodOptions) -> Self {
+        methods
+            .option_schema()
+            .into_iter()
+            .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.get(&spec)))
     }
     /// Adds a bare `--name`.
     pub fn switch(mut self, name: &str, on: bool) -> Self {

@@ -8,9 +8,9 @@ use super::metrics::Metrics;
 use super::reference::{Reference, ReferenceInfo};
 use super::trace::{longest_paths, TraceSpec};
 use crate::error::Result;
-use crate::integrate::IntegratorOptions;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::Tolerance;
+use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::output::write_atomic;
 use crate::scenario::{Scenario, Timing};
@@ -31,7 +31,7 @@ pub struct CompareConfig {
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub methods: Registry,
     /// Integrator options (`substeps`: Rapier's solver substeps, unless `frame_substeps`).
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Substeps per frame for every backend (`--substeps`): `dt` is then the frame step,
     /// native methods take that many equal steps per frame and Rapier that many solver
     /// substeps. `None`: one step per frame, and `options.substeps` for Rapier.
@@ -60,7 +60,7 @@ impl Default for CompareConfig {
             dt: None,
             duration: None,
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             frame_substeps: None,
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 2000,
@@ -196,7 +196,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     });
     let set = CaseSettings {
         methods: cfg.methods.clone(),
-        options: cfg.options,
+        options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: cfg.series_points,
         repeat_short: true,
@@ -241,9 +241,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         .flag("duration", grid.time(steps))
         .list("integrators", &asked_or_all(&cfg.methods, &asked))
         .flag_opt("substeps", cfg.frame_substeps)
-        .flag("iterations", cfg.options.constraint_iterations)
-        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
-        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
+        .method_options(&cfg.methods, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag("series-points", cfg.series_points)
         .switch("trace", cfg.trace)

@@ -3,7 +3,7 @@
 //! their costs from. It is a measurement, so it varies between machines and runs; whatever it
 //! decides is stated with the figure.
 
-use crate::integrate::IntegratorOptions;
+use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::model::{State, System};
 
@@ -21,7 +21,7 @@ pub fn seconds_per_step(
     sys: &System,
     s0: &State,
     methods: &Registry,
-    options: &IntegratorOptions,
+    options: &MethodOptions,
     name: &str,
     dt: f64,
     steps: u64,

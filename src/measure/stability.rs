@@ -29,7 +29,7 @@
 pub use super::modes::Mode;
 use super::modes::{modes, Modes};
 use crate::error::Result;
-use crate::integrate::IntegratorOptions;
+use crate::method::MethodOptions;
 use crate::method::{Method, Registry, StabilityTheory};
 use crate::model::{EnergyKind, ForceTerm, Jacobian, Springs, State, System, Vec3};
 use crate::run::{run, NoObserver, RunPlan};
@@ -104,7 +104,7 @@ fn mode_system(m: Mode) -> System {
 /// None when the method fails or the identification is singular.
 pub fn one_step_map(
     method: &Method,
-    opts: &IntegratorOptions,
+    opts: &MethodOptions,
     m: Mode,
     h: f64,
 ) -> Option<[[f64; 2]; 2]> {
@@ -148,8 +148,8 @@ pub fn one_step_map(
 /// independent trajectories of 2k − 1 steps (the first k − 1 of which are its start: k
 /// recurrence steps give the k unknown 2×2 blocks). None when the method fails or the
 /// identification is singular.
-pub fn step_radius(method: &Method, opts: &IntegratorOptions, m: Mode, h: f64) -> Option<f64> {
-    let k = method.create(opts).recurrence_steps();
+pub fn step_radius(method: &Method, opts: &MethodOptions, m: Mode, h: f64) -> Option<f64> {
+    let k = method.info.recurrence_steps;
     if k <= 1 {
         return one_step_map(method, opts, m, h).map(spectral_radius);
     }
@@ -209,7 +209,7 @@ pub fn spectral_radius(m: [[f64; 2]; 2]) -> f64 {
     }
 }
 
-fn rho(method: &Method, opts: &IntegratorOptions, m: Mode, h: f64) -> f64 {
+fn rho(method: &Method, opts: &MethodOptions, m: Mode, h: f64) -> f64 {
     step_radius(method, opts, m, h).unwrap_or(f64::INFINITY)
 }
 
@@ -231,7 +231,7 @@ pub enum Verdict {
 pub type Limit = (Verdict, Option<f64>);
 
 /// Largest stable step on one mode: (verdict, limit).
-pub fn mode_limit(method: &Method, opts: &IntegratorOptions, m: Mode) -> (Verdict, Option<f64>) {
+pub fn mode_limit(method: &Method, opts: &MethodOptions, m: Mode) -> (Verdict, Option<f64>) {
     let w = m.omega2.sqrt().max(m.damping);
     if w <= 0.0 {
         return (Verdict::UnconditionallyStable, None);
@@ -278,11 +278,7 @@ pub fn mode_limit(method: &Method, opts: &IntegratorOptions, m: Mode) -> (Verdic
 }
 
 /// Theory for a method over all modes: the tightest mode decides.
-pub fn theory_limit(
-    method: &Method,
-    opts: &IntegratorOptions,
-    ms: &Modes,
-) -> (Verdict, Option<f64>) {
+pub fn theory_limit(method: &Method, opts: &MethodOptions, ms: &Modes) -> (Verdict, Option<f64>) {
     let mut best = (Verdict::UnconditionallyStable, None::<f64>);
     for &m in &ms.modes {
         match mode_limit(method, opts, m) {
@@ -326,7 +322,7 @@ pub fn empirical_limit(
     sys: &System,
     s0: &State,
     method: &Method,
-    opts: &IntegratorOptions,
+    opts: &MethodOptions,
     start: f64,
     crit: &EmpiricalCriterion,
 ) -> Result<Empirical> {
@@ -493,7 +489,7 @@ pub struct StabilityConfig {
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub methods: Registry,
     /// Integrator options.
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
     pub horizon: Option<f64>,
     /// Empirical blow-up factor (default: every command's, [`crate::run::DEFAULT_BLOWUP_FACTOR`]).
@@ -550,7 +546,7 @@ impl Default for StabilityConfig {
         StabilityConfig {
             integrators: vec![],
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             horizon: None,
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             theory_only: false,
@@ -723,9 +719,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let command = super::command::CommandLine::new("stability", &scene.source)
         .list("integrators", &asked)
         .flag("substeps", cfg.options.substeps)
-        .flag("iterations", cfg.options.constraint_iterations)
-        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
-        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
+        .method_options(&cfg.methods, &cfg.options)
         .flag("horizon", horizon)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag_opt("budget", cfg.budget_seconds)
@@ -763,7 +757,7 @@ pub struct MapConfig {
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub methods: Registry,
     /// Integrator options.
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
     pub stiffness_scales: Vec<f64>,
     /// Multipliers of every damper and of drag (default [1]).
@@ -793,7 +787,7 @@ impl Default for MapConfig {
         MapConfig {
             integrators: vec![],
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
             damping_scales: vec![1.0],
             h_omega: logspace(0.02, 20.0, 16),

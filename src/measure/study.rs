@@ -31,7 +31,7 @@ use super::framerate::{framerate, Framerate, FramerateConfig};
 use super::stability::{analyse, StabilityConfig, StabilityReport};
 use super::sweep::{plan_sweep, run_sweep, SweepConfig, SweepResult};
 use crate::error::Result;
-use crate::integrate::IntegratorOptions;
+use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::scenario::Scenario;
 use serde::Serialize;
@@ -97,7 +97,7 @@ pub struct StudyConfig {
     /// The methods (built-ins unless a library user added theirs).
     pub methods: Registry,
     /// Integrator options.
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Position tolerance of every answer (m); None: each scene's `[run] tolerance`, else 1 %
     /// of its motion scale ([`crate::measure::tolerance`]).
     pub tolerance: Option<f64>,
@@ -114,7 +114,7 @@ impl Default for StudyConfig {
     fn default() -> Self {
         StudyConfig {
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             tolerance: None,
             quick: false,
             progress: false,
@@ -213,7 +213,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         &CompareConfig {
             methods: cfg.methods.clone(),
             integrators: asked,
-            options: cfg.options,
+            options: cfg.options.clone(),
             series_points: if cfg.quick { 120 } else { 250 },
             progress: cfg.progress,
             blowup_factor: cfg.blowup_factor,
@@ -244,7 +244,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         .collect();
     let advice_cfg = AdviseConfig {
         methods: cfg.methods.clone(),
-        options: cfg.options,
+        options: cfg.options.clone(),
         tolerance: cfg.tolerance,
         ensemble: compared.ensemble.clone(),
         points: if cfg.quick { 4 } else { 8 },
@@ -287,7 +287,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         } else {
             STUDY_COST_CAP
         }),
-        options: cfg.options,
+        options: cfg.options.clone(),
         progress: cfg.progress,
         blowup_factor: cfg.blowup_factor,
         ..Default::default()
@@ -318,7 +318,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         &StabilityConfig {
             methods: cfg.methods.clone(),
             integrators: measured.clone(),
-            options: cfg.options,
+            options: cfg.options.clone(),
             theory_only: cfg.quick,
             progress: cfg.progress,
             blowup_factor: cfg.blowup_factor,
@@ -516,7 +516,7 @@ fn study_framerate(
             rates,
             integrators: chosen,
             methods: cfg.methods.clone(),
-            options: cfg.options,
+            options: cfg.options.clone(),
             max_substeps,
             tolerance: cfg.tolerance,
             ensemble: compared.ensemble.clone(),

@@ -3,6 +3,7 @@
 //! ODEs I*; Hairer, Lubich & Wanner, *Geometric Numerical Integration*).
 
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
+use super::options::{ITERATIONS, XPBD_ITERATIONS, XPBD_SUBSTEPS};
 use super::registry::Method;
 use crate::integrate::{
     Analytic, Bdf2, ExplicitEuler, ImplicitEuler, ImplicitMidpoint, LinearImplicitEuler,
@@ -11,39 +12,24 @@ use crate::integrate::{
 };
 use crate::rapier::{Mode, RapierBackend, IMPULSE, MULTIBODY};
 
-const fn native(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
-    MethodInfo {
-        name,
-        aliases: &[],
-        order: Order::Finite(order),
-        summary,
-        stability: StabilityTheory::SpectralRadius,
-        cost: CostUnit::ForceEvaluations,
-        engine: false,
-        implicit: false,
-    }
-}
-
 /// A native method that solves a system each step ([`MethodInfo::implicit`]).
 const fn implicit(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
     MethodInfo {
         implicit: true,
-        ..native(name, order, summary)
+        ..MethodInfo::native(name, order, summary)
     }
 }
 
 const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
     MethodInfo {
-        name,
-        aliases: &[],
-        // A frame of h is N substeps of symplectic Euler with backward-Euler joint springs
-        // (see `rapier::scheme`): first order.
-        order: Order::Finite(1),
-        summary,
         stability: StabilityTheory::Empirical,
         cost: CostUnit::WallTime,
         engine: true,
-        implicit: false,
+        contacts: true,
+        splits_frames: true,
+        // A frame of h is N substeps of symplectic Euler with backward-Euler joint springs
+        // (see `rapier::scheme`): first order.
+        ..MethodInfo::native(name, 1, summary)
     }
 }
 
@@ -51,7 +37,7 @@ const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
 pub fn methods() -> Vec<Method> {
     vec![
         Method::new(
-            native(
+            MethodInfo::native(
                 "explicit_euler",
                 1,
                 "forward Euler; unstable on undamped oscillators at every step",
@@ -61,7 +47,7 @@ pub fn methods() -> Vec<Method> {
         Method::new(
             MethodInfo {
                 aliases: &["semi_implicit_euler"],
-                ..native(
+                ..MethodInfo::native(
                     "symplectic_euler",
                     1,
                     "semi-implicit Euler (kick then drift), symplectic; stable for hω < 2",
@@ -94,15 +80,18 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(ImplicitMidpoint::default()),
         ),
         Method::new(
-            implicit(
-                "bdf2",
-                2,
-                "two-step BDF (backward-Euler start), Newton + block-Jacobi CG; stable at any step, damps",
-            ),
+            MethodInfo {
+                recurrence_steps: 2,
+                ..implicit(
+                    "bdf2",
+                    2,
+                    "two-step BDF (backward-Euler start), Newton + block-Jacobi CG; stable at any step, damps",
+                )
+            },
             |_| Box::new(Bdf2::default()),
         ),
         Method::new(
-            native(
+            MethodInfo::native(
                 "rk2",
                 2,
                 "explicit midpoint Runge-Kutta; unstable on undamped oscillators",
@@ -110,7 +99,7 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(RungeKutta::new(Tableau::rk2())),
         ),
         Method::new(
-            native(
+            MethodInfo::native(
                 "rk4",
                 4,
                 "classic Runge-Kutta; stable for hω < 2√2 on oscillators",
@@ -118,7 +107,7 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(RungeKutta::new(Tableau::rk4())),
         ),
         Method::new(
-            native(
+            MethodInfo::native(
                 "velocity_verlet",
                 2,
                 "kick-drift-kick Störmer-Verlet, symplectic; stable for hω < 2",
@@ -126,7 +115,7 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(VelocityVerlet::default()),
         ),
         Method::new(
-            native(
+            MethodInfo::native(
                 "position_verlet",
                 2,
                 "two-step Störmer form, symplectic; stable for hω < 2",
@@ -134,12 +123,15 @@ pub fn methods() -> Vec<Method> {
             |_| Box::new(PositionVerlet::default()),
         ),
         Method::new(
-            native(
-                "verlet_constraints",
-                1,
-                "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
-            ),
-            |o| Box::new(VerletConstraints::new(o.constraint_iterations)),
+            MethodInfo {
+                options: &[ITERATIONS],
+                ..MethodInfo::native(
+                    "verlet_constraints",
+                    1,
+                    "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
+                )
+            },
+            |o| Box::new(VerletConstraints::new(o.get(&ITERATIONS))),
         ),
         Method::new(
             MethodInfo {
@@ -149,16 +141,17 @@ pub fn methods() -> Vec<Method> {
                 // force model (springs become constraints): costed in wall time.
                 stability: StabilityTheory::Empirical,
                 cost: CostUnit::WallTime,
-                ..native(
+                options: &[XPBD_SUBSTEPS, XPBD_ITERATIONS],
+                ..MethodInfo::native(
                     "xpbd",
                     1,
                     "XPBD (Macklin et al. 2016): springs as compliant constraints with XPBD damping, --xpbd-substeps x --xpbd-iterations Gauss-Seidel",
                 )
             },
-            |o| Box::new(Xpbd::new(o.xpbd_substeps, o.xpbd_iterations)),
+            |o| Box::new(Xpbd::new(o.get(&XPBD_SUBSTEPS), o.get(&XPBD_ITERATIONS))),
         ),
         Method::new(
-            native(
+            MethodInfo::native(
                 "rattle",
                 2,
                 "velocity Verlet with SHAKE/RATTLE rigid constraints, symplectic; stable for hω < 2",
@@ -170,7 +163,7 @@ pub fn methods() -> Vec<Method> {
                 order: Order::Exact,
                 stability: StabilityTheory::Unconditional,
                 cost: CostUnit::WallTime,
-                ..native(
+                ..MethodInfo::native(
                     "analytic",
                     1,
                     "exact closed form for independent damped springs on fixed anchors",

@@ -1,5 +1,6 @@
-//! The facts a method carries: its order, how its stability is judged and how its cost is
-//! counted. Commands, reports and the registry read these; nobody re-derives them by name.
+//! The facts a method carries: its order, how its stability is judged, how its cost is
+//! counted, how it meets the runner (contacts, frames, past states) and the options it reads.
+//! Commands, reports and the registry read these; nobody re-derives them by name.
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -105,9 +106,41 @@ pub struct MethodInfo {
     /// True for an implicit method: each step solves a system of equations (Newton or one
     /// linear solve), so it is stable at a frame step and is timed at one.
     pub implicit: bool,
+    /// True when the method resolves obstacle contacts itself (a physics engine): the runner
+    /// then applies no contact stage of its own ([`crate::integrate::Integrator::handles_contacts`]).
+    pub contacts: bool,
+    /// True when the method splits each frame into substeps itself (an engine's solver
+    /// substeps): the runner passes it whole frames ([`crate::integrate::Integrator::splits_frames`]).
+    pub splits_frames: bool,
+    /// k of a k-step method: how many past states, the current one included, its next step
+    /// reads (2 for BDF2; 1 for one-step methods); the stability analysis identifies a k-step
+    /// recurrence from it ([`crate::integrate::Integrator::recurrence_steps`]).
+    pub recurrence_steps: usize,
+    /// The options the method reads when it is built; the command line's flags and the
+    /// recorded command are generated from them.
+    pub options: &'static [super::options::OptionSpec],
 }
 
 impl MethodInfo {
+    /// The facts of an explicit one-step native method of finite `order`: linear stability
+    /// theory applies, cost counted in force evaluations, no options. Override fields with
+    /// struct update syntax (`MethodInfo { options: &[..], ..MethodInfo::native(..) }`).
+    pub const fn native(name: &'static str, order: u32, summary: &'static str) -> Self {
+        MethodInfo {
+            name,
+            aliases: &[],
+            order: Order::Finite(order),
+            summary,
+            stability: StabilityTheory::SpectralRadius,
+            cost: CostUnit::ForceEvaluations,
+            engine: false,
+            implicit: false,
+            contacts: false,
+            splits_frames: false,
+            recurrence_steps: 1,
+            options: &[],
+        }
+    }
     /// True when the spectral-radius theory applies.
     pub fn linear_theory(&self) -> bool {
         self.stability == StabilityTheory::SpectralRadius

@@ -1,23 +1,26 @@
 //! Methods as data: every integrator and engine springlab can run, registered once with its
-//! facts (name, aliases, order, summary, stability theory, cost unit) and its constructor.
+//! facts (name, aliases, order, summary, stability theory, cost unit, how it meets the runner,
+//! the options it reads) and its constructor.
 //!
 //! `list`, every command and the report read these facts from a [`Registry`]; a library user
 //! adds a method with [`Registry::with`] and passes the registry to the measuring commands.
-//! This module sits above `integrate` and `rapier` (it imports both; they import neither it
-//! nor each other).
+//! This module sits above `integrate` and `rapier` (it imports both; neither imports it, and
+//! `integrate` does not import `rapier`).
 
 mod builtin;
 mod info;
+pub mod options;
 mod registry;
 
 pub use info::{CostUnit, MethodInfo, Order, StabilityTheory};
+pub use options::{MethodOptions, OptionSpec};
 pub use registry::{Constructor, Method, Registry};
 
 use crate::error::Result;
-use crate::integrate::{Integrator, IntegratorOptions};
+use crate::integrate::Integrator;
 
 /// A fresh built-in method by name (aliases accepted): shorthand for
 /// `Registry::builtin().create(name, opts)`.
-pub fn create(name: &str, opts: &IntegratorOptions) -> Result<Box<dyn Integrator>> {
+pub fn create(name: &str, opts: &MethodOptions) -> Result<Box<dyn Integrator>> {
     Registry::builtin().create(name, opts)
 }

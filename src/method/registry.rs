@@ -3,12 +3,13 @@
 //! [`Registry::with`], and every command that takes a registry then runs it like a built-in.
 
 use super::info::{MethodInfo, Order};
+use super::options::{MethodOptions, OptionSpec};
 use crate::error::{Error, Result};
-use crate::integrate::{Integrator, IntegratorOptions};
+use crate::integrate::Integrator;
 use std::sync::Arc;
 
 /// Builds a fresh, independent instance of a method.
-pub type Constructor = dyn Fn(&IntegratorOptions) -> Box<dyn Integrator> + Send + Sync;
+pub type Constructor = dyn Fn(&MethodOptions) -> Box<dyn Integrator> + Send + Sync;
 
 /// A method: its facts and how to make one.
 #[derive(Clone)]
@@ -28,7 +29,7 @@ impl Method {
     /// A method with `info` built by `make`.
     pub fn new(
         info: MethodInfo,
-        make: impl Fn(&IntegratorOptions) -> Box<dyn Integrator> + Send + Sync + 'static,
+        make: impl Fn(&MethodOptions) -> Box<dyn Integrator> + Send + Sync + 'static,
     ) -> Self {
         Method {
             info,
@@ -36,7 +37,7 @@ impl Method {
         }
     }
     /// A fresh instance.
-    pub fn create(&self, opts: &IntegratorOptions) -> Box<dyn Integrator> {
+    pub fn create(&self, opts: &MethodOptions) -> Box<dyn Integrator> {
         (self.make)(opts)
     }
 }
@@ -52,6 +53,15 @@ impl Default for Registry {
     fn default() -> Self {
         Registry::builtin()
     }
+}
+
+fn valid_flag(f: &str) -> bool {
+    !f.is_empty()
+        && !f.starts_with('-')
+        && !f.ends_with('-')
+        && !f.contains("--")
+        && f.bytes()
+            .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'-')
 }
 
 fn valid_name(n: &str) -> bool {
@@ -82,8 +92,10 @@ impl Registry {
     }
 
     /// This registry plus `m`, refused when its facts are inconsistent: a name or alias
-    /// already taken or not snake_case, order 0, an empty summary, or a constructor whose
-    /// instances report another name.
+    /// already taken or not snake_case, order 0, an empty summary, an option flag that is not
+    /// kebab-case, whose default is below its least value or that another method declares
+    /// differently, or a constructor whose instances report another name or disagree with
+    /// the facts on contacts, frame splitting or past states.
     pub fn with(self, m: Method) -> Result<Self> {
         let info = &m.info;
         let refuse = |message: String| Error::Registration {
@@ -115,11 +127,55 @@ impl Registry {
         if info.summary.trim().is_empty() {
             return Err(refuse("the summary is empty".into()));
         }
-        let made = m.create(&IntegratorOptions::default());
+        for spec in info.options {
+            if !valid_flag(spec.flag) {
+                return Err(refuse(format!(
+                    "option '--{}' is not a valid flag (lower-case words joined by '-')",
+                    spec.flag
+                )));
+            }
+            if let Err(why) = spec.check(spec.default) {
+                return Err(refuse(format!(
+                    "option '--{}': its default {why}",
+                    spec.flag
+                )));
+            }
+            let other = self
+                .option_schema()
+                .into_iter()
+                .find(|(o, _)| o.flag == spec.flag);
+            if let Some((o, by)) = other.filter(|(o, _)| o != spec) {
+                return Err(refuse(format!(
+                    "option '--{}' is declared differently by {} (default {}, least {})",
+                    o.flag,
+                    by.join(", "),
+                    o.default,
+                    o.min
+                )));
+            }
+        }
+        let made = m.create(&MethodOptions::default());
         if made.name() != info.name {
             return Err(refuse(format!(
                 "its constructor makes an integrator named '{}'",
                 made.name()
+            )));
+        }
+        let facts = [
+            ("contacts", made.handles_contacts(), info.contacts),
+            ("splits_frames", made.splits_frames(), info.splits_frames),
+        ];
+        if made.recurrence_steps() != info.recurrence_steps {
+            return Err(refuse(format!(
+                "its instances read {} past states, its facts say recurrence_steps = {}",
+                made.recurrence_steps(),
+                info.recurrence_steps
+            )));
+        }
+        if let Some((fact, instance, _)) = facts.iter().find(|(_, a, b)| a != b) {
+            return Err(refuse(format!(
+                "its instances say {fact} is {instance}, its facts say {}",
+                !instance
             )));
         }
         let mut v = (*self.methods).clone();
@@ -148,7 +204,7 @@ impl Registry {
     }
 
     /// A fresh instance of `name`'s method.
-    pub fn create(&self, name: &str, opts: &IntegratorOptions) -> Result<Box<dyn Integrator>> {
+    pub fn create(&self, name: &str, opts: &MethodOptions) -> Result<Box<dyn Integrator>> {
         self.get(name).map(|m| m.create(opts))
     }
 
@@ -160,6 +216,21 @@ impl Registry {
     /// Every method, in registration order.
     pub fn iter(&self) -> impl Iterator<Item = &Method> {
         self.methods.iter()
+    }
+
+    /// Every option the registered methods read, in registration order, each once with the
+    /// canonical names of the methods that read it: the command line's method flags.
+    pub fn option_schema(&self) -> Vec<(OptionSpec, Vec<&'static str>)> {
+        let mut out: Vec<(OptionSpec, Vec<&'static str>)> = Vec::new();
+        for m in self.methods.iter() {
+            for spec in m.info.options {
+                match out.iter_mut().find(|(o, _)| o.flag == spec.flag) {
+                    Some((_, by)) => by.push(m.info.name),
+                    None => out.push((*spec, vec![m.info.name])),
+                }
+            }
+        }
+        out
     }
 
     /// Every canonical name, in registration order.

@@ -3,7 +3,8 @@
 //! machine a slow phase then hits both sides of a ratio instead of one.
 
 use crate::error::Result;
-use crate::integrate::{ImplicitSettings, Integrator, IntegratorOptions};
+use crate::integrate::{ImplicitSettings, Integrator};
+use crate::method::MethodOptions;
 use crate::model::{State, System, Vec3};
 use crate::scenario::Scenario;
 use std::time::Instant;
@@ -76,7 +77,7 @@ pub fn on_threads<'a>(threads: usize, mut inner: Contender<'a>) -> Result<Conten
 
 /// A fresh backend by name with default options.
 pub fn backend(name: &str) -> Result<Box<dyn Integrator>> {
-    crate::method::create(name, &IntegratorOptions::default())
+    crate::method::create(name, &MethodOptions::default())
 }
 
 /// What an implicit method's solver did over some steps of one scene.

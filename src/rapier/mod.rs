@@ -27,12 +27,6 @@ pub use topology::{
 };
 pub use world::Mode;
 
-/// The multibody topology note for backend `name` on `sys` (trees, fallback edges), `None` for
-/// other backends: what `compare` and `run` print next to a `rapier_multibody` row.
-pub fn topology_note(name: &str, sys: &crate::model::System) -> Option<String> {
-    (name == MULTIBODY).then(|| Topology::of(sys, tree_cap(sys)).describe())
-}
-
 /// Internals exposed for the trap regression tests (not a stable API).
 #[doc(hidden)]
 pub mod internals {

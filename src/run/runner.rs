@@ -16,7 +16,7 @@ use std::time::Instant;
 /// Each frame is `substeps` equal steps of `dt / substeps` for a native method — bit for bit
 /// the run at `dt / substeps` with every `substeps`-th state kept. A backend that substeps
 /// itself ([`Integrator::splits_frames`], Rapier) gets whole frames instead and splits them
-/// with its own setting ([`crate::integrate::IntegratorOptions::substeps`]).
+/// with its own setting ([`crate::method::MethodOptions::substeps`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunPlan {
     /// Frame (output) step in s (impulses inside a step split it; the output grid stays

@@ -53,7 +53,7 @@ use crate::model::State;
 /// a method's linear limit).
 pub const DEFAULT_BLOWUP_FACTOR: f64 = 1e3;
 
-/// The `--help` text of `--blowup-factor`, repeated word for word in the README (a test checks).
+/// The `--help` text of `--blowup-factor`, repeated word for word in docs/energy-and-stability.md (a test checks).
 pub const BLOWUP_FACTOR_HELP: &str = "Hard cap: call a run unstable (and stop it) once its energy balance (kinetic + potential + dissipated - injected) has risen by more than this multiple of the scene's energy scale; below the cap a run is unstable only when that rise keeps doubling window after window or stays ten scales high for a whole window";
 
 /// Window lengths (steps) of the growth rule: short windows see fast growth early, long ones

@@ -1,6 +1,6 @@
-//! The README and `--help` agree. Oracle: the binary's own `--help` output
-//! (clap renders each flag's `[default: …]` from the value the code uses) against every
-//! default the README states for a flag.
+//! The documentation (README.md and every page under docs/) and `--help` agree. Oracle: the
+//! binary's own `--help` output (clap renders each flag's `[default: …]` from the value the
+//! code uses) against every default the documentation states for a flag.
 
 use std::collections::BTreeMap;
 use std::process::Command;
@@ -80,11 +80,30 @@ fn help_defaults() -> BTreeMap<String, String> {
     all.into_iter().map(|(f, (_, d))| (f, d)).collect()
 }
 
-/// (flag, number) for every README passage "`--flag …` … default [`NAME` =] NUMBER" up to the
-/// next flag or blank line.
-fn readme_defaults(readme: &str) -> Vec<(String, f64)> {
+/// README.md and every `docs/*.md` page (in name order), each ending in a blank line so no
+/// passage runs from one file into the next.
+fn documentation() -> String {
+    let mut pages: Vec<std::path::PathBuf> = std::fs::read_dir("docs")
+        .expect("docs/ exists")
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    pages.sort();
+    assert!(!pages.is_empty(), "docs/ has no pages");
+    let mut all = String::new();
+    for p in std::iter::once(std::path::PathBuf::from("README.md")).chain(pages) {
+        let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        all.push_str(&text);
+        all.push_str("\n\n");
+    }
+    all
+}
+
+/// (flag, number) for every documentation passage "`--flag …` … default [`NAME` =] NUMBER" up
+/// to the next flag or blank line.
+fn documented_defaults(doc: &str) -> Vec<(String, f64)> {
     let mut out = Vec::new();
-    let mut rest = readme;
+    let mut rest = doc;
     while let Some(k) = rest.find("`--") {
         rest = &rest[k + 3..];
         let name: String = rest
@@ -120,21 +139,21 @@ fn readme_defaults(readme: &str) -> Vec<(String, f64)> {
 }
 
 #[test]
-fn every_default_the_readme_states_is_the_one_help_shows() {
-    let readme = std::fs::read_to_string("README.md").unwrap();
+fn every_default_the_documentation_states_is_the_one_help_shows() {
+    let doc = documentation();
     let help = help_defaults();
-    let stated = readme_defaults(&readme);
+    let stated = documented_defaults(&doc);
     assert!(
         stated.iter().any(|(f, _)| f == "blowup-factor"),
-        "the README states the blow-up factor's default"
+        "the documentation states the blow-up factor's default"
     );
     let mut checked = 0;
     for (flag, value) in &stated {
         if let Some(h) = help.get(flag) {
             let h: f64 = h
                 .parse()
-                .unwrap_or_else(|_| panic!("--{flag}: README says {value}, --help says {h}"));
-            assert_eq!(*value, h, "--{flag}: README says {value}, --help says {h}");
+                .unwrap_or_else(|_| panic!("--{flag}: the docs say {value}, --help says {h}"));
+            assert_eq!(*value, h, "--{flag}: the docs say {value}, --help says {h}");
             checked += 1;
         }
     }
@@ -142,10 +161,10 @@ fn every_default_the_readme_states_is_the_one_help_shows() {
 }
 
 #[test]
-fn the_blowup_threshold_reads_the_same_in_the_readme_and_every_help() {
-    let readme = std::fs::read_to_string("README.md").unwrap();
+fn the_blowup_threshold_reads_the_same_in_the_documentation_and_every_help() {
+    let doc = documentation();
     let text = springlab::run::verdict::BLOWUP_FACTOR_HELP;
-    assert!(readme.contains(text), "README lacks: {text}");
+    assert!(doc.contains(text), "README.md and docs/ lack: {text}");
     for cmd in ["run", "compare", "stability", "sweep", "advise", "report"] {
         let h = help(cmd).split_whitespace().collect::<Vec<_>>().join(" ");
         assert!(h.contains(text), "{cmd} --help lacks: {text}");

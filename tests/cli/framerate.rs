@@ -88,9 +88,17 @@ fn symplectic_euler_needs_ceil_h_omega_max_over_two() {
 #[test]
 fn writes_csv_and_json_with_a_command_that_recreates_them() {
     let scene = Scenario::from_file("scenarios/damped_spring.toml").unwrap();
+    // xpbd with its own substeps: the recorded command must carry the method's options, or
+    // the re-run below measures another method.
     let cfg = FramerateConfig {
         rates: vec![30.0, 60.0],
-        integrators: vec!["symplectic_euler".into(), "rapier_impulse".into()],
+        integrators: vec![
+            "symplectic_euler".into(),
+            "rapier_impulse".into(),
+            "xpbd".into(),
+        ],
+        options: springlab::method::MethodOptions::default()
+            .with(&springlab::method::options::XPBD_SUBSTEPS, 3),
         ..Default::default()
     };
     let fr = framerate(&scene, &cfg).unwrap();
@@ -112,13 +120,14 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
     }
     assert_eq!(
         csv.lines().count(),
-        1 + 2 * 2 * 2,
+        1 + 2 * 2 * 3,
         "two rows per backend and rate"
     );
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("framerate.json")).unwrap()).unwrap();
     let cmd = json["command"].as_str().unwrap();
     assert!(cmd.starts_with("springlab framerate scenarios/damped_spring.toml --hz 30,60"));
+    assert!(cmd.contains("--xpbd-substeps 3"), "{cmd}");
     // Re-running the command reproduces every measured number (timings aside).
     let words = springlab::measure::command::split_words(cmd);
     let out = tempfile::tempdir().unwrap();

@@ -3,7 +3,7 @@
 //! tables), and `check` refuses what `run` refuses and names the events mode.
 //!
 //! Oracles: explicit Euler worked by hand; the verdict's rules (`run::verdict`) for which runs
-//! stop; the command contract of the README.
+//! stop; the command contract of docs/commands.md and docs/energy-and-stability.md.
 
 use crate::support::ok;
 use std::path::Path;

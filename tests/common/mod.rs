@@ -1,7 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use springlab::integrate::{Integrator, IntegratorOptions};
+use springlab::integrate::Integrator;
+use springlab::method::MethodOptions;
 use springlab::model::{State, System};
 use springlab::run::{run, NoObserver, RunOutcome, RunPlan};
 use springlab::scenario::Scenario;
@@ -20,7 +21,7 @@ pub fn oscillator(k: f64, c: f64, u0: f64, v0: f64) -> Scenario {
 
 /// A fresh integrator by name with default options.
 pub fn integ(name: &str) -> Box<dyn Integrator> {
-    springlab::method::create(name, &IntegratorOptions::default()).expect("known integrator")
+    springlab::method::create(name, &MethodOptions::default()).expect("known integrator")
 }
 
 /// Runs `name` on `scene` for `steps` of `dt` with no observer.

@@ -6,9 +6,9 @@
 //! K + G + E + dissipated must stay constant (a conservation law): rk4 is exact in free fall,
 //! so any drift would be energy the contact stage failed to book.
 
-use springlab::integrate::IntegratorOptions;
 use springlab::measure::contacts::ContactMetrics;
 use springlab::method::create as by_name;
+use springlab::method::MethodOptions;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -18,7 +18,7 @@ fn scene(file: &str) -> Scenario {
 
 fn apex_ratios(scene: &Scenario, integrator: &str, dt: f64) -> (Vec<f64>, f64) {
     let sys = scene.build();
-    let mut integ = by_name(integrator, &IntegratorOptions::default()).unwrap();
+    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
     let plan = RunPlan::for_duration(dt, 1.3);
     let out = run(&sys, integ.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();

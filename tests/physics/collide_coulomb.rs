@@ -8,7 +8,7 @@
 //!
 //! Each case is run at dt = 1e-3 s; "to O(h)" is checked as a relative error below 20·dt.
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::run::{run, NoObserver, RunOutcome, RunPlan};
 use springlab::scenario::Scenario;
@@ -23,11 +23,7 @@ fn natives() -> Vec<&'static str> {
     Registry::builtin()
         .iter()
         .filter(|m| !m.info.engine)
-        .filter(|m| {
-            m.create(&IntegratorOptions::default())
-                .check(&probe)
-                .is_ok()
-        })
+        .filter(|m| m.create(&MethodOptions::default()).check(&probe).is_ok())
         .map(|m| m.info.name)
         .collect()
 }
@@ -92,7 +88,7 @@ fn flat(v0: f64, mu: f64, radius: f64, collision: &str) -> Scenario {
 fn go(scene: &Scenario, integrator: &str, duration: f64) -> RunOutcome {
     let sys = scene.build();
     let mut integ = Registry::builtin()
-        .create(integrator, &IntegratorOptions::default())
+        .create(integrator, &MethodOptions::default())
         .unwrap();
     let out = run(
         &sys,

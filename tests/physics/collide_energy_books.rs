@@ -6,7 +6,7 @@
 //! compliance α is a spring of stiffness 1/α, so it stores ½·stretch²/α, computed here from
 //! the positions alone.
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::model::State;
 use springlab::run::{run, EnergyRecord, Observer, RunPlan};
@@ -54,7 +54,7 @@ fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_backend() {
         let dt = scene.run.dt.unwrap_or(1e-3);
         let duration = scene.run.duration.unwrap_or(1.0);
         for m in Registry::builtin().iter() {
-            let mut integ = m.create(&IntegratorOptions::default());
+            let mut integ = m.create(&MethodOptions::default());
             if integ.check(&sys).is_err() {
                 continue;
             }
@@ -99,7 +99,7 @@ fn the_issue_incline_books_no_negative_dissipation() {
     let sys = scene.build();
     for name in ["rk4", "symplectic_euler", "velocity_verlet"] {
         let mut integ = Registry::builtin()
-            .create(name, &IntegratorOptions::default())
+            .create(name, &MethodOptions::default())
             .unwrap();
         let mut books = Books::default();
         let out = run(
@@ -143,7 +143,7 @@ fn compliant_rods_book_half_stretch_squared_over_compliance() {
     .unwrap();
     let sys = scene.build();
     let mut integ = Registry::builtin()
-        .create("verlet_constraints", &IntegratorOptions::default())
+        .create("verlet_constraints", &MethodOptions::default())
         .unwrap();
     let mut s = scene.initial_state();
     let mut peak: f64 = 0.0;

@@ -3,8 +3,8 @@
 //! Oracle: a particle sliding on a horizontal plane with Coulomb friction μ decelerates at μg
 //! and stops after v0² / (2μg) (any mechanics text); every response must reproduce it.
 
-use springlab::integrate::IntegratorOptions;
 use springlab::method::create as by_name;
+use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -31,7 +31,7 @@ fn slide(collision: &str, integrator: &str, dt: f64) -> f64 {
     )
     .unwrap();
     let sys = s.build();
-    let mut integ = by_name(integrator, &IntegratorOptions::default()).unwrap();
+    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
     let out = run(
         &sys,
         integ.as_mut(),

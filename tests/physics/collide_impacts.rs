@@ -7,8 +7,8 @@
 //! `ode_solvers`' Dopri5, not with springlab's integrator.
 
 use springlab::collide::damping_ratio_for_restitution;
-use springlab::integrate::IntegratorOptions;
 use springlab::measure::contacts::{ContactMetrics, ContactReport};
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::model::State;
 use springlab::run::{run, EnergyRecord, Observer, RunPlan};
@@ -30,7 +30,7 @@ impl Observer for Trace {
 fn trace(scene: &Scenario, name: &str, dt: f64, duration: f64) -> (ContactReport, Vec<(f64, f64)>) {
     let sys = scene.build();
     let mut integ = Registry::builtin()
-        .create(name, &IntegratorOptions::default())
+        .create(name, &MethodOptions::default())
         .unwrap();
     let mut obs = Trace {
         m: ContactMetrics::new(&sys, dt).unwrap(),
@@ -68,7 +68,7 @@ fn every_bounce_of_a_ball_is_found_for_every_backend_with_e_within_2_percent() {
     let dt = 1e-4;
     let names: Vec<&str> = Registry::builtin()
         .iter()
-        .filter(|m| m.create(&IntegratorOptions::default()).check(&sys).is_ok())
+        .filter(|m| m.create(&MethodOptions::default()).check(&sys).is_ok())
         .map(|m| m.info.name)
         // Explicit Euler's free flight is not ballistic (x += h·v_old gains g²h²/2 per step),
         // so carrying its samples to the surface misattributes that gain to the bounce: its

@@ -7,8 +7,8 @@
 //! own travel in a step ("teleporting").
 
 use springlab::collide::{mesh, ObstacleDef, ObstacleSet, ShapeDef};
-use springlab::integrate::IntegratorOptions;
 use springlab::measure::contacts::ContactMetrics;
+use springlab::method::MethodOptions;
 use springlab::model::Vec3;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
@@ -64,7 +64,7 @@ fn fly(scene: &Scenario, dt: f64, steps: u64) -> (f64, u64) {
     }
     let sys = scene.build();
     let mut integ =
-        springlab::method::create("symplectic_euler", &IntegratorOptions::default()).unwrap();
+        springlab::method::create("symplectic_euler", &MethodOptions::default()).unwrap();
     let mut obs = NoJump {
         prev: None,
         dt,

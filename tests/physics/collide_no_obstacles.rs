@@ -5,8 +5,8 @@
 //! thread); the same run with one plane must move them (the counter works).
 
 use springlab::collide::{build_count, query_count};
-use springlab::integrate::IntegratorOptions;
 use springlab::method::create as by_name;
+use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -27,7 +27,7 @@ fn no_obstacles_no_queries() {
         "rk4",
         "verlet_constraints",
     ] {
-        let mut m = by_name(integ, &IntegratorOptions::default()).unwrap();
+        let mut m = by_name(integ, &MethodOptions::default()).unwrap();
         run(
             &sys,
             m.as_mut(),
@@ -54,7 +54,7 @@ fn no_obstacles_no_queries() {
     let scene = Scenario::from_toml_str(&text, "chain_plane.toml").unwrap();
     let sys = scene.build();
     assert_eq!(build_count(), b0 + 1);
-    let mut m = by_name("rk4", &IntegratorOptions::default()).unwrap();
+    let mut m = by_name("rk4", &MethodOptions::default()).unwrap();
     run(
         &sys,
         m.as_mut(),

@@ -7,9 +7,9 @@
 //! Granular Matter 9 (2007), eq. 5).
 
 use springlab::collide::{damping_ratio_for_restitution, restitution_for_damping_ratio};
-use springlab::integrate::IntegratorOptions;
 use springlab::measure::contacts::ContactMetrics;
 use springlab::method::create as by_name;
+use springlab::method::MethodOptions;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -43,7 +43,7 @@ fn measure(
 ) -> springlab::measure::contacts::ContactEvent {
     let sys = scene.build();
     assert!(sys.active_terms().contains(&"penalty_contacts"));
-    let mut integ = by_name(integrator, &IntegratorOptions::default()).unwrap();
+    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let plan = RunPlan::for_duration(dt, 0.1);
     let out = run(&sys, integ.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();

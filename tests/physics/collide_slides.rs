@@ -8,8 +8,8 @@
 //! g(sin θ − μ cos θ) when tan θ > μ, else stays; a ball free to roll (a Rapier multibody body)
 //! accelerates at 5/7·g·sin θ instead, the documented difference.
 
-use springlab::integrate::IntegratorOptions;
 use springlab::measure::contacts::{ContactMetrics, ContactReport};
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
@@ -36,7 +36,7 @@ fn report(scene: &Scenario, name: &str, duration: f64) -> ContactReport {
     let sys = scene.build();
     let dt = 1e-3;
     let mut integ = Registry::builtin()
-        .create(name, &IntegratorOptions::default())
+        .create(name, &MethodOptions::default())
         .unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let out = run(
@@ -55,7 +55,7 @@ fn backends() -> Vec<&'static str> {
     let sys = scene(30.0, 0.2, 0.0).build();
     Registry::builtin()
         .iter()
-        .filter(|m| m.create(&IntegratorOptions::default()).check(&sys).is_ok())
+        .filter(|m| m.create(&MethodOptions::default()).check(&sys).is_ok())
         .map(|m| m.info.name)
         .filter(|n| *n != "explicit_euler" && *n != "rapier_multibody")
         .collect()

@@ -23,7 +23,7 @@
 //!   must not pump energy into the spring: before the fix, re-timing symplectic Euler's drift
 //!   made its spring-driven slides grow by a factor 1 + (hω)²/4 per step.
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::model::{State, System};
 use springlab::scenario::Scenario;
@@ -38,7 +38,7 @@ fn natives(sys: &System) -> Vec<&'static str> {
         .iter()
         .filter(|m| !m.info.engine)
         .filter(|m| {
-            let i = m.create(&IntegratorOptions::default());
+            let i = m.create(&MethodOptions::default());
             i.check(sys).is_ok() && !i.handles_contacts()
         })
         .map(|m| m.info.name)
@@ -50,7 +50,7 @@ fn natives(sys: &System) -> Vec<&'static str> {
 fn stage_books(sys: &System, s0: State, name: &str, h: f64, steps: usize) -> (f64, f64) {
     let stage = springlab::collide::of(sys).expect("obstacles");
     let mut integ = Registry::builtin()
-        .create(name, &IntegratorOptions::default())
+        .create(name, &MethodOptions::default())
         .unwrap();
     let mut s = s0;
     let (mut created, mut dissipated) = (0.0, 0.0);
@@ -158,7 +158,7 @@ fn a_block_on_a_spring_on_a_rough_floor_loses_two_mu_m_g_over_k_per_half_swing()
     let mut bad = vec![];
     for name in names {
         let mut integ = Registry::builtin()
-            .create(name, &IntegratorOptions::default())
+            .create(name, &MethodOptions::default())
             .unwrap();
         let stage = springlab::collide::of(&sys).unwrap();
         let mut s = scene.initial_state();
@@ -237,7 +237,7 @@ fn incline_books(mu: f64, e: f64, name: &str, h: f64, steps: u64) -> (f64, f64, 
     let (m, g) = (1.0, sys.gravity.unwrap());
     let stage = springlab::collide::of(&sys).unwrap();
     let mut integ = Registry::builtin()
-        .create(name, &IntegratorOptions::default())
+        .create(name, &MethodOptions::default())
         .unwrap();
     let mut s = scene.initial_state();
     let e0 = by_hand(m, g, &s);
@@ -264,7 +264,7 @@ fn incline_books(mu: f64, e: f64, name: &str, h: f64, steps: u64) -> (f64, f64, 
     }
     let mech = by_hand(m, g, &s) - e0;
     let mut integ = Registry::builtin()
-        .create(name, &IntegratorOptions::default())
+        .create(name, &MethodOptions::default())
         .unwrap();
     let out = springlab::run::run(
         &sys,

@@ -5,9 +5,9 @@
 //! metrics must count no tunnelling. A penalty contact (no swept response) must be caught by
 //! the same detector, which shows the count can fail.
 
-use springlab::integrate::IntegratorOptions;
 use springlab::measure::contacts::ContactMetrics;
 use springlab::method::create as by_name;
+use springlab::method::MethodOptions;
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -21,7 +21,7 @@ fn path() -> String {
 fn tunnels(scene: &Scenario, integrator: &str) -> (u64, f64) {
     let sys = scene.build();
     let dt = scene.run.dt.unwrap();
-    let mut integ = by_name(integrator, &IntegratorOptions::default()).unwrap();
+    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let plan = RunPlan::for_duration(dt, scene.run.duration.unwrap());
     let out = run(&sys, integ.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();

@@ -5,7 +5,7 @@
 //! the runner (with the `analytic` stepper between kicks) must match it to 1e-9 m at every
 //! frame. The row at a kick's frame shows the state before the kick.
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::model::State;
 use springlab::run::{run, EnergyRecord, Observer, RunPlan};
@@ -87,7 +87,7 @@ fn frames_of(events: &str, hz: f64, substeps: u64, method: &str) -> Vec<State> {
     let sc = scene(events);
     let sys = sc.build();
     let mut integ = Registry::builtin()
-        .create(method, &IntegratorOptions::default())
+        .create(method, &MethodOptions::default())
         .unwrap();
     let frames = (0.5 * hz).round() as u64;
     let plan = RunPlan::new(1.0 / hz, frames).with_substeps(substeps);

@@ -2,7 +2,7 @@
 //! dt/n with every n-th state kept. Oracle: the runner itself at the fine step (the
 //! definition of substepping), compared with `==` on every coordinate of every frame.
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::model::State;
 use springlab::run::{run, EnergyRecord, Observer, RunPlan};
@@ -42,7 +42,7 @@ duration = 0.2
 fn same(name: &str, scene: &Scenario, n: u64) {
     let sys = scene.build();
     let methods = Registry::builtin();
-    let opts = IntegratorOptions::default();
+    let opts = MethodOptions::default();
     let frame = 1.0 / 60.0;
     let frames = 12;
     let mut coarse = Keep::default();
@@ -97,7 +97,7 @@ fn substeps_are_bit_identical_to_the_fine_step_for_every_native_method() {
         if info.engine {
             continue;
         }
-        let integ = methods.create(name, &IntegratorOptions::default()).unwrap();
+        let integ = methods.create(name, &MethodOptions::default()).unwrap();
         let mut ran = false;
         for scene in [&chain, &rod] {
             if integ.check(&scene.build()).is_ok() {
@@ -138,10 +138,7 @@ fn rapier_gets_whole_frames() {
     let scene = Scenario::from_toml_str(CHAIN, "chain.toml").unwrap();
     let sys = scene.build();
     let methods = Registry::builtin();
-    let opts = IntegratorOptions {
-        substeps: 3,
-        ..Default::default()
-    };
+    let opts = MethodOptions::default().with_substeps(3);
     let mut a = methods.create("rapier_impulse", &opts).unwrap();
     assert!(a.splits_frames());
     let plan = RunPlan::new(1.0 / 60.0, 6).with_substeps(3);

@@ -6,7 +6,8 @@
 //! backward-Euler step solved exactly.
 
 use nalgebra::{Matrix2, Vector2};
-use springlab::integrate::{ImplicitSettings, IntegratorOptions};
+use springlab::integrate::ImplicitSettings;
+use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 use springlab::{method, perf, Error, Integrator, Registry, State, System, Vec3};
@@ -27,7 +28,7 @@ const H: f64 = 1.0 / 30.0;
 const H_OMEGA: [f64; 5] = [0.1, 1.0, 10.0, 100.0, 1000.0];
 
 fn fresh(name: &str) -> Box<dyn Integrator> {
-    method::create(name, &IntegratorOptions::default()).expect("known method")
+    method::create(name, &MethodOptions::default()).expect("known method")
 }
 
 fn scene(toml: &str) -> Scenario {
@@ -109,7 +110,7 @@ fn backward_euler_residual(
 /// The list above is the registry's methods with an implicit solver.
 #[test]
 fn the_implicit_methods_are_the_registry_methods_with_a_newton_solver() {
-    let opts = IntegratorOptions::default();
+    let opts = MethodOptions::default();
     let mut found: Vec<&str> = Registry::builtin()
         .iter()
         .filter(|m| !m.info.engine && m.create(&opts).newton().is_some())

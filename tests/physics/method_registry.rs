@@ -35,14 +35,8 @@ impl Integrator for UserEuler {
 
 fn info(name: &'static str, order: Order) -> MethodInfo {
     MethodInfo {
-        name,
-        aliases: &[],
         order,
-        summary: "a user's symplectic Euler",
-        stability: StabilityTheory::SpectralRadius,
-        cost: CostUnit::ForceEvaluations,
-        engine: false,
-        implicit: false,
+        ..MethodInfo::native(name, 1, "a user's symplectic Euler")
     }
 }
 
@@ -146,6 +140,105 @@ fn inconsistent_facts_are_refused_at_registration() {
         .unwrap()
         .to_string();
     assert!(e.contains("rk4") && e.contains("user_euler"), "{e}");
+}
+
+/// Options are declared once: a method may share a built-in's option only with the very same
+/// declaration, and its facts must agree with what its instances tell the runner. Each refusal
+/// has a twin that differs only in the inconsistency and is accepted.
+#[test]
+fn options_and_runner_facts_are_checked_at_registration() {
+    use springlab::method::options::ITERATIONS;
+    use springlab::method::{MethodOptions, OptionSpec};
+    let r = Registry::builtin();
+    let make = |_: &MethodOptions| -> Box<dyn Integrator> { Box::new(UserEuler { a: Vec::new() }) };
+    let with_options = |options: &'static [OptionSpec]| {
+        Method::new(
+            MethodInfo {
+                options,
+                ..info("user_euler", Order::Finite(1))
+            },
+            make,
+        )
+    };
+    // Shares --iterations exactly: accepted, and the schema names both readers once.
+    const SAME: [OptionSpec; 1] = [ITERATIONS];
+    let shared = r.clone().with(with_options(&SAME)).unwrap();
+    let schema = shared.option_schema();
+    let (spec, by) = schema.iter().find(|(o, _)| o.flag == "iterations").unwrap();
+    assert_eq!(spec.default, ITERATIONS.default);
+    assert_eq!(by, &["verlet_constraints", "user_euler"]);
+    assert_eq!(
+        schema
+            .iter()
+            .filter(|(o, _)| o.flag == "iterations")
+            .count(),
+        1
+    );
+    // The same flag with another default: refused, naming the flag and the other reader.
+    const OTHER_DEFAULT: [OptionSpec; 1] = [OptionSpec {
+        default: 5,
+        ..ITERATIONS
+    }];
+    let e = r
+        .clone()
+        .with(with_options(&OTHER_DEFAULT))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("--iterations") && e.contains("verlet_constraints"),
+        "{e}"
+    );
+    // A default below its own least value, and a flag that is not kebab-case: refused.
+    const BELOW: [OptionSpec; 1] = [OptionSpec {
+        flag: "passes",
+        default: 0,
+        min: 1,
+        help: "passes",
+    }];
+    assert!(r.clone().with(with_options(&BELOW)).is_err());
+    const BAD_FLAG: [OptionSpec; 1] = [OptionSpec {
+        flag: "Passes",
+        default: 1,
+        min: 1,
+        help: "passes",
+    }];
+    assert!(r.clone().with(with_options(&BAD_FLAG)).is_err());
+    const OWN: [OptionSpec; 1] = [OptionSpec {
+        flag: "passes",
+        default: 1,
+        min: 1,
+        help: "passes",
+    }];
+    assert!(r.clone().with(with_options(&OWN)).is_ok());
+    // Facts that disagree with the instance on contacts, frames or past states: refused.
+    for wrong in [
+        MethodInfo {
+            contacts: true,
+            ..info("user_euler", Order::Finite(1))
+        },
+        MethodInfo {
+            splits_frames: true,
+            ..info("user_euler", Order::Finite(1))
+        },
+        MethodInfo {
+            recurrence_steps: 2,
+            ..info("user_euler", Order::Finite(1))
+        },
+    ] {
+        let e = r
+            .clone()
+            .with(Method::new(wrong, make))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("its facts say"), "{e}");
+    }
+    // The built-ins' own facts agree with their instances (registration would panic else),
+    // and the engines are the ones that resolve contacts and split frames.
+    for m in r.iter() {
+        assert_eq!(m.info.contacts, m.info.engine, "{}", m.info.name);
+        assert_eq!(m.info.splits_frames, m.info.engine, "{}", m.info.name);
+    }
+    assert_eq!(r.info("bdf2").unwrap().recurrence_steps, 2);
 }
 
 #[test]

@@ -3,7 +3,7 @@
 //! back. Oracle: the definition of backward Euler, M (v' − v) = h f(x + h v', v'), evaluated
 //! here with the model's own forces, independently of the solver's residual.
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::{method, perf, Vec3};
 
 /// A fixed linear congruential generator (Knuth's MMIX constants): uniform in [−½, ½).
@@ -39,7 +39,7 @@ fn crumpled_cloth_stage_converges_through_both_strategies() {
         }
     }
     let (x0, v0) = (s.x.clone(), s.v.clone());
-    let mut integ = method::create("implicit_euler", &IntegratorOptions::default()).unwrap();
+    let mut integ = method::create("implicit_euler", &MethodOptions::default()).unwrap();
     {
         // Only the tight stop: the truncation-error stop would end the stage early.
         let set = &mut integ.newton_mut().unwrap().settings;

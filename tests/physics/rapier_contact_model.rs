@@ -7,7 +7,7 @@
 //! sliding at v0 on a flat plane it stops after v0²/(2μg). A ball that could roll would instead
 //! accelerate at 5/7·g·sin θ (solid sphere), which is what the locked rotations rule out.
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunOutcome, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -49,7 +49,7 @@ fn plane_scene(deg: f64, mu: f64, e: f64, y: f64, v: [f64; 3]) -> Scenario {
 
 fn go(scene: &Scenario, dt: f64, duration: f64) -> RunOutcome {
     let sys = scene.build();
-    let mut integ = springlab::method::create("rapier_impulse", &IntegratorOptions::default())
+    let mut integ = springlab::method::create("rapier_impulse", &MethodOptions::default())
         .expect("rapier_impulse");
     let out = run(
         &sys,
@@ -124,8 +124,7 @@ fn difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m() {
     // 3e-5 to 2e-4 m), which the impact metrics' contact threshold covers.
     let scene = plane_scene(0.0, 0.3, 0.0, R + 0.2, [0.0; 3]);
     let sys = scene.build();
-    let mut integ =
-        springlab::method::create("rapier_impulse", &IntegratorOptions::default()).unwrap();
+    let mut integ = springlab::method::create("rapier_impulse", &MethodOptions::default()).unwrap();
     let mut s = scene.initial_state();
     let mut worst: f64 = 0.0;
     for k in 0..2000 {
@@ -143,8 +142,7 @@ fn difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m() {
 /// `jump` (m/s) under `rapier_impulse` at dt = 1e-4 s.
 fn first_kick(scene: &Scenario, jump: f64) -> (springlab::model::Vec3, springlab::model::Vec3) {
     let sys = scene.build();
-    let mut integ =
-        springlab::method::create("rapier_impulse", &IntegratorOptions::default()).unwrap();
+    let mut integ = springlab::method::create("rapier_impulse", &MethodOptions::default()).unwrap();
     let mut s = scene.initial_state();
     let g = sys.gravity.unwrap();
     for _ in 0..20000 {

@@ -12,7 +12,7 @@
 //!   Rapier's own state shows what the exact dynamics make of Rapier's deviation.
 use crate::rapier_support;
 use rapier_support::*;
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::model::{State, System, Vec3};
 use springlab::run::{run, RunPlan};
 use springlab::scenario::Scenario;
@@ -31,7 +31,7 @@ fn scene() -> Scenario {
 
 /// Positions at every frame from `s0` by rk4 with `per_frame` steps per frame.
 fn rk4(sys: &System, s0: State, per_frame: u64, frames: usize) -> Vec<Vec<Vec3>> {
-    let mut i = springlab::method::create("rk4", &IntegratorOptions::default()).unwrap();
+    let mut i = springlab::method::create("rk4", &MethodOptions::default()).unwrap();
     let mut rec = Record::default();
     let plan = RunPlan::new(H, frames as u64).with_substeps(per_frame);
     run(sys, i.as_mut(), s0, &plan, &mut rec).expect("rk4 run");

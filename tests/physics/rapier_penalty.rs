@@ -9,7 +9,7 @@
 //! substeps the force stays frozen over the frame while the body moves, so the run departs from
 //! it, by less at a smaller frame step (first order in the frame step).
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::method::Registry;
 use springlab::model::State;
 use springlab::run::{run, EnergyRecord, Observer, RunPlan};
@@ -25,10 +25,7 @@ impl Observer for Keep {
 
 fn states(scene: &Scenario, name: &str, substeps: usize, dt: f64) -> Vec<State> {
     let sys = scene.build();
-    let opts = IntegratorOptions {
-        substeps,
-        ..Default::default()
-    };
+    let opts = MethodOptions::default().with_substeps(substeps);
     let mut integ = Registry::builtin().create(name, &opts).unwrap();
     assert!(integ.check(&sys).is_ok(), "{name} takes penalty contacts");
     let mut k = Keep(Vec::new());

@@ -3,7 +3,8 @@
 //! α = 1/k), a rigid rod kept to rounding, and Gauss–Seidel convergence on a rod chain.
 
 use crate::common;
-use springlab::integrate::{Integrator, IntegratorOptions, Xpbd};
+use springlab::integrate::{Integrator, Xpbd};
+use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 
@@ -87,7 +88,7 @@ fn keeps_a_rigid_rod_pendulum_to_rounding() {
     // the violation is rounding: ≤ 1e-12 m on a 1 m rod over 5000 steps.
     let scene = Scenario::from_file("scenarios/pendulum_rod.toml").unwrap();
     let sys = scene.build();
-    let mut m = springlab::method::create("xpbd", &IntegratorOptions::default()).unwrap();
+    let mut m = springlab::method::create("xpbd", &MethodOptions::default()).unwrap();
     let mut s = scene.initial_state();
     let mut worst: f64 = 0.0;
     for _ in 0..5000 {

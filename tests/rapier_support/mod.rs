@@ -1,7 +1,7 @@
 //! Helpers shared by the Rapier tests (tests/physics/rapier_*.rs).
 #![allow(dead_code)]
 
-use springlab::integrate::IntegratorOptions;
+use springlab::method::MethodOptions;
 use springlab::model::{State, Vec3};
 use springlab::run::{run, EnergyRecord, Observer, RunOutcome, RunPlan};
 use springlab::scenario::Scenario;
@@ -35,10 +35,7 @@ pub fn record(
     steps: u64,
 ) -> (Record, RunOutcome) {
     let sys = scene.build();
-    let opts = IntegratorOptions {
-        substeps,
-        ..Default::default()
-    };
+    let opts = MethodOptions::default().with_substeps(substeps);
     let mut i = springlab::method::create(name, &opts).expect("backend");
     i.check(&sys).expect("backend accepts the scene");
     let mut rec = Record::default();

@@ -28,9 +28,9 @@ use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
-use crate::integrate::IntegratorOptions;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::{Judge, Metric, Tolerance};
+use crate::method::MethodOptions;
 use crate::method::{Order, Registry};
 use crate::scenario::Scenario;
 use cost::{force_evals_per_second, rank, CostKey};
@@ -54,7 +54,7 @@ pub struct AdviseConfig {
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub methods: Registry,
     /// Integrator options.
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Predictions aim at tolerance / safety (default 2).
     pub safety: f64,
     /// Grid points (default 10).
@@ -90,7 +90,7 @@ impl Default for AdviseConfig {
             horizon: None,
             integrators: vec![],
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             safety: 2.0,
             points: 10,
             dt_min: None,
@@ -518,7 +518,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     }
     let set = CaseSettings {
         methods: cfg.methods.clone(),
-        options: cfg.options,
+        options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
         // Advice times its candidates' runs itself, after the accuracy runs.
@@ -674,9 +674,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
         .flag("substeps", cfg.options.substeps)
-        .flag("iterations", cfg.options.constraint_iterations)
-        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
-        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
+        .method_options(&cfg.methods, &cfg.options)
         .switch("no-frame-rates", !cfg.frame_rates)
         .flag_opt("budget", cfg.budget_seconds)
         .render();

@@ -5,18 +5,15 @@
 use super::{ContactReport, CONTACT_GAP};
 pub use crate::rapier::{Difference, DifferenceKind, DIFFERENCES};
 
-/// True for the backends the differences apply to (Rapier's).
+/// True for the backends some difference applies to (Rapier's).
 pub fn is_rapier(backend: &str) -> bool {
-    backend == crate::rapier::IMPULSE || backend == crate::rapier::MULTIBODY
+    DIFFERENCES.iter().any(|d| d.shown_by(backend))
 }
 
 /// The figure `c` (a run of `backend`) gives for difference `d`, `None` when the run measured
 /// nothing of it (or `d` does not apply to `backend`).
 pub fn measured(d: &Difference, backend: &str, c: &ContactReport) -> Option<String> {
-    if !is_rapier(backend)
-        || (d.multibody_only && backend != crate::rapier::MULTIBODY)
-        || !d.applies_to(c.response)
-    {
+    if !d.shown_by(backend) || !d.applies_to(c.response) {
         return None;
     }
     match d.kind {

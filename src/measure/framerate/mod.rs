@@ -28,9 +28,9 @@ use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
-use crate::integrate::IntegratorOptions;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::{Judge, Metric, Tolerance};
+use crate::method::MethodOptions;
 use crate::method::{Order, Registry};
 use crate::model::Events;
 use crate::scenario::Scenario;
@@ -61,7 +61,7 @@ pub struct FramerateConfig {
     /// The methods to choose from.
     pub methods: Registry,
     /// Integrator options (`substeps` is searched, not read).
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Simulated time (s; default the scene's duration).
     pub duration: Option<f64>,
     /// Largest substep count tried.
@@ -89,7 +89,7 @@ impl Default for FramerateConfig {
             ensemble: None,
             integrators: vec![],
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             duration: None,
             max_substeps: DEFAULT_MAX_SUBSTEPS,
             cost_cap: None,
@@ -421,7 +421,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     )?;
     let set = CaseSettings {
         methods: cfg.methods.clone(),
-        options: cfg.options,
+        options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
         repeat_short: false,
@@ -527,7 +527,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .flag("duration", duration)
         .flag("max-substeps", cfg.max_substeps)
         .flag_opt("cost-cap", cfg.cost_cap)
-        .flag("iterations", cfg.options.constraint_iterations)
+        .method_options(&cfg.methods, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag_opt("budget", cfg.budget_seconds)
         .render();

@@ -14,9 +14,9 @@
 
 use super::uncertainty::{perturbed, PREDICTABILITY_THRESHOLD};
 use crate::error::{Error, Result};
-use crate::integrate::IntegratorOptions;
 use crate::measure::metrics::position_error;
 use crate::method::create as by_name;
+use crate::method::MethodOptions;
 use crate::model::{State, System, Vec3};
 
 /// The integrator of the fine-step reference.
@@ -73,7 +73,7 @@ pub(super) fn run_with(
     h: f64,
     sink: &mut dyn FnMut(usize, &State),
 ) -> Result<u64> {
-    let mut integ = by_name(FINE_INTEGRATOR, &IntegratorOptions::default())?;
+    let mut integ = by_name(FINE_INTEGRATOR, &MethodOptions::default())?;
     let mut s = s0.clone();
     s.t = 0.0;
     let mut next = 0;

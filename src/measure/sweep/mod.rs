@@ -55,7 +55,7 @@ use super::case::{run_case, CaseResult, CaseSettings};
 use super::grid::{TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
-use crate::integrate::IntegratorOptions;
+use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::scenario::Scenario;
 use extend::{next_step, Run};
@@ -119,7 +119,7 @@ pub struct SweepConfig {
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub methods: Registry,
     /// Integrator options.
-    pub options: IntegratorOptions,
+    pub options: MethodOptions,
     /// Blow-up factor of the runner.
     pub blowup_factor: f64,
     /// Run only one slice.
@@ -146,7 +146,7 @@ impl Default for SweepConfig {
             cost_cap: None,
             duration: None,
             methods: Registry::builtin(),
-            options: IntegratorOptions::default(),
+            options: MethodOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             shard: None,
             budget_bytes: DEFAULT_BUDGET_BYTES,
@@ -283,7 +283,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
     let saturation = 0.1 * scale;
     let set = CaseSettings {
         methods: cfg.methods.clone(),
-        options: cfg.options,
+        options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
         repeat_short: cfg.repeat_short,

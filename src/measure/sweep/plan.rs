@@ -82,8 +82,8 @@ pub struct SweepPlan {
     pub skipped: Vec<(String, String)>,
     /// Blow-up factor.
     pub blowup_factor: f64,
-    /// Constraint iterations of verlet_constraints.
-    pub constraint_iterations: usize,
+    /// Every method option's value, by flag (`iterations`, `xpbd-substeps`, ...).
+    pub options: std::collections::BTreeMap<String, usize>,
     /// Substeps of external backends.
     pub substeps: usize,
     /// The time budget and what it allowed each method, when one was set.
@@ -242,9 +242,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .flag_opt("budget", cfg.budget_seconds)
         .flag("duration", plan.duration)
         .flag("substeps", cfg.options.substeps)
-        .flag("iterations", cfg.options.constraint_iterations)
-        .flag("xpbd-substeps", cfg.options.xpbd_substeps)
-        .flag("xpbd-iterations", cfg.options.xpbd_iterations)
+        .method_options(&cfg.methods, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .render();
     Ok(plan)
@@ -385,7 +383,7 @@ fn finish(
         integrators,
         skipped,
         blowup_factor: cfg.blowup_factor,
-        constraint_iterations: cfg.options.constraint_iterations,
+        options: cfg.options.resolved(&cfg.methods),
         substeps: cfg.options.substeps,
         budget: None,
     })

@@ -1,0 +1,73 @@
+//! The method options' flags (`--iterations`, `--xpbd-substeps`, ...), generated from the
+//! option schema the registry's methods declare: one declaration per option gives its flag,
+//! default, bounds and help in every command that builds methods.
+
+use clap::{Arg, ArgMatches, Command, FromArgMatches};
+use springlab::method::{MethodOptions, OptionSpec, Registry};
+
+/// The method options as given on the command line (each at its default when not given).
+#[derive(Debug, Clone, Default)]
+pub struct MethodArgs {
+    options: MethodOptions,
+}
+
+impl MethodArgs {
+    /// The options, every value already checked against its bounds by the parser.
+    pub fn options(&self) -> MethodOptions {
+        self.options.clone()
+    }
+}
+
+fn schema() -> Vec<(OptionSpec, Vec<&'static str>)> {
+    Registry::builtin().option_schema()
+}
+
+/// A whole number no less than `min`, for clap: the error names what is wrong; clap adds the
+/// flag.
+fn at_least(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync {
+    move |s: &str| {
+        let v: usize = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("expected a whole number ≥ {min}"))?;
+        if v < min {
+            return Err(format!("must be at least {min}"));
+        }
+        Ok(v)
+    }
+}
+
+impl clap::Args for MethodArgs {
+    fn augment_args(cmd: Command) -> Command {
+        schema().into_iter().fold(cmd, |cmd, (spec, by)| {
+            cmd.arg(
+                Arg::new(spec.flag)
+                    .long(spec.flag)
+                    .value_name("N")
+                    .allow_negative_numbers(true)
+                    .value_parser(at_least(spec.min))
+                    .default_value(spec.default.to_string())
+                    .help(format!("{} (read by {})", spec.help, by.join(", "))),
+            )
+        })
+    }
+    fn augment_args_for_update(cmd: Command) -> Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl FromArgMatches for MethodArgs {
+    fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
+        let mut options = MethodOptions::default();
+        for (spec, _) in schema() {
+            if let Some(&v) = m.get_one::<usize>(spec.flag) {
+                options.set(&spec, v);
+            }
+        }
+        Ok(MethodArgs { options })
+    }
+    fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
