@@ -1,0 +1,274 @@
+//! The stability map: every method over a grid of stiffness scales, damping scales and steps,
+//! each cell a seeded run long enough that a spectral radius of [`RHO_SHOWN`] shows.
+
+use super::theory::{rho, theory_limit, Limit};
+use super::Verdict;
+use crate::error::Result;
+use crate::measure::modes::{modes, Modes};
+use crate::method::MethodOptions;
+use crate::method::{Method, Registry, StabilityTheory};
+use crate::model::{State, System, Vec3};
+use crate::run::{run, NoObserver, RunPlan};
+use crate::scenario::Scenario;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// A one-step spectral radius the map must always show as a blow-up.
+pub const RHO_SHOWN: f64 = 1.01;
+/// The energy growth a radius of [`RHO_SHOWN`] reaches within [`MAP_MIN_STEPS`] steps.
+pub const GROWTH_SHOWN: f64 = 1e12;
+/// Fewest steps of a map cell: ρ²ⁿ ≥ [`GROWTH_SHOWN`] at ρ = [`RHO_SHOWN`] (n = 1389).
+pub const MAP_MIN_STEPS: u64 = 1389;
+/// Most steps of a map cell.
+pub const MAP_MAX_STEPS: u64 = 20_000;
+/// Displacement seeding every mode of a map cell, relative to the characteristic length: its
+/// energy is ~1e-8 of the scene's, far below [`GROWTH_SHOWN`]'s reach.
+pub const MAP_SEED: f64 = 1e-4;
+
+/// `s0` with every free particle moved by `MAP_SEED` × the characteristic length along a
+/// fixed direction that is oblique to every axis (deterministic: the same map every time).
+pub fn seeded(sys: &System, s0: &State) -> State {
+    let len = crate::run::characteristic_length(sys, s0);
+    let len = if len > 0.0 { len } else { 1.0 };
+    let mut s = s0.clone();
+    for p in (0..sys.len()).filter(|&p| sys.free[p]) {
+        let d = Vec3::new(
+            1.0 + (p % 3) as f64,
+            2.0 + (p % 5) as f64,
+            3.0 + (p % 7) as f64,
+        );
+        s.x[p] += d * (MAP_SEED * len / d.norm());
+    }
+    s
+}
+
+/// Options of [`stability_map`].
+#[derive(Debug, Clone)]
+pub struct MapConfig {
+    /// Integrators (empty: all applicable).
+    pub integrators: Vec<String>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
+    /// Integrator options.
+    pub options: MethodOptions,
+    /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
+    pub stiffness_scales: Vec<f64>,
+    /// Multipliers of every damper and of drag (default [1]).
+    pub damping_scales: Vec<f64>,
+    /// Steps as multiples of 1/ω_max of the unscaled scene (default 16 points in [0.02, 20]).
+    pub h_omega: Vec<f64>,
+    /// Absolute steps (s); when non-empty they replace `h_omega` (for maps spanning many
+    /// decades of stiffness, where one relative axis cannot cover every scale).
+    pub dts: Vec<f64>,
+    /// Periods of the scaled ω_max per empirical run (default 50; at least [`MAP_MIN_STEPS`]
+    /// and at most [`MAP_MAX_STEPS`] steps).
+    pub periods: f64,
+    /// Blow-up factor of the empirical runs.
+    pub blowup_factor: f64,
+    /// Progress bar on a terminal.
+    pub progress: bool,
+}
+
+fn logspace(a: f64, b: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| a * (b / a).powf(i as f64 / (n.max(2) - 1) as f64))
+        .collect()
+}
+
+impl Default for MapConfig {
+    fn default() -> Self {
+        MapConfig {
+            integrators: vec![],
+            methods: Registry::builtin(),
+            options: MethodOptions::default(),
+            stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
+            damping_scales: vec![1.0],
+            h_omega: logspace(0.02, 20.0, 16),
+            dts: vec![],
+            periods: 50.0,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            progress: false,
+        }
+    }
+}
+
+/// One cell of `stability_map.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MapRow {
+    /// Integrator.
+    pub integrator: String,
+    /// Stiffness multiplier.
+    pub stiffness_scale: f64,
+    /// Damping multiplier.
+    pub damping_scale: f64,
+    /// Step (s).
+    pub dt: f64,
+    /// ω_max of the scaled scene (rad/s).
+    pub omega_max: f64,
+    /// dt × omega_max.
+    pub h_omega: f64,
+    /// Largest spectral radius over the linearised modes (None: no theory for this method).
+    pub spectral_radius: Option<f64>,
+    /// Theoretical largest stable step of the scaled scene (None: unconditional or unknown).
+    pub theory_max_dt: Option<f64>,
+    /// Theory verdict for the scaled scene.
+    pub theory_verdict: Option<Verdict>,
+    /// Did the empirical run stay stable?
+    pub stable: bool,
+}
+
+/// The header of `stability_map.csv`.
+pub const MAP_HEADER: &str = "integrator,stiffness_scale,damping_scale,dt,omega_max,h_omega,spectral_radius,theory_max_dt,theory_verdict,stable";
+
+impl MapRow {
+    /// The CSV line.
+    pub fn csv_line(&self) -> String {
+        let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
+        let v = match self.theory_verdict {
+            Some(Verdict::StableBelow) => "stable_below",
+            Some(Verdict::UnconditionallyStable) => "unconditionally_stable",
+            Some(Verdict::UnstableForAllDt) => "unstable_for_all_dt",
+            Some(Verdict::NotAnalysed) | None => "",
+        };
+        format!(
+            "{},{:e},{:e},{:e},{:e},{:e},{},{},{},{}",
+            self.integrator,
+            self.stiffness_scale,
+            self.damping_scale,
+            self.dt,
+            self.omega_max,
+            self.h_omega,
+            o(self.spectral_radius),
+            o(self.theory_max_dt),
+            v,
+            self.stable
+        )
+    }
+}
+
+fn scaled(scene: &Scenario, ks: f64, cs: f64) -> Scenario {
+    let mut s = scene.clone();
+    for sp in &mut s.springs {
+        sp.stiffness *= ks;
+        sp.damping *= cs;
+    }
+    s.drag = s.drag.map(|d| d * cs);
+    s
+}
+
+/// Sweeps stiffness × damping × dt: empirical stability of each cell with the theoretical
+/// spectral radius and boundary alongside. Cells run in parallel, collected in order.
+pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
+    let sys0 = scene.build();
+    let s0 = scene.initial_state();
+    let w0 = modes(&sys0, &s0).omega_max;
+    let w0 = if w0 > 0.0 { w0 } else { 1.0 };
+    let (names, _) =
+        crate::measure::case::applicable(&cfg.methods, &sys0, &cfg.integrators, &cfg.options)?;
+    // Exact methods are stable everywhere by construction: nothing to map.
+    let methods: Vec<&Method> = names
+        .iter()
+        .map(|n| cfg.methods.get(n))
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .filter(|m| m.info.stability != StabilityTheory::Unconditional)
+        .collect();
+    let names: Vec<String> = methods.iter().map(|m| m.info.name.to_string()).collect();
+    let mut cells = Vec::new();
+    for name in &names {
+        for &ks in &cfg.stiffness_scales {
+            for &cs in &cfg.damping_scales {
+                if cfg.dts.is_empty() {
+                    for &hw in &cfg.h_omega {
+                        cells.push((name.clone(), ks, cs, hw / w0));
+                    }
+                } else {
+                    for &dt in &cfg.dts {
+                        cells.push((name.clone(), ks, cs, dt));
+                    }
+                }
+            }
+        }
+    }
+    // Modal analysis once per (stiffness, damping) pair.
+    let mut pairs: Vec<(f64, f64, Modes)> = Vec::new();
+    for &ks in &cfg.stiffness_scales {
+        for &cs in &cfg.damping_scales {
+            let sc = scaled(scene, ks, cs);
+            pairs.push((ks, cs, modes(&sc.build(), &s0)));
+        }
+    }
+    let theory: Vec<Vec<Option<Limit>>> = methods
+        .par_iter()
+        .map(|method| {
+            pairs
+                .iter()
+                .map(|(_, _, m)| {
+                    (method.info.linear_theory() && !m.modes.is_empty())
+                        .then(|| theory_limit(method, &cfg.options, m))
+                })
+                .collect()
+        })
+        .collect();
+    let pb = crate::run::progress_bar(
+        cells.len() as u64,
+        &format!("stability map {}", scene.name),
+        cfg.progress,
+    );
+    let rows: Vec<Result<MapRow>> = cells
+        .par_iter()
+        .map(|(name, ks, cs, dt)| {
+            let pi = pairs
+                .iter()
+                .position(|p| p.0 == *ks && p.1 == *cs)
+                .expect("pair");
+            let ms = &pairs[pi].2;
+            let ni = names.iter().position(|n| n == name).expect("name");
+            let th = theory[ni][pi];
+            let w = if ms.omega_max > 0.0 { ms.omega_max } else { w0 };
+            let sc = scaled(scene, *ks, *cs);
+            let sys = sc.build();
+            let steps = ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64)
+                .clamp(MAP_MIN_STEPS, MAP_MAX_STEPS);
+            let method = methods[ni];
+            let mut integ = method.create(&cfg.options);
+            let plan = RunPlan {
+                dt: *dt,
+                steps,
+                substeps: 1,
+                blowup_factor: cfg.blowup_factor,
+                stop_at_verdict: true,
+            };
+            let stable = run(
+                &sys,
+                integ.as_mut(),
+                seeded(&sys, &s0),
+                &plan,
+                &mut NoObserver,
+            )?
+            .status
+            .is_ok();
+            let rho_max = th.map(|_| {
+                ms.modes
+                    .iter()
+                    .map(|&m| rho(method, &cfg.options, m, *dt))
+                    .fold(0.0, f64::max)
+            });
+            pb.inc(1);
+            Ok(MapRow {
+                integrator: name.clone(),
+                stiffness_scale: *ks,
+                damping_scale: *cs,
+                dt: *dt,
+                omega_max: ms.omega_max,
+                h_omega: dt * ms.omega_max,
+                spectral_radius: rho_max.map(|r| if r.is_finite() { r } else { f64::MAX }),
+                theory_max_dt: th.and_then(|t| t.1),
+                theory_verdict: th.map(|t| t.0),
+                stable,
+            })
+        })
+        .collect();
+    pb.finish_and_clear();
+    rows.into_iter().collect()
+}

@@ -1,0 +1,135 @@
+//! Largest stable step per integrator: exactly from the spectral radius of each method's
+//! one-step map on the scene's linearised modes, and empirically by bisection on the real
+//! scene.
+//!
+//! Theory: for every mode q'' + c q' + ω² q = 0 (see [`super::modes`]) the integrator itself
+//! is stepped on a one-particle system with exactly that linear force, and its one-step map
+//! M(h) on (x, v) is identified from two consecutive steps of two independent trajectories
+//! (M = Y₂ Y₁⁻¹, which also covers methods whose memory is a function of (x, v), such as
+//! two-step Störmer); a genuinely multistep method (BDF2) has its k-step recurrence identified
+//! instead, and its companion matrix decides (see [`step_radius`]). The method
+//! is stable at h when the spectral radius ρ(M(h)) ≤ 1 + [`RHO_TOL`] for every mode. The
+//! boundary is bracketed on a log grid hω ∈ [1e-2, 1e4] and bisected to machine precision.
+//!
+//! Empirical: a run is stable when the runner's one verdict ([`crate::run::verdict`]) calls
+//! it ok over the horizon: finite states, and an energy balance that never rose by more than
+//! `blowup_factor` × the scene's energy scale. The step is doubled or halved to a bracket,
+//! then bisected to 0.1 %. Bisection assumes that stability is monotone in dt. A method just
+//! inside its linear limit can swing its energy by more than the threshold without growing
+//! (symplectic Euler from rest reaches 1/(1 − hω/2) times its energy): the empirical limit is
+//! then below the theoretical one, never above it.
+//!
+//! The map ([`stability_map`]) runs each cell for at least [`MAP_MIN_STEPS`] steps, so a
+//! spectral radius of [`RHO_SHOWN`] multiplies the energy of its mode by at least
+//! [`GROWTH_SHOWN`] and shows as a blow-up, from the scene's initial state with every free
+//! particle displaced by [`MAP_SEED`] × its characteristic length ([`seeded`]): a symmetric
+//! scene (a spring hanging straight down) never excites its transverse modes, whose growth
+//! would otherwise never show.
+
+mod analyse;
+mod empirical;
+mod map;
+mod theory;
+
+pub use super::modes::Mode;
+pub use analyse::{analyse, write_stability};
+pub use empirical::{empirical_limit, Empirical, EmpiricalCriterion, SEARCH_TRIALS};
+pub use map::{
+    seeded, stability_map, MapConfig, MapRow, GROWTH_SHOWN, MAP_HEADER, MAP_MAX_STEPS,
+    MAP_MIN_STEPS, MAP_SEED, RHO_SHOWN,
+};
+pub use theory::{
+    mode_limit, one_step_map, spectral_radius, step_radius, theory_limit, Limit, Verdict, RHO_TOL,
+    SCAN_MAX, SCAN_MIN,
+};
+
+use super::modes::Modes;
+use crate::method::{MethodOptions, Registry};
+use serde::Serialize;
+
+/// Per-integrator stability.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IntegratorStability {
+    /// Integrator name.
+    pub integrator: String,
+    /// The verdict (theory when available, else empirical).
+    pub verdict: Verdict,
+    /// Largest stable step (s) when `stable_below`.
+    pub max_stable_dt: Option<f64>,
+    /// max_stable_dt × omega_max.
+    pub h_omega: Option<f64>,
+    /// Which method decided: `spectral_radius` or `empirical_bisection`.
+    pub method: String,
+    /// The theory verdict (None for external backends).
+    pub theory_verdict: Option<Verdict>,
+    /// The theory limit (s).
+    pub theory_max_stable_dt: Option<f64>,
+    /// The empirical search.
+    pub empirical: Option<Empirical>,
+    /// Anything to know (skipped, approximations).
+    pub note: Option<String>,
+}
+
+/// `stability.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilityReport {
+    /// The command that re-creates this document (`--out DIR` is added where it is written).
+    pub command: String,
+    /// Scenario name.
+    pub scenario: String,
+    /// Highest natural frequency of the linearised scene (rad/s).
+    pub omega_max: f64,
+    /// The modal analysis.
+    pub modes: Modes,
+    /// Theory criterion in words.
+    pub theory_criterion: String,
+    /// Empirical criterion.
+    pub empirical_criterion: EmpiricalCriterion,
+    /// Per integrator.
+    pub integrators: Vec<IntegratorStability>,
+    /// Integrators that do not apply, with the reason.
+    pub skipped: Vec<(String, String)>,
+}
+
+/// Options of [`analyse`].
+#[derive(Debug, Clone)]
+pub struct StabilityConfig {
+    /// Integrators (empty: all applicable).
+    pub integrators: Vec<String>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
+    /// Integrator options.
+    pub options: MethodOptions,
+    /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
+    pub horizon: Option<f64>,
+    /// Empirical blow-up factor (default: every command's, [`crate::run::DEFAULT_BLOWUP_FACTOR`]).
+    pub blowup_factor: f64,
+    /// Skip the empirical search.
+    pub theory_only: bool,
+    /// Run the empirical search only for methods without linear theory (where the spectral
+    /// radius decides the verdict, the search is a cross-check that costs many runs).
+    pub empirical_where_no_theory: bool,
+    /// Progress bar (one tick per method) on a terminal.
+    pub progress: bool,
+    /// Time budget of the empirical searches (s of runs, summed): each searching method's
+    /// time per step is probed at its first trial step, its search projected at
+    /// [`SEARCH_TRIALS`] trials, and the costliest searches that would exceed the budget are
+    /// left out, named with the figure. `None`: no budget (the study bounds its engines itself).
+    pub budget_seconds: Option<f64>,
+}
+
+impl Default for StabilityConfig {
+    fn default() -> Self {
+        StabilityConfig {
+            integrators: vec![],
+            methods: Registry::builtin(),
+            options: MethodOptions::default(),
+            horizon: None,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            theory_only: false,
+            empirical_where_no_theory: false,
+            progress: false,
+            budget_seconds: None,
+        }
+    }
+}
