@@ -4,7 +4,7 @@ use anyhow::{bail, Result};
 use springlab::error::num;
 use springlab::method::MethodOptions;
 use springlab::run::RunPlan;
-use springlab::scenario::{Scenario, Timing, MAX_STEPS};
+use springlab::scenario::{Asked, Scenario, Timing};
 use std::path::{Path, PathBuf};
 
 /// A step in seconds as typed: a number (`0.01`, `1e-3`) or a fraction (`1/60`).
@@ -53,7 +53,8 @@ pub struct StepArgs {
 }
 
 impl StepArgs {
-    /// The run plan: flags first, then the scenario's `[run]`, else an error saying what to add.
+    /// The run plan: flags first, then the scene's `[run]` (resolved by the library's one
+    /// rule, [`Timing::resolve_asked`]), else an error saying what to add.
     pub fn plan(&self, scene: &Scenario) -> Result<RunPlan> {
         let hz_dt = match self.hz {
             Some(f) if !(f.is_finite() && f > 0.0) => {
@@ -62,46 +63,18 @@ impl StepArgs {
             Some(f) => Some(1.0 / f),
             None => None,
         };
-        let flag = if self.hz.is_some() { "--hz" } else { "--dt" };
-        let dt = match self.dt.or(hz_dt).or(scene.run.dt) {
-            Some(dt) => dt,
-            None => bail!(
-                "{}: no time step: give --dt or --hz, or set [run].dt",
-                scene.source.display()
-            ),
-        };
-        if !(dt.is_finite() && dt > 0.0) {
-            bail!("{flag}: must give a finite step > 0, got {} s", num(dt));
-        }
-        if let Some(d) = self.duration {
-            if !(d.is_finite() && d > 0.0) {
-                bail!("--duration: must be a finite number > 0, got {}", num(d));
-            }
-        }
-        if self.steps == Some(0) {
-            bail!("--steps: must be at least 1");
-        }
         let blowup_factor = self.blowup.value()?;
         if self.substeps == Some(0) {
             bail!("--substeps: must be at least 1");
         }
-        let dt_flag = (self.dt.is_some() || self.hz.is_some()).then_some(flag);
-        let mut plan = if let Some(n) = self.steps {
-            if n > MAX_STEPS {
-                bail!("--steps: {n} is above the limit of {MAX_STEPS}");
-            }
-            RunPlan::new(dt, n)
-        } else if let Some(d) = self.duration.or(scene.run.duration) {
-            Timing::step_fits(scene, dt, dt_flag, d)?;
-            let length_flag = Timing::length_flag(dt_flag, self.duration.is_some());
-            RunPlan::new(dt, Timing::steps_within(length_flag, dt, d)?)
-        } else if let Some(n) = scene.run.steps {
-            RunPlan::new(dt, n)
-        } else {
-            bail!("{}: no run length: give --steps or --duration, or set [run].steps or [run].duration", scene.source.display());
+        let asked = Asked {
+            dt: self.dt.or(hz_dt),
+            step_flag: if self.hz.is_some() { "--hz" } else { "--dt" },
+            steps: self.steps,
+            duration: self.duration,
         };
-        Timing::check_impulses(scene, plan.duration())?;
-        Timing::check_frame_impulses(scene, plan.dt, plan.duration())?;
+        let t = Timing::resolve_asked(scene, &asked)?;
+        let mut plan = RunPlan::new(t.dt, t.steps);
         plan.blowup_factor = blowup_factor;
         plan.substeps = self.substeps.unwrap_or(1);
         Ok(plan)

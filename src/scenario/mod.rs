@@ -36,7 +36,7 @@ pub use validate::{MAX_PARTICLES, MAX_STEPS};
 
 pub use file::{ExpectSpec, ScenarioFile, SpringLaw};
 pub use generate::Block;
-pub use timing::Timing;
+pub use timing::{Asked, Timing};
 
 use crate::error::Result;
 use crate::model::{

@@ -20,6 +20,31 @@ pub struct Timing {
     pub duration: f64,
 }
 
+/// What a command asked of the step and the run's length; each `None` takes the scene's
+/// `[run]` value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Asked {
+    /// The step (s), from `step_flag`.
+    pub dt: Option<f64>,
+    /// The flag that gives the step (`--dt`, or `--hz` when the step is 1/hz), named in errors.
+    pub step_flag: &'static str,
+    /// A whole number of steps (`--steps`), instead of a duration.
+    pub steps: Option<u64>,
+    /// The simulated time (s, `--duration`).
+    pub duration: Option<f64>,
+}
+
+impl Default for Asked {
+    fn default() -> Self {
+        Asked {
+            dt: None,
+            step_flag: "--dt",
+            steps: None,
+            duration: None,
+        }
+    }
+}
+
 fn positive(flag: &str, v: f64) -> Result<f64> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
@@ -34,12 +59,16 @@ fn positive(flag: &str, v: f64) -> Result<f64> {
 impl Timing {
     /// The step: `dt` (a `--dt` override) or the scene's `[run].dt`.
     pub fn step(scene: &Scenario, dt: Option<f64>) -> Result<f64> {
+        Self::step_from(scene, dt, "--dt")
+    }
+
+    fn step_from(scene: &Scenario, dt: Option<f64>, flag: &str) -> Result<f64> {
         match dt.or(scene.run.dt) {
-            Some(v) => positive("--dt", v),
+            Some(v) => positive(flag, v),
             None => Err(Error::option(
-                "--dt",
+                flag,
                 format!(
-                    "{}: no step: give --dt or set [run].dt",
+                    "{}: no step: give {flag} or set [run].dt",
                     scene.source.display()
                 ),
             )),
@@ -75,12 +104,42 @@ impl Timing {
     /// Step and duration with their overrides, and the whole number of steps between them.
     /// A step longer than the duration, or an impulse at or after the run's end, is an error.
     pub fn resolve(scene: &Scenario, dt: Option<f64>, duration: Option<f64>) -> Result<Self> {
-        let dt_flag = dt.is_some().then_some("--dt");
-        let length_flag = Self::length_flag(dt_flag, duration.is_some());
-        let dt = Self::step(scene, dt)?;
-        let duration = Self::duration(scene, duration)?;
-        Self::step_fits(scene, dt, dt_flag, duration)?;
-        let steps = Self::steps_within(length_flag, dt, duration)?;
+        Self::resolve_asked(
+            scene,
+            &Asked {
+                dt,
+                duration,
+                ..Asked::default()
+            },
+        )
+    }
+
+    /// Step and length as asked, for every command: the step from `asked.dt` or `[run].dt`;
+    /// the length from `asked.steps` (whole steps), else `asked.duration`, else the scene's
+    /// duration in seconds (`[run].duration`, or `[run].steps` × `[run].dt`, kept in seconds
+    /// when the step is overridden). Errors name the flag or the field that gave the value.
+    pub fn resolve_asked(scene: &Scenario, asked: &Asked) -> Result<Self> {
+        let dt_flag = asked.dt.is_some().then_some(asked.step_flag);
+        let dt = Self::step_from(scene, asked.dt, asked.step_flag)?;
+        if let Some(d) = asked.duration {
+            positive("--duration", d)?;
+        }
+        let (steps, duration) = match asked.steps {
+            Some(0) => return Err(Error::option("--steps", "must be at least 1")),
+            Some(n) if n > super::MAX_STEPS => {
+                return Err(Error::option(
+                    "--steps",
+                    format!("{n} is above the limit of {}", super::MAX_STEPS),
+                ))
+            }
+            Some(n) => (n, n as f64 * dt),
+            None => {
+                let duration = Self::duration(scene, asked.duration)?;
+                Self::step_fits(scene, dt, dt_flag, duration)?;
+                let length_flag = Self::length_flag(dt_flag, asked.duration.is_some());
+                (Self::steps_within(length_flag, dt, duration)?, duration)
+            }
+        };
         Self::check_impulses(scene, dt * steps as f64)?;
         Self::check_frame_impulses(scene, dt, dt * steps as f64)?;
         Ok(Timing {

@@ -148,3 +148,62 @@ fn sweep_shards_merge_and_stability_advise_files() {
         assert!(!adv[k].is_null(), "advice.json lacks {k}");
     }
 }
+
+/// One rule for the run's length, in every command: a scene of `steps` × `dt` lasts that many
+/// seconds, and a `--dt` override keeps the seconds (run and compare agree); `--steps` asks
+/// for a number of steps instead. Oracle: 10 steps of 0.01 s are 0.1 s, 20 steps of 0.005 s.
+#[test]
+fn a_step_override_keeps_the_scenes_length_in_seconds() {
+    let d = tempfile::tempdir().unwrap();
+    let scene = d.path().join("spring.toml");
+    std::fs::write(
+        &scene,
+        "[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\nfixed = true\n\
+         [[particle]]\nposition = [1.5, 0.0, 0.0]\nmass = 1.0\n\
+         [[spring]]\nbetween = [0, 1]\nstiffness = 4.0\nrest_length = 1.0\n\
+         [run]\ndt = 0.01\nsteps = 10\n",
+    )
+    .unwrap();
+    let scene = scene.to_str().unwrap();
+    let json = |dir: &Path| -> serde_json::Value {
+        serde_json::from_str(&read(&dir.join("summary.json"))).unwrap()
+    };
+    let run_dir = d.path().join("run");
+    springlab(&[
+        "run",
+        scene,
+        "-i",
+        "rk4",
+        "--dt",
+        "0.005",
+        "--out",
+        run_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(json(&run_dir)["steps"], 20);
+    let cmp_dir = d.path().join("compare");
+    springlab(&[
+        "compare",
+        scene,
+        "--integrators",
+        "rk4",
+        "--dt",
+        "0.005",
+        "--out",
+        cmp_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(json(&cmp_dir)["steps"], 20);
+    // The twin: an explicit step count is kept as asked.
+    springlab(&[
+        "run",
+        scene,
+        "-i",
+        "rk4",
+        "--dt",
+        "0.005",
+        "--steps",
+        "7",
+        "--out",
+        run_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(json(&run_dir)["steps"], 7);
+}
