@@ -48,7 +48,7 @@ pub struct Args {
     #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub points: usize,
     #[command(flatten)]
-    pub blowup: super::measure_common::BlowupArg,
+    pub blowup: super::common::BlowupArg,
     /// Append the advised answer to the scenario file as an [expect] table (method, step,
     /// stable, position error within the tolerance, strain and energy drift rate with a
     /// margin over the verified run's), for `springlab expect` to hold the scene to it.

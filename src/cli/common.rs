@@ -26,6 +26,26 @@ pub fn parse_seconds(s: &str) -> std::result::Result<f64, String> {
     }
 }
 
+/// `--blowup-factor`: one flag, one default and one help text for every command.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct BlowupArg {
+    #[arg(
+        long,
+        default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR,
+        allow_negative_numbers = true,
+        help = springlab::run::verdict::BLOWUP_FACTOR_HELP
+    )]
+    blowup_factor: f64,
+}
+
+impl BlowupArg {
+    /// The validated factor.
+    pub fn value(&self) -> Result<f64> {
+        springlab::run::verdict::check_factor(self.blowup_factor)
+            .map_err(|why| anyhow::anyhow!("--blowup-factor: {why}"))
+    }
+}
+
 /// Step and length flags; each overrides the scenario's `[run]` table.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StepArgs {
@@ -42,7 +62,7 @@ pub struct StepArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     #[command(flatten)]
-    pub blowup: super::measure_common::BlowupArg,
+    pub blowup: BlowupArg,
     /// Substeps per frame: native methods take N equal steps of dt/N per frame (bit for bit
     /// the run at dt/N, every N-th state written), Rapier backends N solver substeps.
     /// Default: 1 for native methods, Rapier's own 4 for Rapier backends.

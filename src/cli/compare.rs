@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     #[command(flatten)]
-    pub blowup: super::measure_common::BlowupArg,
+    pub blowup: super::common::BlowupArg,
     /// Points per time series in summary.json (0: none).
     #[arg(long, default_value_t = 2000, allow_negative_numbers = true)]
     pub series_points: u64,

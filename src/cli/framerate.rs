@@ -51,7 +51,7 @@ pub struct Args {
     #[command(flatten)]
     pub method: super::method_args::MethodArgs,
     #[command(flatten)]
-    pub blowup: super::measure_common::BlowupArg,
+    pub blowup: super::common::BlowupArg,
     /// Output directory (default: out/<scenario>/framerate/).
     #[arg(long)]
     pub out: Option<PathBuf>,

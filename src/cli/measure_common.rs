@@ -4,26 +4,6 @@ use anyhow::{bail, Result};
 use springlab::method::MethodOptions;
 use std::path::{Path, PathBuf};
 
-/// `--blowup-factor`: one flag, one default and one help text for every command.
-#[derive(Debug, Clone, Copy, clap::Args)]
-pub struct BlowupArg {
-    #[arg(
-        long,
-        default_value_t = springlab::run::DEFAULT_BLOWUP_FACTOR,
-        allow_negative_numbers = true,
-        help = springlab::run::verdict::BLOWUP_FACTOR_HELP
-    )]
-    blowup_factor: f64,
-}
-
-impl BlowupArg {
-    /// The validated factor.
-    pub fn value(&self) -> Result<f64> {
-        springlab::run::verdict::check_factor(self.blowup_factor)
-            .map_err(|why| anyhow::anyhow!("--blowup-factor: {why}"))
-    }
-}
-
 /// Integrator selection and options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MeasureArgs {

@@ -28,7 +28,7 @@ pub struct Args {
     #[arg(long)]
     pub merge: bool,
     #[command(flatten)]
-    pub blowup: super::measure_common::BlowupArg,
+    pub blowup: super::common::BlowupArg,
 }
 
 /// Runs the command.

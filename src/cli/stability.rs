@@ -21,7 +21,7 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     pub horizon: Option<f64>,
     #[command(flatten)]
-    pub blowup: super::measure_common::BlowupArg,
+    pub blowup: super::common::BlowupArg,
     /// Skip the empirical bisection.
     #[arg(long)]
     pub theory_only: bool,

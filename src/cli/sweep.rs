@@ -50,7 +50,7 @@ pub struct Args {
     #[arg(long)]
     pub shard: Option<Shard>,
     #[command(flatten)]
-    pub blowup: super::measure_common::BlowupArg,
+    pub blowup: super::common::BlowupArg,
 }
 
 /// Runs the command.

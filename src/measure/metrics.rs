@@ -38,34 +38,7 @@ use crate::run::{energy_scale, EnergyRecord, Observer};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
-/// Position error e = max over particles |x_i − y_i| (m) between two configurations of the
-/// same particles: the one definition every measure compares positions with.
-pub fn position_error(x: &[Vec3], y: &[Vec3]) -> f64 {
-    x.iter()
-        .zip(y)
-        .map(|(a, b)| (a - b).norm())
-        .fold(0.0, f64::max)
-}
-
-/// Largest strain |l/l0 − 1| at positions `x` over every spring with a rest length l0 > 0 and
-/// every distance constraint (l0 its length), l = |x_j − x_i|; 0 without either. A serial
-/// loop in index order, so the value is the same bits whatever the thread count.
-pub fn strain_max(sys: &System, x: &[Vec3]) -> f64 {
-    let sp = &sys.springs;
-    let springs = (0..sp.len()).map(|s| (sp.i[s] as usize, sp.j[s] as usize, sp.l0[s]));
-    let rods = sys.constraints.iter().map(|c| (c.i, c.j, c.length));
-    springs
-        .chain(rods)
-        .filter(|&(_, _, l0)| l0 > 0.0)
-        .map(|(i, j, l0)| ((x[j] - x[i]).norm() / l0 - 1.0).abs())
-        .fold(0.0, f64::max)
-}
-
-/// True for a scene whose accuracy is judged bounce by bounce ([`super::apexes`]): it has
-/// obstacles and gravity.
-pub fn bouncing(sys: &System) -> bool {
-    crate::collide::of(sys).is_some() && sys.gravity.is_some_and(|g| g.norm() > 0.0)
-}
+pub use super::observables::{bouncing, position_error, strain_max};
 
 /// Least-squares line y = a + b t through points; returns (a, b). Fewer than two distinct
 /// t give b = 0.
@@ -412,7 +385,7 @@ impl<'a> MetricsObserver<'a> {
                 .as_ref()
                 .map(|e| WindowReader::new(&e.times, g.dt, g.steps)),
             apexes: bouncing(sys).then(|| {
-                let threshold = super::tolerance::RELATIVE_TOLERANCE * reference.motion_scale();
+                let threshold = super::observables::RELATIVE_TOLERANCE * reference.motion_scale();
                 let gravity = sys.gravity.expect("a bouncing scene has gravity");
                 let a = Apexes::new(gravity, &sys.free, threshold);
                 (a.clone(), a)

@@ -14,6 +14,7 @@ pub mod framerate;
 pub mod grid;
 pub(crate) mod metrics;
 mod modes;
+pub mod observables;
 pub mod probe;
 pub mod reference;
 pub mod small_steps;

@@ -28,7 +28,7 @@
 //! |ensemble mean| and 1 (strain is dimensionless: never a floor below the tolerance itself). The score of
 //! an observable is |method − mean| / (SPREADS × spread + floor): at most 1 is consistent.
 
-use super::metrics::strain_max;
+use super::observables::strain_max;
 use crate::model::{State, System, Vec3};
 use serde::Serialize;
 use std::collections::BTreeMap;

@@ -30,8 +30,7 @@ use super::reference::ReferenceInfo;
 use crate::error::{Error, Result};
 use serde::Serialize;
 
-/// Default tolerance relative to the motion scale.
-pub const RELATIVE_TOLERANCE: f64 = 0.01;
+pub use super::observables::RELATIVE_TOLERANCE;
 
 /// What an answer is judged by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -265,7 +264,7 @@ pub fn decide(
     s0: &crate::model::State,
     prepared: Option<&super::statistics::Ensemble>,
 ) -> Result<(Judge, Option<String>)> {
-    let bouncing = super::metrics::bouncing(sys);
+    let bouncing = super::observables::bouncing(sys);
     let judge = Judge::new(metric, asked, scene_tolerance, &reference.info, bouncing);
     if judge.metric == Metric::Impacts && !bouncing {
         return Err(Error::option(

@@ -4,7 +4,7 @@
 
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
 use super::options::{ITERATIONS, XPBD_ITERATIONS, XPBD_SUBSTEPS};
-use super::registry::Method;
+use super::registry::{Method, Registry};
 use crate::integrate::{
     Analytic, Bdf2, ExplicitEuler, ImplicitEuler, ImplicitMidpoint, LinearImplicitEuler,
     PositionVerlet, Rattle, RungeKutta, SymplecticEuler, Tableau, VelocityVerlet,
@@ -186,4 +186,19 @@ pub fn methods() -> Vec<Method> {
             |o| Box::new(RapierBackend::new(Mode::Multibody, o.substeps)),
         ),
     ]
+}
+
+impl Registry {
+    /// springlab's own integrators and the Rapier backends.
+    pub fn builtin() -> Self {
+        static BUILTIN: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
+        BUILTIN
+            .get_or_init(|| {
+                methods()
+                    .into_iter()
+                    .try_fold(Registry::empty(), Registry::with)
+                    .expect("built-in methods have consistent facts")
+            })
+            .clone()
+    }
 }

@@ -78,19 +78,6 @@ impl Registry {
         }
     }
 
-    /// springlab's own integrators and the Rapier backends.
-    pub fn builtin() -> Self {
-        static BUILTIN: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
-        BUILTIN
-            .get_or_init(|| {
-                super::builtin::methods()
-                    .into_iter()
-                    .try_fold(Registry::empty(), Registry::with)
-                    .expect("built-in methods have consistent facts")
-            })
-            .clone()
-    }
-
     /// This registry plus `m`, refused when its facts are inconsistent: a name or alias
     /// already taken or not snake_case, order 0, an empty summary, an option flag that is not
     /// kebab-case, whose default is below its least value or that another method declares

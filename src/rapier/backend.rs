@@ -7,11 +7,6 @@ use crate::error::Result;
 use crate::integrate::{Integrator, StepStats};
 use crate::model::{State, System, Vec3};
 
-/// CLI name of the impulse-joint backend.
-pub const IMPULSE: &str = "rapier_impulse";
-/// CLI name of the multibody backend.
-pub const MULTIBODY: &str = "rapier_multibody";
-
 /// Rapier 0.36 (f64) stepping a scene; `dt` is Rapier's frame step, `substeps` its
 /// `num_solver_iterations`.
 ///
@@ -101,10 +96,7 @@ fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
 
 impl Integrator for RapierBackend {
     fn name(&self) -> &str {
-        match self.mode {
-            Mode::Impulse => IMPULSE,
-            Mode::Multibody => MULTIBODY,
-        }
+        self.mode.name()
     }
     fn handles_contacts(&self) -> bool {
         true // obstacles are fixed Rapier colliders; Rapier's own solver resolves contacts
@@ -137,7 +129,7 @@ impl Integrator for RapierBackend {
             .map(|_| sys.energy(&s.x, &s.v).mechanical());
         let b = self.built.as_mut().expect("built in prepare");
         if b.axial.is_empty() {
-            self.user.apply(sys, b);
+            self.user.apply(sys, &b.bodies, &mut b.world.bodies);
             b.world.step();
         } else {
             // Loop-closing joints between multibody links must follow the particle axis, which
@@ -146,7 +138,7 @@ impl Integrator for RapierBackend {
             set_step(&mut b.world, 1, h / self.substeps as f64);
             for _ in 0..self.substeps {
                 align_axial(b);
-                self.user.apply(sys, b);
+                self.user.apply(sys, &b.bodies, &mut b.world.bodies);
                 b.world.step();
             }
         }

@@ -10,6 +10,7 @@ mod backend;
 mod bodies;
 mod convert;
 mod joints;
+mod mode;
 mod multibody;
 mod obstacles;
 mod scheme;
@@ -17,15 +18,15 @@ mod topology;
 mod user_forces;
 mod world;
 
-pub use backend::{RapierBackend, IMPULSE, MULTIBODY};
+pub use backend::RapierBackend;
 pub use bodies::RESTITUTION_RULE;
+pub use mode::{Mode, IMPULSE, MULTIBODY};
 pub use obstacles::{Difference, DifferenceKind, DIFFERENCES};
 pub use scheme::{scheme_prediction, Prediction};
 pub use topology::{
     tree_cap, Edge, EdgeKind, FallbackReason, Topology, MAX_TREE_PARTICLES,
     MAX_TREE_PARTICLES_WITH_LOOPS,
 };
-pub use world::Mode;
 
 /// Internals exposed for the trap regression tests (not a stable API).
 #[doc(hidden)]

@@ -17,7 +17,7 @@
 //! beside the figures compare measured). Sliding and sticking in resting contact match
 //! Coulomb (incline, stopping distance).
 
-use super::backend::{IMPULSE, MULTIBODY};
+use super::mode::{IMPULSE, MULTIBODY};
 use crate::model::System;
 use rapier3d_f64::prelude::*;
 

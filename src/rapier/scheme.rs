@@ -39,12 +39,12 @@ pub struct Prediction {
     pub curve: Vec<(f64, f64)>,
 }
 
-/// The curve predicted for Rapier backend `backend` (`rapier_impulse`, `rapier_multibody`) on `sys` from `s0` over `steps` frames of `h` with `substeps`
+/// The curve predicted for the Rapier backend of `mode` on `sys` from `s0` over `steps` frames of `h` with `substeps`
 /// substeps, when Rapier matches a known scheme there: free fall (no springs, constraints or
 /// drag) and single-spring scenes without constraints or drag. `None` otherwise: with several
 /// joints Rapier's sequential (Gauss–Seidel) joint sweep is not one textbook scheme.
 pub fn scheme_prediction(
-    backend: &str,
+    mode: super::Mode,
     sys: &System,
     s0: &State,
     h: f64,
@@ -54,10 +54,9 @@ pub fn scheme_prediction(
     if !sys.constraints.is_empty() || sys.drag.is_some() || sys.springs.len() > 1 {
         return None;
     }
-    match backend {
-        super::IMPULSE => {}
-        super::MULTIBODY if sys.springs.is_empty() => {}
-        _ => return None,
+    // A multibody joint is not a soft-constraint spring: only its free fall is known.
+    if mode == super::Mode::Multibody && !sys.springs.is_empty() {
+        return None;
     }
     let n = substeps.max(1);
     let hs = h / n as f64;

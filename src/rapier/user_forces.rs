@@ -9,8 +9,8 @@
 //! about 2.
 
 use super::convert::{to_glam, to_na};
-use super::world::Built;
 use crate::model::{ForceTerm, System, Vec3};
+use rapier3d_f64::prelude::{RigidBodyHandle, RigidBodySet};
 
 /// Names of the force terms this module applies.
 pub const USER_FORCE_TERMS: [&str; 1] = ["penalty_contacts"];
@@ -56,14 +56,14 @@ impl UserForces {
 
     /// Sets every free body's user force to the terms' force at its current state (replacing
     /// the previous step's); a no-op for a scene without such terms.
-    pub fn apply(&mut self, sys: &System, b: &mut Built) {
+    pub fn apply(&mut self, sys: &System, bodies: &[RigidBodyHandle], set: &mut RigidBodySet) {
         if !any(sys) {
             return;
         }
         self.x.clear();
         self.v.clear();
-        for &h in &b.bodies {
-            let rb = &b.world.bodies[h];
+        for &h in bodies {
+            let rb = &set[h];
             self.x.push(to_na(rb.translation()));
             self.v.push(to_na(rb.linvel()));
         }
@@ -72,9 +72,9 @@ impl UserForces {
         for t in Self::terms(sys) {
             t.add_forces(&self.x, &self.v, &mut self.f);
         }
-        for (p, &h) in b.bodies.iter().enumerate() {
+        for (p, &h) in bodies.iter().enumerate() {
             if sys.free[p] {
-                let rb = &mut b.world.bodies[h];
+                let rb = &mut set[h];
                 rb.reset_forces(false);
                 rb.add_force(to_glam(&self.f[p]), true);
             }

@@ -3,20 +3,12 @@
 use super::bodies::{particle_body, particle_collider};
 use super::convert::to_glam;
 use super::joints::{align_frames, axial_joint, edge_joint};
+pub use super::mode::Mode;
 use super::multibody::{configure, insert_edge};
 use super::topology::{tree_cap, Edge, Topology};
 use crate::model::{State, System};
 use rapier3d_f64::math::Vector;
 use rapier3d_f64::prelude::*;
-
-/// Which Rapier joint family carries the scene's springs and constraints.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// Every spring and constraint is an impulse joint.
-    Impulse,
-    /// Tree edges are multibody joints; loops and edges past the tree cap are impulse joints.
-    Multibody,
-}
 
 /// A built world and the body of each particle.
 pub struct Built {

@@ -219,7 +219,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     }
     let mut sum = scene_summary(s, &opts.methods, docs)?;
     sum.verdict = super::verdict::verdict(&sum);
-    sum.file = super::build::file_key(&scene.source);
+    sum.file = super::overview::file_key(&scene.source);
     write_atomic(
         dir.join("index.html"),
         scene_page(&sum, s, &figs, &sections, &notes).as_bytes(),

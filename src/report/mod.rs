@@ -16,6 +16,7 @@ mod framerate;
 pub mod generate;
 mod html;
 mod markdown;
+pub mod overview;
 mod playback;
 pub mod plots;
 pub mod shard;

@@ -108,8 +108,8 @@ pub fn merge_shards(out: &Path, generator: &str, quick: bool) -> Result<Summary>
         ));
     }
     outcomes.sort_by_key(|(k, _, _)| *k);
-    let previous = super::build::previous_summary(out);
-    let mut sum = super::build::assemble(
+    let previous = super::overview::previous_summary(out);
+    let mut sum = super::overview::assemble(
         generator,
         quick,
         outcomes.into_iter().map(|(_, f, r)| (f, r)).collect(),

@@ -4,25 +4,16 @@
 
 use super::html::{esc, page};
 use super::plots::common::{svg_grid, Axis, Panel};
+pub use super::summary::SmallStepsLink;
 use crate::error::Result;
 use crate::measure::small_steps::{small_steps, write_small_steps, SmallSteps, SmallStepsConfig};
 use crate::output::{write_atomic, Transaction};
 use crate::report::data::Series;
 use crate::scenario::Scenario;
-use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The scenes the page compares, looked up in the report's scenario folder.
 pub const SCENES: [&str; 2] = ["stiff_chain.toml", "cloth.toml"];
-
-/// What the overview says of the page.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SmallStepsLink {
-    /// The page, relative to the report root.
-    pub page: String,
-    /// One verdict per scene.
-    pub verdicts: Vec<String>,
-}
 
 /// Measures and writes `out/small_steps/` (documents, chart, page) when both scenes are in
 /// `scenarios`; `None` otherwise (a report of other scenes has no such page).

@@ -132,7 +132,7 @@ pub struct Summary {
     pub failed: Vec<(String, String)>,
     /// The Small Steps page, when the report has one.
     #[serde(default)]
-    pub small_steps: Option<super::small_steps::SmallStepsLink>,
+    pub small_steps: Option<SmallStepsLink>,
 }
 
 /// The reference of a comparison in words: its kind and description.
@@ -231,4 +231,13 @@ pub fn scene_summary(
         file: String::new(),
         failed_this_time: None,
     })
+}
+
+/// What the overview says of the Small Steps page.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SmallStepsLink {
+    /// The page, relative to the report root.
+    pub page: String,
+    /// One verdict per scene.
+    pub verdicts: Vec<String>,
 }

@@ -26,6 +26,7 @@
 pub mod append_expect;
 pub mod file;
 mod generate;
+mod load;
 mod obj;
 pub mod obstacle_file;
 mod obstacle_validate;
@@ -38,11 +39,10 @@ pub use file::{ExpectSpec, ScenarioFile, SpringLaw};
 pub use generate::Block;
 pub use timing::{Asked, Timing};
 
-use crate::error::Result;
 use crate::model::{
     DistanceConstraint, Drag, ForceTerm, Gravity, Impulse, Springs, State, System, Vec3,
 };
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// One particle of a validated scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -164,24 +164,6 @@ pub struct Expect {
 }
 
 impl Scenario {
-    /// Loads and validates a scenario file.
-    pub fn from_file(path: impl AsRef<Path>) -> Result<Self> {
-        let path = path.as_ref();
-        let (raw, _) = parse::read_file(path)?;
-        validate::validate(raw, path)
-    }
-
-    /// Parses and validates scenario TOML; `label` names it in errors and gives the default name.
-    pub fn from_toml_str(text: &str, label: impl AsRef<Path>) -> Result<Self> {
-        let label = label.as_ref();
-        validate::validate(parse::parse_toml(text, label)?, label)
-    }
-
-    /// Validates an in-memory [`ScenarioFile`] (a scene built in code).
-    pub fn from_spec(raw: ScenarioFile) -> Result<Self> {
-        validate::validate(raw, Path::new("<memory>"))
-    }
-
     /// Number of free (moving) particles.
     pub fn free_count(&self) -> usize {
         self.particles.iter().filter(|p| !p.fixed).count()

@@ -1,7 +1,6 @@
 //! Serde types of the `[[obstacle]]` and `[collision]` tables. One flat table per
 //! obstacle: `shape` says which keys apply, and validation rejects keys of other shapes.
 
-use super::file::Triple;
 use serde::{Deserialize, Serialize};
 
 /// `[[obstacle]]`: one static obstacle.
@@ -11,25 +10,25 @@ pub struct ObstacleSpec {
     /// `plane`, `sphere`, `box`, `capsule` or `mesh`.
     pub shape: String,
     /// plane: a point on the plane.
-    pub point: Option<Triple>,
+    pub point: Option<[f64; 3]>,
     /// plane: outward normal (any non-zero length).
-    pub normal: Option<Triple>,
+    pub normal: Option<[f64; 3]>,
     /// sphere, box: centre.
-    pub center: Option<Triple>,
+    pub center: Option<[f64; 3]>,
     /// sphere, capsule: radius (m, > 0).
     pub radius: Option<f64>,
     /// box: half side lengths (m, each > 0).
-    pub half_extents: Option<Triple>,
+    pub half_extents: Option<[f64; 3]>,
     /// box: orientation as an axis-angle vector (rad; default none).
-    pub rotation: Option<Triple>,
+    pub rotation: Option<[f64; 3]>,
     /// capsule: first end of the axis.
-    pub a: Option<Triple>,
+    pub a: Option<[f64; 3]>,
     /// capsule: second end of the axis.
-    pub b: Option<Triple>,
+    pub b: Option<[f64; 3]>,
     /// mesh: OBJ file, relative to the scene file (exclusive with vertices + triangles).
     pub file: Option<String>,
     /// mesh: inline vertex positions.
-    pub vertices: Option<Vec<Triple>>,
+    pub vertices: Option<Vec<[f64; 3]>>,
     /// mesh: inline triangles (0-based vertex indices, counter-clockwise seen from outside).
     pub triangles: Option<Vec<[i64; 3]>>,
     /// Coefficient of restitution in [0, 1] (default 0).

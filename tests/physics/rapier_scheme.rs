@@ -5,7 +5,7 @@
 use crate::common;
 use crate::rapier_support;
 use rapier_support::*;
-use springlab::rapier::scheme_prediction;
+use springlab::rapier::{scheme_prediction, Mode};
 use springlab::scenario::Scenario;
 
 #[test]
@@ -33,8 +33,15 @@ fn free_fall_is_symplectic_euler_at_the_substep() {
                     x[0]
                 );
             }
-            let p =
-                scheme_prediction(name, &scene.build(), &scene.initial_state(), h, n, 30).unwrap();
+            let p = scheme_prediction(
+                Mode::of(name).unwrap(),
+                &scene.build(),
+                &scene.initial_state(),
+                h,
+                n,
+                30,
+            )
+            .unwrap();
             for (m, q) in rec.energy.iter().zip(&p.curve) {
                 assert!((m.1 - q.1).abs() < 1e-9 * m.1.abs().max(1.0));
             }
@@ -65,16 +72,16 @@ fn impulse_spring_energy_decays_like_backward_euler() {
 fn multibody_springs_claim_no_scheme() {
     let scene = common::oscillator(4.0, 0.0, 0.1, 0.0);
     let sys = scene.build();
+    assert!(
+        scheme_prediction(Mode::Multibody, &sys, &scene.initial_state(), 0.01, 4, 10).is_none()
+    );
     assert!(scheme_prediction(
-        "rapier_multibody",
+        Mode::of("rapier_impulse").unwrap(),
         &sys,
         &scene.initial_state(),
         0.01,
         4,
         10
     )
-    .is_none());
-    assert!(
-        scheme_prediction("rapier_impulse", &sys, &scene.initial_state(), 0.01, 4, 10).is_some()
-    );
+    .is_some());
 }

@@ -4,7 +4,7 @@
 //! impulse springs follow, computed independently by `scheme_prediction`.
 use crate::rapier_support;
 use rapier_support::*;
-use springlab::rapier::scheme_prediction;
+use springlab::rapier::{scheme_prediction, Mode};
 use springlab::scenario::Scenario;
 
 fn two_body() -> Scenario {
@@ -50,8 +50,15 @@ fn impulse_energy_follows_the_predicted_scheme() {
     for (h, n) in [(1.0 / 60.0, 4), (1.0 / 600.0, 1), (0.01, 2)] {
         let steps = 120;
         let (rec, _) = record(&scene, "rapier_impulse", h, n, steps);
-        let p =
-            scheme_prediction("rapier_impulse", &sys, &scene.initial_state(), h, n, steps).unwrap();
+        let p = scheme_prediction(
+            Mode::of("rapier_impulse").unwrap(),
+            &sys,
+            &scene.initial_state(),
+            h,
+            n,
+            steps,
+        )
+        .unwrap();
         assert_eq!(p.curve.len(), rec.energy.len());
         let e0 = p.curve[0].1;
         let lost = e0 - p.curve.last().unwrap().1;

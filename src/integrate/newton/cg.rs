@@ -12,8 +12,8 @@
 #[cfg(feature = "direct-solver")]
 use super::direct::Factor;
 use super::ic0::Ic0;
-use super::momentum::translation_invariant;
-use super::ImplicitSettings;
+use super::settings::ImplicitSettings;
+use super::translation::translation_invariant;
 use crate::integrate::ensure_len;
 use crate::model::parallel::{dot, each_particle, each_particle2};
 use crate::model::{Jacobian, System, Vec3};

@@ -54,53 +54,8 @@ use super::cg::{CgOutcome, Precond};
 #[cfg(feature = "direct-solver")]
 use super::direct::Factor;
 use super::ic0::Ic0;
-use super::ImplicitSettings;
+use super::settings::{ImplicitSettings, LinearSolver};
 use crate::model::{Jacobian, System, Vec3};
-
-/// Which linear solver the implicit core uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum LinearSolver {
-    /// Matrix-free CG preconditioned by the inverse 3×3 diagonal blocks, clamping compressed
-    /// springs in steps on non-positive curvature: the measured fastest over a long run of
-    /// hard (folding) frames, and the one that runs the 316² cloth 3 s (module docs).
-    #[default]
-    BlockJacobiCg,
-    /// CG preconditioned by a block incomplete Cholesky factor IC(0) of the clamped Newton
-    /// matrix, refactored at every Newton iteration, clamping as
-    /// [`LinearSolver::BlockJacobiCg`] does: a quarter of the iterations, a factor each
-    /// Newton iteration (module docs).
-    BlockIc0Cg,
-    /// CG preconditioned by a reused sparse Cholesky factor of the clamped Newton matrix;
-    /// projected Newton (the clamped system, solved directly) where the exact matrix is
-    /// indefinite. Built with the `direct-solver` feature only.
-    #[cfg(feature = "direct-solver")]
-    Cholesky,
-}
-
-impl LinearSolver {
-    /// Every solver compiled in, the default first.
-    pub const ALL: &'static [LinearSolver] = &[
-        LinearSolver::BlockJacobiCg,
-        LinearSolver::BlockIc0Cg,
-        #[cfg(feature = "direct-solver")]
-        LinearSolver::Cholesky,
-    ];
-
-    /// The name bench reports print and `--implicit-solver` takes.
-    pub fn name(self) -> &'static str {
-        match self {
-            LinearSolver::BlockJacobiCg => "block_jacobi_cg",
-            LinearSolver::BlockIc0Cg => "block_ic0_cg",
-            #[cfg(feature = "direct-solver")]
-            LinearSolver::Cholesky => "cholesky_pcg",
-        }
-    }
-
-    /// The solver called `name`, if any.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.iter().copied().find(|s| s.name() == name)
-    }
-}
 
 /// Scratch and state of the linear solves: CG vectors and the reusable factors.
 #[derive(Debug, Default)]

@@ -39,71 +39,16 @@ mod linsolve;
 mod momentum;
 mod pattern;
 mod potential;
+mod settings;
+mod translation;
 mod trust;
 
 use crate::error::{Error, Result};
 use crate::integrate::ensure_len;
 use crate::model::{Jacobian, System, Vec3};
 use linsolve::LinearSolve;
-pub use linsolve::LinearSolver;
 use potential::{potential, PotentialScratch};
-
-/// Settings of the implicit solve.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ImplicitSettings {
-    /// Newton iterations before giving up.
-    pub max_newton: usize,
-    /// The root tolerance every accepted stage meets, whichever stop ends it: the mass-weighted
-    /// RMS of M⁻¹G ≤ `root_tol` × the stage's velocity scale (the largest |v̂|, |v'|, β|f_p|/m_p
-    /// or β|g| component).
-    /// The cheap stops (a small update, the error estimate) are taken only there; a stage that
-    /// runs out of iterations above it fails.
-    pub root_tol: f64,
-    /// Newton stops when max |M⁻¹ G| ≤ `newton_tol` × the velocity scale, or when an update
-    /// is below `newton_tol` × |v| plus the round-off floor 16ε·max|x|/h.
-    pub newton_tol: f64,
-    /// Newton also stops, once at [`ImplicitSettings::root_tol`], when |M⁻¹ G| ≤ `kappa` × the
-    /// step's truncation-error estimate
-    /// ½ |v' − v_pred| (v_pred: the first-order explicit predictor), both in the mass-weighted
-    /// RMS norm √(Σ m |·|² / Σ m), so the solver error stays `kappa` times below the method's
-    /// own error (Hairer & Wanner, Solving ODEs II, §IV.8, stop Newton at κ ∈ [0.01, 0.1] of
-    /// the error tolerance, in an RMS norm; we take 1 % of the error itself). The estimate is
-    /// first order; a second-order method's error is smaller by about hω, so second-order
-    /// methods stop at `kappa²` × the estimate (see `Stop::SecondOrder`).
-    pub kappa: f64,
-    /// CG stops at this relative residual (preconditioned norm).
-    pub cg_tol: f64,
-    /// CG iterations before giving up on one linear solve.
-    pub max_cg: usize,
-    /// Halvings of a Newton update tried when it would raise the residual (line search on
-    /// GᵀM⁻¹G); the last trial is taken if none lowers it.
-    pub max_halvings: usize,
-    /// Largest inexact-Newton forcing η: each linear solve stops once its residual is below
-    /// η |G| (Eisenstat–Walker; smaller η as Newton converges) or half the error-based stop.
-    pub forcing: f64,
-    /// The linear solver of each Newton iteration.
-    pub solver: LinearSolver,
-    /// [`LinearSolver::Cholesky`]: CG iterations a reused (stale) factor may take before it
-    /// is refactored at the current iterate.
-    pub refactor_after: usize,
-}
-
-impl Default for ImplicitSettings {
-    fn default() -> Self {
-        ImplicitSettings {
-            max_newton: 50,
-            root_tol: 1e-6,
-            newton_tol: 1e-10,
-            kappa: 1e-2,
-            cg_tol: 1e-8,
-            max_cg: 2000,
-            max_halvings: 4,
-            forcing: 0.1,
-            solver: LinearSolver::default(),
-            refactor_after: 10,
-        }
-    }
-}
+pub use settings::{ImplicitSettings, LinearSolver};
 
 /// Which Newton stop an implicit method may use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -217,7 +162,7 @@ impl Newton {
     /// Sizes the scratch for `sys` and decides whether its iterates' momentum is balanced.
     fn prepare(&mut self, sys: &System) {
         self.ensure(sys.len());
-        self.shift_mass = if momentum::translation_invariant(sys) {
+        self.shift_mass = if translation::translation_invariant(sys) {
             sys.mass.iter().sum()
         } else {
             0.0

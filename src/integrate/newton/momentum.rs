@@ -13,20 +13,6 @@
 use super::Newton;
 use crate::model::{System, Vec3};
 
-/// True when a uniform velocity shift leaves every force of `sys` unchanged: all particles
-/// free, no drag, and no force term but springs and gravity (the scene builder adds a term
-/// for gravity, drag and penalty contacts only; a hand-built system with other terms is
-/// treated as not invariant unless it has exactly one term, gravity's).
-pub(super) fn translation_invariant(sys: &System) -> bool {
-    sys.free.iter().all(|&f| f)
-        && sys.drag.is_none()
-        && match sys.terms.as_slice() {
-            [] => true,
-            [only] => sys.gravity.is_some() && only.name() == "gravity",
-            _ => false,
-        }
-}
-
 impl Newton {
     /// Shifts the iterate v' (and x' = x̂ + βv') by the uniform c = −ΣG/Σm that zeroes the
     /// stage's momentum balance, given the forces `self.f` at the iterate (unchanged by the

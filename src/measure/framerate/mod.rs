@@ -14,16 +14,18 @@
 //! Every number in [`Framerate`] is reproducible bit for bit, regardless of thread count,
 //! except `wall_seconds_per_frame` and `timing`.
 
+mod rows;
 pub mod search;
 mod timing;
 mod write;
 
+pub use rows::{FrameRun, RateEntry, RowKind};
 pub use timing::FRAMERATE_TIMING;
 
 pub use write::{write_framerate, FRAMERATE_HEADER};
 
 use super::advise::cost::force_evals_per_second;
-use super::case::{applicable, run_case, CaseResult, CaseSettings, TimingRule, WallTimes};
+use super::case::{applicable, run_case, CaseResult, CaseSettings, TimingRule};
 use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -99,81 +101,6 @@ impl Default for FramerateConfig {
             budget_seconds: None,
         }
     }
-}
-
-/// Which run of a backend at a rate a row is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RowKind {
-    /// One substep per frame.
-    OneSubstep,
-    /// The fewest substeps that is stable and meets the tolerance.
-    Fewest,
-}
-
-impl RowKind {
-    /// The CSV spelling.
-    pub fn label(self) -> &'static str {
-        match self {
-            RowKind::OneSubstep => "one_substep",
-            RowKind::Fewest => "fewest",
-        }
-    }
-}
-
-/// One measured run: a backend at a frame rate with some substeps per frame.
-#[derive(Debug, Clone, Serialize)]
-pub struct FrameRun {
-    /// Substeps per frame.
-    pub substeps: u64,
-    /// `ok` or `unstable`.
-    pub status: crate::run::RunStatus,
-    /// Stable and within the tolerance.
-    pub meets_tolerance: bool,
-    /// The error by the document's metric ([`Framerate::metric`]), held to its bound.
-    pub error: Option<f64>,
-    /// Maximum position error over the accepted frames (m), compare's `error_max`.
-    pub max_position_error: Option<f64>,
-    /// Slope of the relative energy error (1/s), compare's `energy_drift`.
-    pub energy_drift: Option<f64>,
-    /// Median integrator wall time per frame (s); null for an unstable run (not timed).
-    pub wall_seconds_per_frame: Option<f64>,
-    /// The repeated timing behind it.
-    pub timing: Option<WallTimes>,
-    /// Force evaluations per frame; null for a backend without such a count.
-    pub force_evals_per_frame: Option<f64>,
-    /// Why `force_evals_per_frame` is null.
-    pub force_evals_reason: Option<String>,
-    /// Time of the blow-up (s), for an unstable run.
-    pub unstable_time: Option<f64>,
-    /// What tripped, for an unstable run.
-    pub unstable_reason: Option<String>,
-}
-
-/// One backend at one frame rate.
-#[derive(Debug, Clone, Serialize)]
-pub struct RateEntry {
-    /// Backend name.
-    pub backend: String,
-    /// Frame rate (Hz).
-    pub hz: f64,
-    /// Frame step (s).
-    pub frame_dt: f64,
-    /// Frames run.
-    pub frames: u64,
-    /// The run at one substep per frame.
-    pub one_substep: FrameRun,
-    /// The run at the fewest substeps meeting the tolerance (null when none up to the limit).
-    pub fewest: Option<FrameRun>,
-    /// Why `fewest` is null.
-    pub fewest_note: Option<String>,
-    /// With `[run] events = "frame"`: the position error (m) the exact solution itself makes
-    /// when its kicks move to this rate's frame boundaries, against the reference with the
-    /// kicks at their own times. No substep count removes it: it is the floor of every error
-    /// in this entry. Null for exact events or a scene without impulses.
-    pub frame_event_floor: Option<f64>,
-    /// Every substep count tried, with whether it met the tolerance.
-    pub tried: Vec<(u64, bool)>,
 }
 
 /// The frame-event floor of [`RateEntry::frame_event_floor`] on grid `g` of `reference`:

@@ -1,7 +1,7 @@
 //! Timing the frame-rate table's runs, like advice's candidates: on one thread after every
 //! accuracy run, interleaved round-robin, each repetition a fresh integrator.
 
-use super::{FrameRun, RateEntry};
+use super::rows::{FrameRun, RateEntry};
 use crate::error::Result;
 use crate::measure::case::{time_interleaved, CaseSettings, TimedRun, TimingRule};
 use crate::model::{State, System};

@@ -3,13 +3,17 @@
 //! constraints projected after every accepted step. The positions at the requested times go
 //! to a sink, so the main solve stores them and the companion solves only compare.
 
-use super::contacts::{apply_event, find_event, ContactModel};
+use super::contact_events::{apply_event, find_event};
+use super::contacts::ContactModel;
 use super::rhs::{pack, project, unpack_x, RhsState};
-use super::Tracked;
+use super::tracked::Tracked;
 use crate::collide::Response;
 use crate::error::{Error, Result};
 use crate::measure::dop853::{Dop853, Dop853Stats};
 use crate::model::{State, System, Vec3};
+
+/// Tolerance of the adaptive reference (relative and absolute).
+pub const REFERENCE_TOL: f64 = 1e-12;
 
 /// Longest step of a solve with obstacles, as a fraction of its horizon: keeps the impact
 /// checks inside a step closer together than any shipped obstacle is thick.

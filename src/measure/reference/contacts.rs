@@ -21,9 +21,7 @@
 //! two checks: a body thinner than a step's travel / [`IMPACT_CHECKS`]; steps are capped
 //! (see `solve`) so the shipped scenes' obstacles are far thicker.
 
-use super::rhs::RhsState;
 use crate::collide::Contacts;
-use crate::measure::dop853::Dop853;
 use crate::model::{System, Vec3};
 
 /// Points inside each accepted step where every particle's gaps are checked for an impact.
@@ -34,7 +32,7 @@ pub const IMPACT_CHECKS: usize = 8;
 pub const STICK_SLIP_HYSTERESIS: f64 = 1e-6;
 
 /// Bisection iterations for an event time (2⁻⁶⁰ of a step: round-off).
-const BISECTIONS: usize = 60;
+pub(super) const BISECTIONS: usize = 60;
 
 /// What one particle is doing with respect to the obstacles.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,7 +62,8 @@ pub(super) enum Event {
 #[derive(Debug, Clone)]
 pub(super) struct ContactModel<'a> {
     sys: &'a System,
-    contacts: &'a Contacts,
+    /// The obstacles' contact stage (its queries locate the events).
+    pub(super) contacts: &'a Contacts,
     /// Mode of every particle.
     pub(super) modes: Vec<Mode>,
     /// Penetration treated as round-off, and the largest bounce height ignored (m).
@@ -80,15 +79,17 @@ pub(super) struct ContactModel<'a> {
 }
 
 /// The quantities of a held particle at one state.
-struct Held {
-    n: Vec3,
+pub(super) struct Held {
+    /// The obstacle's normal at the particle.
+    pub(super) n: Vec3,
     /// Normal force per unit mass needed to keep g̈ = 0 (positive: compressive).
-    push: f64,
+    pub(super) push: f64,
     /// Tangential part of the unconstrained acceleration.
-    a_t: Vec3,
+    pub(super) a_t: Vec3,
     /// Tangential velocity.
-    v_t: Vec3,
-    mu: f64,
+    pub(super) v_t: Vec3,
+    /// The friction coefficient.
+    pub(super) mu: f64,
 }
 
 impl<'a> ContactModel<'a> {
@@ -109,7 +110,7 @@ impl<'a> ContactModel<'a> {
         }
     }
 
-    fn held_on(&self, p: usize) -> Option<usize> {
+    pub(super) fn held_on(&self, p: usize) -> Option<usize> {
         match self.modes[p] {
             Mode::Free => None,
             Mode::Slide(k) | Mode::Stick(k) => Some(k),
@@ -131,7 +132,7 @@ impl<'a> ContactModel<'a> {
         s * s * dir.dot(&(np - nm)) / (2.0 * eps)
     }
 
-    fn held(&self, p: usize, k: usize, x: &Vec3, v: &Vec3, a_free: &Vec3) -> Held {
+    pub(super) fn held(&self, p: usize, k: usize, x: &Vec3, v: &Vec3, a_free: &Vec3) -> Held {
         let r = self.sys.radius[p];
         let c = self.contacts.set.query(k, x, r);
         let n = c.normal;
@@ -220,7 +221,7 @@ impl<'a> ContactModel<'a> {
     }
 }
 
-fn get(y: &[f64], n: usize, p: usize) -> (Vec3, Vec3) {
+pub(super) fn get(y: &[f64], n: usize, p: usize) -> (Vec3, Vec3) {
     let q = 3 * n + 3 * p;
     (
         Vec3::new(y[3 * p], y[3 * p + 1], y[3 * p + 2]),
@@ -228,236 +229,8 @@ fn get(y: &[f64], n: usize, p: usize) -> (Vec3, Vec3) {
     )
 }
 
-fn put(y: &mut [f64], n: usize, p: usize, x: &Vec3, v: &Vec3) {
+pub(super) fn put(y: &mut [f64], n: usize, p: usize, x: &Vec3, v: &Vec3) {
     y[3 * p..3 * p + 3].copy_from_slice(x.as_slice());
     let q = 3 * n + 3 * p;
     y[q..q + 3].copy_from_slice(v.as_slice());
-}
-
-/// A scalar per candidate whose sign flips at the event: ≥ 0 before, < 0 after.
-fn indicator(st: &mut RhsState<'_>, y: &[f64], ev: Event, d0: &[Vec3]) -> f64 {
-    let sys = st.sys();
-    let n = sys.len();
-    let model = st.contact.as_ref().expect("contact model");
-    match ev {
-        Event::Impact(p, k) => {
-            let (x, _) = get(y, n, p);
-            model.contacts.set.query(k, &x, sys.radius[p]).gap + model.delta
-        }
-        Event::Stop(p) => {
-            let (x, v) = get(y, n, p);
-            let k = model.held_on(p).expect("held");
-            let nrm = model.contacts.set.query(k, &x, sys.radius[p]).normal;
-            (v - nrm * v.dot(&nrm)).dot(&d0[p])
-        }
-        Event::Release(p) | Event::Slip(p) => {
-            let k = model.held_on(p).expect("held");
-            let a = st.free_accelerations(y);
-            let model = st.contact.as_ref().expect("contact model");
-            let (x, v) = get(y, n, p);
-            let h = model.held(p, k, &x, &v, &a[p]);
-            if matches!(ev, Event::Release(_)) {
-                h.push
-            } else {
-                h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS) - h.a_t.norm()
-            }
-        }
-    }
-}
-
-/// The earliest contact event in the solver's last accepted step, with the time just before
-/// it (bisected to round-off on the dense output); None when the step is event-free.
-pub(super) fn find_event(st: &mut RhsState<'_>, solver: &mut Dop853) -> Option<(f64, Event)> {
-    let sys = st.sys();
-    let n = sys.len();
-    let (t0, t1) = (solver.t_old, solver.t);
-    let mut y = vec![0.0; 6 * n];
-    // Sliding directions at the step start.
-    let d0: Vec<Vec3> = {
-        let model = st.contact.as_ref()?;
-        (0..n)
-            .map(|p| match model.modes[p] {
-                Mode::Slide(k) => {
-                    let (x, v) = get(&solver.y_old, n, p);
-                    let nrm = model.contacts.set.query(k, &x, sys.radius[p]).normal;
-                    let v_t = v - nrm * v.dot(&nrm);
-                    if v_t.norm() >= model.speed_floor {
-                        v_t.normalize()
-                    } else {
-                        Vec3::zeros()
-                    }
-                }
-                _ => Vec3::zeros(),
-            })
-            .collect()
-    };
-    solver.prepare_dense(&mut |t, yy, dy| st.eval(t, yy, dy));
-    let mut cands: Vec<(f64, f64, Event)> = Vec::new();
-    // Impacts: gaps at interior checks (and the end), first bracket per particle.
-    {
-        let model = st.contact.as_ref()?;
-        let mut done = vec![false; n];
-        for m in 1..=IMPACT_CHECKS {
-            let tb = t0 + (t1 - t0) * m as f64 / IMPACT_CHECKS as f64;
-            let ta = t0 + (t1 - t0) * (m - 1) as f64 / IMPACT_CHECKS as f64;
-            solver.dense(tb, &mut y);
-            for p in 0..n {
-                if !sys.free[p] || done[p] {
-                    continue;
-                }
-                let (x, _) = get(&y, n, p);
-                let held = model.held_on(p);
-                let mut hit = None;
-                model
-                    .contacts
-                    .set
-                    .for_each_near(&x, sys.radius[p], -model.delta, |c| {
-                        if Some(c.obstacle) != held && hit.is_none() {
-                            hit = Some(c.obstacle);
-                        }
-                    });
-                if let Some(k) = hit {
-                    done[p] = true;
-                    cands.push((ta, tb, Event::Impact(p, k)));
-                }
-            }
-        }
-    }
-    // Held particles: release, stop, slip at the step end.
-    let modes = st.contact.as_ref()?.modes.clone();
-    if modes.iter().any(|m| *m != Mode::Free) {
-        let y1 = solver.y.clone();
-        let floor = st.contact.as_ref()?.speed_floor;
-        for (p, mode) in modes.iter().enumerate() {
-            match mode {
-                Mode::Free => continue,
-                Mode::Slide(_) => {
-                    let model = st.contact.as_ref()?;
-                    let (x, v) = get(&y1, n, p);
-                    let k = model.held_on(p)?;
-                    let nrm = model.contacts.set.query(k, &x, sys.radius[p]).normal;
-                    let v_t = v - nrm * v.dot(&nrm);
-                    let q = 3 * n + 3 * p;
-                    let f = solver.derivative();
-                    let a = Vec3::new(f[q], f[q + 1], f[q + 2]);
-                    let moving = model.moving[p];
-                    if v_t.norm() >= floor {
-                        st.contact.as_mut()?.moving[p] = true;
-                    }
-                    if v_t.dot(&d0[p]) < 0.0 {
-                        cands.push((t0, t1, Event::Stop(p)));
-                    } else if v_t.norm() < floor
-                        && a.dot(&v_t) < 0.0
-                        && (moving || {
-                            let a_free = st.free_accelerations(&y1);
-                            let m = st.contact.as_ref()?;
-                            let h = m.held(p, k, &x, &v, &a_free[p]);
-                            h.a_t.norm() <= h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS)
-                        })
-                    {
-                        // Decelerated to rest at the step end (the step was landed there). A
-                        // particle set sliding from rest is not stopped before it has moved
-                        // (at the slip threshold it would stop and slip again forever).
-                        cands.push((t1, t1, Event::Stop(p)));
-                    }
-                }
-                Mode::Stick(_) => {
-                    if indicator(st, &y1, Event::Slip(p), &d0) < 0.0 {
-                        cands.push((t0, t1, Event::Slip(p)));
-                    }
-                }
-            }
-            if indicator(st, &y1, Event::Release(p), &d0) < 0.0 {
-                cands.push((t0, t1, Event::Release(p)));
-            }
-        }
-    }
-    let mut best: Option<(f64, Event)> = None;
-    for (mut a, mut b, ev) in cands {
-        if best.is_some_and(|(tb, _)| tb <= a) {
-            continue;
-        }
-        if a < b {
-            for _ in 0..BISECTIONS {
-                let m = 0.5 * (a + b);
-                if m <= a || m >= b {
-                    break;
-                }
-                solver.dense(m, &mut y);
-                if indicator(st, &y, ev, &d0) < 0.0 {
-                    b = m;
-                } else {
-                    a = m;
-                }
-            }
-        }
-        if best.is_none_or(|(tb, _)| a < tb) {
-            best = Some((a, ev));
-        }
-    }
-    best
-}
-
-/// Applies event `ev` to the state `y` (located just before it).
-pub(super) fn apply_event(st: &mut RhsState<'_>, y: &mut [f64], ev: Event) {
-    let sys = st.sys();
-    let n = sys.len();
-    match ev {
-        Event::Impact(p, k) => {
-            let model = st.contact.as_mut().expect("contact model");
-            let (mut x, mut v) = get(y, n, p);
-            let c = model.contacts.set.query(k, &x, sys.radius[p]);
-            x -= c.normal * c.gap.min(0.0);
-            v = model.contacts.impulse_velocity(k, &c.normal, v);
-            model.impacts += 1;
-            model.modes[p] = Mode::Free;
-            put(y, n, p, &x, &v);
-            // Zeno: a bounce lower than δ while pressed onto the surface becomes held contact.
-            let a = st.free_accelerations(y);
-            let model = st.contact.as_mut().expect("contact model");
-            let h = model.held(p, k, &x, &v, &a[p]);
-            let vn = v.dot(&c.normal);
-            let rest = (2.0 * h.push.max(0.0) * model.delta).sqrt();
-            if h.push > 0.0 && vn < rest {
-                v -= c.normal * vn;
-                let stick =
-                    h.mu > 0.0 && h.v_t.norm() < model.speed_floor && h.a_t.norm() <= h.mu * h.push;
-                if stick {
-                    v = Vec3::zeros();
-                }
-                model.modes[p] = if stick {
-                    Mode::Stick(k)
-                } else {
-                    Mode::Slide(k)
-                };
-                model.moving[p] = false;
-                model.holds += 1;
-                put(y, n, p, &x, &v);
-            }
-        }
-        Event::Release(p) => {
-            st.contact.as_mut().expect("contact model").modes[p] = Mode::Free;
-        }
-        Event::Stop(p) => {
-            let a = st.free_accelerations(y);
-            let model = st.contact.as_mut().expect("contact model");
-            let k = model.held_on(p).expect("held");
-            let (x, v) = get(y, n, p);
-            let h = model.held(p, k, &x, &v, &a[p]);
-            let v = v - h.v_t;
-            model.modes[p] = if h.a_t.norm() <= h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS) {
-                Mode::Stick(k)
-            } else {
-                Mode::Slide(k)
-            };
-            model.moving[p] = false;
-            put(y, n, p, &x, &v);
-        }
-        Event::Slip(p) => {
-            let model = st.contact.as_mut().expect("contact model");
-            let k = model.held_on(p).expect("held");
-            model.modes[p] = Mode::Slide(k);
-            model.moving[p] = false;
-        }
-    }
 }

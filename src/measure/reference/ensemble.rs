@@ -13,9 +13,9 @@
 //! thread count. Cost: about [`ENSEMBLE_SIZE`] / 1.8 main solves of work.
 
 use super::adaptive::solve;
+use super::adaptive::REFERENCE_TOL;
 use super::rhs::unpack_x;
 use super::uncertainty::{LOOSE_FACTOR, PERTURBATION};
-use super::REFERENCE_TOL;
 use crate::error::Result;
 use crate::measure::statistics::{instant, window_times, Accumulator, Ensemble, ENSEMBLE_SIZE};
 use crate::model::{State, System};

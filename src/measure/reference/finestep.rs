@@ -14,7 +14,7 @@
 
 use super::uncertainty::{perturbed, PREDICTABILITY_THRESHOLD};
 use crate::error::{Error, Result};
-use crate::measure::metrics::position_error;
+use crate::measure::observables::position_error;
 use crate::method::create as by_name;
 use crate::method::MethodOptions;
 use crate::model::{State, System, Vec3};

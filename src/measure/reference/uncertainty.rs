@@ -23,7 +23,7 @@
 
 use super::adaptive::{length_scale, positions, solve};
 use crate::error::Result;
-use crate::measure::metrics::position_error;
+use crate::measure::observables::position_error;
 use crate::model::{State, System, Vec3};
 
 /// Tolerance of the looser companion solve relative to the main one.

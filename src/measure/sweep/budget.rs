@@ -10,7 +10,6 @@
 //! the decision does not depend on the thread count; it does depend on the machine's speed,
 //! which is why it is recorded and named wherever it cut something (`--budget` raises it).
 
-use super::plan::SweepPlan;
 use crate::measure::probe::{sig3, PROBE_STEPS};
 use serde::{Deserialize, Serialize};
 
@@ -84,20 +83,20 @@ pub fn allot(steps: &[u64], per_step: &[f64], budget: f64) -> Vec<usize> {
 }
 
 impl SweepBudget {
-    /// The budget for `plan`'s methods from their measured wall times per step.
-    pub fn new(plan: &SweepPlan, seconds: f64, per_step: &[f64]) -> Self {
-        let finest = allot(&plan.steps, per_step, seconds);
+    /// The budget for `integrators` over the grid's `steps` from their measured wall times
+    /// per step.
+    pub fn new(steps: &[u64], integrators: &[String], seconds: f64, per_step: &[f64]) -> Self {
+        let finest = allot(steps, per_step, seconds);
         SweepBudget {
             seconds,
-            methods: plan
-                .integrators
+            methods: integrators
                 .iter()
                 .zip(per_step)
                 .zip(finest)
                 .map(|((n, &s), f)| MethodBudget {
                     integrator: n.clone(),
                     seconds_per_step: s,
-                    projected_seconds: cost_from(&plan.steps, s, 0),
+                    projected_seconds: cost_from(steps, s, 0),
                     finest: f,
                 })
                 .collect(),

@@ -4,8 +4,8 @@
 //! next run) and in the summary (to state why the method stopped), so a merged sweep states
 //! exactly what the unsharded one did.
 
+use super::plan::theoretical_order;
 use super::plan::SweepPlan;
-use super::theoretical_order;
 use crate::measure::fit::{fit_order, OrderFit};
 use serde::{Deserialize, Serialize};
 

@@ -41,121 +41,26 @@
 //! one shard per integrator does work.
 
 pub mod budget;
+mod config;
 pub mod extend;
 pub mod plan;
 pub mod shard;
 pub mod summary;
 
+pub use config::{Shard, SweepConfig};
 pub use extend::Stop;
-pub use plan::{plan_sweep, step_grid, GridRule, SweepPlan, DEFAULT_COST_CAP};
+pub use plan::{plan_sweep, step_grid, theoretical_order, GridRule, SweepPlan, DEFAULT_COST_CAP};
 pub use shard::{merge, write_sweep, ShardFile};
 pub use summary::{summarise, IntegratorSummary, SweepSummary};
 
 use super::case::{run_case, CaseResult, CaseSettings};
-use super::grid::{TimeGrid, DEFAULT_BUDGET_BYTES};
+use super::grid::TimeGrid;
 use super::reference::{Reference, ReferenceInfo};
-use crate::error::{Error, Result};
-use crate::method::MethodOptions;
-use crate::method::Registry;
+use crate::error::Result;
 use crate::scenario::Scenario;
 use extend::{next_step, Run};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-
-/// The I-th of N deterministic slices of a sweep (0 ≤ I < N).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Shard {
-    /// Slice index, 0-based.
-    pub index: usize,
-    /// Number of slices.
-    pub count: usize,
-}
-
-impl Shard {
-    /// True when integrator `i` belongs to this shard.
-    pub fn owns(&self, i: usize) -> bool {
-        i % self.count == self.index
-    }
-}
-
-impl std::str::FromStr for Shard {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        let bad = |m: &str| {
-            Error::option(
-                "--shard",
-                format!("{m}: expected I/N with 0 ≤ I < N, got '{s}'"),
-            )
-        };
-        let (i, n) = s.split_once('/').ok_or_else(|| bad("missing '/'"))?;
-        let index: usize = i.trim().parse().map_err(|_| bad("I is not a number"))?;
-        let count: usize = n.trim().parse().map_err(|_| bad("N is not a number"))?;
-        if count == 0 || index >= count {
-            return Err(bad("out of range"));
-        }
-        Ok(Shard { index, count })
-    }
-}
-
-/// What to sweep. The grid fields are overrides of the dynamics-based default (module doc).
-#[derive(Debug, Clone)]
-pub struct SweepConfig {
-    /// Integrators (empty: every applicable native method and external backend).
-    pub integrators: Vec<String>,
-    /// Smallest base step (default: hω_max = 0.05); giving it turns extension off unless
-    /// `extend` is `Some(true)`.
-    pub dt_min: Option<f64>,
-    /// Largest step (default: 1.25 × the widest theoretical stability limit).
-    pub dt_max: Option<f64>,
-    /// Number of log-spaced steps in [dt_min, dt_max] (default: halving-spaced).
-    pub points: Option<usize>,
-    /// Refine each method toward smaller steps until asymptotic, at the floor or capped
-    /// (default: yes unless `dt_min` is given).
-    pub extend: Option<bool>,
-    /// Cost cap per method in particle-steps (default [`plan::DEFAULT_COST_CAP`]).
-    pub cost_cap: Option<f64>,
-    /// Simulated time (default: the scene's duration).
-    pub duration: Option<f64>,
-    /// The methods to choose from (built-ins unless a library user added theirs).
-    pub methods: Registry,
-    /// Integrator options.
-    pub options: MethodOptions,
-    /// Blow-up factor of the runner.
-    pub blowup_factor: f64,
-    /// Run only one slice.
-    pub shard: Option<Shard>,
-    /// Memory budget for the reference samples (bytes).
-    pub budget_bytes: usize,
-    /// Show a progress bar on a terminal.
-    pub progress: bool,
-    /// Repeat short runs for the wall time.
-    pub repeat_short: bool,
-    /// Time budget (s of runs, summed; see [`budget`]); `None`: no budget (the report's
-    /// sweeps, whose engines the study already chose by cost). Not applied to a shard.
-    pub budget_seconds: Option<f64>,
-}
-
-impl Default for SweepConfig {
-    fn default() -> Self {
-        SweepConfig {
-            integrators: Vec::new(),
-            dt_min: None,
-            dt_max: None,
-            points: None,
-            extend: None,
-            cost_cap: None,
-            duration: None,
-            methods: Registry::builtin(),
-            options: MethodOptions::default(),
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
-            shard: None,
-            budget_bytes: DEFAULT_BUDGET_BYTES,
-            progress: false,
-            repeat_short: true,
-            budget_seconds: None,
-        }
-    }
-}
 
 /// One row of `sweep.csv`. Error and energy columns are empty for unstable runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -247,13 +152,6 @@ pub struct SweepResult {
     pub saturation: f64,
     /// The summary (None for a shard: merge computes it).
     pub summary: Option<SweepSummary>,
-}
-
-/// Theoretical order of a method of the plan (None for exact methods and engines), as its
-/// registry entry stated it when the sweep was planned.
-pub fn theoretical_order(plan: &SweepPlan, name: &str) -> Option<u32> {
-    let i = plan.integrators.iter().position(|n| n == name)?;
-    plan.orders.get(i).copied().flatten()
 }
 
 /// Runs a sweep (or one shard of it): the base grid, then extension rounds.
@@ -381,7 +279,7 @@ fn apply_budget(
             .unwrap_or(0.0)
         })
         .collect();
-    let b = budget::SweepBudget::new(plan, seconds, &per_step);
+    let b = budget::SweepBudget::new(&plan.steps, &plan.integrators, seconds, &per_step);
     let none = plan.dts.len();
     let (kept, left): (Vec<_>, Vec<_>) = b.methods.iter().cloned().partition(|m| m.finest < none);
     for m in &left {

@@ -1,7 +1,7 @@
 //! The sweep's plan: the step grid (from the scene's dynamics unless the user fixes it), the
 //! extension candidates below it, the cost cap and the integrators.
 
-use super::SweepConfig;
+use super::config::SweepConfig;
 use crate::error::{Error, Result};
 use crate::measure::case::applicable;
 use crate::measure::grid::{max_samples_for, TimeGrid};
@@ -387,4 +387,11 @@ fn finish(
         substeps: cfg.options.substeps,
         budget: None,
     })
+}
+
+/// Theoretical order of a method of the plan (None for exact methods and engines), as its
+/// registry entry stated it when the sweep was planned.
+pub fn theoretical_order(plan: &SweepPlan, name: &str) -> Option<u32> {
+    let i = plan.integrators.iter().position(|n| n == name)?;
+    plan.orders.get(i).copied().flatten()
 }

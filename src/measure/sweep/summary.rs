@@ -3,8 +3,9 @@
 //! unsharded one.
 
 use super::extend::{method_fit, next_step, Run, Stop};
+use super::plan::theoretical_order;
 use super::plan::GridRule;
-use super::{theoretical_order, SweepResult};
+use super::SweepResult;
 use crate::measure::fit::OrderFit;
 use crate::measure::reference::ReferenceInfo;
 use serde::Serialize;

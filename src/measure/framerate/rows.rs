@@ -1,0 +1,80 @@
+//! The frame-rate table's rows: one backend at one rate, with its one-substep run and the
+//! fewest substeps that meet the bound.
+
+use crate::measure::case::WallTimes;
+use serde::Serialize;
+
+/// Which run of a backend at a rate a row is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RowKind {
+    /// One substep per frame.
+    OneSubstep,
+    /// The fewest substeps that is stable and meets the tolerance.
+    Fewest,
+}
+
+impl RowKind {
+    /// The CSV spelling.
+    pub fn label(self) -> &'static str {
+        match self {
+            RowKind::OneSubstep => "one_substep",
+            RowKind::Fewest => "fewest",
+        }
+    }
+}
+
+/// One measured run: a backend at a frame rate with some substeps per frame.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameRun {
+    /// Substeps per frame.
+    pub substeps: u64,
+    /// `ok` or `unstable`.
+    pub status: crate::run::RunStatus,
+    /// Stable and within the tolerance.
+    pub meets_tolerance: bool,
+    /// The error by the document's metric ([`Framerate::metric`]), held to its bound.
+    pub error: Option<f64>,
+    /// Maximum position error over the accepted frames (m), compare's `error_max`.
+    pub max_position_error: Option<f64>,
+    /// Slope of the relative energy error (1/s), compare's `energy_drift`.
+    pub energy_drift: Option<f64>,
+    /// Median integrator wall time per frame (s); null for an unstable run (not timed).
+    pub wall_seconds_per_frame: Option<f64>,
+    /// The repeated timing behind it.
+    pub timing: Option<WallTimes>,
+    /// Force evaluations per frame; null for a backend without such a count.
+    pub force_evals_per_frame: Option<f64>,
+    /// Why `force_evals_per_frame` is null.
+    pub force_evals_reason: Option<String>,
+    /// Time of the blow-up (s), for an unstable run.
+    pub unstable_time: Option<f64>,
+    /// What tripped, for an unstable run.
+    pub unstable_reason: Option<String>,
+}
+
+/// One backend at one frame rate.
+#[derive(Debug, Clone, Serialize)]
+pub struct RateEntry {
+    /// Backend name.
+    pub backend: String,
+    /// Frame rate (Hz).
+    pub hz: f64,
+    /// Frame step (s).
+    pub frame_dt: f64,
+    /// Frames run.
+    pub frames: u64,
+    /// The run at one substep per frame.
+    pub one_substep: FrameRun,
+    /// The run at the fewest substeps meeting the tolerance (null when none up to the limit).
+    pub fewest: Option<FrameRun>,
+    /// Why `fewest` is null.
+    pub fewest_note: Option<String>,
+    /// With `[run] events = "frame"`: the position error (m) the exact solution itself makes
+    /// when its kicks move to this rate's frame boundaries, against the reference with the
+    /// kicks at their own times. No substep count removes it: it is the floor of every error
+    /// in this entry. Null for exact events or a scene without impulses.
+    pub frame_event_floor: Option<f64>,
+    /// Every substep count tried, with whether it met the tolerance.
+    pub tried: Vec<(u64, bool)>,
+}
