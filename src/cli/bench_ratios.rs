@@ -88,16 +88,38 @@ impl Row {
     }
 }
 
-/// Runs the command.
+/// Runs the command: the step and thread ratios, then the implicit table, each measured in
+/// one interleaved run; both tables written atomically.
 pub fn run(a: Args) -> Result<()> {
     super::common::check_out(&a.out)?;
+    let solver = checked(&a)?;
+    let _lock = springlab::output::lock_dir(&a.out)?;
+    let t_all = Instant::now();
+    let mut rows = step_rows(&a)?;
+    rows.extend(thread_rows(&a)?);
+    print_rows(&rows);
+    let implicit = implicit_table(&a, solver)?;
+    let (p1, p2) = (a.out.join("ratios.csv"), a.out.join("implicit.csv"));
+    write_atomic(&p1, &ratios_csv(&rows)?)?;
+    write_atomic(&p2, &implicit)?;
+    println!(
+        "wrote {} and {} in {:.1} s ({} rayon threads available)",
+        p1.display(),
+        p2.display(),
+        t_all.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    );
+    Ok(())
+}
+
+/// The validated flags: cloth sizes, counts, the implicit solver and methods.
+fn checked(a: &Args) -> Result<LinearSolver> {
     let ok = |n: usize| (2..=1000).contains(&n);
     if !ok(a.size) || !ok(a.thread_size) || a.implicit_sizes.iter().any(|&n| !ok(n)) {
         bail!(
             "--size, --thread-size, --implicit-sizes: each cloth size must be between 2 and 1000"
         );
     }
-    let _lock = springlab::output::lock_dir(&a.out)?;
     if a.rounds == 0 || a.implicit_steps == 0 || a.implicit_max_newton == Some(0) {
         bail!("--rounds, --implicit-steps and --implicit-max-newton must be at least 1");
     }
@@ -118,11 +140,14 @@ pub fn run(a: Args) -> Result<()> {
             bail!("--implicit-methods: {m:?} is not an implicit method with a Newton solver");
         }
     }
-    let t_all = Instant::now();
-    let mut rows = Vec::new();
-    let frame = 1.0 / 60.0;
+    Ok(solver)
+}
 
-    // Symplectic Euler step against the hand-written loop, same cloth, same dt.
+/// The symplectic step against the hand-written loop (same cloth, same dt), and one
+/// rapier_impulse frame against one symplectic step at 1/60 s (a short batch from rest, so
+/// the explicit step stays finite while it is timed).
+fn step_rows(a: &Args) -> Result<Vec<Row>> {
+    let mut rows = Vec::new();
     let scene = cloth(a.size);
     let (sys, s0) = (scene.build(), scene.initial_state());
     let h = bench_dt("symplectic_euler");
@@ -141,10 +166,8 @@ pub fn run(a: Args) -> Result<()> {
         den_s: t[1],
         target: "<= 1.2",
     });
-
-    // One rapier_impulse frame against one symplectic Euler step at the same dt (1/60 s; a
-    // short batch from rest, so the explicit step stays finite while it is timed).
     if !a.no_rapier {
+        let frame = 1.0 / 60.0;
         let mut c: Vec<Contender> = vec![
             stepping(&sys, &s0, backend("rapier_impulse")?, frame, 1),
             stepping(&sys, &s0, backend("symplectic_euler")?, frame, 5),
@@ -160,8 +183,12 @@ pub fn run(a: Args) -> Result<()> {
             target: ">= 100",
         });
     }
+    Ok(rows)
+}
 
-    // 1 → 2 threads on the large cloth: one force evaluation and one symplectic step.
+/// 1 → 2 threads on the large cloth: one force evaluation and one symplectic step.
+fn thread_rows(a: &Args) -> Result<Vec<Row>> {
+    let h = bench_dt("symplectic_euler");
     let big = cloth(a.thread_size);
     let (bsys, bs0) = (big.build(), big.initial_state());
     let bbatch = (4_000_000 / bsys.springs.len().max(1)).clamp(3, 200);
@@ -187,26 +214,30 @@ pub fn run(a: Args) -> Result<()> {
     };
     let mut c: Vec<Contender> = vec![forces(1)?, forces(2)?, steps(1)?, steps(2)?];
     let t = interleaved(a.rounds, &mut c)?;
-    for (measure, one, two) in [
+    Ok([
         ("thread_speedup_forces", t[0], t[1]),
         ("thread_speedup_step", t[2], t[3]),
-    ] {
-        rows.push(Row {
-            measure,
-            n: a.thread_size,
-            num: "1 thread".into(),
-            num_s: one,
-            den: "2 threads".into(),
-            den_s: two,
-            target: ">= 1.7",
-        });
-    }
+    ]
+    .into_iter()
+    .map(|(measure, one, two)| Row {
+        measure,
+        n: a.thread_size,
+        num: "1 thread".into(),
+        num_s: one,
+        den: "2 threads".into(),
+        den_s: two,
+        target: ">= 1.7",
+    })
+    .collect())
+}
 
+/// The ratio table on stdout.
+fn print_rows(rows: &[Row]) {
     println!(
         "{:<24} {:>5} {:>28} {:>12} {:>18} {:>12} {:>9} {:>8}",
         "measure", "n", "numerator", "s/step", "denominator", "s/step", "ratio", "target"
     );
-    for r in &rows {
+    for r in rows {
         println!(
             "{:<24} {:>5} {:>28} {:>12.4e} {:>18} {:>12.4e} {:>9.3} {:>8} {}",
             r.measure,
@@ -220,31 +251,66 @@ pub fn run(a: Args) -> Result<()> {
             if r.met() { "met" } else { "NOT MET" }
         );
     }
+}
 
-    // Every implicit method at one frame: solver work and cost relative to a symplectic
-    // step of the same cloth, measured in this run.
-    let mut imp = csv::Writer::from_writer(Vec::new());
-    imp.write_record([
-        "method",
-        "solver",
+/// `ratios.csv`.
+fn ratios_csv(rows: &[Row]) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "measure",
         "n",
-        "particles",
-        "springs",
-        "steps",
-        "seconds_per_step",
-        "ns_per_spring",
-        "newton_per_step",
-        "linear_per_step",
-        "linear_per_newton",
-        "newton_max",
-        "switches_per_step",
-        "factorizations_per_step",
-        "force_evals_per_step",
-        "symplectic_seconds_per_step",
-        "ratio_to_symplectic_step",
+        "numerator",
+        "numerator_seconds_per_step",
+        "denominator",
+        "denominator_seconds_per_step",
+        "ratio",
         "target",
-        "status",
+        "met",
     ])?;
+    for r in rows {
+        w.write_record([
+            r.measure.to_string(),
+            r.n.to_string(),
+            r.num.clone(),
+            r.num_s.to_string(),
+            r.den.clone(),
+            r.den_s.to_string(),
+            r.ratio().to_string(),
+            r.target.to_string(),
+            r.met().to_string(),
+        ])?;
+    }
+    Ok(w.into_inner()?)
+}
+
+/// `implicit.csv`'s header.
+const IMPLICIT_HEADER: [&str; 19] = [
+    "method",
+    "solver",
+    "n",
+    "particles",
+    "springs",
+    "steps",
+    "seconds_per_step",
+    "ns_per_spring",
+    "newton_per_step",
+    "linear_per_step",
+    "linear_per_newton",
+    "newton_max",
+    "switches_per_step",
+    "factorizations_per_step",
+    "force_evals_per_step",
+    "symplectic_seconds_per_step",
+    "ratio_to_symplectic_step",
+    "target",
+    "status",
+];
+
+/// Every implicit method at one frame on each cloth size: solver work and cost relative to a
+/// symplectic step of the same cloth, measured in this run; printed, and `implicit.csv`.
+fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
+    let mut imp = csv::Writer::from_writer(Vec::new());
+    imp.write_record(IMPLICIT_HEADER)?;
     println!(
         "\nimplicit methods at dt = 1/60 ({} solver, inexact Newton), {} steps from rest:",
         solver.name(),
@@ -264,123 +330,100 @@ pub fn run(a: Args) -> Result<()> {
         "×sympl.",
         "target"
     );
+    let mut set = ImplicitSettings {
+        solver,
+        ..ImplicitSettings::default()
+    };
+    if let Some(m) = a.implicit_max_newton {
+        set.max_newton = m;
+    }
     for &n in &a.implicit_sizes {
         let scene = cloth(n);
         let (sys, s0) = (scene.build(), scene.initial_state());
-        let springs = sys.springs.len();
+        let h = bench_dt("symplectic_euler");
         let mut c: Vec<Contender> = vec![stepping(&sys, &s0, backend("symplectic_euler")?, h, 5)];
         let se = interleaved(a.rounds.min(5), &mut c)?[0];
         for method in &a.implicit_methods {
-            let target = IMPLICIT_TARGETS
-                .iter()
-                .find(|t| t.0 == method && t.1 == n)
-                .map_or("", |t| t.2);
-            let size = format!("{n}×{n}");
-            let mut rec = vec![
-                method.clone(),
-                solver.name().to_string(),
-                n.to_string(),
-                (n * n).to_string(),
-                springs.to_string(),
-            ];
-            let mut set = ImplicitSettings {
-                solver,
-                ..ImplicitSettings::default()
-            };
-            if let Some(m) = a.implicit_max_newton {
-                set.max_newton = m;
-            }
-            match implicit_cost(&scene, method, set, frame, a.implicit_steps) {
-                Ok(ic) => {
-                    let ratio = ic.seconds_per_step / se;
-                    let met = match target.split_once(' ') {
-                        Some((_, v)) => {
-                            if v.parse().is_ok_and(|v: f64| ratio <= v) {
-                                "met"
-                            } else {
-                                "NOT MET"
-                            }
-                        }
-                        None => "",
-                    };
-                    let per_newton = ic.linear_per_step / ic.newton_per_step.max(f64::MIN_POSITIVE);
-                    println!(
-                        "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>10.1} {:>9}  ok {met}",
-                        ic.seconds_per_step * 1e3,
-                        ic.newton_per_step,
-                        ic.newton_max,
-                        ic.linear_per_step,
-                        per_newton,
-                        ic.switches_per_step,
-                        ic.factorizations_per_step,
-                        ratio,
-                        target,
-                    );
-                    rec.extend([
-                        ic.steps.to_string(),
-                        ic.seconds_per_step.to_string(),
-                        (ic.seconds_per_step * 1e9 / springs as f64).to_string(),
-                        ic.newton_per_step.to_string(),
-                        ic.linear_per_step.to_string(),
-                        per_newton.to_string(),
-                        ic.newton_max.to_string(),
-                        ic.switches_per_step.to_string(),
-                        ic.factorizations_per_step.to_string(),
-                        ic.force_evals_per_step.to_string(),
-                        se.to_string(),
-                        ratio.to_string(),
-                        target.to_string(),
-                        "ok".into(),
-                    ]);
-                }
-                Err(why) => {
-                    println!("{method:<22} {size:>9}  failed: {why}");
-                    rec.push(a.implicit_steps.to_string());
-                    rec.extend(std::iter::repeat_n(String::new(), 9));
-                    rec.push(se.to_string());
-                    rec.push(String::new());
-                    rec.push(target.to_string());
-                    rec.push(format!("failed: {why}"));
-                }
-            }
-            imp.write_record(rec)?;
+            imp.write_record(implicit_row(a, (n, &scene), method, set, se)?)?;
         }
     }
+    Ok(imp.into_inner()?)
+}
 
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record([
-        "measure",
-        "n",
-        "numerator",
-        "numerator_seconds_per_step",
-        "denominator",
-        "denominator_seconds_per_step",
-        "ratio",
-        "target",
-        "met",
-    ])?;
-    for r in &rows {
-        w.write_record([
-            r.measure.to_string(),
-            r.n.to_string(),
-            r.num.clone(),
-            r.num_s.to_string(),
-            r.den.clone(),
-            r.den_s.to_string(),
-            r.ratio().to_string(),
-            r.target.to_string(),
-            r.met().to_string(),
-        ])?;
+/// One implicit method on one cloth: its line on stdout and its `implicit.csv` record, a
+/// failed run keeping its row with the reason.
+fn implicit_row(
+    a: &Args,
+    (n, scene): (usize, &springlab::scenario::Scenario),
+    method: &str,
+    set: ImplicitSettings,
+    se: f64,
+) -> Result<Vec<String>> {
+    let springs = scene.build().springs.len();
+    let target = IMPLICIT_TARGETS
+        .iter()
+        .find(|t| t.0 == method && t.1 == n)
+        .map_or("", |t| t.2);
+    let size = format!("{n}×{n}");
+    let mut rec = vec![
+        method.to_string(),
+        set.solver.name().to_string(),
+        n.to_string(),
+        (n * n).to_string(),
+        springs.to_string(),
+    ];
+    match implicit_cost(scene, method, set, 1.0 / 60.0, a.implicit_steps) {
+        Ok(ic) => {
+            let ratio = ic.seconds_per_step / se;
+            let met = match target.split_once(' ') {
+                Some((_, v)) => {
+                    if v.parse().is_ok_and(|v: f64| ratio <= v) {
+                        "met"
+                    } else {
+                        "NOT MET"
+                    }
+                }
+                None => "",
+            };
+            let per_newton = ic.linear_per_step / ic.newton_per_step.max(f64::MIN_POSITIVE);
+            println!(
+                "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>10.1} {:>9}  ok {met}",
+                ic.seconds_per_step * 1e3,
+                ic.newton_per_step,
+                ic.newton_max,
+                ic.linear_per_step,
+                per_newton,
+                ic.switches_per_step,
+                ic.factorizations_per_step,
+                ratio,
+                target,
+            );
+            rec.extend([
+                ic.steps.to_string(),
+                ic.seconds_per_step.to_string(),
+                (ic.seconds_per_step * 1e9 / springs as f64).to_string(),
+                ic.newton_per_step.to_string(),
+                ic.linear_per_step.to_string(),
+                per_newton.to_string(),
+                ic.newton_max.to_string(),
+                ic.switches_per_step.to_string(),
+                ic.factorizations_per_step.to_string(),
+                ic.force_evals_per_step.to_string(),
+                se.to_string(),
+                ratio.to_string(),
+                target.to_string(),
+                "ok".into(),
+            ]);
+        }
+        Err(why) => {
+            println!("{method:<22} {size:>9}  failed: {why}");
+            rec.push(a.implicit_steps.to_string());
+            rec.extend(std::iter::repeat_n(String::new(), 9));
+            rec.push(se.to_string());
+            rec.push(String::new());
+            rec.push(target.to_string());
+            rec.push(format!("failed: {why}"));
+        }
     }
-    let (p1, p2) = (a.out.join("ratios.csv"), a.out.join("implicit.csv"));
-    write_atomic(&p1, &w.into_inner()?)?;
-    write_atomic(&p2, &imp.into_inner()?)?;
-    println!(
-        "wrote {} and {} in {:.1} s ({} rayon threads available)",
-        p1.display(),
-        p2.display(),
-        t_all.elapsed().as_secs_f64(),
-        rayon::current_num_threads()
-    );
-    Ok(())
+    Ok(rec)
 }

@@ -168,7 +168,8 @@ pub struct StudySeconds {
     pub framerate: f64,
 }
 
-/// Runs the study of `scene`.
+/// Runs the study of `scene`: compare, sweep, stability, advice and frame rates in that order,
+/// each on the methods the earlier parts leave in, then the two answers.
 pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let mut notes = Vec::new();
     let mut seconds = StudySeconds::default();
@@ -178,36 +179,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         *slot = clock.elapsed().as_secs_f64();
         clock = std::time::Instant::now();
     };
-    let is_engine = |n: &str| cfg.methods.info(n).is_ok_and(|m| m.engine);
-    let asked: Vec<String> = if scene.run.integrators.is_empty() {
-        cfg.methods.names().into_iter().map(String::from).collect()
-    } else {
-        let mut v = scene.run.integrators.clone();
-        v.extend(cfg.methods.engine_names().into_iter().map(String::from));
-        v
-    };
-    let mut kept = Vec::new();
-    // Engines compare left out, with their probe's wall time per step (s).
-    let mut probed_out = Vec::new();
-    for n in asked {
-        if !is_engine(&n) {
-            kept.push(n);
-            continue;
-        }
-        match engine_probe(scene, cfg, &n, timing)? {
-            Some(per_step) if per_step * timing.steps as f64 > ENGINE_COMPARE_SECONDS => {
-                notes.push(format!(
-                    "Left out {n}: {:.3} ms per step measured over {ENGINE_PROBE_STEPS} steps, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --integrators {n}` runs it.",
-                    per_step * 1e3,
-                    timing.steps,
-                    per_step * timing.steps as f64
-                ));
-                probed_out.push((n, per_step));
-            }
-            _ => kept.push(n),
-        }
-    }
-    let asked = kept;
+    let (asked, probed_out) = compared_methods(scene, cfg, timing, &mut notes)?;
     let compared = compare(
         scene,
         &CompareConfig {
@@ -223,25 +195,6 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         },
     )?;
     lap(&mut seconds.compare);
-    let ran: Vec<(String, f64)> = compared
-        .entries
-        .iter()
-        .filter_map(|e| {
-            e.result
-                .as_ref()
-                .map(|r| (r.integrator.clone(), r.wall_seconds))
-        })
-        .collect();
-    let sweepable: Vec<String> = ran
-        .iter()
-        .map(|(n, _)| n)
-        .filter(|n| {
-            cfg.methods
-                .info(n)
-                .is_ok_and(|m| !m.engine && m.order.finite().is_some())
-        })
-        .cloned()
-        .collect();
     let advice_cfg = AdviseConfig {
         methods: cfg.methods.clone(),
         options: cfg.options.clone(),
@@ -255,69 +208,14 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         budget_seconds: Some(STUDY_ADVICE_SECONDS),
         ..Default::default()
     };
-    let (_, advice_grid) = super::advise::step_grid_of(scene, &advice_cfg)?;
-    let grid_steps: u64 = advice_grid.iter().map(|&(_, s)| s).sum();
-    let mut measured = Vec::new();
-    let mut advisable = Vec::new();
-    for (n, wall) in &ran {
-        let engine = is_engine(n);
-        if engine && *wall > ENGINE_BUDGET_SECONDS {
-            notes.push(format!(
-                "Stability leaves out {n}: its compare run took {wall:.2} s (> {ENGINE_BUDGET_SECONDS} s), and the empirical search costs dozens of such runs."
-            ));
-        } else {
-            measured.push(n.clone());
-        }
-        let projected = wall / timing.steps as f64 * grid_steps as f64;
-        if engine && projected > ENGINE_ADVICE_SECONDS {
-            notes.push(format!(
-                "Advice leaves out {n}: its runs over the advice grid ({} steps, down to {:.2e} s) would take about {projected:.1} s (> {ENGINE_ADVICE_SECONDS} s); `springlab advise --integrators {n}` runs it.",
-                grid_steps,
-                advice_grid.first().map_or(0.0, |g| g.0)
-            ));
-        } else {
-            advisable.push(n.clone());
-        }
-    }
-    let sweep_cfg = SweepConfig {
-        methods: cfg.methods.clone(),
-        integrators: sweepable.clone(),
-        cost_cap: Some(if cfg.quick {
-            QUICK_COST_CAP
-        } else {
-            STUDY_COST_CAP
-        }),
-        options: cfg.options.clone(),
-        progress: cfg.progress,
-        blowup_factor: cfg.blowup_factor,
-        ..Default::default()
-    };
-    let sweep = if sweepable.is_empty() {
-        notes.push("No sweep: no non-engine method of finite order applies to this scene.".into());
-        None
-    } else {
-        let plan = plan_sweep(scene, &sweep_cfg)?;
-        if plan.dts.len() < MIN_SWEEP_STEPS {
-            // One or two steps fit no order: not worth a reference solve and every method.
-            notes.push(format!(
-                "No sweep: at the study's cost cap ({:.0e} particle-steps per method) this scene of {} particles affords {} step size(s), too few to fit an order; `springlab sweep {}` (cap {:.0e}) measures it.",
-                sweep_cfg.cost_cap.unwrap_or_default(),
-                plan.particles,
-                plan.dts.len(),
-                scene.source.display(),
-                super::sweep::DEFAULT_COST_CAP
-            ));
-            None
-        } else {
-            Some(run_sweep(scene, &sweep_cfg)?)
-        }
-    };
+    let kept = kept_after_compare(scene, cfg, &compared, &advice_cfg, timing, &mut notes)?;
+    let sweep = study_sweep(scene, cfg, kept.sweepable, &mut notes)?;
     lap(&mut seconds.sweep);
     let stability = analyse(
         scene,
         &StabilityConfig {
             methods: cfg.methods.clone(),
-            integrators: measured.clone(),
+            integrators: kept.measured.clone(),
             options: cfg.options.clone(),
             theory_only: cfg.quick,
             progress: cfg.progress,
@@ -329,39 +227,14 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         },
     )?;
     lap(&mut seconds.stability);
-    let exact: Vec<String> = measured
-        .iter()
-        .filter(|n| {
-            cfg.methods
-                .info(n)
-                .is_ok_and(|m| m.order == crate::method::Order::Exact)
-        })
-        .cloned()
-        .collect();
-    let candidates: Vec<String> = advisable
-        .iter()
-        .filter(|n| !exact.contains(n))
-        .cloned()
-        .collect();
-    if !exact.is_empty() {
-        notes.push(format!(
-            "Advice leaves out {}: a closed form for this scene only, not a general integrator.",
-            exact.join(", ")
-        ));
-    }
-    let mut advice_note = None;
-    let advice = if candidates.is_empty() {
-        advice_note = Some("no candidate applies".to_string());
-        None
-    } else {
-        Some(advise(
-            scene,
-            &AdviseConfig {
-                integrators: candidates,
-                ..advice_cfg
-            },
-        )?)
-    };
+    let (advice, advice_note) = study_advice(
+        scene,
+        cfg,
+        &kept.measured,
+        &kept.advisable,
+        advice_cfg,
+        &mut notes,
+    )?;
     lap(&mut seconds.advice);
     let (framerate, framerate_note, framerate_left_out) =
         study_framerate(scene, cfg, &compared, &probed_out, &mut notes)?;
@@ -391,6 +264,201 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         advice_note,
         notes,
     })
+}
+
+/// The methods compare runs: the scene's `[run] integrators` (else every method) plus the
+/// engines, less each engine whose probe projects a compare run over
+/// [`ENGINE_COMPARE_SECONDS`] (returned apart with its wall time per step, and noted).
+fn compared_methods(
+    scene: &Scenario,
+    cfg: &StudyConfig,
+    timing: crate::scenario::Timing,
+    notes: &mut Vec<String>,
+) -> Result<(Vec<String>, Vec<ProbedOut>)> {
+    let is_engine = |n: &str| cfg.methods.info(n).is_ok_and(|m| m.engine);
+    let asked: Vec<String> = if scene.run.integrators.is_empty() {
+        cfg.methods.names().into_iter().map(String::from).collect()
+    } else {
+        let mut v = scene.run.integrators.clone();
+        v.extend(cfg.methods.engine_names().into_iter().map(String::from));
+        v
+    };
+    let mut kept = Vec::new();
+    let mut probed_out = Vec::new();
+    for n in asked {
+        if !is_engine(&n) {
+            kept.push(n);
+            continue;
+        }
+        match engine_probe(scene, cfg, &n, timing)? {
+            Some(per_step) if per_step * timing.steps as f64 > ENGINE_COMPARE_SECONDS => {
+                notes.push(format!(
+                    "Left out {n}: {:.3} ms per step measured over {ENGINE_PROBE_STEPS} steps, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --integrators {n}` runs it.",
+                    per_step * 1e3,
+                    timing.steps,
+                    per_step * timing.steps as f64
+                ));
+                probed_out.push((n, per_step));
+            }
+            _ => kept.push(n),
+        }
+    }
+    Ok((kept, probed_out))
+}
+
+/// An engine compare leaves out, with its probe's wall time per step (s).
+type ProbedOut = (String, f64);
+
+/// Which of the methods compare ran go on to the sweep, the stability analysis and advice.
+struct Kept {
+    /// Native methods of finite order.
+    sweepable: Vec<String>,
+    /// All but engines whose compare run took over [`ENGINE_BUDGET_SECONDS`].
+    measured: Vec<String>,
+    /// All but engines whose runs over the advice grid would take over
+    /// [`ENGINE_ADVICE_SECONDS`].
+    advisable: Vec<String>,
+}
+
+/// The methods that go on after compare, engines judged by their compare run's wall time
+/// (each one left out noted with the figure).
+fn kept_after_compare(
+    scene: &Scenario,
+    cfg: &StudyConfig,
+    compared: &CompareResult,
+    advice_cfg: &AdviseConfig,
+    timing: crate::scenario::Timing,
+    notes: &mut Vec<String>,
+) -> Result<Kept> {
+    let ran: Vec<(String, f64)> = compared
+        .entries
+        .iter()
+        .filter_map(|e| {
+            e.result
+                .as_ref()
+                .map(|r| (r.integrator.clone(), r.wall_seconds))
+        })
+        .collect();
+    let info = |n: &str| cfg.methods.info(n).ok();
+    let sweepable = ran
+        .iter()
+        .map(|(n, _)| n)
+        .filter(|n| info(n).is_some_and(|m| !m.engine && m.order.finite().is_some()))
+        .cloned()
+        .collect();
+    let (_, advice_grid) = super::advise::step_grid_of(scene, advice_cfg)?;
+    let grid_steps: u64 = advice_grid.iter().map(|&(_, s)| s).sum();
+    let mut measured = Vec::new();
+    let mut advisable = Vec::new();
+    for (n, wall) in &ran {
+        let engine = info(n).is_some_and(|m| m.engine);
+        if engine && *wall > ENGINE_BUDGET_SECONDS {
+            notes.push(format!(
+                "Stability leaves out {n}: its compare run took {wall:.2} s (> {ENGINE_BUDGET_SECONDS} s), and the empirical search costs dozens of such runs."
+            ));
+        } else {
+            measured.push(n.clone());
+        }
+        let projected = wall / timing.steps as f64 * grid_steps as f64;
+        if engine && projected > ENGINE_ADVICE_SECONDS {
+            notes.push(format!(
+                "Advice leaves out {n}: its runs over the advice grid ({} steps, down to {:.2e} s) would take about {projected:.1} s (> {ENGINE_ADVICE_SECONDS} s); `springlab advise --integrators {n}` runs it.",
+                grid_steps,
+                advice_grid.first().map_or(0.0, |g| g.0)
+            ));
+        } else {
+            advisable.push(n.clone());
+        }
+    }
+    Ok(Kept {
+        sweepable,
+        measured,
+        advisable,
+    })
+}
+
+/// The study's sweep of `sweepable` at the study's cost cap, `None` (noted) when no method
+/// applies or the cap affords too few steps to fit an order.
+fn study_sweep(
+    scene: &Scenario,
+    cfg: &StudyConfig,
+    sweepable: Vec<String>,
+    notes: &mut Vec<String>,
+) -> Result<Option<SweepResult>> {
+    if sweepable.is_empty() {
+        notes.push("No sweep: no non-engine method of finite order applies to this scene.".into());
+        return Ok(None);
+    }
+    let sweep_cfg = SweepConfig {
+        methods: cfg.methods.clone(),
+        integrators: sweepable,
+        cost_cap: Some(if cfg.quick {
+            QUICK_COST_CAP
+        } else {
+            STUDY_COST_CAP
+        }),
+        options: cfg.options.clone(),
+        progress: cfg.progress,
+        blowup_factor: cfg.blowup_factor,
+        ..Default::default()
+    };
+    let plan = plan_sweep(scene, &sweep_cfg)?;
+    if plan.dts.len() < MIN_SWEEP_STEPS {
+        // One or two steps fit no order: not worth a reference solve and every method.
+        notes.push(format!(
+            "No sweep: at the study's cost cap ({:.0e} particle-steps per method) this scene of {} particles affords {} step size(s), too few to fit an order; `springlab sweep {}` (cap {:.0e}) measures it.",
+            sweep_cfg.cost_cap.unwrap_or_default(),
+            plan.particles,
+            plan.dts.len(),
+            scene.source.display(),
+            super::sweep::DEFAULT_COST_CAP
+        ));
+        return Ok(None);
+    }
+    Ok(Some(run_sweep(scene, &sweep_cfg)?))
+}
+
+/// Advice over the advisable methods but closed forms (a closed form is for this scene only,
+/// not a general integrator; noted), with why there is none.
+fn study_advice(
+    scene: &Scenario,
+    cfg: &StudyConfig,
+    measured: &[String],
+    advisable: &[String],
+    advice_cfg: AdviseConfig,
+    notes: &mut Vec<String>,
+) -> Result<(Option<Advice>, Option<String>)> {
+    let exact: Vec<String> = measured
+        .iter()
+        .filter(|n| {
+            cfg.methods
+                .info(n)
+                .is_ok_and(|m| m.order == crate::method::Order::Exact)
+        })
+        .cloned()
+        .collect();
+    let candidates: Vec<String> = advisable
+        .iter()
+        .filter(|n| !exact.contains(n))
+        .cloned()
+        .collect();
+    if !exact.is_empty() {
+        notes.push(format!(
+            "Advice leaves out {}: a closed form for this scene only, not a general integrator.",
+            exact.join(", ")
+        ));
+    }
+    if candidates.is_empty() {
+        return Ok((None, Some("no candidate applies".to_string())));
+    }
+    let advice = advise(
+        scene,
+        &AdviseConfig {
+            integrators: candidates,
+            ..advice_cfg
+        },
+    )?;
+    Ok((Some(advice), None))
 }
 
 /// Wall time per step (s) of engine `name` on `scene` at the scene's step, measured over

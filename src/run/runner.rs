@@ -104,6 +104,12 @@ impl RunStatus {
             RunStatus::Unstable => "unstable",
         }
     }
+    /// The status whose [`RunStatus::label`] is `label` (how documents spell it).
+    pub fn from_label(label: &str) -> Option<Self> {
+        [RunStatus::Ok, RunStatus::Unstable]
+            .into_iter()
+            .find(|s| s.label() == label)
+    }
 }
 
 impl std::fmt::Display for RunStatus {

@@ -163,16 +163,23 @@ pub struct Expect {
     pub max_energy_drift_rate: Option<f64>,
 }
 
+/// The distance between particles `i` and `j` at their initial positions: the rest length of
+/// a spring that gives none (and of every generated spring), and a rod's default length.
+pub(crate) fn initial_distance(particles: &[Particle], i: usize, j: usize) -> f64 {
+    (particles[j].position - particles[i].position).norm()
+}
+
 impl Scenario {
     /// Number of free (moving) particles.
     pub fn free_count(&self) -> usize {
         self.particles.iter().filter(|p| !p.fixed).count()
     }
 
-    /// Rest length of spring `s` (m): as given, else the initial distance of its particles.
+    /// Rest length of spring `s` (m): as given, else the initial distance of its particles
+    /// (the one rule, [`initial_distance`]).
     pub fn rest_length(&self, s: &SpringDef) -> f64 {
         s.rest_length
-            .unwrap_or_else(|| (self.particles[s.j].position - self.particles[s.i].position).norm())
+            .unwrap_or_else(|| initial_distance(&self.particles, s.i, s.j))
     }
 
     /// Builds the system with only the terms this scene uses.

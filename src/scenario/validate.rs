@@ -3,7 +3,7 @@
 
 use super::file::{ScenarioFile, SpringLaw, Triple};
 use super::generate;
-use super::{Expect, Particle, RunSettings, Scenario, SpringDef};
+use super::{initial_distance, Block, Expect, Particle, RunSettings, Scenario, SpringDef};
 use crate::error::{num, Error, Result};
 use crate::model::{DistanceConstraint, Impulse, Vec3};
 use std::collections::HashSet;
@@ -106,6 +106,63 @@ impl Checker<'_> {
 /// Validates a parsed file and resolves defaults; `file` labels errors and gives the default name.
 pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
     let ck = Checker { file };
+    let mut particles = validate_particles(&ck, &raw)?;
+    let mut generated = Vec::new();
+    let blocks = validate_blocks(&ck, &raw, &mut particles, &mut generated)?;
+    if particles.is_empty() {
+        return Err(ck.err(
+            "particle",
+            "the scene has no particles: add [[particle]], [[chain]] or [[cloth]]",
+        ));
+    }
+    // Explicit springs come before generated ones in the final list, so indices in errors match the file.
+    let mut springs = validate_springs(&ck, &raw, &particles)?;
+    springs.extend(generated.into_iter().map(|mut s| {
+        s.rest_length = Some(initial_distance(&particles, s.i, s.j));
+        s
+    }));
+    let constraints = validate_constraints(&ck, &raw, &particles)?;
+    let impulses = validate_impulses(&ck, &raw, &particles)?;
+    let gravity = match raw.world.gravity {
+        Some(g) => Some(ck.triple("world.gravity", g)?),
+        None => None,
+    };
+    let drag = match raw.world.drag {
+        Some(d) => Some(ck.non_negative("world.drag", d)?).filter(|&d| d > 0.0),
+        None => None,
+    };
+    let run = validate_run(&ck, &raw)?;
+    impulses_within_run(&ck, &raw, &run)?;
+    let collision = super::obstacle_validate::validate_collision(&raw, file)?;
+    let name = validate_name(&ck, &raw, file)?;
+    let expect = validate_expect(&ck, &raw)?;
+    let mut scene = Scenario {
+        name,
+        description: raw.description.clone().unwrap_or_default(),
+        source: file.to_path_buf(),
+        particles,
+        springs,
+        constraints,
+        impulses,
+        gravity,
+        drag,
+        run,
+        blocks,
+        collision,
+        expect,
+        raw,
+    };
+    // Checked without the obstacles: their shapes are built by the commands that run the
+    // scene, and their own values were checked above.
+    let collision = scene.collision.take();
+    check_finite(&ck, &scene)?;
+    scene.collision = collision;
+    Ok(scene)
+}
+
+/// The `[[particle]]` tables: finite positions and velocities, positive masses (a fixed
+/// particle may weigh nothing), non-negative radii.
+fn validate_particles(ck: &Checker, raw: &ScenarioFile) -> Result<Vec<Particle>> {
     let mut particles = Vec::new();
     for (k, p) in raw.particle.iter().enumerate() {
         let f = format!("particle[{k}]");
@@ -125,7 +182,18 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
             radius,
         });
     }
-    let mut springs = Vec::new();
+    Ok(particles)
+}
+
+/// The `[[chain]]` and `[[cloth]]` generators: their values checked, their particles appended
+/// to `particles` and their springs to `springs` (rest lengths set later), within
+/// [`MAX_PARTICLES`].
+fn validate_blocks(
+    ck: &Checker,
+    raw: &ScenarioFile,
+    particles: &mut Vec<Particle>,
+    springs: &mut Vec<SpringDef>,
+) -> Result<Vec<Block>> {
     let mut blocks = Vec::new();
     for (k, c) in raw.chain.iter().enumerate() {
         let f = format!("chain[{k}]");
@@ -148,7 +216,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
                 format!("the scene would exceed {MAX_PARTICLES} particles"),
             ));
         }
-        blocks.push(generate::chain(c, &mut particles, &mut springs));
+        blocks.push(generate::chain(c, particles, springs));
     }
     for (k, c) in raw.cloth.iter().enumerate() {
         let f = format!("cloth[{k}]");
@@ -185,17 +253,20 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
                 )
             })?;
         }
-        blocks.push(generate::cloth(c, &mut particles, &mut springs));
+        blocks.push(generate::cloth(c, particles, springs));
     }
+    Ok(blocks)
+}
+
+/// The `[[spring]]` tables: two distinct particles joined once, non-negative stiffness and
+/// damping, the rest length as given or the initial distance (never 0 under the strain law).
+fn validate_springs(
+    ck: &Checker,
+    raw: &ScenarioFile,
+    particles: &[Particle],
+) -> Result<Vec<SpringDef>> {
     let n = particles.len();
-    if n == 0 {
-        return Err(ck.err(
-            "particle",
-            "the scene has no particles: add [[particle]], [[chain]] or [[cloth]]",
-        ));
-    }
-    // Explicit springs come before generated ones in the final list, so indices in errors match the file.
-    let generated = std::mem::take(&mut springs);
+    let mut springs = Vec::new();
     let mut seen = HashSet::new();
     for (k, s) in raw.spring.iter().enumerate() {
         let f = format!("spring[{k}]");
@@ -204,7 +275,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
         let damping = ck.non_negative(&format!("{f}.damping"), s.damping)?;
         let rest = match s.rest_length {
             Some(l) => ck.non_negative(&format!("{f}.rest_length"), l)?,
-            None => (particles[j].position - particles[i].position).norm(),
+            None => initial_distance(particles, i, j),
         };
         if s.law == SpringLaw::Strain && rest <= 0.0 {
             let why = if s.rest_length.is_some() {
@@ -229,18 +300,24 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
             law: s.law,
         });
     }
-    springs.extend(generated.into_iter().map(|mut s| {
-        s.rest_length = Some((particles[s.j].position - particles[s.i].position).norm());
-        s
-    }));
+    Ok(springs)
+}
+
+/// The `[[constraint]]` tables: a positive length (as given or the initial distance), not both
+/// ends fixed, non-negative compliance.
+fn validate_constraints(
+    ck: &Checker,
+    raw: &ScenarioFile,
+    particles: &[Particle],
+) -> Result<Vec<DistanceConstraint>> {
     let mut constraints = Vec::new();
     for (k, c) in raw.constraint.iter().enumerate() {
         let f = format!("constraint[{k}]");
-        let (i, j) = ck.pair(&f, c.between, n)?;
+        let (i, j) = ck.pair(&f, c.between, particles.len())?;
         let length = match c.length {
             Some(l) => ck.positive(&format!("{f}.length"), l)?,
             None => {
-                let d = (particles[j].position - particles[i].position).norm();
+                let d = initial_distance(particles, i, j);
                 if d <= 0.0 {
                     return Err(ck.err(
                         format!("{f}.length"),
@@ -264,11 +341,21 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
             compliance,
         });
     }
+    Ok(constraints)
+}
+
+/// The `[[impulse]]` tables, sorted by time: a non-negative time, a free particle, a finite
+/// velocity change.
+fn validate_impulses(
+    ck: &Checker,
+    raw: &ScenarioFile,
+    particles: &[Particle],
+) -> Result<Vec<Impulse>> {
     let mut impulses = Vec::new();
     for (k, im) in raw.impulse.iter().enumerate() {
         let f = format!("impulse[{k}]");
         let time = ck.non_negative(&format!("{f}.time"), im.time)?;
-        let particle = ck.index(&format!("{f}.particle"), im.particle, n)?;
+        let particle = ck.index(&format!("{f}.particle"), im.particle, particles.len())?;
         if particles[particle].fixed {
             return Err(ck.err(
                 format!("{f}.particle"),
@@ -283,33 +370,34 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
         });
     }
     impulses.sort_by(|a, b| a.time.total_cmp(&b.time));
-    let gravity = match raw.world.gravity {
-        Some(g) => Some(ck.triple("world.gravity", g)?),
-        None => None,
-    };
-    let drag = match raw.world.drag {
-        Some(d) => Some(ck.non_negative("world.drag", d)?).filter(|&d| d > 0.0),
-        None => None,
-    };
-    let run = validate_run(&ck, &raw)?;
-    // The file's own run length: no impulse may fall outside it (it would never act).
+    Ok(impulses)
+}
+
+/// The file's own run length: no impulse may fall at or after it (it would never act).
+fn impulses_within_run(ck: &Checker, raw: &ScenarioFile, run: &RunSettings) -> Result<()> {
     let end = run
         .duration
         .or_else(|| run.steps.zip(run.dt).map(|(n, dt)| n as f64 * dt));
-    if let Some(end) = end {
-        for (k, im) in raw.impulse.iter().enumerate() {
-            if im.time >= end * (1.0 - 1e-9) {
-                return Err(ck.err(
-                    format!("impulse[{k}].time"),
-                    format!(
-                        "{} s is at or after the end of the run at {end} s; impulses must act within [0, {end}) s",
-                        im.time
-                    ),
-                ));
-            }
+    let Some(end) = end else {
+        return Ok(());
+    };
+    for (k, im) in raw.impulse.iter().enumerate() {
+        if im.time >= end * (1.0 - 1e-9) {
+            return Err(ck.err(
+                format!("impulse[{k}].time"),
+                format!(
+                    "{} s is at or after the end of the run at {end} s; impulses must act within [0, {end}) s",
+                    im.time
+                ),
+            ));
         }
     }
-    let collision = super::obstacle_validate::validate_collision(&raw, file)?;
+    Ok(())
+}
+
+/// The scene's name (as given, else the file's stem): it becomes a directory name, so it
+/// must be one.
+fn validate_name(ck: &Checker, raw: &ScenarioFile, file: &Path) -> Result<String> {
     let name = raw.name.clone().unwrap_or_else(|| {
         file.file_stem()
             .map_or("scenario".into(), |s| s.to_string_lossy().into_owned())
@@ -335,29 +423,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
             ),
         ));
     }
-    let expect = validate_expect(&ck, &raw)?;
-    let mut scene = Scenario {
-        name,
-        description: raw.description.clone().unwrap_or_default(),
-        source: file.to_path_buf(),
-        particles,
-        springs,
-        constraints,
-        impulses,
-        gravity,
-        drag,
-        run,
-        blocks,
-        collision,
-        expect,
-        raw,
-    };
-    // Checked without the obstacles: their shapes are built by the commands that run the
-    // scene, and their own values were checked above.
-    let collision = scene.collision.take();
-    check_finite(&ck, &scene)?;
-    scene.collision = collision;
-    Ok(scene)
+    Ok(name)
 }
 
 /// The field a particle comes from: `particle[k]`, or the `chain[k]`/`cloth[k]` that made it.

@@ -108,16 +108,12 @@ fn read_rows(path: &Path) -> Result<Vec<SweepRow>> {
             error_max: opt(6, "error_max")?,
             error_rms: opt(7, "error_rms")?,
             energy_drift: opt(8, "energy_drift")?,
-            status: match f[9] {
-                "ok" => crate::run::RunStatus::Ok,
-                "unstable" => crate::run::RunStatus::Unstable,
-                other => {
-                    return Err(bad(
-                        n,
-                        format!("status: expected ok or unstable, got '{other}'"),
-                    ))
-                }
-            },
+            status: crate::run::RunStatus::from_label(f[9]).ok_or_else(|| {
+                bad(
+                    n,
+                    format!("status: expected ok or unstable, got '{}'", f[9]),
+                )
+            })?,
         });
     }
     Ok(rows)
