@@ -34,6 +34,7 @@ const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
 }
 
 /// The built-in methods, in the order reports list them.
+/// Long because it is a table: one entry per method, each its facts and constructor.
 pub fn methods() -> Vec<Method> {
     vec![
         Method::new(

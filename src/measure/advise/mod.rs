@@ -487,19 +487,14 @@ fn predict(
     (predictions, unable)
 }
 
-/// Runs the advice: the grid (extended downwards while nothing meets the bound and the runs
-/// stay affordable), the prediction per method, its verification and the pick.
-pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
-    crate::measure::tolerance::check(cfg.tolerance)?;
-    if cfg.safety.is_nan() || cfg.safety < 1.0 {
-        return Err(Error::option(
-            "--safety",
-            format!("must be ≥ 1, got {}", crate::error::num(cfg.safety)),
-        ));
-    }
-    check_timing(&cfg.timing)?;
+/// The methods advice may pick: those that apply (the rest, with why, in the second list),
+/// less closed forms unless asked for by name, less those whose runs the budget cannot afford.
+fn candidates(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    grid: &[(f64, u64)],
+) -> Result<(Vec<String>, Vec<(String, String)>)> {
     let sys = scene.build();
-    let (horizon, mut grid) = step_grid_of(scene, cfg)?;
     let (mut names, mut unable) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Exact methods are closed forms for special scenes, not general integrators.
@@ -514,23 +509,39 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         }
     }
     if let Some(b) = cfg.budget_seconds {
-        names = within_budget(scene, cfg, names, &grid, b, &mut unable)?;
+        names = within_budget(scene, cfg, names, grid, b, &mut unable)?;
     }
-    let set = CaseSettings {
-        methods: cfg.methods.clone(),
-        options: cfg.options.clone(),
-        blowup_factor: cfg.blowup_factor,
-        series_points: 0,
-        // Advice times its candidates' runs itself, after the accuracy runs.
-        repeat_short: false,
-        trace: None,
-        contacts: false,
-        substeps: None,
-    };
-    let mut decided = Decided::default();
+    Ok((names, unable))
+}
+
+/// What the grid search found: the reference of its last grid, the predictions, the methods
+/// that cannot meet the bound, every step tried, the last grid, and the methods dropped on
+/// the way (not converging when the grid was extended).
+struct Searched {
+    reference: ReferenceInfo,
+    predictions: Vec<Prediction>,
+    cant: Vec<(String, String)>,
+    tried: Vec<f64>,
+    grid: Vec<(f64, u64)>,
+    dropped: Vec<(String, String)>,
+}
+
+/// Runs every candidate over the grid and predicts its step; while nothing is predicted, the
+/// grid is extended downwards (at most [`GRID_EXTENSIONS`] times, within
+/// [`EXTENSION_PARTICLE_STEPS`]) for the candidates still converging.
+fn search_grid(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    set: &CaseSettings,
+    horizon: f64,
+    (mut names, mut grid): (Vec<String>, Vec<(f64, u64)>),
+    decided: &mut Decided,
+) -> Result<Searched> {
+    let sys = scene.build();
+    let mut unable = Vec::new();
     let mut tried: Vec<f64> = Vec::new();
     let mut extensions = 0;
-    let (reference, predictions, cant) = loop {
+    loop {
         let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
         let jobs: Vec<(String, TimeGrid)> = names
             .iter()
@@ -539,7 +550,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
                     .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
             })
             .collect();
-        let (reference, cases) = run_grids(scene, cfg, &jobs, horizon, &set, &mut decided)?;
+        let (reference, cases) = run_grids(scene, cfg, &jobs, horizon, set, decided)?;
         let judge = decided
             .judge
             .as_ref()
@@ -576,7 +587,14 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             || span.is_nan()
             || span <= 1.0
         {
-            break (reference, p, cant);
+            return Ok(Searched {
+                reference,
+                predictions: p,
+                cant,
+                tried,
+                grid,
+                dropped: unable,
+            });
         }
         let kept: Vec<String> = names
             .iter()
@@ -591,7 +609,45 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             .filter(|g| g.0 < finest)
             .collect();
         extensions += 1;
+    }
+}
+
+/// Runs the advice: the grid (extended downwards while nothing meets the bound and the runs
+/// stay affordable), the prediction per method, its verification and the pick.
+/// Long because verification, frame-rate runs and timing share the candidates' chosen runs; the candidate list and the grid search are separate functions.
+pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
+    crate::measure::tolerance::check(cfg.tolerance)?;
+    if cfg.safety.is_nan() || cfg.safety < 1.0 {
+        return Err(Error::option(
+            "--safety",
+            format!("must be ≥ 1, got {}", crate::error::num(cfg.safety)),
+        ));
+    }
+    check_timing(&cfg.timing)?;
+    let sys = scene.build();
+    let (horizon, grid) = step_grid_of(scene, cfg)?;
+    let (names, mut unable) = candidates(scene, cfg, &grid)?;
+    let set = CaseSettings {
+        methods: cfg.methods.clone(),
+        options: cfg.options.clone(),
+        blowup_factor: cfg.blowup_factor,
+        series_points: 0,
+        // Advice times its candidates' runs itself, after the accuracy runs.
+        repeat_short: false,
+        trace: None,
+        contacts: false,
+        substeps: None,
     };
+    let mut decided = Decided::default();
+    let searched = search_grid(scene, cfg, &set, horizon, (names, grid), &mut decided)?;
+    let (reference, predictions, cant, mut tried, grid) = (
+        searched.reference,
+        searched.predictions,
+        searched.cant,
+        searched.tried,
+        searched.grid,
+    );
+    unable.extend(searched.dropped);
     unable.extend(cant);
     tried.sort_by(f64::total_cmp);
     tried.dedup();

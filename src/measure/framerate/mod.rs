@@ -281,13 +281,10 @@ fn within_budget(
     Ok(kept)
 }
 
-/// Measures every backend at every frame rate: per method and rate, the fewest substeps that
-/// meet the tolerance.
-pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
-    check(cfg)?;
-    let sys = scene.build();
-    let s0 = scene.initial_state();
-    let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
+/// Whole frames at each asked rate over `duration`, refused where a run would pass the step
+/// limit (the length's fault at one substep, `--max-substeps`' with them) or an impulse would
+/// never act.
+fn frames_per_rate(scene: &Scenario, cfg: &FramerateConfig, duration: f64) -> Result<Vec<u64>> {
     // Too many frames at one substep is the length's fault (the rate's when the length is the
     // scene's); too many only with the substeps, --max-substeps'.
     let length_flag = if cfg.duration.is_some() {
@@ -319,6 +316,47 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         crate::scenario::Timing::check_impulses(scene, end)?;
         crate::scenario::Timing::check_frame_impulses(scene, 1.0 / hz, end)?;
     }
+    Ok(frames)
+}
+
+/// Why no substep count met the bound: the search's end (the cap on substeps or on cost),
+/// and, with frame events, the floor the kicks' move to frame boundaries puts under any run.
+fn no_fewest_note(
+    cfg: &FramerateConfig,
+    largest: u64,
+    floor: Option<f64>,
+    tolerance: f64,
+) -> String {
+    let capped = largest < cfg.max_substeps;
+    let base = if capped {
+        format!(
+            "none up to {largest} substeps; {} would pass the cost cap of {:e} particle-steps",
+            2 * largest,
+            cfg.cost_cap.unwrap_or(f64::INFINITY)
+        )
+    } else {
+        format!("none up to --max-substeps {}", cfg.max_substeps)
+    };
+    match floor {
+        Some(f) if f > tolerance => format!(
+            "{base}: with events = \"frame\" the kicks move to frame boundaries, which alone puts the exact solution {f:.3e} m from the reference, above the tolerance; no substep count removes that floor"
+        ),
+        Some(f) => format!(
+            "{base} (the frame-event floor, the exact solution with its kicks at frame boundaries, is {f:.3e} m)"
+        ),
+        None => base,
+    }
+}
+
+/// Measures every backend at every frame rate: per method and rate, the fewest substeps that
+/// meet the tolerance.
+/// Long because the per-rate search runs as one parallel closure over the shared reference, judge and settings; its validation and notes are separate functions.
+pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
+    check(cfg)?;
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
+    let frames = frames_per_rate(scene, cfg, duration)?;
     let (mut names, mut skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Closed forms solve special scenes exactly; they are not a frame-rate choice.
@@ -401,27 +439,9 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                 None => None,
             };
             let largest = found.tried.iter().map(|t| t.0).max().unwrap_or(1);
-            let fewest_note = fewest.is_none().then(|| {
-                let capped = largest < cfg.max_substeps;
-                let base = if capped {
-                    format!(
-                        "none up to {largest} substeps; {} would pass the cost cap of {:e} particle-steps",
-                        2 * largest,
-                        cfg.cost_cap.unwrap_or(f64::INFINITY)
-                    )
-                } else {
-                    format!("none up to --max-substeps {}", cfg.max_substeps)
-                };
-                match floors[r] {
-                    Some(f) if f > judge.tolerance.value => format!(
-                        "{base}: with events = \"frame\" the kicks move to frame boundaries, which alone puts the exact solution {f:.3e} m from the reference, above the tolerance; no substep count removes that floor"
-                    ),
-                    Some(f) => format!(
-                        "{base} (the frame-event floor, the exact solution with its kicks at frame boundaries, is {f:.3e} m)"
-                    ),
-                    None => base,
-                }
-            });
+            let fewest_note = fewest
+                .is_none()
+                .then(|| no_fewest_note(cfg, largest, floors[r], judge.tolerance.value));
             pb.inc(1);
             Ok(RateEntry {
                 backend: name.clone(),
