@@ -24,16 +24,19 @@
 //! ```
 
 pub mod append_expect;
+mod checker;
 pub mod file;
+mod finite;
 mod generate;
 mod load;
 mod obj;
 pub mod obstacle_file;
 mod obstacle_validate;
 mod parse;
+mod run_table;
 mod timing;
 mod validate;
-pub use validate::{MAX_PARTICLES, MAX_STEPS};
+pub use checker::{MAX_PARTICLES, MAX_STEPS};
 
 pub use file::{ExpectSpec, ScenarioFile, SpringLaw};
 pub use generate::Block;

@@ -1,0 +1,75 @@
+//! What advice is asked for: the methods, the tolerance and metric, the step grid, the
+//! budget and the timing rule.
+
+use super::cost::ADVICE_TIMING;
+use crate::measure::case::TimingRule;
+use crate::measure::statistics::Ensemble;
+use crate::measure::tolerance::Metric;
+use crate::method::{MethodOptions, Registry};
+
+/// Options of [`advise`].
+#[derive(Debug, Clone)]
+pub struct AdviseConfig {
+    /// Position tolerance (m); None: the scene's `[run] tolerance`, else 1 % of its motion
+    /// scale ([`crate::measure::tolerance`]).
+    pub tolerance: Option<f64>,
+    /// Which error; None: statistics past a predictability horizon, else position
+    /// ([`crate::measure::tolerance::default_metric`]).
+    pub metric: Option<Metric>,
+    /// Horizon (s; default the scene's duration).
+    pub horizon: Option<f64>,
+    /// Candidates (empty: every applicable integrator except the closed form).
+    pub integrators: Vec<String>,
+    /// The methods to choose from (built-ins unless a library user added theirs).
+    pub methods: Registry,
+    /// Integrator options.
+    pub options: MethodOptions,
+    /// Predictions aim at tolerance / safety (default 2).
+    pub safety: f64,
+    /// Grid points (default 10).
+    pub points: usize,
+    /// Smallest grid step (default: scene dt / 30).
+    pub dt_min: Option<f64>,
+    /// Largest grid step (default: min(10 × scene dt, horizon / 4)).
+    pub dt_max: Option<f64>,
+    /// Progress bar on a terminal.
+    pub progress: bool,
+    /// Blow-up factor of every run (see [`crate::run::verdict`]).
+    pub blowup_factor: f64,
+    /// How often each candidate's run is repeated to time it (default [`ADVICE_TIMING`]).
+    pub timing: TimingRule,
+    /// Add the game view (`frame_rates` at [`FRAME_RATES`]); `--no-frame-rates` leaves it out
+    /// (the report's frame-rate section answers that question with `springlab framerate`).
+    pub frame_rates: bool,
+    /// Time budget (s of runs, summed): each method's time per step is probed at the grid's
+    /// smallest step and its grid runs projected (doubled for verification and frame rates);
+    /// the costliest methods that would exceed it are left out, named with the figure. `None`:
+    /// no budget (the study chooses its engines by its own rule).
+    pub budget_seconds: Option<f64>,
+    /// An ensemble already made for this scene over the same horizon (the study passes
+    /// compare's); None: made here when the statistics metric needs it.
+    pub ensemble: Option<Ensemble>,
+}
+
+impl Default for AdviseConfig {
+    fn default() -> Self {
+        AdviseConfig {
+            tolerance: None,
+            metric: None,
+            horizon: None,
+            integrators: vec![],
+            methods: Registry::builtin(),
+            options: MethodOptions::default(),
+            safety: 2.0,
+            points: 10,
+            dt_min: None,
+            dt_max: None,
+            progress: false,
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            timing: ADVICE_TIMING,
+            frame_rates: true,
+            budget_seconds: None,
+            ensemble: None,
+        }
+    }
+}

@@ -1,0 +1,345 @@
+//! Advice's search: the candidates, their runs over the step grid against one reference, the
+//! predicted step of each, and the grid's extension downwards while nothing meets the bound.
+
+use super::config::AdviseConfig;
+use crate::error::Result;
+use crate::measure::case::{applicable, run_case, CaseResult, CaseSettings};
+use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use crate::measure::reference::{Reference, ReferenceInfo};
+use crate::measure::statistics::Ensemble;
+use crate::measure::sweep::step_grid;
+use crate::measure::tolerance::Judge;
+use crate::method::Order;
+use crate::scenario::Scenario;
+use rayon::prelude::*;
+
+/// What the first reference of an advice decides for the rest: the judge, and the ensemble
+/// the statistics metric needs (computed once, shared by the verification's reference).
+#[derive(Default)]
+pub(super) struct Decided {
+    pub(super) judge: Option<Judge>,
+    pub(super) ensemble: Option<Ensemble>,
+    pub(super) metric_note: Option<String>,
+}
+
+/// Runs `jobs` (method, grid) against one reference of their grids; the first call decides
+/// the judge (and the ensemble, for the statistics metric) in `decided`.
+pub(super) fn run_grids(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    jobs: &[(String, TimeGrid)],
+    horizon: f64,
+    set: &CaseSettings,
+    decided: &mut Decided,
+) -> Result<(ReferenceInfo, Vec<CaseResult>)> {
+    let sys = scene.build();
+    let s0 = scene.initial_state();
+    let mut grids: Vec<TimeGrid> = Vec::new();
+    let idx: Vec<usize> = jobs
+        .iter()
+        .map(|(_, g)| match grids.iter().position(|h| h == g) {
+            Some(i) => i,
+            None => {
+                grids.push(*g);
+                grids.len() - 1
+            }
+        })
+        .collect();
+    let mut reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    match &decided.judge {
+        None => {
+            let (judge, note) = crate::measure::tolerance::decide(
+                cfg.metric,
+                cfg.tolerance,
+                scene.run.tolerance,
+                &mut reference,
+                &sys,
+                &s0,
+                cfg.ensemble.as_ref(),
+            )?;
+            decided.ensemble = reference.ensemble.clone();
+            decided.metric_note = note;
+            decided.judge = Some(judge);
+        }
+        Some(j) => {
+            if let Some(e) = &decided.ensemble {
+                reference.use_ensemble(e, j.tolerance.value);
+            }
+        }
+    }
+    let pb = crate::run::progress_bar(
+        jobs.len() as u64,
+        &format!("advise {}", scene.name),
+        cfg.progress,
+    );
+    let out: Vec<Result<CaseResult>> = jobs
+        .par_iter()
+        .zip(&idx)
+        .map(|((name, _), &g)| {
+            let r = run_case(&sys, &s0, &reference, g, name, set);
+            pb.inc(1);
+            r
+        })
+        .collect();
+    pb.finish_and_clear();
+    Ok((reference.info, out.into_iter().collect::<Result<_>>()?))
+}
+
+/// The methods whose grid runs fit `budget` (s, summed), cheapest first; each projected from
+/// its time per step probed at the grid's smallest step, over the grid's steps, doubled for
+/// the verification and frame-rate runs that follow. The rest go to `unable` with the figures.
+fn within_budget(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    names: Vec<String>,
+    grid: &[(f64, u64)],
+    budget: f64,
+    unable: &mut Vec<(String, String)>,
+) -> Result<Vec<String>> {
+    use crate::measure::probe::{check_budget, seconds_per_step, split_by_budget, Cost};
+    check_budget(budget)?;
+    let (sys, s0) = (scene.build(), scene.initial_state());
+    let Some(&(dt, steps)) = grid.iter().min_by(|a, b| a.0.total_cmp(&b.0)) else {
+        return Ok(names);
+    };
+    let total: f64 = grid.iter().map(|g| g.1 as f64).sum::<f64>() * 2.0;
+    let costs: Vec<Cost> = names
+        .iter()
+        .map(|n| {
+            let per = seconds_per_step(&sys, &s0, &cfg.methods, &cfg.options, n, dt, steps)
+                .unwrap_or(0.0);
+            Cost {
+                per_unit: per,
+                projected: per * total,
+            }
+        })
+        .collect();
+    let (kept, left) = split_by_budget(names, &costs, budget, "its runs", "step");
+    unable.extend(left);
+    Ok(kept)
+}
+
+/// Most times the grid is extended downwards (each time by [`EXTENSION_FACTOR`], or the grid's
+/// own span when smaller) when no candidate meets the bound on it; only candidates still
+/// converging (ok at the finest step, their smallest error there) go on.
+pub const GRID_EXTENSIONS: usize = 2;
+
+/// Largest factor by which one extension lowers the grid's smallest step (or the grid's own
+/// span, when smaller).
+pub const EXTENSION_FACTOR: f64 = 30.0;
+
+/// Largest run of an extended grid, in particle-steps: a finer grid than this is not tried.
+pub const EXTENSION_PARTICLE_STEPS: f64 = 5e7;
+
+/// A method advice cannot use, with why.
+pub(super) type Unable = (String, String);
+
+/// One candidate's prediction from its grid row: the step, its predicted error and the last
+/// passing grid run; or why it cannot meet the bound.
+pub(super) type Prediction = (String, TimeGrid, f64, CaseResult);
+
+/// The predictions of every candidate from the grid runs `cases` (candidate-major).
+fn predict(
+    names: &[String],
+    cases: &[CaseResult],
+    points: usize,
+    horizon: f64,
+    max_samples: u64,
+    judge: &Judge,
+    safety: f64,
+) -> (Vec<Prediction>, Vec<(String, String)>) {
+    let target = judge.bound / safety;
+    let (mut predictions, mut unable) = (Vec::new(), Vec::new());
+    for (i, name) in names.iter().enumerate() {
+        let row = &cases[i * points..(i + 1) * points];
+        let mut last_pass = None;
+        for (j, c) in row.iter().enumerate() {
+            match judge.error(c) {
+                Some(e) if e <= target => last_pass = Some(j),
+                _ => break,
+            }
+        }
+        let Some(j) = last_pass else {
+            let errors: Vec<(f64, Option<f64>)> =
+                row.iter().map(|c| (c.dt, judge.error(c))).collect();
+            unable.push((name.clone(), unable_reason(&errors, judge.bound, safety)));
+            continue;
+        };
+        let ej = judge.error(&row[j]).expect("passed");
+        let (mut dt, mut pred) = (row[j].dt, ej);
+        if let Some(next) = row.get(j + 1) {
+            if let Some(en) = judge.error(next) {
+                if ej > 0.0 && en > ej {
+                    let slope = (en / ej).ln() / (next.dt / row[j].dt).ln();
+                    let d = row[j].dt * (target / ej).powf(1.0 / slope);
+                    dt = d.clamp(row[j].dt, next.dt);
+                    pred = ej * (dt / row[j].dt).powf(slope);
+                }
+            }
+        }
+        let steps = crate::model::covering_steps(horizon, dt);
+        let g = TimeGrid::new(horizon / steps as f64, steps, max_samples);
+        predictions.push((name.clone(), g, pred, row[j].clone()));
+    }
+    (predictions, unable)
+}
+
+/// The methods advice may pick: those that apply (the rest, with why, in the second list),
+/// less closed forms unless asked for by name, less those whose runs the budget cannot afford.
+pub(super) fn candidates(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    grid: &[(f64, u64)],
+) -> Result<(Vec<String>, Vec<Unable>)> {
+    let sys = scene.build();
+    let (mut names, mut unable) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+    if cfg.integrators.is_empty() {
+        // Exact methods are closed forms for special scenes, not general integrators.
+        let exact: Vec<String> = names
+            .iter()
+            .filter(|n| cfg.methods.info(n).is_ok_and(|m| m.order == Order::Exact))
+            .cloned()
+            .collect();
+        for n in exact {
+            names.retain(|m| *m != n);
+            unable.push((n, "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
+        }
+    }
+    if let Some(b) = cfg.budget_seconds {
+        names = within_budget(scene, cfg, names, grid, b, &mut unable)?;
+    }
+    Ok((names, unable))
+}
+
+/// What the grid search found: the reference of its last grid, the predictions, the methods
+/// that cannot meet the bound, every step tried, the last grid, and the methods dropped on
+/// the way (not converging when the grid was extended).
+pub(super) struct Searched {
+    pub(super) reference: ReferenceInfo,
+    pub(super) predictions: Vec<Prediction>,
+    pub(super) cant: Vec<(String, String)>,
+    pub(super) tried: Vec<f64>,
+    pub(super) grid: Vec<(f64, u64)>,
+    pub(super) dropped: Vec<(String, String)>,
+}
+
+/// Runs every candidate over the grid and predicts its step; while nothing is predicted, the
+/// grid is extended downwards (at most [`GRID_EXTENSIONS`] times, within
+/// [`EXTENSION_PARTICLE_STEPS`]) for the candidates still converging.
+pub(super) fn search_grid(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    set: &CaseSettings,
+    horizon: f64,
+    (mut names, mut grid): (Vec<String>, Vec<(f64, u64)>),
+    decided: &mut Decided,
+) -> Result<Searched> {
+    let sys = scene.build();
+    let mut unable = Vec::new();
+    let mut tried: Vec<f64> = Vec::new();
+    let mut extensions = 0;
+    loop {
+        let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
+        let jobs: Vec<(String, TimeGrid)> = names
+            .iter()
+            .flat_map(|n| {
+                grid.iter()
+                    .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
+            })
+            .collect();
+        let (reference, cases) = run_grids(scene, cfg, &jobs, horizon, set, decided)?;
+        let judge = decided
+            .judge
+            .as_ref()
+            .expect("decided by the first reference");
+        let (p, cant) = predict(
+            &names,
+            &cases,
+            grid.len(),
+            horizon,
+            max_samples,
+            judge,
+            cfg.safety,
+        );
+        tried.extend(grid.iter().map(|g| g.0));
+        let finest = grid.iter().map(|g| g.0).fold(f64::INFINITY, f64::min);
+        let span = grid.iter().map(|g| g.0).fold(0.0, f64::max) / finest;
+        let next_min = finest / span.min(EXTENSION_FACTOR);
+        let affordable = sys.len() as f64 * horizon / next_min <= EXTENSION_PARTICLE_STEPS
+            && crate::scenario::Timing::steps_within("--dt-min", next_min, horizon).is_ok();
+        // Only a candidate still converging goes on: ok at the finest step, and its error
+        // there the smallest of its row (the grid is ascending in the step).
+        let converging: Vec<bool> = (0..names.len())
+            .map(|i| {
+                let row = &cases[i * grid.len()..(i + 1) * grid.len()];
+                let errors: Vec<Option<f64>> = row.iter().map(|c| judge.error(c)).collect();
+                errors[0].is_some_and(|e0| errors.iter().flatten().all(|&e| e0 <= e))
+            })
+            .collect();
+        if !p.is_empty()
+            || !converging.contains(&true)
+            || cfg.dt_min.is_some()
+            || extensions >= GRID_EXTENSIONS
+            || !affordable
+            || span.is_nan()
+            || span <= 1.0
+        {
+            return Ok(Searched {
+                reference,
+                predictions: p,
+                cant,
+                tried,
+                grid,
+                dropped: unable,
+            });
+        }
+        let kept: Vec<String> = names
+            .iter()
+            .zip(&converging)
+            .filter(|(_, &c)| c)
+            .map(|(n, _)| n.clone())
+            .collect();
+        unable.extend(cant.into_iter().filter(|(n, _)| !kept.contains(n)));
+        names = kept;
+        grid = step_grid(next_min, finest, cfg.points.max(2), horizon)
+            .into_iter()
+            .filter(|g| g.0 < finest)
+            .collect();
+        extensions += 1;
+    }
+}
+
+/// Why a candidate whose smallest grid step misses tolerance / `safety` gets no advice, in
+/// words that agree with its own grid errors (`errors`: (dt, error or None when not ok), from
+/// the smallest step up): unstable everywhere; within the tolerance but not its margin; an
+/// error that does not fall with the step (a coarser step's error below the target is an
+/// aliased sample, not convergence); or above the tolerance at every step.
+pub fn unable_reason(errors: &[(f64, Option<f64>)], tolerance: f64, safety: f64) -> String {
+    let target = tolerance / safety;
+    let Some((best_dt, best)) = errors
+        .iter()
+        .filter_map(|&(dt, e)| Some((dt, e?)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+    else {
+        return "unstable at every step of the grid".into();
+    };
+    let first = errors
+        .first()
+        .map_or("unstable".to_string(), |&(dt, e)| match e {
+            Some(e) => format!("{e:.3e} at the smallest step {dt:.4e} s"),
+            None => format!("unstable at the smallest step {dt:.4e} s"),
+        });
+    if best <= target {
+        format!(
+            "its error does not fall with the step on this grid: {first}, above tolerance/safety {target:.3e}, while a coarser step reads {best:.3e} at {best_dt:.4e} s (a sample that happens to be close, not convergence; try a smaller --dt-min)"
+        )
+    } else if best <= tolerance {
+        format!(
+            "meets the tolerance {tolerance:.3e} on the grid (smallest error {best:.3e} at {best_dt:.4e} s) but not its safety margin: tolerance/safety = {target:.3e} (lower --safety, or a smaller --dt-min)"
+        )
+    } else {
+        format!(
+            "smallest error on the grid {best:.3e} (at {best_dt:.4e} s) exceeds the tolerance {tolerance:.3e} (try a smaller --dt-min)"
+        )
+    }
+}

@@ -1,0 +1,146 @@
+//! The `[run]` and `[expect]` tables: the step, the length, the methods, events, tolerance
+//! and frame rate a scene asks for, and the expectations a CI run checks.
+
+use super::checker::{Checker, MAX_STEPS};
+use super::file::ScenarioFile;
+use super::{Expect, RunSettings};
+use crate::error::{num, Result};
+
+pub(super) fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettings> {
+    let Some(r) = &raw.run else {
+        return Ok(RunSettings {
+            dt: None,
+            steps: None,
+            duration: None,
+            integrators: Vec::new(),
+            events: Default::default(),
+            tolerance: None,
+            hz: None,
+        });
+    };
+    let dt = match r.dt {
+        Some(dt) => Some(ck.positive("run.dt", dt)?),
+        None => None,
+    };
+    let steps = match r.steps {
+        Some(s) if s < 1 || s as u64 > MAX_STEPS => {
+            return Err(ck.err(
+                "run.steps",
+                format!("must be between 1 and {MAX_STEPS}, got {s}"),
+            ))
+        }
+        Some(s) => Some(s as u64),
+        None => None,
+    };
+    let duration = match r.duration {
+        Some(d) => Some(ck.positive("run.duration", d)?),
+        None => None,
+    };
+    match (steps, duration) {
+        (Some(_), Some(_)) => {
+            return Err(ck.err(
+                "run",
+                "give exactly one of `steps` and `duration`, not both",
+            ))
+        }
+        (None, None) => return Err(ck.err("run", "give exactly one of `steps` and `duration`")),
+        _ => {}
+    }
+    if let (Some(dt), Some(d)) = (dt, duration) {
+        if dt > d * (1.0 + 1e-12) {
+            return Err(ck.err(
+                "run.dt",
+                format!("{} s is longer than run.duration = {} s: one step would end the run at {} s, after its duration; give a step ≤ the duration", num(dt), num(d), num(dt)),
+            ));
+        }
+        if d / dt > MAX_STEPS as f64 {
+            return Err(ck.err(
+                "run.duration",
+                format!("duration / dt = {:.3e} steps exceeds {MAX_STEPS}", d / dt),
+            ));
+        }
+    }
+    let integrators = r.integrators.clone().unwrap_or_default();
+    for (k, name) in integrators.iter().enumerate() {
+        if crate::method::Registry::builtin().find(name).is_none() {
+            return Err(ck.err(
+                format!("run.integrators[{k}]"),
+                format!(
+                    "unknown integrator '{name}'; known: {}",
+                    crate::method::Registry::builtin().names().join(", ")
+                ),
+            ));
+        }
+    }
+    let events = match &r.events {
+        Some(e) => crate::model::Events::parse(e).map_err(|why| ck.err("run.events", why))?,
+        None => Default::default(),
+    };
+    let tolerance = match r.tolerance {
+        Some(t) => Some(ck.positive("run.tolerance", t)?),
+        None => None,
+    };
+    let hz = match r.hz {
+        Some(h) => Some(ck.positive("run.hz", h)?),
+        None => None,
+    };
+    Ok(RunSettings {
+        dt,
+        steps,
+        duration,
+        integrators,
+        events,
+        tolerance,
+        hz,
+    })
+}
+
+/// Checks `[expect]`: a registered integrator, exactly one positive finite `hz` or `dt`,
+/// `substeps` ≥ 1, and positive finite limits.
+pub(super) fn validate_expect(ck: &Checker, raw: &ScenarioFile) -> Result<Option<Expect>> {
+    let Some(e) = &raw.expect else {
+        return Ok(None);
+    };
+    let registry = crate::method::Registry::builtin();
+    if registry.find(&e.integrator).is_none() {
+        return Err(ck.err(
+            "expect.integrator",
+            format!(
+                "unknown integrator '{}'; known: {}",
+                e.integrator,
+                registry.names().join(", ")
+            ),
+        ));
+    }
+    let frame_dt = match (e.hz, e.dt) {
+        (Some(_), Some(_)) => {
+            return Err(ck.err("expect", "give exactly one of `hz` and `dt`, not both"))
+        }
+        (None, None) => return Err(ck.err("expect", "give exactly one of `hz` and `dt`")),
+        (Some(hz), None) => 1.0 / ck.positive("expect.hz", hz)?,
+        (None, Some(dt)) => ck.positive("expect.dt", dt)?,
+    };
+    let substeps = match e.substeps {
+        None => 1,
+        Some(n) if (1..=MAX_STEPS as i64).contains(&n) => n as u64,
+        Some(n) => {
+            return Err(ck.err(
+                "expect.substeps",
+                format!("must be between 1 and {MAX_STEPS}, got {n}"),
+            ))
+        }
+    };
+    let limit = |field: &str, v: Option<f64>| -> Result<Option<f64>> {
+        v.map(|x| ck.positive(&format!("expect.{field}"), x))
+            .transpose()
+    };
+    Ok(Some(Expect {
+        integrator: e.integrator.clone(),
+        frame_dt,
+        substeps,
+        stable: e.stable,
+        max_position_error: limit("max_position_error", e.max_position_error)?,
+        max_strain: limit("max_strain", e.max_strain)?,
+        max_energy_drift_rate: limit("max_energy_drift_rate", e.max_energy_drift_rate)?,
+    }))
+}
