@@ -2,6 +2,7 @@
 
 mod baseline;
 pub mod ratios;
+pub mod stencil;
 
 pub use baseline::hand_step;
 

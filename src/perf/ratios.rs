@@ -15,13 +15,46 @@ pub type Contender<'a> = Box<dyn FnMut() -> Result<f64> + Send + 'a>;
 /// Runs every contender once per round, `rounds` times, in turn; the minimum time per step of
 /// each.
 pub fn interleaved(rounds: usize, contenders: &mut [Contender<'_>]) -> Result<Vec<f64>> {
-    let mut best = vec![f64::INFINITY; contenders.len()];
+    Ok(interleaved_stats(rounds, contenders)?
+        .into_iter()
+        .map(|t| t.min)
+        .collect())
+}
+
+/// A contender's times per step over the rounds of one interleaved run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoundTimes {
+    /// The fastest round (s per step): the least disturbed by the machine.
+    pub min: f64,
+    /// The median round (s per step): what a typical round cost.
+    pub median: f64,
+}
+
+/// Runs every contender once per round, `rounds` times, in turn; the minimum and median time
+/// per step of each.
+pub fn interleaved_stats(
+    rounds: usize,
+    contenders: &mut [Contender<'_>],
+) -> Result<Vec<RoundTimes>> {
+    let mut all = vec![Vec::with_capacity(rounds.max(1)); contenders.len()];
     for _ in 0..rounds.max(1) {
-        for (b, c) in best.iter_mut().zip(contenders.iter_mut()) {
-            *b = b.min(c()?);
+        for (t, c) in all.iter_mut().zip(contenders.iter_mut()) {
+            t.push(c()?);
         }
     }
-    Ok(best)
+    Ok(all
+        .into_iter()
+        .map(|mut t| {
+            t.sort_by(f64::total_cmp);
+            let m = t.len() / 2;
+            let median = if t.len() % 2 == 1 {
+                t[m]
+            } else {
+                0.5 * (t[m - 1] + t[m])
+            };
+            RoundTimes { min: t[0], median }
+        })
+        .collect())
 }
 
 /// A contender stepping `integ` `batch` times from `s0` (restarted, untimed, every batch, so
@@ -64,6 +97,27 @@ pub fn hand_loop<'a>(sys: &'a System, s0: &'a State, h: f64, batch: usize) -> Co
         std::hint::black_box(&x);
         Ok(t0.elapsed().as_secs_f64() / batch.max(1) as f64)
     })
+}
+
+/// A contender running the stencil loop [`super::stencil::GridCloth`] of an `n`×`n` grid
+/// cloth `batch` times from `s0`; `None` when `sys` is not exactly such a cloth.
+pub fn best_loop<'a>(
+    sys: &System,
+    s0: &'a State,
+    n: usize,
+    h: f64,
+    batch: usize,
+) -> Option<Contender<'a>> {
+    let mut g = super::stencil::GridCloth::of(sys, n, n)?;
+    Some(Box::new(move || {
+        g.set_state(&s0.x, &s0.v);
+        let t0 = Instant::now();
+        for _ in 0..batch.max(1) {
+            g.step(h);
+        }
+        std::hint::black_box(g.position(0));
+        Ok(t0.elapsed().as_secs_f64() / batch.max(1) as f64)
+    }))
 }
 
 /// A contender running `inner` inside a rayon pool of `threads` threads.

@@ -70,14 +70,19 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
         [
             "step_vs_hand_loop",
             "rapier_frame_vs_step",
+            "step_vs_best_loop",
+            "step_vs_best_loop",
             "thread_speedup_forces",
             "thread_speedup_step"
         ]
     );
     for r in &rows {
-        let ratio: f64 = r[6].parse().unwrap();
-        assert!(ratio.is_finite() && ratio > 0.0, "{r:?}");
-        assert!(r[8] == "true" || r[8] == "false", "{r:?}");
+        // The ratio of the minima and of the medians over the rounds.
+        for k in [6, 9] {
+            let ratio: f64 = r[k].parse().unwrap();
+            assert!(ratio.is_finite() && ratio > 0.0, "{r:?}");
+        }
+        assert!(r[11] == "true" || r[11] == "false", "{r:?}");
     }
     let imp = csv_rows(&d.path().join("implicit.csv"));
     // Every implicit method at each size, in a `method` column, with its solver.
