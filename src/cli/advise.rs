@@ -57,7 +57,7 @@ pub struct Args {
 }
 
 /// Runs the command.
-/// Long because it prints the advice's tables (pick, alternatives, frame rates) line by line.
+// Long because it prints the advice's tables (pick, alternatives, frame rates) line by line.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     let scene = load(&a.scenario)?;

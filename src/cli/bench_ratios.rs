@@ -20,7 +20,7 @@ const IMPLICIT_TARGETS: [(&str, usize, &str); 1] = [("implicit_euler", 100, "<= 
 /// Flags of `springlab bench-ratios`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Interleaved rounds per ratio (the minimum per contender is kept).
+    /// Interleaved rounds per ratio (the minimum and the median per contender are kept).
     #[arg(long, default_value_t = 11, allow_negative_numbers = true)]
     pub rounds: usize,
     /// Cloth size n for the hand-loop and Rapier ratios.

@@ -29,7 +29,7 @@ fn left_out(total: usize, shown: usize) {
 }
 
 /// Runs the command.
-/// Long because it prints every active term and obstacle of the scene, one line each.
+// Long because it prints every active term and obstacle of the scene, one line each.
 pub fn run(a: Args) -> Result<()> {
     let scene = load(&a.scenario)?;
     // The scene's own [run] step and length, when it gives them, are held to what `run`

@@ -36,7 +36,7 @@ pub struct Args {
 }
 
 /// Runs the command.
-/// Long because it prints the comparison table and its notes line by line after writing the files.
+// Long because it prints the comparison table and its notes line by line after writing the files.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     let scene = load(&a.scenario)?;

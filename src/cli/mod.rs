@@ -109,3 +109,27 @@ fn message(e: &anyhow::Error) -> String {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    /// No command declares a flag twice, counting the method options generated from the
+    /// registry: clap checks this itself only in debug builds, and the tests run in release.
+    #[test]
+    fn no_command_declares_a_flag_twice() {
+        use clap::CommandFactory;
+        let cli = super::Cli::command();
+        for sub in cli.get_subcommands() {
+            let mut seen = std::collections::BTreeSet::new();
+            for arg in sub.get_arguments() {
+                if let Some(long) = arg.get_long() {
+                    assert!(
+                        seen.insert(long.to_string()),
+                        "springlab {}: --{long} is declared twice",
+                        sub.get_name()
+                    );
+                }
+            }
+        }
+        assert!(cli.get_subcommands().count() > 10);
+    }
+}

@@ -29,7 +29,7 @@ pub struct Args {
 }
 
 /// Runs the command.
-/// Long because it prints the run's summary lines after writing its files; each line is one fact of the run.
+// Long because it prints the run's summary lines after writing its files; each line is one fact of the run.
 pub fn run(a: Args) -> Result<()> {
     if let Some(out) = &a.out {
         super::common::check_out(out)?;

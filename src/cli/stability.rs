@@ -50,7 +50,7 @@ pub struct Args {
 }
 
 /// Runs the command.
-/// Long because it prints the stability table and its notes line by line after writing the file.
+// Long because it prints the stability table and its notes line by line after writing the file.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     let scene = load(&a.scenario)?;

@@ -148,7 +148,7 @@ fn within_budget(
 }
 
 /// Runs the comparison.
-/// Long because every method's run shares one reference, judge and settings, and the document gathers all of them with its command.
+// Long because every method's run shares one reference, judge and settings, and the document gathers all of them with its command.
 pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let sys = scene.build();
     let s0 = scene.initial_state();

@@ -113,7 +113,7 @@ fn list(v: &[f64]) -> String {
 /// Fits the order from (dt, error, stable, floor) points: `floor` is that point's measurement
 /// floor and `saturation` the error above which a point is not asymptotic (both in m);
 /// `expected` is the method's theoretical order, if it has one.
-/// Long because the asymptotic window's choice and the fit's acceptance tests share the points and their floors.
+// Long because the asymptotic window's choice and the fit's acceptance tests share the points and their floors.
 pub fn fit_order(
     points: &[(f64, f64, bool, f64)],
     saturation: f64,

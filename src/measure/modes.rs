@@ -146,7 +146,7 @@ impl Lin {
 }
 
 /// The linearised modes of `sys` at `s0`.
-/// Long because the linearisation, the mass-weighted eigen-solve and the damping projection share the assembled matrices.
+// Long because the linearisation, the mass-weighted eigen-solve and the damping projection share the assembled matrices.
 pub fn modes(sys: &System, s0: &State) -> Modes {
     let lin = Lin::new(sys, s0);
     let dofs = 3 * lin.free.len();

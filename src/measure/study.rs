@@ -487,7 +487,7 @@ fn engine_probe(
 /// solver substep: its compare run used `options.substeps`), and every engine compare left
 /// out (`probed_out`: its probe's time per step) under the same rule. Returns the table, why
 /// there is none, and the methods left out for time.
-/// Long because the frame-rate table's method list, budget and notes depend on the comparison's runs together.
+// Long because the frame-rate table's method list, budget and notes depend on the comparison's runs together.
 fn study_framerate(
     scene: &Scenario,
     cfg: &StudyConfig,

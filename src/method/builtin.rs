@@ -1,5 +1,5 @@
-//! springlab's built-in methods and their facts: the one file to touch (with its tests) when a
-//! method is added. Orders and limits are the textbook ones (Hairer, Nørsett & Wanner, *Solving
+//! springlab's built-in methods and their facts: the registry's one entry per method (a new
+//! method adds its integrator file and one entry here). Orders and limits are the textbook ones (Hairer, Nørsett & Wanner, *Solving
 //! ODEs I*; Hairer, Lubich & Wanner, *Geometric Numerical Integration*).
 
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
@@ -34,7 +34,7 @@ const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
 }
 
 /// The built-in methods, in the order reports list them.
-/// Long because it is a table: one entry per method, each its facts and constructor.
+// Long because it is a table: one entry per method, each its facts and constructor.
 pub fn methods() -> Vec<Method> {
     vec![
         Method::new(

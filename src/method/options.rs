@@ -85,7 +85,8 @@ impl MethodOptions {
     pub fn get(&self, spec: &OptionSpec) -> usize {
         self.values.get(spec.flag).copied().unwrap_or(spec.default)
     }
-    /// Sets `spec` to `value` (checked against its least value by [`MethodOptions::check`]).
+    /// Sets `spec` to `value` (checked against its least value when a method reading it is
+    /// made, [`super::Registry::create`]).
     pub fn set(&mut self, spec: &OptionSpec, value: usize) {
         self.values.insert(spec.flag, value);
     }

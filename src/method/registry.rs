@@ -133,12 +133,16 @@ impl Registry {
                 .find(|(o, _)| o.flag == spec.flag);
             if let Some((o, by)) = other.filter(|(o, _)| o != spec) {
                 return Err(refuse(format!(
-                    "option '--{}' is declared differently by {} (default {}, least {})",
+                    "option '--{}' is declared differently by {} (default {}, least {}, help \"{}\")",
                     o.flag,
                     by.join(", "),
                     o.default,
-                    o.min
+                    o.min,
+                    o.help
                 )));
+            }
+            if info.options.iter().filter(|o| o.flag == spec.flag).count() > 1 {
+                return Err(refuse(format!("option '--{}' is listed twice", spec.flag)));
             }
         }
         let made = m.create(&MethodOptions::default());
@@ -190,9 +194,15 @@ impl Registry {
         self.get(name).map(|m| &m.info)
     }
 
-    /// A fresh instance of `name`'s method.
+    /// A fresh instance of `name`'s method, refused (naming the flag) when one of the options
+    /// it reads is below its least value.
     pub fn create(&self, name: &str, opts: &MethodOptions) -> Result<Box<dyn Integrator>> {
-        self.get(name).map(|m| m.create(opts))
+        let m = self.get(name)?;
+        for spec in m.info.options {
+            spec.check(opts.get(spec))
+                .map_err(|why| Error::option(format!("--{}", spec.flag), why))?;
+        }
+        Ok(m.create(opts))
     }
 
     /// The canonical name for `name` (resolving aliases).

@@ -1,6 +1,6 @@
 //! The cost ratios that have targets, each measured in one run with the contenders
-//! interleaved (A, B, A, B, ...) and the minimum per step kept for each: on a shared, noisy
-//! machine a slow phase then hits both sides of a ratio instead of one.
+//! interleaved (A, B, A, B, ...) and the minimum and median per step kept for each: on a
+//! shared, noisy machine a slow phase then hits both sides of a ratio instead of one.
 
 use crate::error::Result;
 use crate::integrate::{ImplicitSettings, Integrator};

@@ -108,7 +108,7 @@ pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
 /// The folder is staged and swapped in whole ([`Transaction`]): it never keeps a file of an
 /// earlier report that this one did not write, and a scene that fails or is killed while being
 /// written leaves its earlier folder as it was.
-/// Long because it lists the scene page's figures in page order, each a chart write and its caption.
+// Long because it lists the scene page's figures in page order, each a chart write and its caption.
 pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Result<SceneSummary> {
     let mut tx = Transaction::new(&opts.out)?;
     let dir = tx.stage_dir(&s.scenario)?;

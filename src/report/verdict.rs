@@ -178,7 +178,7 @@ pub fn front_row(s: &SceneSummary) -> FrontRow {
 }
 
 /// The paragraph for one scene.
-/// Long because the paragraph is written sentence by sentence, each from one field of the summary.
+// Long because the paragraph is written sentence by sentence, each from one field of the summary.
 pub fn verdict(s: &SceneSummary) -> String {
     let mut out = Vec::new();
     if let Some(p) = pick_sentence(s) {

@@ -209,7 +209,7 @@ impl Loop<'_> {
 ///
 /// Impulses take effect when the scene's [`crate::model::Events`] says, relative to the
 /// frames of `plan.dt`; `steps_done` counts frames, and the cost counts every substep.
-/// One function because the frame loop owns the integrator, the contact stage, impulses, energy accounts and the verdict together; each is a call, the loop is their order.
+// One function because the frame loop owns the integrator, the contact stage, impulses, energy accounts and the verdict together; each is a call, the loop is their order.
 pub fn run(
     sys: &System,
     integ: &mut dyn Integrator,

@@ -37,7 +37,7 @@ fn spring_field(scene: &Scenario, s: usize) -> String {
 /// two ends coincide while its rest length is not zero (it has no direction to act along).
 /// The error names the field that holds the value at fault. `scene` comes without its
 /// obstacles (contact forces are not part of the check).
-/// Long because each check names its own field in its error; the checks share one pass over the scene.
+// Long because each check names its own field in its error; the checks share one pass over the scene.
 pub(super) fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
     let v3 = |v: &Vec3| format!("({}, {}, {})", num(v.x), num(v.y), num(v.z));
     let at = |p: usize, what: &str| {

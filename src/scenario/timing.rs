@@ -1,5 +1,6 @@
 //! The one place a scene's step, duration and command-line overrides are resolved: every
-//! command and the study call [`Timing::resolve`], so they agree on what "the scene's step"
+//! command and the study call [`Timing::resolve_asked`] (or [`Timing::resolve`], its form
+//! for a step and a duration), so they agree on what "the scene's step"
 //! and "the scene's duration" are, and fail the same way when one is missing.
 //!
 //! Nothing is clipped silently: a step longer than the duration is an error (a run never
@@ -88,7 +89,22 @@ impl Timing {
     }
 
     fn length(flag: &str, scene: &Scenario, duration: Option<f64>) -> Result<f64> {
-        let from_steps = scene.run.steps.zip(scene.run.dt).map(|(n, d)| n as f64 * d);
+        Self::length_with(flag, scene, duration, scene.run.dt)
+    }
+
+    /// The length as [`Timing::duration`] resolves it, `[run].steps` counted in `step` (the
+    /// scene's own `[run].dt` when it has one, else the step the command was given).
+    fn length_with(
+        flag: &str,
+        scene: &Scenario,
+        duration: Option<f64>,
+        step: Option<f64>,
+    ) -> Result<f64> {
+        let from_steps = scene
+            .run
+            .steps
+            .zip(scene.run.dt.or(step))
+            .map(|(n, d)| n as f64 * d);
         match duration.or(scene.run.duration).or(from_steps) {
             Some(v) => positive(flag, v),
             None => Err(Error::option(
@@ -134,7 +150,7 @@ impl Timing {
             }
             Some(n) => (n, n as f64 * dt),
             None => {
-                let duration = Self::duration(scene, asked.duration)?;
+                let duration = Self::length_with("--duration", scene, asked.duration, Some(dt))?;
                 Self::step_fits(scene, dt, dt_flag, duration)?;
                 let length_flag = Self::length_flag(dt_flag, asked.duration.is_some());
                 (Self::steps_within(length_flag, dt, duration)?, duration)

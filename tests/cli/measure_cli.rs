@@ -207,3 +207,38 @@ fn a_step_override_keeps_the_scenes_length_in_seconds() {
     ]);
     assert_eq!(json(&run_dir)["steps"], 7);
 }
+
+/// A scene that gives `[run] steps` without a step runs that many steps of the step it is
+/// given; the twin without a step anywhere is refused, naming the flag to add.
+#[test]
+fn steps_without_a_scene_step_count_in_the_given_step() {
+    let d = tempfile::tempdir().unwrap();
+    let scene = d.path().join("no_dt.toml");
+    std::fs::write(
+        &scene,
+        "[[particle]]\nposition = [0.0, 0.0, 0.0]\nvelocity = [1.0, 0.0, 0.0]\nmass = 1.0\n\
+         [run]\nsteps = 10\n",
+    )
+    .unwrap();
+    let scene = scene.to_str().unwrap();
+    let out = d.path().join("run");
+    springlab(&[
+        "run",
+        scene,
+        "-i",
+        "rk4",
+        "--dt",
+        "0.01",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let json: serde_json::Value = serde_json::from_str(&read(&out.join("summary.json"))).unwrap();
+    assert_eq!(json["steps"], 10);
+    let refused = crate::support::bin()
+        .args(["run", scene, "-i", "rk4"])
+        .output()
+        .unwrap();
+    assert!(!refused.status.success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(err.contains("--dt") && err.contains("no_dt.toml"), "{err}");
+}

@@ -210,6 +210,26 @@ fn options_and_runner_facts_are_checked_at_registration() {
         help: "passes",
     }];
     assert!(r.clone().with(with_options(&OWN)).is_ok());
+    // One method listing one option twice: refused.
+    const TWICE: [OptionSpec; 2] = [ITERATIONS, ITERATIONS];
+    let e = r
+        .clone()
+        .with(with_options(&TWICE))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("listed twice"), "{e}");
+    // A value below an option's least is refused when the method is made, naming the flag;
+    // its twin at the least value is made.
+    use springlab::method::options::XPBD_SUBSTEPS;
+    let e = r
+        .create("xpbd", &MethodOptions::default().with(&XPBD_SUBSTEPS, 0))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("--xpbd-substeps"), "{e}");
+    assert!(r
+        .create("xpbd", &MethodOptions::default().with(&XPBD_SUBSTEPS, 1))
+        .is_ok());
     // Facts that disagree with the instance on contacts, frames or past states: refused.
     for wrong in [
         MethodInfo {

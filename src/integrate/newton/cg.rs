@@ -79,7 +79,7 @@ impl Cg {
     /// ‖s‖_P ≤ Δ, it steps to the boundary and returns [`CgOutcome::Boundary`]; the model value
     /// and ‖s‖_P are left in [`Cg::model`], [`Cg::step_norm`]. The P-norms follow the
     /// recurrences of Conn, Gould & Toint (Trust-Region Methods, §7.5.1), with no extra vectors.
-    /// One function because CG's vectors, the clamping of compressed springs and the deflation of translations act within one iteration.
+    // One function because CG's vectors, the clamping of compressed springs and the deflation of translations act within one iteration.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn solve(
         &mut self,

@@ -351,7 +351,7 @@ impl Newton {
     /// Solves the backward-Euler stage from (x̂, v̂) = (`x0`, `v0`) with step `h` (β above);
     /// the result is in [`Newton::x`], [`Newton::v`]. Returns the dissipated power at the
     /// solution and the force evaluations made. `who` names the method in errors.
-    /// One function because the iteration's state (iterate, residual, strategy, forcing, stop tests) is shared by every branch of the loop; its parts (line search, trust region, stops) live in their own modules.
+    // One function because the iteration's state (iterate, residual, strategy, forcing, stop tests) is shared by every branch of the loop; its parts (line search, trust region, stops) live in their own modules.
     pub(crate) fn solve(
         &mut self,
         sys: &System,

@@ -218,7 +218,7 @@ pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
 
 /// Runs the advice: the grid (extended downwards while nothing meets the bound and the runs
 /// stay affordable), the prediction per method, its verification and the pick.
-/// Long because verification, frame-rate runs and timing share the candidates' chosen runs; the candidate list and the grid search are separate functions.
+// Long because verification, frame-rate runs and timing share the candidates' chosen runs; the candidate list and the grid search are separate functions.
 pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     crate::measure::tolerance::check(cfg.tolerance)?;
     if cfg.safety.is_nan() || cfg.safety < 1.0 {

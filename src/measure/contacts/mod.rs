@@ -233,7 +233,7 @@ impl ContactMetrics {
 
     /// Advances particle `p`'s contact record (its state machine and the bounce, rest and
     /// slide figures) to the sample `s`.
-    /// One function because each particle's contact state machine (approach, impact, rest, slide, release) reads and updates the same per-particle record in one pass.
+    // One function because each particle's contact state machine (approach, impact, rest, slide, release) reads and updates the same per-particle record in one pass.
     fn sample(&mut self, p: usize, s: &State) {
         let x = s.x[p];
         let v = s.v[p];

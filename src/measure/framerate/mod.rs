@@ -350,7 +350,7 @@ fn no_fewest_note(
 
 /// Measures every backend at every frame rate: per method and rate, the fewest substeps that
 /// meet the tolerance.
-/// Long because the per-rate search runs as one parallel closure over the shared reference, judge and settings; its validation and notes are separate functions.
+// Long because the per-rate search runs as one parallel closure over the shared reference, judge and settings; its validation and notes are separate functions.
 pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     check(cfg)?;
     let sys = scene.build();

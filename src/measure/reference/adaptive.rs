@@ -50,7 +50,7 @@ pub(super) fn length_scale(s0: &State) -> f64 {
 /// Solves `sys` from `s0` to `horizon` at rtol = atol = `rtol`; calls `sink(i, y)` with the
 /// state at each of the sorted `times` (the pre-event state at an event's own time). With
 /// `max_steps`, gives up (None) once the solver has attempted more steps than that.
-/// One function because the step loop carries the solver, the dense output, the event search and the sample cursor together; the event search and the contact model live in their own modules.
+// One function because the step loop carries the solver, the dense output, the event search and the sample cursor together; the event search and the contact model live in their own modules.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn solve(
     sys: &System,

@@ -39,7 +39,7 @@ fn indicator(st: &mut RhsState<'_>, y: &[f64], ev: Event, d0: &[Vec3]) -> f64 {
 
 /// The earliest contact event in the solver's last accepted step, with the time just before
 /// it (bisected to round-off on the dense output); None when the step is event-free.
-/// One function because the event candidates, their indicator signs and the bisection on the dense output are one search over the same accepted step.
+// One function because the event candidates, their indicator signs and the bisection on the dense output are one search over the same accepted step.
 pub(super) fn find_event(st: &mut RhsState<'_>, solver: &mut Dop853) -> Option<(f64, Event)> {
     let sys = st.sys();
     let n = sys.len();

@@ -158,7 +158,7 @@ fn scaled(scene: &Scenario, ks: f64, cs: f64) -> Scenario {
 
 /// Sweeps stiffness × damping × dt: empirical stability of each cell with the theoretical
 /// spectral radius and boundary alongside. Cells run in parallel, collected in order.
-/// Long because each cell's theory and run share the scaled scene; the scaling and the seeding are separate functions.
+// Long because each cell's theory and run share the scaled scene; the scaling and the seeding are separate functions.
 pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let sys0 = scene.build();
     let s0 = scene.initial_state();

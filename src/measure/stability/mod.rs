@@ -9,7 +9,7 @@
 //! two-step Störmer); a genuinely multistep method (BDF2) has its k-step recurrence identified
 //! instead, and its companion matrix decides (see [`step_radius`]). The method
 //! is stable at h when the spectral radius ρ(M(h)) ≤ 1 + [`RHO_TOL`] for every mode. The
-//! boundary is bracketed on a log grid hω ∈ [1e-2, 1e4] and bisected to machine precision.
+//! boundary is bracketed on a log grid hω ∈ [[`SCAN_MIN`], [`SCAN_MAX`]] (1e-2 to 1e3) and bisected to machine precision.
 //!
 //! Empirical: a run is stable when the runner's one verdict ([`crate::run::verdict`]) calls
 //! it ok over the horizon: finite states, and an energy balance that never rose by more than

@@ -121,7 +121,7 @@ fn read_rows(path: &Path) -> Result<Vec<SweepRow>> {
 
 /// Joins the shard directories of one sweep into the full result (rows in case order and
 /// the summary); errors name the directory and what does not match.
-/// Long because merging checks every shard against the plan before joining their rows; each check names the shard at fault.
+// Long because merging checks every shard against the plan before joining their rows; each check names the shard at fault.
 pub fn merge(dirs: &[PathBuf]) -> Result<SweepResult> {
     if dirs.is_empty() {
         return Err(Error::option("merge", "give at least one shard directory"));

@@ -237,7 +237,7 @@ pub fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) 
 
 /// Draws panel `p` into `area`: its series `pts`, the blow-up markers `marks` and the guide
 /// lines `guides` over the ranges `xr` × `yr`.
-/// Long because plotters' chart builder, mesh, series and legend calls share one drawing area.
+// Long because plotters' chart builder, mesh, series and legend calls share one drawing area.
 #[allow(clippy::too_many_arguments)]
 fn draw_in<DB, X, Y>(
     area: &DrawingArea<DB, Shift>,

@@ -28,7 +28,7 @@ fn shade(k: usize, n: usize) -> RGBColor {
 }
 
 /// SVG with one panel per backend showing the chain or cloth at a few instants.
-/// Long because the panels share one frame of axes and scale; each panel is a few drawing calls.
+// Long because the panels share one frame of axes and scale; each panel is a few drawing calls.
 pub fn snapshots(data: &SnapshotData) -> Result<String> {
     // Every polyline through the finite gate; one shared range so panels compare directly.
     let panels: Vec<Vec<TimedLines>> = data
