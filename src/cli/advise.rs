@@ -4,7 +4,6 @@ use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::Result;
 use springlab::measure::advise::{advise, write_advice, AdviseConfig};
-use springlab::measure::tolerance::Metric;
 use std::path::PathBuf;
 
 /// Flags of `springlab advise`.
@@ -23,15 +22,8 @@ pub struct Args {
     /// are left out, named with the figure.
     #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
     pub budget: f64,
-    /// Position tolerance (m; default the scene's [run] tolerance, else 1 % of its motion
-    /// scale). Strain and energy are held to it over the motion scale.
-    #[arg(long, allow_negative_numbers = true)]
-    pub tolerance: Option<f64>,
-    /// Which error: position (over the predictable range), strain, energy or statistics
-    /// (position before the predictability horizon, the reference ensemble past it); default
-    /// statistics where the scene has a horizon before its end, else position.
-    #[arg(long)]
-    pub metric: Option<Metric>,
+    #[command(flatten)]
+    pub judge: super::common::JudgeArgs,
     /// Horizon (s; default the scene's duration).
     #[arg(long, allow_negative_numbers = true)]
     pub horizon: Option<f64>,
@@ -68,11 +60,11 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     let cfg = AdviseConfig {
-        tolerance: a.tolerance,
-        metric: a.metric,
+        tolerance: a.judge.tolerance,
+        metric: a.judge.metric,
         horizon: a.horizon,
         integrators: a.m.integrators.clone(),
-        options: a.m.options()?,
+        options: a.m.options(),
         safety: a.safety,
         points: a.points,
         dt_min: a.dt_min,

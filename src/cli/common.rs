@@ -46,6 +46,21 @@ impl BlowupArg {
     }
 }
 
+/// `--tolerance` and `--metric`: what a run is judged by, for every command that judges.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct JudgeArgs {
+    /// Position tolerance (m; default the scene's [run] tolerance, else 1 % of its motion
+    /// scale). Strain and energy are held to it over the motion scale.
+    #[arg(long, allow_negative_numbers = true)]
+    pub tolerance: Option<f64>,
+    /// Which error: position (over the predictable range), strain, energy, statistics
+    /// (position before the predictability horizon, the reference ensemble past it) or
+    /// impacts (apex heights bounce by bounce); default statistics where the scene has a
+    /// horizon before its end, impacts on scenes with obstacles and gravity, else position.
+    #[arg(long)]
+    pub metric: Option<springlab::measure::tolerance::Metric>,
+}
+
 /// Step and length flags; each overrides the scenario's `[run]` table.
 #[derive(Debug, Clone, clap::Args)]
 pub struct StepArgs {
@@ -66,8 +81,8 @@ pub struct StepArgs {
     /// Substeps per frame: native methods take N equal steps of dt/N per frame (bit for bit
     /// the run at dt/N, every N-th state written), Rapier backends N solver substeps.
     /// Default: 1 for native methods, Rapier's own 4 for Rapier backends.
-    #[arg(long, allow_negative_numbers = true)]
-    pub substeps: Option<u64>,
+    #[arg(long, allow_negative_numbers = true, value_parser = super::method_args::substeps)]
+    pub substeps: Option<usize>,
     #[command(flatten)]
     pub method: super::method_args::MethodArgs,
 }
@@ -84,9 +99,6 @@ impl StepArgs {
             None => None,
         };
         let blowup_factor = self.blowup.value()?;
-        if self.substeps == Some(0) {
-            bail!("--substeps: must be at least 1");
-        }
         let asked = Asked {
             dt: self.dt.or(hz_dt),
             step_flag: if self.hz.is_some() { "--hz" } else { "--dt" },
@@ -96,17 +108,13 @@ impl StepArgs {
         let t = Timing::resolve_asked(scene, &asked)?;
         let mut plan = RunPlan::new(t.dt, t.steps);
         plan.blowup_factor = blowup_factor;
-        plan.substeps = self.substeps.unwrap_or(1);
+        plan.substeps = self.substeps.unwrap_or(1) as u64;
         Ok(plan)
     }
 
     /// Method options from the flags; `--substeps` is also an engine's solver substeps.
     pub fn options(&self) -> MethodOptions {
-        let mut o = self.method.options();
-        if let Some(n) = self.substeps {
-            o.substeps = n as usize;
-        }
-        o
+        self.method.options(self.substeps)
     }
 }
 

@@ -44,7 +44,7 @@ pub fn run(a: Args) -> Result<()> {
         integrators: a.m.integrators.clone(),
         dt: a.dt,
         duration: a.duration,
-        options: a.m.options()?,
+        options: a.m.options(),
         frame_substeps: a.m.frame_substeps(),
         blowup_factor: a.blowup.value()?,
         progress: true,

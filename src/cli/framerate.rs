@@ -21,15 +21,8 @@ pub struct Args {
         default_value = "30,60,120,144,240"
     )]
     pub hz: Vec<f64>,
-    /// Position tolerance (m; default the scene's [run] tolerance, else 1 % of its motion
-    /// scale). Strain and energy are held to it over the motion scale.
-    #[arg(long, allow_negative_numbers = true)]
-    pub tolerance: Option<f64>,
-    /// Which error: position (over the predictable range), strain, energy or statistics
-    /// (position before the predictability horizon, the reference ensemble past it); default
-    /// statistics where the scene has a horizon before its end, else position.
-    #[arg(long)]
-    pub metric: Option<springlab::measure::tolerance::Metric>,
+    #[command(flatten)]
+    pub judge: super::common::JudgeArgs,
     /// Integrators or backends, comma-separated (default: every one that applies, except
     /// closed forms).
     #[arg(long, value_delimiter = ',')]
@@ -71,10 +64,10 @@ pub fn run(a: Args) -> Result<()> {
     }
     let cfg = FramerateConfig {
         rates: a.hz.clone(),
-        tolerance: a.tolerance,
-        metric: a.metric,
+        tolerance: a.judge.tolerance,
+        metric: a.judge.metric,
         integrators: a.integrators.clone(),
-        options: a.method.options(),
+        options: a.method.options(None),
         duration: a.duration,
         max_substeps: a.max_substeps,
         cost_cap: a.cost_cap,

@@ -1,6 +1,6 @@
 //! Flags shared by the measuring subcommands (sweep, stability, advise, compare).
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use springlab::method::MethodOptions;
 use std::path::{Path, PathBuf};
 
@@ -14,7 +14,7 @@ pub struct MeasureArgs {
     /// `compare` the step is a frame and every native method also splits it into this many
     /// equal steps (default 1; bit-identical to dt/N, every N-th state measured); `sweep`,
     /// `stability` and `advise` vary the step itself, so there it sets Rapier's only.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = super::method_args::substeps)]
     pub substeps: Option<usize>,
     #[command(flatten)]
     pub method: super::method_args::MethodArgs,
@@ -24,16 +24,9 @@ pub struct MeasureArgs {
 }
 
 impl MeasureArgs {
-    /// Method options, validated; `--substeps` is also an engine's solver substeps.
-    pub fn options(&self) -> Result<MethodOptions> {
-        if self.substeps == Some(0) {
-            bail!("--substeps: must be at least 1");
-        }
-        let mut o = self.method.options();
-        if let Some(n) = self.substeps {
-            o.substeps = n;
-        }
-        Ok(o)
+    /// Method options; `--substeps` is also an engine's solver substeps.
+    pub fn options(&self) -> MethodOptions {
+        self.method.options(self.substeps)
     }
     /// Substeps per frame for every backend, when `--substeps` was given (`compare`).
     pub fn frame_substeps(&self) -> Option<u64> {

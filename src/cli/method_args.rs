@@ -3,6 +3,7 @@
 //! default, bounds and help in every command that builds methods.
 
 use clap::{Arg, ArgMatches, Command, FromArgMatches};
+use springlab::method::options::at_least;
 use springlab::method::{MethodOptions, OptionSpec, Registry};
 
 /// The method options as given on the command line (each at its default when not given).
@@ -12,9 +13,13 @@ pub struct MethodArgs {
 }
 
 impl MethodArgs {
-    /// The options, every value already checked against its bounds by the parser.
-    pub fn options(&self) -> MethodOptions {
-        self.options.clone()
+    /// The options, every value already checked against its bounds by the parser; a frame's
+    /// `--substeps`, when given, is also an engine's solver substeps.
+    pub fn options(&self, substeps: Option<usize>) -> MethodOptions {
+        match substeps {
+            Some(n) => self.options.clone().with_substeps(n),
+            None => self.options.clone(),
+        }
     }
 }
 
@@ -22,19 +27,22 @@ fn schema() -> Vec<(OptionSpec, Vec<&'static str>)> {
     Registry::builtin().option_schema()
 }
 
-/// A whole number no less than `min`, for clap: the error names what is wrong; clap adds the
+/// A whole number no less than `min`, for clap: the error says what is wrong; clap adds the
 /// flag.
-fn at_least(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync {
+fn whole_at_least(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync {
     move |s: &str| {
         let v: usize = s
             .trim()
             .parse()
             .map_err(|_| format!("expected a whole number ≥ {min}"))?;
-        if v < min {
-            return Err(format!("must be at least {min}"));
-        }
+        at_least(min, v)?;
         Ok(v)
     }
+}
+
+/// Frame substeps (`--substeps`): a whole number ≥ 1, checked like the method options.
+pub fn substeps(s: &str) -> Result<usize, String> {
+    whole_at_least(1)(s)
 }
 
 impl clap::Args for MethodArgs {
@@ -45,7 +53,7 @@ impl clap::Args for MethodArgs {
                     .long(spec.flag)
                     .value_name("N")
                     .allow_negative_numbers(true)
-                    .value_parser(at_least(spec.min))
+                    .value_parser(whole_at_least(spec.min))
                     .default_value(spec.default.to_string())
                     .help(format!("{} (read by {})", spec.help, by.join(", "))),
             )

@@ -83,7 +83,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     let cfg = StabilityConfig {
         integrators: a.m.integrators.clone(),
-        options: a.m.options()?,
+        options: a.m.options(),
         horizon: a.horizon,
         blowup_factor,
         theory_only: a.theory_only,
@@ -126,7 +126,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.map {
         let mut mc = MapConfig {
             integrators: a.m.integrators.clone(),
-            options: a.m.options()?,
+            options: a.m.options(),
             blowup_factor,
             progress: true,
             ..Default::default()

@@ -69,7 +69,7 @@ pub fn run(a: Args) -> Result<()> {
         },
         cost_cap: a.cost_cap,
         duration: a.duration,
-        options: a.m.options()?,
+        options: a.m.options(),
         blowup_factor: a.blowup.value()?,
         shard: a.shard,
         progress: true,

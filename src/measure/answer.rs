@@ -31,7 +31,7 @@ pub struct FreeStep {
     /// Step (s).
     pub dt: Option<f64>,
     /// The metric that judged it.
-    pub metric: String,
+    pub metric: Metric,
     /// The bound its error is held to, in the metric's unit.
     pub tolerance: f64,
     /// The position tolerance (m) behind the bound.
@@ -56,7 +56,7 @@ pub struct GameRate {
     /// Substeps per frame.
     pub substeps: Option<u64>,
     /// The metric that judged it.
-    pub metric: String,
+    pub metric: Metric,
     /// The bound its error is held to, in the metric's unit.
     pub tolerance: f64,
     /// The position tolerance (m) behind the bound.
@@ -87,7 +87,7 @@ impl FreeStep {
         FreeStep {
             integrator: None,
             dt: None,
-            metric: metric.name().into(),
+            metric,
             tolerance: bound,
             position_tolerance: position,
             error: None,
@@ -106,7 +106,7 @@ impl GameRate {
             hz,
             integrator: None,
             substeps: None,
-            metric: metric.name().into(),
+            metric,
             tolerance: bound,
             position_tolerance: position,
             error: None,

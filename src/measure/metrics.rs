@@ -454,7 +454,9 @@ impl Observer for MetricsObserver<'_> {
             if self.reference.predictable_at(t) {
                 self.m.error_max_predictable = self.m.error_max_predictable.max(err);
             }
-            self.strain_ref = self.strain_ref.max(strain_max(self.sys, xr));
+            if let Some(s) = self.reference.strain_max_until(self.sys, self.grid, step) {
+                self.strain_ref = s;
+            }
             if let Some((a, r)) = &mut self.apexes {
                 a.push(&s.x);
                 r.push(xr);

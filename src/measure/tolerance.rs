@@ -33,7 +33,7 @@ use serde::Serialize;
 pub use super::observables::RELATIVE_TOLERANCE;
 
 /// What an answer is judged by.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Metric {
     /// Largest position error over the predictable range (m).

@@ -23,11 +23,17 @@ pub struct OptionSpec {
 impl OptionSpec {
     /// `Err(reason)` when `value` is below the least value.
     pub fn check(&self, value: usize) -> Result<(), String> {
-        if value < self.min {
-            Err(format!("must be at least {}, got {value}", self.min))
-        } else {
-            Ok(())
-        }
+        at_least(self.min, value)
+    }
+}
+
+/// `Err(reason)` when the count `value` is below `min`: the one bound check of every
+/// whole-number option (method options, frame substeps).
+pub fn at_least(min: usize, value: usize) -> Result<(), String> {
+    if value < min {
+        Err(format!("must be at least {min}, got {value}"))
+    } else {
+        Ok(())
     }
 }
 
@@ -108,11 +114,11 @@ impl MethodOptions {
         self.substeps = substeps;
         self
     }
-    /// `Err("--flag: reason")` for the first option in `schema` whose value is out of bounds.
-    pub fn check(&self, schema: &[OptionSpec]) -> Result<(), String> {
+    /// Refuses, naming its flag, the first option in `schema` whose value is below its least.
+    pub fn check(&self, schema: &[OptionSpec]) -> crate::error::Result<()> {
         for spec in schema {
             spec.check(self.get(spec))
-                .map_err(|why| format!("--{}: {why}", spec.flag))?;
+                .map_err(|why| crate::error::Error::option(format!("--{}", spec.flag), why))?;
         }
         Ok(())
     }
@@ -132,7 +138,10 @@ mod tests {
     #[test]
     fn values_below_the_least_are_named_by_flag() {
         let o = MethodOptions::default().with(&XPBD_SUBSTEPS, 0);
-        let err = o.check(&[ITERATIONS, XPBD_SUBSTEPS]).unwrap_err();
+        let err = o
+            .check(&[ITERATIONS, XPBD_SUBSTEPS])
+            .unwrap_err()
+            .to_string();
         assert!(err.starts_with("--xpbd-substeps:"), "{err}");
         assert!(MethodOptions::default().check(&[ITERATIONS]).is_ok());
     }

@@ -198,10 +198,7 @@ impl Registry {
     /// it reads is below its least value.
     pub fn create(&self, name: &str, opts: &MethodOptions) -> Result<Box<dyn Integrator>> {
         let m = self.get(name)?;
-        for spec in m.info.options {
-            spec.check(opts.get(spec))
-                .map_err(|why| Error::option(format!("--{}", spec.flag), why))?;
-        }
+        opts.check(m.info.options)?;
         Ok(m.create(opts))
     }
 

@@ -5,6 +5,7 @@ use super::finite::cell;
 use super::summary::{BackendSummary, SceneSummary};
 use crate::measure::answer::{FreeStep, GameRate};
 use crate::measure::stability::Verdict;
+use crate::measure::tolerance::Metric;
 
 /// A step as people write it: `1/60 s` when 1/dt is a whole number, else decimals.
 pub fn dt_words(dt: f64) -> String {
@@ -45,29 +46,34 @@ pub fn limit_words(b: &BackendSummary) -> String {
 
 /// An answer's error against its bound, in words: `position error 2.1e-3 m ≤ 1.0e-2 m`, or for
 /// statistics the score and what it stands for.
-fn judged(metric: &str, error: Option<f64>, bound: f64, position_tolerance: f64) -> String {
+fn judged(metric: Metric, error: Option<f64>, bound: f64, position_tolerance: f64) -> String {
     let rel = match error {
         Some(e) if e <= bound => "≤",
         Some(_) => ">",
         None => "vs",
     };
     match metric {
-        "position" => format!(
+        Metric::Position => format!(
             "position error {} m {rel} {} m",
             cell(error, 2),
             cell(Some(bound), 2)
         ),
-        "statistics" => format!(
+        Metric::Statistics => format!(
             "statistics score {} {rel} 1: positions within {} m before the predictability horizon, every observable within the reference ensemble's spread after it",
             cell(error, 2),
             cell(Some(position_tolerance), 2)
         ),
-        "impacts" => format!(
+        Metric::Impacts => format!(
             "apex heights, bounce by bounce, within {} m {rel} {} m of the reference's",
             cell(error, 2),
             cell(Some(bound), 2)
         ),
-        m => format!("{m} error {} {rel} {}", cell(error, 2), cell(Some(bound), 2)),
+        m @ (Metric::Strain | Metric::Energy) => format!(
+            "{} error {} {rel} {}",
+            m.name(),
+            cell(error, 2),
+            cell(Some(bound), 2)
+        ),
     }
 }
 
@@ -79,7 +85,7 @@ pub fn judging_notes(max_substeps: u64) -> Vec<String> {
         "Position: the largest position error against the reference over its predictable range.".into(),
         format!("Statistics (chaotic scenes): past the reference's predictability horizon two correct solvers part by macroscopic amounts, so each run is compared with an ensemble of {} references started at the reference's own uncertainty: its time-mean centre of mass, radius of gyration, kinetic energy and largest strain must each lie within {} ensemble spreads plus what the tolerance allows (score ≤ 1), and its positions before the horizon within the tolerance.", crate::measure::statistics::ENSEMBLE_SIZE, crate::measure::statistics::SPREADS),
         "Impacts (scenes with obstacles and gravity): apex heights, bounce by bounce, against the reference's. A bounce a little early or late would show at equal times as about twice the impact speed times the lag; here it costs nothing if it reaches the right height, while a wrong restitution or a lost bounce does. Sliding across gravity is not judged by it (compare's position error shows it).".into(),
-        format!("Game rate: the cheapest method and fewest substeps per frame (up to {max_substeps}) at 60 Hz, or the scene's [run] hz, meeting the same bound. \"Stable only\" marks an answer where nothing met the bound: it shows the most accurate stable run and its error instead."),
+        format!("Game rate: the cheapest method and fewest substeps per frame (up to {max_substeps}) at {} Hz, or the scene's [run] hz, meeting the same bound. \"Stable only\" marks an answer where nothing met the bound: it shows the most accurate stable run and its error instead.", crate::measure::answer::GAME_HZ),
     ]
 }
 
@@ -89,13 +95,13 @@ pub fn free_words(a: &FreeStep) -> String {
         (Some(m), Some(dt)) if a.meets => format!(
             "{m} at dt = {} ({})",
             dt_words(dt),
-            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+            judged(a.metric, a.error, a.tolerance, a.position_tolerance)
         ),
         (Some(m), Some(dt)) => format!(
             "{}: {m} at dt = {} ({})",
             a.verified,
             dt_words(dt),
-            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+            judged(a.metric, a.error, a.tolerance, a.position_tolerance)
         ),
         _ => a.verified.clone(),
     }
@@ -111,13 +117,13 @@ pub fn game_words(a: &GameRate) -> String {
             "{m} × {n} substep{} at {} Hz ({}{per_frame})",
             if n == 1 { "" } else { "s" },
             hz_words(a.hz),
-            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+            judged(a.metric, a.error, a.tolerance, a.position_tolerance)
         ),
         (Some(m), Some(n)) => format!(
             "{}: {m} × {n} at {} Hz ({}{per_frame})",
             a.verified,
             hz_words(a.hz),
-            judged(&a.metric, a.error, a.tolerance, a.position_tolerance)
+            judged(a.metric, a.error, a.tolerance, a.position_tolerance)
         ),
         _ => a.verified.clone(),
     }
@@ -184,9 +190,9 @@ pub fn verdict(s: &SceneSummary) -> String {
     if let Some(p) = pick_sentence(s) {
         out.push(p);
     }
-    match s.answer.as_ref().map(|a| a.free_step.metric.as_str()) {
-        Some("impacts") => out.push("On this bouncing scene accuracy is judged by apex heights, bounce by bounce, against the reference's, not by position at equal times: a bounce a little early or late would dominate that (about twice the impact speed times the lag) while reaching the right height.".into()),
-        Some("statistics") => out.push("This scene is chaotic: past the reference's predictability horizon position error measures the chaos, not the method, so each run is judged there by its time-mean centre of mass, radius of gyration, kinetic energy and strain against an ensemble of references.".into()),
+    match s.answer.as_ref().map(|a| a.free_step.metric) {
+        Some(Metric::Impacts) => out.push("On this bouncing scene accuracy is judged by apex heights, bounce by bounce, against the reference's, not by position at equal times: a bounce a little early or late would dominate that (about twice the impact speed times the lag) while reaching the right height.".into()),
+        Some(Metric::Statistics) => out.push("This scene is chaotic: past the reference's predictability horizon position error measures the chaos, not the method, so each run is judged there by its time-mean centre of mass, radius of gyration, kinetic energy and strain against an ensemble of references.".into()),
         _ => {}
     }
     let bs = &s.backends;

@@ -130,12 +130,9 @@ impl Status {
     pub fn is_ok(&self) -> bool {
         matches!(self, Status::Ok)
     }
-    /// `ok` or `unstable`.
+    /// `ok` or `unstable`: its [`RunStatus`]'s label.
     pub fn label(&self) -> &'static str {
-        match self {
-            Status::Ok => "ok",
-            Status::Unstable { .. } => "unstable",
-        }
+        self.kind().label()
     }
 }
 

@@ -149,6 +149,16 @@ fn sweep_shards_merge_and_stability_advise_files() {
     }
 }
 
+/// The steps `springlab ARGS --out DIR` ran, from its `summary.json` (`run` and `compare`
+/// both write one).
+fn steps_ran(args: &[&str], dir: &Path) -> serde_json::Value {
+    let mut all = args.to_vec();
+    all.extend(["--out", dir.to_str().unwrap()]);
+    springlab(&all);
+    let json: serde_json::Value = serde_json::from_str(&read(&dir.join("summary.json"))).unwrap();
+    json["steps"].clone()
+}
+
 /// One rule for the run's length, in every command: a scene of `steps` × `dt` lasts that many
 /// seconds, and a `--dt` override keeps the seconds (run and compare agree); `--steps` asks
 /// for a number of steps instead. Oracle: 10 steps of 0.01 s are 0.1 s, 20 steps of 0.005 s.
@@ -165,47 +175,14 @@ fn a_step_override_keeps_the_scenes_length_in_seconds() {
     )
     .unwrap();
     let scene = scene.to_str().unwrap();
-    let json = |dir: &Path| -> serde_json::Value {
-        serde_json::from_str(&read(&dir.join("summary.json"))).unwrap()
-    };
-    let run_dir = d.path().join("run");
-    springlab(&[
-        "run",
-        scene,
-        "-i",
-        "rk4",
-        "--dt",
-        "0.005",
-        "--out",
-        run_dir.to_str().unwrap(),
-    ]);
-    assert_eq!(json(&run_dir)["steps"], 20);
-    let cmp_dir = d.path().join("compare");
-    springlab(&[
-        "compare",
-        scene,
-        "--integrators",
-        "rk4",
-        "--dt",
-        "0.005",
-        "--out",
-        cmp_dir.to_str().unwrap(),
-    ]);
-    assert_eq!(json(&cmp_dir)["steps"], 20);
+    let (run, cmp) = (d.path().join("run"), d.path().join("compare"));
+    let run_args = ["run", scene, "-i", "rk4", "--dt", "0.005"];
+    assert_eq!(steps_ran(&run_args, &run), 20);
+    let cmp_args = ["compare", scene, "--integrators", "rk4", "--dt", "0.005"];
+    assert_eq!(steps_ran(&cmp_args, &cmp), 20);
     // The twin: an explicit step count is kept as asked.
-    springlab(&[
-        "run",
-        scene,
-        "-i",
-        "rk4",
-        "--dt",
-        "0.005",
-        "--steps",
-        "7",
-        "--out",
-        run_dir.to_str().unwrap(),
-    ]);
-    assert_eq!(json(&run_dir)["steps"], 7);
+    let counted = ["run", scene, "-i", "rk4", "--dt", "0.005", "--steps", "7"];
+    assert_eq!(steps_ran(&counted, &run), 7);
 }
 
 /// A scene that gives `[run] steps` without a step runs that many steps of the step it is
@@ -221,19 +198,8 @@ fn steps_without_a_scene_step_count_in_the_given_step() {
     )
     .unwrap();
     let scene = scene.to_str().unwrap();
-    let out = d.path().join("run");
-    springlab(&[
-        "run",
-        scene,
-        "-i",
-        "rk4",
-        "--dt",
-        "0.01",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let json: serde_json::Value = serde_json::from_str(&read(&out.join("summary.json"))).unwrap();
-    assert_eq!(json["steps"], 10);
+    let given = ["run", scene, "-i", "rk4", "--dt", "0.01"];
+    assert_eq!(steps_ran(&given, &d.path().join("run")), 10);
     let refused = crate::support::bin()
         .args(["run", scene, "-i", "rk4"])
         .output()

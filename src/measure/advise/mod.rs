@@ -230,7 +230,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     check_timing(&cfg.timing)?;
     let sys = scene.build();
     let (horizon, grid) = step_grid_of(scene, cfg)?;
-    let (names, mut unable) = candidates(scene, cfg, &grid)?;
+    let (names, mut unable) = candidates((scene, &sys), cfg, &grid)?;
     let set = CaseSettings {
         methods: cfg.methods.clone(),
         options: cfg.options.clone(),
@@ -243,7 +243,14 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         substeps: None,
     };
     let mut decided = Decided::default();
-    let searched = search_grid(scene, cfg, &set, horizon, (names, grid), &mut decided)?;
+    let searched = search_grid(
+        (scene, &sys),
+        cfg,
+        &set,
+        horizon,
+        (names, grid),
+        &mut decided,
+    )?;
     let (reference, predictions, cant, mut tried, grid) = (
         searched.reference,
         searched.predictions,

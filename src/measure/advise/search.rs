@@ -10,6 +10,7 @@ use crate::measure::statistics::Ensemble;
 use crate::measure::sweep::step_grid;
 use crate::measure::tolerance::Judge;
 use crate::method::Order;
+use crate::model::System;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
 
@@ -187,12 +188,11 @@ fn predict(
 /// The methods advice may pick: those that apply (the rest, with why, in the second list),
 /// less closed forms unless asked for by name, less those whose runs the budget cannot afford.
 pub(super) fn candidates(
-    scene: &Scenario,
+    (scene, sys): (&Scenario, &System),
     cfg: &AdviseConfig,
     grid: &[(f64, u64)],
 ) -> Result<(Vec<String>, Vec<Unable>)> {
-    let sys = scene.build();
-    let (mut names, mut unable) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+    let (mut names, mut unable) = applicable(&cfg.methods, sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Exact methods are closed forms for special scenes, not general integrators.
         let exact: Vec<String> = names
@@ -227,14 +227,13 @@ pub(super) struct Searched {
 /// grid is extended downwards (at most [`GRID_EXTENSIONS`] times, within
 /// [`EXTENSION_PARTICLE_STEPS`]) for the candidates still converging.
 pub(super) fn search_grid(
-    scene: &Scenario,
+    (scene, sys): (&Scenario, &System),
     cfg: &AdviseConfig,
     set: &CaseSettings,
     horizon: f64,
     (mut names, mut grid): (Vec<String>, Vec<(f64, u64)>),
     decided: &mut Decided,
 ) -> Result<Searched> {
-    let sys = scene.build();
     let mut unable = Vec::new();
     let mut tried: Vec<f64> = Vec::new();
     let mut extensions = 0;

@@ -137,6 +137,9 @@ pub struct Reference {
     pub ensemble: Option<crate::measure::statistics::Ensemble>,
     /// How an ensemble member is solved: the reference's own solver.
     member_solver: Option<ensemble::MemberSolver>,
+    /// Per grid, per sample: the largest strain of the reference's states up to that sample,
+    /// computed once for every run compared on the grid ([`Reference::strain_max_until`]).
+    strain_until: Vec<std::sync::OnceLock<Vec<f64>>>,
 }
 
 /// True when the scene has a closed form (the `analytic` integrator accepts it).
@@ -209,6 +212,7 @@ impl Reference {
                 ensemble: None,
             },
             grids: grids.to_vec(),
+            strain_until: grids.iter().map(|_| std::sync::OnceLock::new()).collect(),
             samples,
             tracked,
             crossings: Vec::new(),
@@ -317,6 +321,27 @@ impl Reference {
     pub fn positions(&self, g: usize, n: u64) -> Option<&[Vec3]> {
         let i = self.grids[g].sample_index(n)?;
         self.samples[g].get(i).map(|v| v.as_slice())
+    }
+
+    /// The largest strain ([`crate::measure::observables::strain_max`]) of the reference's
+    /// states on grid `g` from its first sample up to the one of step `n` (None off the
+    /// samples), for `sys`, the system the reference solves. Every run compared on the grid
+    /// reads the same running maximum, so it is computed once per grid.
+    pub fn strain_max_until(&self, sys: &System, g: usize, n: u64) -> Option<f64> {
+        let i = self.grids[g].sample_index(n)?;
+        let running = self.strain_until[g].get_or_init(|| {
+            let mut m = 0.0_f64;
+            self.samples[g]
+                .iter()
+                .map(|x| {
+                    if x.len() == sys.len() {
+                        m = m.max(crate::measure::observables::strain_max(sys, x));
+                    }
+                    m
+                })
+                .collect()
+        });
+        running.get(i).copied()
     }
 
     /// Largest displacement of any particle from its initial position over the horizon (m),

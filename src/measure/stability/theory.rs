@@ -71,6 +71,33 @@ fn mode_system(m: Mode) -> System {
     }
 }
 
+/// (x, v) of a fresh instance of `method` on the one-mode system `sys`, from `start` and after
+/// each of `steps` steps of `h` (`steps + 1` entries); None when it refuses the system or a
+/// step fails.
+fn trajectory(
+    method: &Method,
+    opts: &MethodOptions,
+    sys: &System,
+    start: (f64, f64),
+    h: f64,
+    steps: usize,
+) -> Option<Vec<(f64, f64)>> {
+    let mut integ = method.create(opts);
+    integ.check(sys).ok()?;
+    let mut s = State {
+        t: 0.0,
+        x: vec![Vec3::new(start.0, 0.0, 0.0)],
+        v: vec![Vec3::new(start.1, 0.0, 0.0)],
+    };
+    integ.reset();
+    let mut ys = vec![start];
+    for _ in 0..steps {
+        integ.step(sys, &mut s, h).ok()?;
+        ys.push((s.x[0].x, s.v[0].x));
+    }
+    Some(ys)
+}
+
 /// The one-step map of `method` on mode `m` at step `h`, as a 2×2 matrix on (x, v);
 /// None when the method fails or the identification is singular.
 pub fn one_step_map(
@@ -80,30 +107,16 @@ pub fn one_step_map(
     h: f64,
 ) -> Option<[[f64; 2]; 2]> {
     let sys = mode_system(m);
-    let traj = |x0: f64, v0: f64| -> Option<[(f64, f64); 2]> {
-        let mut integ = method.create(opts);
-        integ.check(&sys).ok()?;
-        let mut s = State {
-            t: 0.0,
-            x: vec![Vec3::new(x0, 0.0, 0.0)],
-            v: vec![Vec3::new(v0, 0.0, 0.0)],
-        };
-        integ.reset();
-        integ.step(&sys, &mut s, h).ok()?;
-        let y1 = (s.x[0].x, s.v[0].x);
-        integ.step(&sys, &mut s, h).ok()?;
-        Some([y1, (s.x[0].x, s.v[0].x)])
-    };
-    let a = traj(1.0, 0.0)?;
-    let b = traj(0.0, 1.0)?;
+    let a = trajectory(method, opts, &sys, (1.0, 0.0), h, 2)?;
+    let b = trajectory(method, opts, &sys, (0.0, 1.0), h, 2)?;
     // Y1 = [a1 b1], Y2 = [a2 b2] (columns), M = Y2 Y1⁻¹.
-    let (p, q, r, s) = (a[0].0, b[0].0, a[0].1, b[0].1);
+    let (p, q, r, s) = (a[1].0, b[1].0, a[1].1, b[1].1);
     let det = p * s - q * r;
     if !(det.is_finite() && det != 0.0) {
         return None;
     }
     let inv = [[s / det, -q / det], [-r / det, p / det]];
-    let y2 = [[a[1].0, b[1].0], [a[1].1, b[1].1]];
+    let y2 = [[a[2].0, b[2].0], [a[2].1, b[2].1]];
     let mut mm = [[0.0; 2]; 2];
     for i in 0..2 {
         for j in 0..2 {
@@ -125,23 +138,8 @@ pub fn step_radius(method: &Method, opts: &MethodOptions, m: Mode, h: f64) -> Op
         return one_step_map(method, opts, m, h).map(spectral_radius);
     }
     let sys = mode_system(m);
-    let traj = |x0: f64, v0: f64| -> Option<Vec<(f64, f64)>> {
-        let mut integ = method.create(opts);
-        integ.check(&sys).ok()?;
-        let mut s = State {
-            t: 0.0,
-            x: vec![Vec3::new(x0, 0.0, 0.0)],
-            v: vec![Vec3::new(v0, 0.0, 0.0)],
-        };
-        integ.reset();
-        let mut ys = vec![(x0, v0)];
-        for _ in 0..2 * k - 1 {
-            integ.step(&sys, &mut s, h).ok()?;
-            ys.push((s.x[0].x, s.v[0].x));
-        }
-        Some(ys)
-    };
-    let (a, b) = (traj(1.0, 0.0)?, traj(0.0, 1.0)?);
+    let a = trajectory(method, opts, &sys, (1.0, 0.0), h, 2 * k - 1)?;
+    let b = trajectory(method, opts, &sys, (0.0, 1.0), h, 2 * k - 1)?;
     // Y_n: columns are the two trajectories at step n.
     let y = |n: usize| nalgebra::Matrix2::new(a[n].0, b[n].0, a[n].1, b[n].1);
     let mut w = nalgebra::DMatrix::<f64>::zeros(2 * k, 2 * k);
