@@ -49,6 +49,7 @@ impl Integrator for GameEuler {
         Ok(StepStats {
             force_evals: 1,
             dissipated: 0.0,
+            ..StepStats::default()
         })
     }
 }

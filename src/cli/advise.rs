@@ -17,11 +17,8 @@ pub struct Args {
     /// answers that question in full.
     #[arg(long)]
     pub no_frame_rates: bool,
-    /// Time budget (s of runs, summed over methods; default 120). Each method's wall time per
-    /// step is measured first; the costliest methods whose grid runs would exceed the budget
-    /// are left out, named with the figure.
-    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
-    pub budget: f64,
+    #[command(flatten)]
+    pub budget: super::common::BudgetArg,
     #[command(flatten)]
     pub judge: super::common::JudgeArgs,
     /// Horizon (s; default the scene's duration).
@@ -72,7 +69,7 @@ pub fn run(a: Args) -> Result<()> {
         progress: true,
         blowup_factor: a.blowup.value()?,
         frame_rates: !a.no_frame_rates,
-        budget_seconds: Some(a.budget),
+        budget_seconds: Some(a.budget.budget),
         ..Default::default()
     };
     let dir = a.m.out_dir(&scene.name, "advise");

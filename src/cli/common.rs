@@ -26,6 +26,17 @@ pub fn parse_seconds(s: &str) -> std::result::Result<f64, String> {
     }
 }
 
+/// `--budget`: one flag, one default and one help text for every command that has a budget.
+#[derive(Debug, Clone, Copy, clap::Args)]
+pub struct BudgetArg {
+    /// Time budget in modelled seconds of runs, summed over methods and steps (default 120).
+    /// Each method's cost is modelled from its counted work before its runs (an engine's from
+    /// the scene), so a re-run decides the same; the costliest runs that would pass the budget
+    /// are left out (a sweep first drops their finest steps), named with the figure.
+    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
+    pub budget: f64,
+}
+
 /// `--blowup-factor`: one flag, one default and one help text for every command.
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct BlowupArg {

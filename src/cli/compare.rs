@@ -28,11 +28,8 @@ pub struct Args {
     /// cloths (what the report draws).
     #[arg(long)]
     pub trace: bool,
-    /// Time budget (s of runs, summed over methods; default 120). Each method's wall time per
-    /// step is measured first over 40 steps; the costliest runs that would exceed the budget
-    /// are left out, named with the figure.
-    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
-    pub budget: f64,
+    #[command(flatten)]
+    pub budget: super::common::BudgetArg,
 }
 
 /// Runs the command.
@@ -50,7 +47,7 @@ pub fn run(a: Args) -> Result<()> {
         progress: true,
         series_points: a.series_points,
         trace: a.trace,
-        budget_seconds: Some(a.budget),
+        budget_seconds: Some(a.budget.budget),
         ..Default::default()
     };
     let dir = a.m.out_dir(&scene.name, "compare");

@@ -36,11 +36,8 @@ pub struct Args {
     /// Largest run tried, in particle-steps (particles × frames × substeps); default no cap.
     #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
-    /// Time budget (s of runs, summed over methods; default 120). Each method's worst-case
-    /// search is projected from its time per substep, measured first; the costliest that would
-    /// exceed the budget are left out, named with the figure.
-    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
-    pub budget: f64,
+    #[command(flatten)]
+    pub budget: super::common::BudgetArg,
     #[command(flatten)]
     pub method: super::method_args::MethodArgs,
     #[command(flatten)]
@@ -73,7 +70,7 @@ pub fn run(a: Args) -> Result<()> {
         cost_cap: a.cost_cap,
         blowup_factor: a.blowup.value()?,
         progress: true,
-        budget_seconds: Some(a.budget),
+        budget_seconds: Some(a.budget.budget),
         ..Default::default()
     };
     let dir = a

@@ -29,11 +29,8 @@ pub struct Args {
     /// spectral radius applies it decides anyway, and the bisection is a costly cross-check.
     #[arg(long, conflicts_with = "theory_only")]
     pub empirical_where_no_theory: bool,
-    /// Time budget of the empirical searches (s of runs, summed over methods; default 120).
-    /// Each search is projected from its method's time per step, measured first; the
-    /// costliest searches that would exceed the budget are left out, named with the figure.
-    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
-    pub budget: f64,
+    #[command(flatten)]
+    pub budget: super::common::BudgetArg,
     /// Also sweep stiffness × dt into stability_map.csv.
     #[arg(long)]
     pub map: bool,
@@ -89,7 +86,7 @@ pub fn run(a: Args) -> Result<()> {
         theory_only: a.theory_only,
         empirical_where_no_theory: a.empirical_where_no_theory,
         progress: true,
-        budget_seconds: Some(a.budget),
+        budget_seconds: Some(a.budget.budget),
         ..Default::default()
     };
     let dir = a.m.out_dir(&scene.name, "stability");

@@ -38,11 +38,8 @@ pub struct Args {
     /// steps, not time: a costly backend (rapier_multibody on a large cloth) can still be slow.
     #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
-    /// Time budget (s of runs, summed over methods and steps; default 120). Each method's
-    /// wall time per step is measured first; where the total would exceed the budget, the
-    /// costliest methods lose their finest steps (or are left out), as the summary states.
-    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::probe::DEFAULT_BUDGET_SECONDS)]
-    pub budget: f64,
+    #[command(flatten)]
+    pub budget: super::common::BudgetArg,
     /// Simulated time (s; default the scene's duration).
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
@@ -73,7 +70,7 @@ pub fn run(a: Args) -> Result<()> {
         blowup_factor: a.blowup.value()?,
         shard: a.shard,
         progress: true,
-        budget_seconds: Some(a.budget),
+        budget_seconds: Some(a.budget.budget),
         ..Default::default()
     };
     let dir = match a.shard {

@@ -218,6 +218,7 @@ impl Integrator for Analytic {
         Ok(StepStats {
             force_evals: 0,
             dissipated,
+            ..StepStats::default()
         })
     }
 }

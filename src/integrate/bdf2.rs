@@ -104,6 +104,7 @@ impl Integrator for Bdf2 {
         Ok(StepStats {
             force_evals: evals,
             dissipated,
+            ..StepStats::default()
         })
     }
 }

@@ -34,6 +34,7 @@ fn euler_step(
     StepStats {
         force_evals: 1,
         dissipated: power * h,
+        ..StepStats::default()
     }
 }
 

@@ -48,6 +48,7 @@ impl Integrator for ImplicitEuler {
         Ok(StepStats {
             force_evals: evals,
             dissipated: power * h,
+            ..StepStats::default()
         })
     }
 }

@@ -54,6 +54,7 @@ impl Integrator for ImplicitMidpoint {
         Ok(StepStats {
             force_evals: evals,
             dissipated: power * h,
+            ..StepStats::default()
         })
     }
 }

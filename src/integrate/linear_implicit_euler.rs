@@ -45,6 +45,7 @@ impl Integrator for LinearImplicitEuler {
         Ok(StepStats {
             force_evals: evals,
             dissipated: power * h,
+            ..StepStats::default()
         })
     }
 }

@@ -43,6 +43,12 @@ pub struct StepStats {
     /// Work done against dampers and drag during the step (J, ≥ 0), integrated with the
     /// method's own quadrature so that the energy balance is as accurate as the method.
     pub dissipated: f64,
+    /// Constraint or link updates, one per link per sweep (XPBD's Gauss–Seidel sweeps, RATTLE's
+    /// iterations, projection sweeps): work the force-evaluation count does not see.
+    pub link_updates: u64,
+    /// Modelled seconds of work outside springlab's force model (a physics engine's step),
+    /// from the engine's own cost model ([`crate::run::cost`]); 0 for native methods.
+    pub engine_seconds: f64,
 }
 
 /// Advances a [`State`] of a [`System`] by one step; owns its scratch buffers.
@@ -83,6 +89,12 @@ pub trait Integrator: Send {
     /// against the method's `MethodInfo::splits_frames` fact.
     fn splits_frames(&self) -> bool {
         false
+    }
+    /// Modelled seconds of one frame of `sys` when the method's cost does not depend on the
+    /// run (a physics engine's cost model, [`crate::run::cost`]): budgets then price it
+    /// without running it. `None` (the default): the cost is counted from a short run.
+    fn modelled_frame_seconds(&self, _sys: &System) -> Option<f64> {
+        None
     }
     /// Forgets any history (cached forces, previous positions): the state was changed from
     /// outside (an impulse, a contact) or the step size changes.

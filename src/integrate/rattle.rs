@@ -95,6 +95,7 @@ impl Integrator for Rattle {
                 set.max_sweeps
             ))
         };
+        let sweeps_before = self.sweeps;
         self.sweeps += positions(
             &sys.constraints,
             &self.dir,
@@ -131,6 +132,8 @@ impl Integrator for Rattle {
         Ok(StepStats {
             force_evals: evals,
             dissipated: 0.5 * h * (p0 + self.power),
+            link_updates: (self.sweeps - sweeps_before) * sys.constraints.len() as u64,
+            ..StepStats::default()
         })
     }
 }

@@ -112,6 +112,7 @@ impl Integrator for RungeKutta {
         Ok(StepStats {
             force_evals: self.tab.stages() as u64,
             dissipated,
+            ..StepStats::default()
         })
     }
 }

@@ -50,6 +50,7 @@ impl Integrator for VelocityVerlet {
         Ok(StepStats {
             force_evals: evals,
             dissipated: 0.5 * h * (p0 + self.power),
+            ..StepStats::default()
         })
     }
 }
@@ -106,6 +107,7 @@ impl Integrator for PositionVerlet {
         Ok(StepStats {
             force_evals: evals,
             dissipated: 0.5 * h * (p0 + self.power),
+            ..StepStats::default()
         })
     }
 }

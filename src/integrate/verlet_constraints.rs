@@ -78,6 +78,8 @@ impl Integrator for VerletConstraints {
         Ok(StepStats {
             force_evals: 1,
             dissipated: power * h,
+            link_updates: (self.iterations * sys.constraints.len()) as u64,
+            ..StepStats::default()
         })
     }
 }

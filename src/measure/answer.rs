@@ -203,14 +203,14 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
     let meeting: Vec<_> = at
         .iter()
         .filter_map(|e| Some((e, e.fewest.as_ref()?)))
-        .filter(|(_, f)| f.meets_tolerance && f.wall_seconds_per_frame.is_some())
+        .filter(|(_, f)| f.meets_tolerance && f.modelled_seconds_per_frame.is_some())
         .collect();
     if !meeting.is_empty() {
         let keys: Vec<CostKey> = meeting
             .iter()
             .map(|(e, f)| CostKey {
                 integrator: e.backend.clone(),
-                wall_per_second: f.wall_seconds_per_frame.unwrap_or(f64::NAN) * hz,
+                modelled_per_second: f.modelled_seconds_per_frame.unwrap_or(f64::NAN) * hz,
                 force_evals_per_second: f.force_evals_per_frame.map(|x| x * hz),
             })
             .collect();

@@ -186,6 +186,10 @@ pub struct CaseResult {
     pub force_evals: u64,
     /// Integrator wall time (s); for a short run the median of [`SHORT_RUN_RULE`]'s repetitions.
     pub wall_seconds: f64,
+    /// The work the run counted.
+    pub work: crate::run::Work,
+    /// Modelled cost of that work (s, [`crate::run::CostModel`]): what decides on cost.
+    pub modelled_seconds: f64,
     /// `ok` or `unstable`.
     pub status: RunStatus,
     /// Time of the blow-up (s), for unstable runs.
@@ -303,6 +307,8 @@ pub fn run_case(
         steps_done: out.steps_done,
         force_evals: out.force_evals,
         wall_seconds: wall,
+        work: out.work,
+        modelled_seconds: out.modelled_seconds,
         status: out.status.kind(),
         unstable_time,
         unstable_reason,

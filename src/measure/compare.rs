@@ -266,7 +266,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
 }
 
 /// The header of `compare.csv`.
-pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,error_max_predictable,strain_error,statistics_score,statistics_consistent,unstable_time,unstable_reason,reference";
+pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,error_max_predictable,strain_error,statistics_score,statistics_consistent,unstable_time,unstable_reason,reference";
 
 fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -321,7 +321,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 cells.push("skipped".into());
                 cells.push(csv_text(e.skip_reason.as_deref().unwrap_or("")));
                 cells.push(f(res.dt));
-                cells.extend(["", "", "", ""].map(String::from));
+                cells.extend(["", "", "", "", ""].map(String::from));
                 cells.extend(metric_cells(None));
                 cells.extend(["", ""].map(String::from));
             }
@@ -332,6 +332,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 cells.push(r.steps.to_string());
                 cells.push(r.steps_done.to_string());
                 cells.push(r.force_evals.to_string());
+                cells.push(f(r.modelled_seconds));
                 cells.push(f(r.wall_seconds));
                 // Null for a run that is not ok: every accuracy cell is then empty.
                 cells.extend(metric_cells(r.metrics.as_ref()));

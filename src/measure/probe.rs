@@ -1,22 +1,25 @@
-//! A method's wall time per step, measured over a few steps before a command commits to its
-//! runs: the figure the budgets of `sweep` and `compare` and the study's engine choices project
-//! their costs from. It is a measurement, so it varies between machines and runs; whatever it
-//! decides is stated with the figure.
+//! A method's modelled cost per step ([`crate::run::cost`]), counted over a few steps before a
+//! command commits to its runs (or priced from the scene alone, for an engine): the figure the
+//! budgets of `sweep`, `compare`, `stability`, `advise`, `framerate` and the study's engine
+//! choices project their costs from. It is counted work, not a clock, so every budget decides
+//! the same on every re-run; whatever it decides is stated with the figure.
 
 use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::model::{State, System};
 
-/// Default time budget of the commands that have one (`sweep`, `compare`): seconds of runs,
-/// summed over methods and steps (one thread's worth).
+/// Default time budget of the commands that have one (`sweep`, `compare`, …): modelled
+/// seconds of runs ([`crate::run::cost`]), summed over methods and steps (one thread's worth).
 pub const DEFAULT_BUDGET_SECONDS: f64 = 120.0;
 
 /// Steps of a probe.
 pub const PROBE_STEPS: u64 = 40;
 
-/// Wall time per step (s) of method `name` at step `dt`, over at most `steps` (capped at
-/// [`PROBE_STEPS`]) steps from `s0`; `None` when the method cannot be made or run on the scene
-/// (the command's own run then reports why).
+/// Modelled seconds per step of method `name` at step `dt`: its
+/// [`Integrator::modelled_frame_seconds`](crate::integrate::Integrator::modelled_frame_seconds)
+/// where it has one, else the work counted over at most `steps` (capped at [`PROBE_STEPS`])
+/// steps from `s0`; `None` when the method cannot be made or run on the scene (the command's
+/// own run then reports why).
 pub fn seconds_per_step(
     sys: &System,
     s0: &State,
@@ -28,6 +31,9 @@ pub fn seconds_per_step(
 ) -> Option<f64> {
     let mut integ = methods.create(name, options).ok()?;
     integ.check(sys).ok()?;
+    if let Some(frame) = integ.modelled_frame_seconds(sys) {
+        return Some(frame);
+    }
     let plan = crate::run::RunPlan::new(dt, PROBE_STEPS.min(steps).max(1));
     let out = crate::run::run(
         sys,
@@ -37,7 +43,7 @@ pub fn seconds_per_step(
         &mut crate::run::NoObserver,
     )
     .ok()?;
-    (out.steps_done > 0).then(|| out.wall_seconds / out.steps_done as f64)
+    (out.steps_done > 0).then(|| out.modelled_seconds / out.steps_done as f64)
 }
 
 /// Refuses a budget that is not a positive number of seconds, naming `--budget`.
@@ -70,19 +76,19 @@ pub fn cheapest_within(projected: &[f64], budget: f64) -> Vec<bool> {
     keep
 }
 
-/// A method's probed cost: wall time per unit (a step, or a substep) and the projected wall
-/// time of the runs a command would make.
+/// A method's probed cost: modelled seconds per unit (a step, or a substep) and the projected
+/// modelled seconds of the runs a command would make.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cost {
-    /// Wall time per unit (s).
+    /// Modelled seconds per unit.
     pub per_unit: f64,
-    /// Projected wall time of the command's runs of it (s).
+    /// Projected modelled seconds of the command's runs of it.
     pub projected: f64,
 }
 
 /// Splits `names` (with their `costs`) into those that fit `budget` together, cheapest first
 /// ([`cheapest_within`]), in their order, and the rest, each with why: "left out: WHAT would
-/// take about … s (… ms per UNIT, measured over …), beyond what the budget of … s leaves".
+/// take about … s (… ms per UNIT by the cost model), beyond what the budget of … s leaves".
 /// The one rule every command's budget applies; the sweep's water-filling refines it per step.
 pub fn split_by_budget(
     names: Vec<String>,
@@ -101,7 +107,7 @@ pub fn split_by_budget(
             kept.push(n);
         } else {
             let why = format!(
-                "left out: {what} would take about {} s ({} ms per {unit}, measured over {PROBE_STEPS} steps), beyond what the budget of {} s leaves; `--budget` raises it",
+                "left out: {what} would take about {} s ({} ms per {unit} by the cost model), beyond what the budget of {} s leaves; `--budget` raises it",
                 sig3(c.projected),
                 sig3(c.per_unit * 1e3),
                 sig3(budget)

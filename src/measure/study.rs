@@ -4,13 +4,13 @@
 //!
 //! Which methods take part where (stated in [`SceneStudy::notes`]):
 //! - compare: the scene's `[run].integrators` (else every registered method) next to every
-//!   engine, as `springlab compare` does by default; an engine only when a probe of
-//!   [`ENGINE_PROBE_STEPS`] steps projects its run at [`ENGINE_COMPARE_SECONDS`] or less (the
-//!   note gives its measured time per step otherwise);
+//!   engine, as `springlab compare` does by default; an engine only when its cost model
+//!   ([`crate::rapier::cost`]) projects its run at [`ENGINE_COMPARE_SECONDS`] or less (the
+//!   note gives its modelled time per step otherwise);
 //! - sweep: the non-engine, finite-order methods of that list (an engine's cost per run is far
 //!   higher, and its order is not ours to fit);
 //! - stability and advice: the compared methods that ran; an engine joins stability when its
-//!   compare run took at most [`ENGINE_BUDGET_SECONDS`] (its empirical bisection costs dozens
+//!   compare run cost at most [`ENGINE_BUDGET_SECONDS`] (its empirical bisection costs dozens
 //!   of such runs) and advice when its runs over the advice grid project at most
 //!   [`ENGINE_ADVICE_SECONDS`] (`springlab stability` and `advise` run any engine on request). The documents' commands name exactly the methods that took part.
 //!   Stability runs the empirical bisection only where linear theory does not apply (the
@@ -18,12 +18,15 @@
 //! - framerate: the compared methods that ran (closed forms aside) at
 //!   [`crate::measure::framerate::DEFAULT_RATES`] with a 1 cm tolerance, up to
 //!   [`FRAMERATE_MAX_SUBSTEPS`] substeps per frame; a method (engine or not) takes part when
-//!   its compare run's time per (sub)step projects the worst-case search at
+//!   its compare run's modelled seconds per (sub)step project the worst-case search at
 //!   [`FRAMERATE_METHOD_SECONDS`] or less. Engines (Rapier) are the comparison a game
 //!   programmer makes at these rates, so they take part even when compare left them out (their
-//!   probe's time per step then stands for a frame at one solver substep), and the cheapest
-//!   engine gets [`FRAMERATE_ENGINE_SECONDS`]; the section lists the measured time of any method
-//!   left out (`springlab framerate` runs it). Each table run is timed once.
+//!   modelled frame then prices it), and the cheapest engine gets
+//!   [`FRAMERATE_ENGINE_SECONDS`]; the section lists the modelled time of any method left out
+//!   (`springlab framerate` runs it). Each table run is timed once.
+//!
+//! Every such choice is made on modelled seconds ([`crate::run::cost`]: counted work, priced),
+//! never on a clock, so a re-run of the study takes the same methods everywhere.
 
 use super::advise::{advise, Advice, AdviseConfig};
 use super::compare::{compare, CompareConfig, CompareResult};
@@ -36,30 +39,31 @@ use crate::method::Registry;
 use crate::scenario::Scenario;
 use serde::Serialize;
 
-/// Steps of the probe run that measures an engine's time per step before the comparison.
+/// Steps of a probe run that counts a method's work per step (an engine is priced from the
+/// scene without one).
 pub const ENGINE_PROBE_STEPS: u64 = super::probe::PROBE_STEPS;
 
-/// Largest projected wall time (s) of an engine's compare run for it to take part.
+/// Largest projected modelled seconds of an engine's compare run for it to take part.
 pub const ENGINE_COMPARE_SECONDS: f64 = 2.0;
 
-/// Largest wall time (s) of an engine's compare run for it to join stability.
+/// Largest modelled seconds of an engine's compare run for it to join stability.
 pub const ENGINE_BUDGET_SECONDS: f64 = 1.0;
 
-/// Largest projected wall time (s) of an engine's runs over the advice grid for it to join
+/// Largest projected modelled seconds of an engine's runs over the advice grid for it to join
 /// the advice.
 pub const ENGINE_ADVICE_SECONDS: f64 = 0.25;
 
 /// Largest substep count per frame the study's frame-rate search tries (a quick study: 4).
 pub const FRAMERATE_MAX_SUBSTEPS: u64 = 32;
 
-/// Largest projected wall time (s) of one method's worst-case frame-rate search (every rate,
+/// Largest projected modelled seconds of one method's worst-case frame-rate search (every rate,
 /// doubling to [`FRAMERATE_MAX_SUBSTEPS`] and bisecting) for it to take part.
 pub const FRAMERATE_METHOD_SECONDS: f64 = 4.0;
 
-/// Largest projected wall time (s) of the worst-case frame-rate search of a scene's cheapest
+/// Largest projected modelled seconds of the worst-case frame-rate search of a scene's cheapest
 /// engine (its Rapier row; other engines get [`FRAMERATE_METHOD_SECONDS`] like every method):
 /// Rapier at game rates is what the frame-rate section exists to compare against, so one
-/// engine gets far more than a native method (on a quiet 2-core machine the 32×32 cloth's rapier_impulse projects
+/// engine gets far more than a native method (the 32×32 cloth's rapier_impulse projects
 /// about 12 s; rapier_multibody there about 350 s, and is left out with its time per frame).
 pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 
@@ -268,7 +272,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
 
 /// The methods compare runs: the scene's `[run] integrators` (else every method) plus the
 /// engines, less each engine whose probe projects a compare run over
-/// [`ENGINE_COMPARE_SECONDS`] (returned apart with its wall time per step, and noted).
+/// [`ENGINE_COMPARE_SECONDS`] (returned apart with its modelled seconds per step, and noted).
 fn compared_methods(
     scene: &Scenario,
     cfg: &StudyConfig,
@@ -293,7 +297,7 @@ fn compared_methods(
         match engine_probe(scene, cfg, &n, timing)? {
             Some(per_step) if per_step * timing.steps as f64 > ENGINE_COMPARE_SECONDS => {
                 notes.push(format!(
-                    "Left out {n}: {:.3} ms per step measured over {ENGINE_PROBE_STEPS} steps, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --integrators {n}` runs it.",
+                    "Left out {n}: {:.3} ms per step by the cost model, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --integrators {n}` runs it.",
                     per_step * 1e3,
                     timing.steps,
                     per_step * timing.steps as f64
@@ -306,7 +310,7 @@ fn compared_methods(
     Ok((kept, probed_out))
 }
 
-/// An engine compare leaves out, with its probe's wall time per step (s).
+/// An engine compare leaves out, with its modelled seconds per step.
 type ProbedOut = (String, f64);
 
 /// Which of the methods compare ran go on to the sweep, the stability analysis and advice.
@@ -320,8 +324,8 @@ struct Kept {
     advisable: Vec<String>,
 }
 
-/// The methods that go on after compare, engines judged by their compare run's wall time
-/// (each one left out noted with the figure).
+/// The methods that go on after compare, engines judged by their compare run's modelled
+/// seconds (each one left out noted with the figure).
 fn kept_after_compare(
     scene: &Scenario,
     cfg: &StudyConfig,
@@ -336,7 +340,7 @@ fn kept_after_compare(
         .filter_map(|e| {
             e.result
                 .as_ref()
-                .map(|r| (r.integrator.clone(), r.wall_seconds))
+                .map(|r| (r.integrator.clone(), r.modelled_seconds))
         })
         .collect();
     let info = |n: &str| cfg.methods.info(n).ok();
@@ -350,16 +354,16 @@ fn kept_after_compare(
     let grid_steps: u64 = advice_grid.iter().map(|&(_, s)| s).sum();
     let mut measured = Vec::new();
     let mut advisable = Vec::new();
-    for (n, wall) in &ran {
+    for (n, cost) in &ran {
         let engine = info(n).is_some_and(|m| m.engine);
-        if engine && *wall > ENGINE_BUDGET_SECONDS {
+        if engine && *cost > ENGINE_BUDGET_SECONDS {
             notes.push(format!(
-                "Stability leaves out {n}: its compare run took {wall:.2} s (> {ENGINE_BUDGET_SECONDS} s), and the empirical search costs dozens of such runs."
+                "Stability leaves out {n}: its compare run costs {cost:.2} s by the cost model (> {ENGINE_BUDGET_SECONDS} s), and the empirical search costs dozens of such runs."
             ));
         } else {
             measured.push(n.clone());
         }
-        let projected = wall / timing.steps as f64 * grid_steps as f64;
+        let projected = cost / timing.steps as f64 * grid_steps as f64;
         if engine && projected > ENGINE_ADVICE_SECONDS {
             notes.push(format!(
                 "Advice leaves out {n}: its runs over the advice grid ({} steps, down to {:.2e} s) would take about {projected:.1} s (> {ENGINE_ADVICE_SECONDS} s); `springlab advise --integrators {n}` runs it.",
@@ -461,8 +465,8 @@ fn study_advice(
     Ok((Some(advice), None))
 }
 
-/// Wall time per step (s) of engine `name` on `scene` at the scene's step, measured over
-/// [`ENGINE_PROBE_STEPS`] steps; `None` when it does not apply or the probe blows up (the
+/// Modelled seconds per step of engine `name` on `scene` at the scene's step
+/// ([`super::probe::seconds_per_step`]); `None` when it does not apply (the
 /// comparison then reports it as it does every method).
 fn engine_probe(
     scene: &Scenario,
@@ -483,7 +487,7 @@ fn engine_probe(
 
 /// The study's frame-rate table: every compared method that ran (closed forms aside) whose
 /// worst-case search projects within [`FRAMERATE_METHOD_SECONDS`] (an engine:
-/// [`FRAMERATE_ENGINE_SECONDS`]), from its compare run's wall time per step (an engine's per
+/// [`FRAMERATE_ENGINE_SECONDS`]), from its compare run's modelled seconds per step (an engine's per
 /// solver substep: its compare run used `options.substeps`), and every engine compare left
 /// out (`probed_out`: its probe's time per step) under the same rule. Returns the table, why
 /// there is none, and the methods left out for time.
@@ -516,7 +520,12 @@ fn study_framerate(
         .entries
         .iter()
         .filter_map(|e| e.result.as_ref())
-        .map(|r| (&r.integrator, r.wall_seconds / r.steps_done.max(1) as f64));
+        .map(|r| {
+            (
+                &r.integrator,
+                r.modelled_seconds / r.steps_done.max(1) as f64,
+            )
+        });
     let probed = probed_out.iter().map(|(n, s)| (n, *s));
     let measured: Vec<(&String, f64)> = ran.chain(probed).collect();
     // The scene's cheapest engine is its Rapier row: it gets the engine budget.
@@ -548,7 +557,7 @@ fn study_framerate(
         if projected > budget {
             left_out.push(name.clone());
             notes.push(format!(
-                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {} measured in {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
+                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {} by the cost model of {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
                 per_substep * 1e3,
                 if info.engine {
                     format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))

@@ -23,7 +23,7 @@ const fn implicit(name: &'static str, order: u32, summary: &'static str) -> Meth
 const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
     MethodInfo {
         stability: StabilityTheory::Empirical,
-        cost: CostUnit::WallTime,
+        cost: CostUnit::ModelledOnly,
         engine: true,
         contacts: true,
         splits_frames: true,
@@ -141,7 +141,7 @@ pub fn methods() -> Vec<Method> {
                 // found by the empirical search on the scene. It never evaluates the spring
                 // force model (springs become constraints): costed in wall time.
                 stability: StabilityTheory::Empirical,
-                cost: CostUnit::WallTime,
+                cost: CostUnit::ModelledOnly,
                 options: &[XPBD_SUBSTEPS, XPBD_ITERATIONS],
                 ..MethodInfo::native(
                     "xpbd",
@@ -163,7 +163,7 @@ pub fn methods() -> Vec<Method> {
             MethodInfo {
                 order: Order::Exact,
                 stability: StabilityTheory::Unconditional,
-                cost: CostUnit::WallTime,
+                cost: CostUnit::ModelledOnly,
                 ..MethodInfo::native(
                     "analytic",
                     1,

@@ -78,11 +78,12 @@ pub enum StabilityTheory {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum CostUnit {
-    /// Evaluations of springlab's force model (`System::accelerations` calls), beside wall time.
+    /// Evaluations of springlab's force model (`System::accelerations` calls), beside the
+    /// modelled cost ([`crate::run::cost`]).
     ForceEvaluations,
-    /// Wall time only: the method never evaluates springlab's force model (an engine, a
-    /// closed form), so a force-evaluation count would read as free.
-    WallTime,
+    /// The modelled cost only: the method never evaluates springlab's force model (an engine,
+    /// a closed form), so a force-evaluation count would read as free.
+    ModelledOnly,
 }
 
 /// One method's facts, registered once and read everywhere.

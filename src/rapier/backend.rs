@@ -10,8 +10,8 @@ use crate::model::{State, System, Vec3};
 /// Rapier 0.36 (f64) stepping a scene; `dt` is Rapier's frame step, `substeps` its
 /// `num_solver_iterations`.
 ///
-/// Cost: `force_evals` is reported as 0 (Rapier never evaluates our force model; compare by
-/// wall time). `dissipated` is the damper, drag and penalty-contact damping power (c·(n·v_rel)², c_d·|v|², the penalty's) of the read-back
+/// Cost: `force_evals` is reported as 0 (Rapier never evaluates our force model); each frame
+/// reports its modelled seconds ([`super::cost`]) as `engine_seconds`. `dissipated` is the damper, drag and penalty-contact damping power (c·(n·v_rel)², c_d·|v|², the penalty's) of the read-back
 /// states, integrated by the trapezoidal rule over the step: an estimate of the work Rapier's
 /// implicit dampers did, accurate to O(h²) for smooth motion.
 pub struct RapierBackend {
@@ -22,6 +22,8 @@ pub struct RapierBackend {
     dirty: bool,
     /// Penalty contacts, applied as user forces held over each Rapier step.
     user: UserForces,
+    /// Modelled seconds of one frame on the built scene ([`super::cost`]).
+    frame_seconds: f64,
 }
 
 impl RapierBackend {
@@ -33,6 +35,7 @@ impl RapierBackend {
             built: None,
             dirty: false,
             user: UserForces::default(),
+            frame_seconds: 0.0,
         }
     }
 
@@ -51,6 +54,8 @@ impl RapierBackend {
         let rebuild = self.built.is_none() || (self.dirty && self.mode == Mode::Multibody);
         if rebuild {
             self.built = Some(build(sys, s, self.mode, self.substeps, h));
+            self.frame_seconds =
+                super::cost::EngineShape::of(sys, self.mode).frame_seconds(self.substeps);
         } else if let Some(b) = &mut self.built {
             if self.dirty {
                 // Impulse bodies hold maximal coordinates: push the changed state in.
@@ -114,6 +119,9 @@ impl Integrator for RapierBackend {
         }
         Ok(())
     }
+    fn modelled_frame_seconds(&self, sys: &System) -> Option<f64> {
+        Some(super::cost::EngineShape::of(sys, self.mode).frame_seconds(self.substeps))
+    }
     fn splits_frames(&self) -> bool {
         true // `substeps` solver substeps per frame (Rapier's num_solver_iterations)
     }
@@ -165,6 +173,8 @@ impl Integrator for RapierBackend {
         Ok(StepStats {
             force_evals: 0,
             dissipated: damper + contact,
+            engine_seconds: self.frame_seconds,
+            ..StepStats::default()
         })
     }
 }

@@ -9,6 +9,7 @@
 mod backend;
 mod bodies;
 mod convert;
+pub mod cost;
 mod joints;
 mod mode;
 mod multibody;
@@ -20,6 +21,7 @@ mod world;
 
 pub use backend::RapierBackend;
 pub use bodies::RESTITUTION_RULE;
+pub use cost::EngineShape;
 pub use mode::{Mode, IMPULSE, MULTIBODY};
 pub use obstacles::{Difference, DifferenceKind, DIFFERENCES};
 pub use scheme::{scheme_prediction, Prediction};

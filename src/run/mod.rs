@@ -1,5 +1,6 @@
 //! The runner: owns the loop, the impulses, the energy accounts, blow-up detection and timing.
 
+pub mod cost;
 mod energy;
 mod observer;
 pub mod progress;
@@ -7,6 +8,7 @@ mod runner;
 mod scale;
 pub mod verdict;
 
+pub use cost::{CostModel, Work};
 pub use energy::EnergyRecord;
 pub use observer::{NoObserver, Observer};
 pub use progress::{bar as progress_bar, ProgressObserver};

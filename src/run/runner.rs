@@ -1,5 +1,6 @@
 //! The run loop (argmin's Executor pattern): integrators only step; this owns everything else.
 
+use super::cost::{CostModel, Work};
 use super::energy::EnergyRecord;
 use super::observer::Observer;
 use super::scale::energy_scale;
@@ -145,8 +146,12 @@ pub struct RunOutcome {
     pub steps_done: u64,
     /// Force evaluations made.
     pub force_evals: u64,
-    /// Wall time spent inside the integrator's steps (s).
+    /// Wall time spent inside the integrator's steps (s): measured, reported, never decides.
     pub wall_seconds: f64,
+    /// The work the run counted.
+    pub work: Work,
+    /// Modelled cost of that work on this scene (s, [`CostModel`]): what decides.
+    pub modelled_seconds: f64,
     /// Energy account at t = 0.
     pub initial_energy: EnergyRecord,
     /// Energy account of the last accepted state.
@@ -158,7 +163,7 @@ pub struct RunOutcome {
 struct Loop<'a> {
     sys: &'a System,
     integ: &'a mut dyn Integrator,
-    evals: u64,
+    work: Work,
     dissipated: f64,
     /// Energy the contact stage created (booked apart; it stays in the mechanical terms).
     created: f64,
@@ -171,6 +176,7 @@ struct Loop<'a> {
 impl Loop<'_> {
     fn step(&mut self, s: &mut State, h: f64) -> Result<()> {
         let t0 = Instant::now();
+        let newton_before = self.newton_counts();
         if self.sys.post_step.is_some() {
             self.x0.clone_from(&s.x);
             self.v0.clone_from(&s.v);
@@ -187,6 +193,7 @@ impl Loop<'_> {
             .filter(|_| !self.integ.handles_contacts())
         {
             let cs = c.apply(self.sys, &self.x0, &self.v0, s, h);
+            self.work.contact_passes += 1;
             self.dissipated += cs.dissipated;
             self.created += cs.created;
             if cs.changed {
@@ -194,9 +201,23 @@ impl Loop<'_> {
             }
         }
         self.wall += t0.elapsed().as_secs_f64();
-        self.evals += stats.force_evals;
+        let (newton, linear) = self.newton_counts();
+        let w = &mut self.work;
+        w.steps += 1;
+        w.force_evals += stats.force_evals;
+        w.link_updates += stats.link_updates;
+        w.engine_seconds += stats.engine_seconds;
+        w.newton_iterations += newton.saturating_sub(newton_before.0);
+        w.linear_iterations += linear.saturating_sub(newton_before.1);
         self.dissipated += stats.dissipated;
         Ok(())
+    }
+
+    /// The implicit core's Newton and linear iteration counters so far (0 without one).
+    fn newton_counts(&self) -> (u64, u64) {
+        self.integ
+            .newton()
+            .map_or((0, 0), |n| (n.newton_iterations, n.cg_iterations))
     }
 }
 
@@ -240,7 +261,7 @@ pub fn run(
     let mut lp = Loop {
         sys,
         integ,
-        evals: 0,
+        work: Work::default(),
         dissipated: 0.0,
         created: 0.0,
         wall: 0.0,
@@ -329,8 +350,10 @@ pub fn run(
     Ok(RunOutcome {
         status,
         steps_done: done,
-        force_evals: lp.evals,
+        force_evals: lp.work.force_evals,
         wall_seconds: lp.wall,
+        modelled_seconds: CostModel::of(sys).seconds(&lp.work),
+        work: lp.work,
         initial_energy: initial,
         final_energy: last,
         final_state: s,

@@ -82,6 +82,7 @@ fn symplectic_euler_needs_ceil_h_omega_max_over_two() {
             "one force evaluation per substep"
         );
         assert!(f.wall_seconds_per_frame.is_some_and(|w| w > 0.0));
+        assert!(f.modelled_seconds_per_frame.is_some_and(|w| w > 0.0));
     }
 }
 
@@ -113,6 +114,7 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
         "status",
         "max_position_error",
         "energy_drift",
+        "modelled_seconds_per_frame",
         "wall_seconds_per_frame",
         "force_evals_per_frame",
     ] {

@@ -74,7 +74,7 @@ fn sweep_shards_merge_and_stability_advise_files() {
             .map(|l| {
                 l.split(',')
                     .enumerate()
-                    .filter(|(i, _)| *i != 4)
+                    .filter(|(i, _)| *i != 5)
                     .map(|(_, f)| f)
                     .collect::<Vec<_>>()
                     .join(",")
@@ -82,7 +82,7 @@ fn sweep_shards_merge_and_stability_advise_files() {
             .collect::<Vec<_>>()
     };
     let full_csv = read(&Path::new(&fo).join("sweep.csv"));
-    assert!(full_csv.starts_with("integrator,dt,steps,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,status\n"));
+    assert!(full_csv.starts_with("integrator,dt,steps,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,status\n"));
     assert_eq!(
         strip(full_csv),
         strip(read(&Path::new(&mo).join("sweep.csv")))

@@ -23,6 +23,7 @@ mod collide_validation;
 mod collide_wall;
 mod conservation;
 mod convergence;
+mod cost_model;
 mod energy_behaviour;
 mod ensemble_statistics;
 mod extremes;

@@ -52,15 +52,8 @@ fn observed_orders_match_theory() {
     eprintln!("{report}");
 }
 
-fn strip_wall(csv: &str) -> String {
-    csv.lines()
-        .map(|l| {
-            let mut f: Vec<&str> = l.split(',').collect();
-            f.remove(4);
-            f.join(",")
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+fn strip_wall(csv: &str) -> Vec<String> {
+    crate::common::without_column(csv, "wall_seconds")
 }
 
 /// `summary.json` without its `"command"`, whose `--out` names the folder it was written to.

@@ -56,9 +56,9 @@ fn a_budget_removes_the_costliest_runs_and_changes_none() {
             "{s:?}"
         );
     }
-    // A fifth of the unbudgeted runs' wall time: implicit Euler loses its finest steps;
+    // A fifth of the unbudgeted runs' modelled cost: implicit Euler loses its finest steps;
     // symplectic Euler keeps all of them; every row left is the unbudgeted one.
-    let total: f64 = free.rows.iter().map(|r| r.wall_seconds).sum();
+    let total: f64 = free.rows.iter().map(|r| r.modelled_seconds).sum();
     let tight = sweep(Some(0.2 * total));
     let tb = tight.plan.budget.as_ref().unwrap();
     let implicit_cut = tb

@@ -224,15 +224,7 @@ fn shards_of_a_refined_sweep_merge_to_the_unsharded_one() {
     let merged = merge(&dirs).unwrap();
     write_sweep(&root.path().join("merged"), &merged).unwrap();
     let read = |d: &str, f: &str| std::fs::read_to_string(root.path().join(d).join(f)).unwrap();
-    let strip = |s: String| -> Vec<String> {
-        s.lines()
-            .map(|l| {
-                let mut f: Vec<&str> = l.split(',').collect();
-                f.remove(4);
-                f.join(",")
-            })
-            .collect()
-    };
+    let strip = |s: String| crate::common::without_column(&s, "wall_seconds");
     assert_eq!(
         strip(read("full", "sweep.csv")),
         strip(read("merged", "sweep.csv"))

@@ -188,8 +188,9 @@ impl Integrator for Xpbd {
         }
         s.t += h;
         Ok(StepStats {
-            force_evals: 0,
             dissipated,
+            link_updates: (self.substeps * self.iterations * link::count(sys)) as u64,
+            ..StepStats::default()
         })
     }
 }

@@ -1,32 +1,32 @@
-//! The cost advice ranks by: measured wall time per simulated second, a unit every backend
-//! shares (a Rapier backend has no force-evaluation count, so counting force evaluations would
-//! make it look free). Force evaluations per simulated second stay beside it for the native
-//! methods and break ties.
+//! The cost advice ranks by: modelled seconds per simulated second ([`crate::run::cost`]: the
+//! run's counted work priced per item), a unit every backend shares (a Rapier backend has no
+//! force-evaluation count, so counting force evaluations would make it look free; its frames
+//! are priced by its own model). Being counted, not clocked, it ranks the same on every re-run
+//! and every machine. Force evaluations per simulated second stay beside it for the native
+//! methods and break ties; the measured wall time stays beside it too, and decides nothing.
 //!
-//! Measurement: after every accuracy run, each candidate's chosen run is timed on one thread,
+//! Wall time: after every accuracy run, each candidate's chosen run is timed on one thread,
 //! interleaved round-robin with the others (A, B, A, B, …, so a drift of the machine's speed
 //! touches all alike), repeated under [`ADVICE_TIMING`] and summarised by the median.
 //!
-//! Ranking ([`rank`]): sort by median wall time per simulated second; the cheapest remaining
-//! candidate and every other whose median is within [`TIE_BAND`] (20 %) of it form a tie group,
-//! ordered by force evaluations per simulated second (a method with a count before one without:
-//! a known cost before an unknown one), then by name; repeat with the rest. Why 20 %: on a
-//! 30-bead rope, the ratio of velocity Verlet's to symplectic Euler's median moved between
-//! 1.07 and 1.14 over four runs on a shared, loaded 2-core machine (each median by about
-//! 8 %); a band wider than that noise gives two candidates that close the same order on every
-//! run instead of one that flips with the load, at the price of preferring fewer force
-//! evaluations over a wall-time lead of up to 20 %.
-//! A wall time of 0 or one not finite is a failed measurement and an error, never the cheapest.
+//! Ranking ([`rank`]): sort by modelled seconds per simulated second; the cheapest remaining
+//! candidate and every other within [`TIE_BAND`] (20 %) of it form a tie group, ordered by
+//! force evaluations per simulated second (a method with a count before one without: a known
+//! cost before an unknown one), then by name; repeat with the rest. Why 20 %: the model's
+//! per-item costs are fitted, and on the shipped scenes its figure for one method against
+//! another's moves by that much against their measured ratio; within the band the model
+//! cannot tell them apart, and fewer force evaluations is the sounder tie-break.
+//! A modelled cost of 0 or one not finite is a failed count and an error, never the cheapest.
 
 use crate::error::{Error, Result};
 use crate::measure::case::TimingRule;
 use crate::method::{CostUnit, Registry};
 use serde::Serialize;
 
-/// Relative band within which two median wall times are a tie (0.20: 20 %).
+/// Relative band within which two modelled costs are a tie (0.20: 20 %).
 pub const TIE_BAND: f64 = 0.20;
 
-/// Advice's timing rule: at least 5 runs and 0.05 s elapsed in total; a run whose total
+/// Advice's timing rule for the wall times it shows: at least 5 runs and 0.05 s elapsed in total; a run whose total
 /// passes 0.5 s stops once it has 3; never more than 10 000 runs.
 pub const ADVICE_TIMING: TimingRule = TimingRule {
     min_repetitions: 5,
@@ -37,15 +37,17 @@ pub const ADVICE_TIMING: TimingRule = TimingRule {
 };
 
 /// The name of the ranking measure, as written to `advice.json`.
-pub const MEASURE: &str = "wall_seconds_per_simulated_second";
+pub const MEASURE: &str = "modelled_seconds_per_simulated_second";
 
 /// The cost measure stated at the top of `advice.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct CostMeasure {
     /// What ranks candidates: [`MEASURE`].
     pub measure: &'static str,
-    /// Statistic kept over repetitions: `median`.
-    pub statistic: &'static str,
+    /// How the ranking measure is made.
+    pub model: &'static str,
+    /// What the wall times shown beside it are: the median over repetitions.
+    pub wall_time: &'static str,
     /// Repetitions each timed run gets at least (unless its total passes `cap_seconds`).
     pub repetitions: usize,
     /// The full repetition rule.
@@ -65,22 +67,23 @@ impl CostMeasure {
     pub fn new(rule: &TimingRule) -> Self {
         CostMeasure {
             measure: MEASURE,
-            statistic: "median",
+            model: "the run's counted work (steps, force evaluations, Newton and linear iterations, link updates, contact passes; an engine's frames priced from the scene) times fixed per-item costs: the same on every re-run",
+            wall_time: "median over repetitions, shown beside the ranking measure; it decides nothing",
             repetitions: rule.min_repetitions,
             rule: *rule,
             schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh integrator, no observer, the runner's integrator wall time",
             tie_band: TIE_BAND,
             tie_rule: format!(
-                "medians within {:.0} % of the cheapest remaining candidate tie; a tie is broken by force evaluations per simulated second (a method with a count before one without), then by name",
+                "modelled costs within {:.0} % of the cheapest remaining candidate tie; a tie is broken by force evaluations per simulated second (a method with a count before one without), then by name",
                 TIE_BAND * 100.0
             ),
-            secondary: "force evaluations per simulated second (cost_per_second), null for a method costed in wall time only (Rapier backends, closed forms)",
+            secondary: "force evaluations per simulated second (cost_per_second), null for a method without that count (Rapier backends, closed forms)",
         }
     }
 }
 
 /// Force evaluations per simulated second of `integrator` over `simulated` seconds, or null
-/// with the reason for a method whose registered cost unit is wall time only (a physics
+/// with the reason for a method whose registered cost unit is the modelled cost only (a physics
 /// engine, a closed form): it has no force-evaluation count, and 0 would read as free.
 pub fn force_evals_per_second(
     methods: &Registry,
@@ -91,10 +94,10 @@ pub fn force_evals_per_second(
     let info = methods.info(integrator)?;
     Ok(match info.cost {
         CostUnit::ForceEvaluations => (Some(force_evals as f64 / simulated), None),
-        CostUnit::WallTime => (
+        CostUnit::ModelledOnly => (
             None,
             Some(format!(
-                "{} is costed in wall time only: it never evaluates springlab's force model{}, so it has no force-evaluation count",
+                "{} has no force-evaluation count: it never evaluates springlab's force model{}; its modelled cost stands alone",
                 info.name,
                 if info.engine { " (a physics engine steps its own dynamics)" } else { "" }
             )),
@@ -107,8 +110,8 @@ pub fn force_evals_per_second(
 pub struct CostKey {
     /// Integrator or backend name.
     pub integrator: String,
-    /// Median wall time per simulated second (s/s).
-    pub wall_per_second: f64,
+    /// Modelled seconds per simulated second (s/s).
+    pub modelled_per_second: f64,
     /// Force evaluations per simulated second (None: no count).
     pub force_evals_per_second: Option<f64>,
 }
@@ -119,11 +122,11 @@ pub struct CostKey {
 pub enum PickedBy {
     /// The only candidate.
     Only,
-    /// The lowest median wall time per simulated second, outside any tie.
-    WallTime,
-    /// A wall-time tie, broken by force evaluations per simulated second.
+    /// The lowest modelled seconds per simulated second, outside any tie.
+    ModelledCost,
+    /// A modelled-cost tie, broken by force evaluations per simulated second.
     TieForceEvaluations,
-    /// A wall-time tie with equal force evaluations, broken by name.
+    /// A modelled-cost tie with equal force evaluations, broken by name.
     TieName,
 }
 
@@ -133,12 +136,12 @@ impl PickedBy {
         let band = TIE_BAND * 100.0;
         match self {
             PickedBy::Only => "the only candidate meeting the tolerance".into(),
-            PickedBy::WallTime => "lowest median wall time per simulated second".into(),
+            PickedBy::ModelledCost => "lowest modelled seconds per simulated second".into(),
             PickedBy::TieForceEvaluations => format!(
-                "median wall time per simulated second tied within {band:.0} %, broken by force evaluations"
+                "modelled seconds per simulated second tied within {band:.0} %, broken by force evaluations"
             ),
             PickedBy::TieName => format!(
-                "median wall time per simulated second tied within {band:.0} % with equal force evaluations, broken by name"
+                "modelled seconds per simulated second tied within {band:.0} % with equal force evaluations, broken by name"
             ),
         }
     }
@@ -157,41 +160,41 @@ fn tie_order(a: &CostKey, b: &CostKey) -> std::cmp::Ordering {
 
 /// Orders `keys` cheapest first (indices into `keys`) by the rule in the module docs, and says
 /// which rule decided the first place (None when `keys` is empty). `scenario` names the scene
-/// in the error for a wall time that is 0 or not finite.
+/// in the error for a modelled cost that is 0 or not finite.
 pub fn rank(keys: &[CostKey], scenario: &str) -> Result<(Vec<usize>, Option<PickedBy>)> {
     if let Some(k) = keys
         .iter()
-        .find(|k| !(k.wall_per_second.is_finite() && k.wall_per_second > 0.0))
+        .find(|k| !(k.modelled_per_second.is_finite() && k.modelled_per_second > 0.0))
     {
         return Err(Error::Unsupported {
             integrator: k.integrator.clone(),
             scenario: scenario.to_string(),
             reason: format!(
-                "measured wall time per simulated second is {}: a failed measurement, not a cost (no backend is free)",
-                k.wall_per_second
+                "modelled seconds per simulated second is {}: a failed count, not a cost (no backend is free)",
+                k.modelled_per_second
             ),
         });
     }
     let mut rest: Vec<usize> = (0..keys.len()).collect();
     rest.sort_by(|&a, &b| {
         keys[a]
-            .wall_per_second
-            .total_cmp(&keys[b].wall_per_second)
+            .modelled_per_second
+            .total_cmp(&keys[b].modelled_per_second)
             .then_with(|| keys[a].integrator.cmp(&keys[b].integrator))
     });
     let mut order = Vec::with_capacity(keys.len());
     let mut picked_by = None;
     while let Some(&lead) = rest.first() {
-        let limit = keys[lead].wall_per_second * (1.0 + TIE_BAND);
+        let limit = keys[lead].modelled_per_second * (1.0 + TIE_BAND);
         let (mut group, others): (Vec<usize>, Vec<usize>) = rest
             .iter()
-            .partition(|&&i| keys[i].wall_per_second <= limit);
+            .partition(|&&i| keys[i].modelled_per_second <= limit);
         group.sort_by(|&a, &b| tie_order(&keys[a], &keys[b]));
         if picked_by.is_none() {
             picked_by = Some(if keys.len() == 1 {
                 PickedBy::Only
             } else if group.len() == 1 {
-                PickedBy::WallTime
+                PickedBy::ModelledCost
             } else {
                 let (a, b) = (&keys[group[0]], &keys[group[1]]);
                 let evals_differ = match (a.force_evals_per_second, b.force_evals_per_second) {
@@ -216,10 +219,10 @@ pub fn rank(keys: &[CostKey], scenario: &str) -> Result<(Vec<usize>, Option<Pick
 mod tests {
     use super::*;
 
-    fn key(name: &str, wall: f64, evals: Option<f64>) -> CostKey {
+    fn key(name: &str, cost: f64, evals: Option<f64>) -> CostKey {
         CostKey {
             integrator: name.into(),
-            wall_per_second: wall,
+            modelled_per_second: cost,
             force_evals_per_second: evals,
         }
     }
@@ -232,7 +235,7 @@ mod tests {
     // Oracle: the rule as stated in the module docs, applied by hand to each input.
 
     #[test]
-    fn clear_wall_time_differences_decide_whatever_the_force_evaluations() {
+    fn clear_cost_differences_decide_whatever_the_force_evaluations() {
         // Rapier has no count and is 300× slower: it is last, not free.
         let keys = [
             key("rapier_impulse", 3e-1, None),
@@ -240,7 +243,7 @@ mod tests {
             key("velocity_verlet", 1e-3, Some(1000.0)),
         ];
         assert_eq!(names(&keys), ["velocity_verlet", "rk4", "rapier_impulse"]);
-        assert_eq!(rank(&keys, "t").unwrap().1, Some(PickedBy::WallTime));
+        assert_eq!(rank(&keys, "t").unwrap().1, Some(PickedBy::ModelledCost));
     }
 
     #[test]
@@ -269,7 +272,7 @@ mod tests {
             key("velocity_verlet", 1.19e-3, Some(1000.0)),
         ];
         assert_eq!(names(&keys), ["velocity_verlet", "rapier_impulse"]);
-        // Outside the band (21 % slower) the wall time decides.
+        // Outside the band (21 % dearer) the modelled cost decides.
         let keys = [
             key("a", 1.00e-3, Some(2000.0)),
             key("b", 1.21e-3, Some(1000.0)),
@@ -291,7 +294,7 @@ mod tests {
     }
 
     #[test]
-    fn zero_or_non_finite_wall_time_is_refused() {
+    fn zero_or_non_finite_cost_is_refused() {
         for bad in [0.0, -1e-9, f64::NAN, f64::INFINITY] {
             let keys = [
                 key("velocity_verlet", 1e-3, Some(1000.0)),

@@ -31,6 +31,9 @@ pub struct FrameEntry {
     pub substep_error: Option<f64>,
     /// Whether the substepped run meets the tolerance.
     pub meets_tolerance: bool,
+    /// Modelled seconds per simulated second at that many substeps (s/s,
+    /// [`crate::run::cost`]): what `best` is ranked by; null when the run is not stable.
+    pub modelled_per_second: Option<f64>,
     /// Median wall time per simulated second at that many substeps (s/s); null when the
     /// entry fails the tolerance (only entries that can be `best` are timed).
     pub wall_per_second: Option<f64>,
@@ -116,6 +119,7 @@ impl FramePlan {
         names: &[String],
         res: &[CaseResult],
         judge: &Judge,
+        scenario: &str,
     ) -> Result<Vec<FrameRate>> {
         let np = names.len();
         self.rates
@@ -143,6 +147,9 @@ impl FramePlan {
                             substeps: self.substeps[fi][pi],
                             substep_error: se,
                             meets_tolerance: meets,
+                            modelled_per_second: sub
+                                .ok()
+                                .then(|| sub.modelled_seconds / (sub.dt * sub.steps as f64)),
                             wall_per_second: None,
                             wall_per_second_reason: (!meets).then(|| NOT_TIMED.to_string()),
                             timing: None,
@@ -150,12 +157,13 @@ impl FramePlan {
                             cost_per_second_reason: why,
                         })
                     })
-                    .collect::<Result<_>>()?;
+                    .collect::<Result<Vec<FrameEntry>>>()?;
+                let (best, picked_by) = cheapest(&entries, scenario)?;
                 Ok(FrameRate {
                     fps,
                     frame_dt: 1.0 / fps,
-                    best: None,
-                    picked_by: None,
+                    best,
+                    picked_by,
                     entries,
                 })
             })
@@ -186,39 +194,45 @@ impl FramePlan {
         out
     }
 
-    /// Fills in each timed entry's wall time from `timing_of` and ranks each frame rate's
-    /// entries that meet the tolerance by the advice's cost to choose `best`.
+    /// Fills in each timed entry's wall time from `timing_of` (shown beside the modelled
+    /// cost that ranked it).
     pub(super) fn apply_timings(
         &self,
         view: &mut [FrameRate],
         timing_of: &dyn Fn(&TimedRun) -> WallTimes,
-        scenario: &str,
-    ) -> Result<()> {
+    ) {
         for (fi, fr) in view.iter_mut().enumerate() {
-            let mut keys = Vec::new();
-            let mut which = Vec::new();
             for (pi, e) in fr.entries.iter_mut().enumerate() {
                 if !e.meets_tolerance {
                     continue;
                 }
                 let r = self.run_of(fi, pi, &e.integrator);
                 let t = timing_of(&r);
-                let w = t.median_seconds / (r.dt * r.steps as f64);
-                e.wall_per_second = Some(w);
+                e.wall_per_second = Some(t.median_seconds / (r.dt * r.steps as f64));
                 e.timing = Some(t);
-                keys.push(CostKey {
-                    integrator: e.integrator.clone(),
-                    wall_per_second: w,
-                    force_evals_per_second: e.cost_per_second,
-                });
-                which.push(pi);
             }
-            let (order, picked_by) = rank(&keys, scenario)?;
-            fr.best = order
-                .first()
-                .map(|&k| fr.entries[which[k]].integrator.clone());
-            fr.picked_by = picked_by;
         }
-        Ok(())
     }
+}
+
+/// The cheapest of `entries` that meet the tolerance, by the advice's cost rule, with the rule
+/// that decided.
+fn cheapest(entries: &[FrameEntry], scenario: &str) -> Result<(Option<String>, Option<PickedBy>)> {
+    let meeting: Vec<&FrameEntry> = entries
+        .iter()
+        .filter(|e| e.meets_tolerance && e.modelled_per_second.is_some())
+        .collect();
+    let keys: Vec<CostKey> = meeting
+        .iter()
+        .map(|e| CostKey {
+            integrator: e.integrator.clone(),
+            modelled_per_second: e.modelled_per_second.unwrap_or(f64::NAN),
+            force_evals_per_second: e.cost_per_second,
+        })
+        .collect();
+    let (order, picked_by) = rank(&keys, scenario)?;
+    Ok((
+        order.first().map(|&k| meeting[k].integrator.clone()),
+        picked_by,
+    ))
 }

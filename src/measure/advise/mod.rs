@@ -6,13 +6,13 @@
 //! log-log interpolation towards the next (failing) step; that step is then run again
 //! (against a reference sampled on its own grid) and accepted only when the verified error is
 //! within the tolerance, else the last passing grid step is used. Candidates are ranked by
-//! measured wall time per simulated second, the median of repeated interleaved runs, with
-//! force evaluations per simulated second beside it and breaking ties ([`cost`]): a Rapier
-//! backend has no force-evaluation count, and counting them would make it look free.
+//! modelled seconds per simulated second (the run's counted work, priced: [`crate::run::cost`]),
+//! with force evaluations per simulated second beside it and breaking ties ([`cost`]): a Rapier
+//! backend has no force-evaluation count, and counting them would make it look free. The
+//! median wall time of repeated interleaved runs is shown beside it.
 //!
-//! Every number in [`Advice`] is reproducible bit for bit except the timings
-//! (`wall_per_second`, `timing`) and what the ranking derives from them (the order of
-//! `alternatives`, the pick, `best` and `picked_by`).
+//! Every number in [`Advice`] is reproducible bit for bit, the ranking and the pick included,
+//! except the wall times (`wall_per_second`, `timing`).
 
 mod config;
 pub mod cost;
@@ -49,7 +49,9 @@ pub struct Choice {
     pub predicted_error: f64,
     /// Error measured by running it.
     pub verified_error: f64,
-    /// Median integrator wall time per simulated second (s/s): what candidates are ranked by.
+    /// Modelled seconds per simulated second (s/s): what candidates are ranked by.
+    pub modelled_per_second: f64,
+    /// Median integrator wall time per simulated second (s/s), shown beside it.
     pub wall_per_second: f64,
     /// Force evaluations per simulated second; null for a backend without such a count.
     pub cost_per_second: Option<f64>,
@@ -97,6 +99,8 @@ pub struct Advice {
     pub predicted_error: Option<f64>,
     /// Its verified error.
     pub verified_error: Option<f64>,
+    /// Its modelled seconds per simulated second (s/s).
+    pub modelled_per_second: Option<f64>,
     /// Its median wall time per simulated second (s/s).
     pub wall_per_second: Option<f64>,
     /// Its force evaluations per simulated second (null without a pick or without a count).
@@ -130,6 +134,7 @@ impl Choice {
             dt: c.dt,
             predicted_error: pred,
             verified_error: judge.error(c).unwrap_or(f64::INFINITY),
+            modelled_per_second: c.modelled_seconds / simulated,
             wall_per_second: timing.median_seconds / simulated,
             cost_per_second: cost,
             cost_per_second_reason: why,
@@ -146,7 +151,7 @@ fn rank_choices(choices: Vec<Choice>, scenario: &str) -> Result<(Vec<Choice>, Op
         .iter()
         .map(|c| CostKey {
             integrator: c.integrator.clone(),
-            wall_per_second: c.wall_per_second,
+            modelled_per_second: c.modelled_per_second,
             force_evals_per_second: c.cost_per_second,
         })
         .collect();
@@ -296,7 +301,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             },
         )
         .collect();
-    let mut view = plan.entries(&cfg.methods, &names, &vres[np..], &judge)?;
+    let mut view = plan.entries(&cfg.methods, &names, &vres[np..], &judge, &scene.name)?;
     // Timing: every chosen run and every frame entry that meets the tolerance, once each,
     // interleaved on this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
@@ -328,7 +333,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .map(|&(c, pred)| Choice::new(&cfg.methods, c, pred, &judge, timing_of(&run_of(c))))
         .collect::<Result<_>>()?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
-    plan.apply_timings(&mut view, &timing_of, &scene.name)?;
+    plan.apply_timings(&mut view, &timing_of);
     let pick = alternatives.first().cloned();
     let asked = super::case::asked_or_all(&cfg.methods, &cfg.integrators);
     let command = super::command::CommandLine::new("advise", &scene.source)
@@ -361,6 +366,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         dt: pick.as_ref().map(|p| p.dt),
         predicted_error: pick.as_ref().map(|p| p.predicted_error),
         verified_error: pick.as_ref().map(|p| p.verified_error),
+        modelled_per_second: pick.as_ref().map(|p| p.modelled_per_second),
         wall_per_second: pick.as_ref().map(|p| p.wall_per_second),
         cost_per_second: pick.as_ref().and_then(|p| p.cost_per_second),
         cost_per_second_reason: pick.as_ref().and_then(|p| p.cost_per_second_reason.clone()),

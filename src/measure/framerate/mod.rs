@@ -12,7 +12,8 @@
 //! candidates ([`super::case::time_interleaved`], on one thread after every accuracy run).
 //!
 //! Every number in [`Framerate`] is reproducible bit for bit, regardless of thread count,
-//! except `wall_seconds_per_frame` and `timing`.
+//! except `wall_seconds_per_frame` and `timing`; which methods a budget admits is decided on
+//! modelled seconds ([`crate::run::cost`]), so it is reproducible too.
 
 mod rows;
 pub mod search;
@@ -212,6 +213,9 @@ fn frame_run(methods: &Registry, c: &CaseResult, substeps: u64, judge: &Judge) -
         error: judge.error(c),
         max_position_error: c.metric(|m| m.error_max),
         energy_drift: c.metric(|m| m.energy_drift),
+        modelled_seconds_per_frame: c
+            .ok()
+            .then(|| c.modelled_seconds / c.steps_done.max(1) as f64),
         wall_seconds_per_frame: None,
         timing: None,
         force_evals_per_frame: evals,
@@ -243,6 +247,7 @@ fn within_budget(
     use crate::measure::probe::{
         check_budget, seconds_per_step, split_by_budget, Cost, PROBE_STEPS,
     };
+    // Engines are priced per solver substep from their modelled frame.
     check_budget(budget)?;
     let hz = cfg.rates.iter().cloned().fold(0.0, f64::max);
     let worst = worst_case_substeps(frames, cfg.max_substeps);

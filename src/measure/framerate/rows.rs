@@ -39,6 +39,9 @@ pub struct FrameRun {
     pub max_position_error: Option<f64>,
     /// Slope of the relative energy error (1/s), compare's `energy_drift`.
     pub energy_drift: Option<f64>,
+    /// Modelled seconds per frame ([`crate::run::cost`]): what "the cheapest that does"
+    /// ranks by; null for an unstable run.
+    pub modelled_seconds_per_frame: Option<f64>,
     /// Median integrator wall time per frame (s); null for an unstable run (not timed).
     pub wall_seconds_per_frame: Option<f64>,
     /// The repeated timing behind it.

@@ -7,7 +7,7 @@ use crate::output::write_atomic;
 use std::path::{Path, PathBuf};
 
 /// The header of `framerate.csv`: two rows per backend and rate (`one_substep`, `fewest`).
-pub const FRAMERATE_HEADER: &str = "backend,hz,row,substeps,status,meets_tolerance,error,max_position_error,energy_drift,wall_seconds_per_frame,force_evals_per_frame,unstable_time,note";
+pub const FRAMERATE_HEADER: &str = "backend,hz,row,substeps,status,meets_tolerance,error,max_position_error,energy_drift,modelled_seconds_per_frame,wall_seconds_per_frame,force_evals_per_frame,unstable_time,note";
 
 fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -21,7 +21,7 @@ fn row(e: &RateEntry, kind: RowKind, r: Option<&FrameRun>) -> String {
     let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
     match r {
         Some(r) => format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             e.backend,
             e.hz,
             kind.label(),
@@ -31,13 +31,14 @@ fn row(e: &RateEntry, kind: RowKind, r: Option<&FrameRun>) -> String {
             o(r.error),
             o(r.max_position_error),
             o(r.energy_drift),
+            o(r.modelled_seconds_per_frame),
             o(r.wall_seconds_per_frame),
             o(r.force_evals_per_frame),
             o(r.unstable_time),
             csv_text(r.unstable_reason.as_deref().unwrap_or("")),
         ),
         None => format!(
-            "{},{},{},,not_reached,false,,,,,,,{}",
+            "{},{},{},,not_reached,false,,,,,,,,{}",
             e.backend,
             e.hz,
             kind.label(),

@@ -1,16 +1,18 @@
 //! The sweep's time budget: before the cases run, a short probe of each method at the base
-//! grid's smallest step measures its wall time per step, which projects the cost of every
+//! grid's smallest step counts its modelled seconds per step ([`crate::run::cost`]), which
+//! projects the cost of every
 //! candidate step it might run. When the methods' projected total exceeds the budget, the
 //! budget is shared by water-filling: methods that fit keep every step, and the costliest ones
 //! lose their finest steps (the dearest) down to an equal share; a method whose coarsest step
 //! alone exceeds its share is left out. The plan records each method's measured cost and its
 //! finest allowed step, so the summary states what was left out and why, with the figures.
 //!
-//! The budget counts seconds of runs summed over methods and steps (one thread's worth), so
-//! the decision does not depend on the thread count; it does depend on the machine's speed,
-//! which is why it is recorded and named wherever it cut something (`--budget` raises it).
+//! The budget counts modelled seconds of runs summed over methods and steps (one thread's
+//! worth), so the decision depends neither on the thread count nor on the machine's speed or
+//! load: a re-run decides the same. It is recorded and named wherever it cut something
+//! (`--budget` raises it).
 
-use crate::measure::probe::{sig3, PROBE_STEPS};
+use crate::measure::probe::sig3;
 use serde::{Deserialize, Serialize};
 
 /// One method's measured cost and what the budget allows it.
@@ -18,9 +20,9 @@ use serde::{Deserialize, Serialize};
 pub struct MethodBudget {
     /// The method.
     pub integrator: String,
-    /// Its probe's wall time per step (s).
+    /// Its probe's modelled seconds per step.
     pub seconds_per_step: f64,
-    /// Projected wall time of all its candidate steps (s).
+    /// Projected modelled seconds of all its candidate steps.
     pub projected_seconds: f64,
     /// Index in the plan's `dts` of the smallest step it may run (0: every candidate).
     pub finest: usize,
@@ -83,8 +85,8 @@ pub fn allot(steps: &[u64], per_step: &[f64], budget: f64) -> Vec<usize> {
 }
 
 impl SweepBudget {
-    /// The budget for `integrators` over the grid's `steps` from their measured wall times
-    /// per step.
+    /// The budget for `integrators` over the grid's `steps` from their modelled seconds per
+    /// step.
     pub fn new(steps: &[u64], integrators: &[String], seconds: f64, per_step: &[f64]) -> Self {
         let finest = allot(steps, per_step, seconds);
         SweepBudget {
@@ -109,7 +111,7 @@ impl SweepBudget {
     /// Why `m` runs no step below its allowed one, with the figures.
     pub fn sentence(&self, m: &MethodBudget) -> String {
         format!(
-            "the sweep's budget of {} s: its {} candidate steps would take about {} s at {} ms per step (measured over {PROBE_STEPS} steps); `--budget` raises it",
+            "the sweep's budget of {} s: its {} candidate steps would take about {} s at {} ms per step by the cost model; `--budget` raises it",
             sig3(self.seconds),
             m.integrator,
             sig3(m.projected_seconds),

@@ -73,6 +73,8 @@ pub struct SweepRow {
     pub steps: u64,
     /// Force evaluations.
     pub force_evals: u64,
+    /// Modelled seconds of the run ([`crate::run::cost`]).
+    pub modelled_seconds: f64,
     /// Integrator wall time (s): the one column that varies between identical runs.
     pub wall_seconds: f64,
     /// Final position error (m).
@@ -89,7 +91,7 @@ pub struct SweepRow {
 
 /// The CSV header of `sweep.csv`.
 pub const SWEEP_HEADER: &str =
-    "integrator,dt,steps,force_evals,wall_seconds,error_final,error_max,error_rms,energy_drift,status";
+    "integrator,dt,steps,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,status";
 
 impl SweepRow {
     fn from_case(c: &CaseResult) -> Self {
@@ -98,6 +100,7 @@ impl SweepRow {
             dt: c.dt,
             steps: c.steps,
             force_evals: c.force_evals,
+            modelled_seconds: c.modelled_seconds,
             wall_seconds: c.wall_seconds,
             error_final: c.metric(|m| m.error_final),
             error_max: c.metric(|m| m.error_max),
@@ -109,11 +112,12 @@ impl SweepRow {
     fn csv_line(&self) -> String {
         let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
         format!(
-            "{},{:e},{},{},{:e},{},{},{},{},{}",
+            "{},{:e},{},{},{:e},{:e},{},{},{},{},{}",
             self.integrator,
             self.dt,
             self.steps,
             self.force_evals,
+            self.modelled_seconds,
             self.wall_seconds,
             o(self.error_final),
             o(self.error_max),

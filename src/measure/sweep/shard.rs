@@ -80,8 +80,8 @@ fn read_rows(path: &Path) -> Result<Vec<SweepRow>> {
     for (i, l) in lines.enumerate() {
         let n = i + 2;
         let f: Vec<&str> = l.split(',').collect();
-        if f.len() != 10 {
-            return Err(bad(n, format!("expected 10 fields, got {}", f.len())));
+        if f.len() != 11 {
+            return Err(bad(n, format!("expected 11 fields, got {}", f.len())));
         }
         let num = |k: usize, name: &str| -> Result<f64> {
             f[k].parse::<f64>()
@@ -103,15 +103,16 @@ fn read_rows(path: &Path) -> Result<Vec<SweepRow>> {
             dt: num(1, "dt")?,
             steps: int(2, "steps")?,
             force_evals: int(3, "force_evals")?,
-            wall_seconds: num(4, "wall_seconds")?,
-            error_final: opt(5, "error_final")?,
-            error_max: opt(6, "error_max")?,
-            error_rms: opt(7, "error_rms")?,
-            energy_drift: opt(8, "energy_drift")?,
-            status: crate::run::RunStatus::from_label(f[9]).ok_or_else(|| {
+            modelled_seconds: num(4, "modelled_seconds")?,
+            wall_seconds: num(5, "wall_seconds")?,
+            error_final: opt(6, "error_final")?,
+            error_max: opt(7, "error_max")?,
+            error_rms: opt(8, "error_rms")?,
+            energy_drift: opt(9, "energy_drift")?,
+            status: crate::run::RunStatus::from_label(f[10]).ok_or_else(|| {
                 bad(
                     n,
-                    format!("status: expected ok or unstable, got '{}'", f[9]),
+                    format!("status: expected ok or unstable, got '{}'", f[10]),
                 )
             })?,
         });

@@ -1,0 +1,163 @@
+//! The modelled cost of a Rapier frame, from the scene alone: what the engine builds (bodies,
+//! impulse joints, multibody trees and the impulse joints attached to them) times per-item
+//! costs fitted to Rapier 0.36's measured frames on the shipped scenes (2-core x86-64, one
+//! thread). springlab cannot count the engine's work the way it counts its own, so this is
+//! the engine's entry in [`crate::run::cost`]: deterministic, so every decision on an engine's
+//! cost (a budget, a ranking, a left-out engine) is the same on every re-run.
+//!
+//! Shape of the model, per solver substep: every body and every impulse joint costs a fixed
+//! amount; a multibody tree of L links costs a part linear in L and a part in L³ (its dense
+//! mass matrix is factorised every substep); an impulse joint attached to a tree costs a part
+//! proportional to the tree's size (it is solved against the dense matrix). Per frame, each
+//! body pays the pipeline's fixed stages.
+
+use super::mode::Mode;
+use super::topology::{tree_cap, Topology};
+use crate::model::System;
+
+/// Seconds per frame, whatever the scene: the pipeline's fixed stages.
+pub const FRAME: f64 = 2.5e-6;
+/// Seconds per body per frame (broad phase, islands, read-back).
+pub const BODY_PER_FRAME: f64 = 0.37e-6;
+/// Seconds per body per substep (integration).
+pub const BODY_PER_SUBSTEP: f64 = 0.1e-6;
+/// Seconds per impulse joint per substep.
+pub const JOINT_PER_SUBSTEP: f64 = 0.21e-6;
+/// Seconds per multibody link per substep (kinematics, forces, joint motors).
+pub const LINK_PER_SUBSTEP: f64 = 1.77e-6;
+/// Seconds per cubed link count of a tree per substep (its dense mass matrix and the joint
+/// motors solved against it).
+pub const TREE_CUBE_PER_SUBSTEP: f64 = 0.18e-6;
+/// Seconds per link of the trees an impulse joint attaches to, per substep.
+pub const ATTACHED_LINK_PER_SUBSTEP: f64 = 0.49e-6;
+
+/// What a Rapier backend builds for a scene: the counts the model prices.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct EngineShape {
+    /// Rigid bodies (one per particle).
+    pub bodies: usize,
+    /// Impulse joints (every edge for the impulse backend; loops and edges past the tree cap
+    /// for the multibody one).
+    pub impulse_joints: usize,
+    /// Links of each multibody tree.
+    pub trees: Vec<usize>,
+    /// Links of the trees each impulse joint touches, summed over the impulse joints.
+    pub attached_links: usize,
+    /// Each substep is a whole Rapier frame of one substep: multibody trees with impulse
+    /// joints between them, whose frames are re-aligned before every substep.
+    pub frame_per_substep: bool,
+}
+
+impl EngineShape {
+    /// What `mode` builds for `sys` (the same topology the backend builds).
+    pub fn of(sys: &System, mode: Mode) -> Self {
+        let bodies = sys.len();
+        match mode {
+            Mode::Impulse => EngineShape {
+                bodies,
+                impulse_joints: Topology::of(sys, 0).fallback.len(),
+                ..EngineShape::default()
+            },
+            Mode::Multibody => {
+                let topo = Topology::of(sys, tree_cap(sys));
+                let mut root: Vec<usize> = (0..bodies).collect();
+                fn find(root: &mut [usize], mut p: usize) -> usize {
+                    while root[p] != p {
+                        root[p] = root[root[p]];
+                        p = root[p];
+                    }
+                    p
+                }
+                for e in &topo.tree {
+                    let (a, b) = (find(&mut root, e.a), find(&mut root, e.b));
+                    root[b] = a;
+                }
+                let mut links = vec![0usize; bodies];
+                for e in &topo.tree {
+                    let r = find(&mut root, e.b);
+                    links[r] += 1;
+                }
+                let mut attached = 0;
+                for (e, _) in &topo.fallback {
+                    let (ra, rb) = (find(&mut root, e.a), find(&mut root, e.b));
+                    attached += links[ra] + if ra == rb { 0 } else { links[rb] };
+                }
+                EngineShape {
+                    bodies,
+                    impulse_joints: topo.fallback.len(),
+                    trees: links.into_iter().filter(|&l| l > 0).collect(),
+                    attached_links: attached,
+                    frame_per_substep: !topo.fallback.is_empty(),
+                }
+            }
+        }
+    }
+
+    /// Modelled seconds of one frame with `substeps` solver substeps.
+    pub fn frame_seconds(&self, substeps: usize) -> f64 {
+        let per_substep = BODY_PER_SUBSTEP * self.bodies as f64
+            + JOINT_PER_SUBSTEP * self.impulse_joints as f64
+            + self
+                .trees
+                .iter()
+                .map(|&l| {
+                    let l = l as f64;
+                    LINK_PER_SUBSTEP * l + TREE_CUBE_PER_SUBSTEP * l * l * l
+                })
+                .sum::<f64>()
+            + ATTACHED_LINK_PER_SUBSTEP * self.attached_links as f64;
+        let (n, fixed) = (
+            substeps.max(1) as f64,
+            FRAME + BODY_PER_FRAME * self.bodies as f64,
+        );
+        if self.frame_per_substep {
+            n * (fixed + per_substep)
+        } else {
+            fixed + n * per_substep
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+
+    fn chain(beads: usize, closed: bool) -> System {
+        let mut t = String::new();
+        for i in 0..beads {
+            t += &format!(
+                "[[particle]]\nposition=[{i}.0,0.0,0.0]\nmass=1.0\nfixed={}\n",
+                i == 0
+            );
+        }
+        for i in 1..beads {
+            t += &format!("[[spring]]\nbetween=[{}, {i}]\nstiffness=10.0\n", i - 1);
+        }
+        if closed {
+            t += &format!("[[spring]]\nbetween=[{}, 1]\nstiffness=10.0\n", beads - 1);
+        }
+        Scenario::from_toml_str(&t, "chain.toml").unwrap().build()
+    }
+
+    // Oracle: the topology by hand. A fixed bead and 9 free ones in a line make one tree of
+    // 9 links and no impulse joint; closing the loop leaves every edge either a link or an
+    // impulse joint, and an impulse joint touching a tree.
+    #[test]
+    fn shapes_follow_the_topology() {
+        let open = EngineShape::of(&chain(10, false), Mode::Multibody);
+        assert_eq!((open.bodies, open.impulse_joints), (10, 0));
+        assert_eq!((open.trees.clone(), open.attached_links), (vec![9], 0));
+        let closed = EngineShape::of(&chain(10, true), Mode::Multibody);
+        assert_eq!(
+            closed.impulse_joints + closed.trees.iter().sum::<usize>(),
+            10
+        );
+        assert!(closed.impulse_joints >= 1 && closed.attached_links >= 1);
+        let imp = EngineShape::of(&chain(10, false), Mode::Impulse);
+        assert_eq!((imp.impulse_joints, imp.trees.len()), (9, 0));
+        // More substeps cost more; the frame's fixed part is paid once.
+        assert!(imp.frame_seconds(4) > imp.frame_seconds(1));
+        assert!(imp.frame_seconds(1) > FRAME);
+    }
+}
