@@ -151,7 +151,9 @@ pub fn run(a: Args) -> Result<()> {
                 .join(", ")
         );
     }
-    println!("wrote {}", f.display());
+    for f in &f {
+        println!("wrote {}", f.display());
+    }
     if a.write_expect {
         let Some(spec) = springlab::measure::advise::expect_table(&adv) else {
             anyhow::bail!(

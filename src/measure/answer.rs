@@ -38,6 +38,8 @@ pub struct FreeStep {
     pub position_tolerance: f64,
     /// Its error by the metric (verified by running it).
     pub error: Option<f64>,
+    /// Modelled seconds per simulated second ([`crate::run::cost`]).
+    pub modelled_seconds_per_simulated_second: Option<f64>,
     /// Median wall time per simulated second (s/s), where measured.
     pub wall_seconds_per_simulated_second: Option<f64>,
     /// True when the error is within the bound; false for a labelled fallback.
@@ -63,6 +65,8 @@ pub struct GameRate {
     pub position_tolerance: f64,
     /// Its error by the metric.
     pub error: Option<f64>,
+    /// Modelled seconds per frame ([`crate::run::cost`]).
+    pub modelled_seconds_per_frame: Option<f64>,
     /// Median wall time per frame (s), where measured.
     pub wall_seconds_per_frame: Option<f64>,
     /// True when the error is within the bound; false for a labelled fallback.
@@ -91,6 +95,7 @@ impl FreeStep {
             tolerance: bound,
             position_tolerance: position,
             error: None,
+            modelled_seconds_per_simulated_second: None,
             wall_seconds_per_simulated_second: None,
             meets: false,
             verified: why,
@@ -110,6 +115,7 @@ impl GameRate {
             tolerance: bound,
             position_tolerance: position,
             error: None,
+            modelled_seconds_per_frame: None,
             wall_seconds_per_frame: None,
             meets: false,
             verified: why,
@@ -135,6 +141,7 @@ pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) 
             integrator: Some(m.clone()),
             dt: Some(dt),
             error: advice.verified_error,
+            modelled_seconds_per_simulated_second: advice.modelled_per_second,
             wall_seconds_per_simulated_second: advice.wall_per_second,
             meets: true,
             verified: format!(
@@ -169,6 +176,7 @@ pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) 
             integrator: Some(r.integrator.clone()),
             dt: Some(r.dt),
             error: Some(e),
+            modelled_seconds_per_simulated_second: Some(r.modelled_seconds / (r.dt * r.steps as f64)),
             wall_seconds_per_simulated_second: Some(r.wall_seconds / (r.dt * r.steps as f64)),
             verified: format!(
                 "stable only: no method met {} ≤ {} {} on steps down to {} s; the most accurate stable run at the scene's step is shown",
@@ -220,6 +228,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
             integrator: Some(e.backend.clone()),
             substeps: Some(f.substeps),
             error: f.error,
+            modelled_seconds_per_frame: f.modelled_seconds_per_frame,
             wall_seconds_per_frame: f.wall_seconds_per_frame,
             meets: true,
             verified: format!(
@@ -249,6 +258,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
             integrator: Some(e.backend.clone()),
             substeps: Some(1),
             error: Some(err),
+            modelled_seconds_per_frame: e.one_substep.modelled_seconds_per_frame,
             wall_seconds_per_frame: e.one_substep.wall_seconds_per_frame,
             verified: format!(
                 "stable only: no method tried met {} ≤ {} {} up to {} substeps per frame{untried}; the most accurate stable run at one substep is shown",

@@ -12,7 +12,7 @@ use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::Tolerance;
 use crate::method::MethodOptions;
 use crate::method::Registry;
-use crate::output::write_atomic;
+use crate::output::{write_atomic, write_document};
 use crate::scenario::{Scenario, Timing};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -351,10 +351,8 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
     };
     let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
     json.push(b'\n');
-    let mut files = vec![
-        write_atomic(dir.join("compare.csv"), csv.as_bytes())?,
-        write_atomic(dir.join("summary.json"), &json)?,
-    ];
+    let mut files = write_document(dir.join("compare.csv"), csv.as_bytes())?;
+    files.extend(write_document(dir.join("summary.json"), &json)?);
     if let Some(c) = contacts_doc(&doc) {
         let mut json = serde_json::to_vec_pretty(&c).expect("serialisable");
         json.push(b'\n');

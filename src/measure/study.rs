@@ -23,7 +23,7 @@
 //!   programmer makes at these rates, so they take part even when compare left them out (their
 //!   modelled frame then prices it), and the cheapest engine gets
 //!   [`FRAMERATE_ENGINE_SECONDS`]; the section lists the modelled time of any method left out
-//!   (`springlab framerate` runs it). Each table run is timed once.
+//!   (`springlab framerate` runs it). Each table run and each advice candidate is timed once ([`ONE_TIMED_RUN`]).
 //!
 //! Every such choice is made on modelled seconds ([`crate::run::cost`]: counted work, priced),
 //! never on a clock, so a re-run of the study takes the same methods everywhere.
@@ -71,7 +71,9 @@ pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 /// that section).
 pub const FRAMERATE_NOTE_PREFIX: &str = "Frame rates";
 
-/// The study's timing of a frame-rate table's run: once.
+/// The study's timing of each frame-rate table run and each advice candidate: once. The wall
+/// times decide nothing (the modelled cost does), so repetitions would only sharpen a figure
+/// shown beside it; `springlab advise` and `framerate` repeat theirs.
 pub const ONE_TIMED_RUN: super::case::TimingRule = super::case::TimingRule {
     min_repetitions: 1,
     min_total_seconds: 0.0,
@@ -210,6 +212,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         // The frame-rate section (`framerate`) answers the game view: one computation.
         frame_rates: false,
         budget_seconds: Some(STUDY_ADVICE_SECONDS),
+        timing: ONE_TIMED_RUN,
         ..Default::default()
     };
     let kept = kept_after_compare(scene, cfg, &compared, &advice_cfg, timing, &mut notes)?;

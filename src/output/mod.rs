@@ -4,6 +4,7 @@
 mod atomic;
 mod lock;
 mod run_files;
+pub mod timing;
 mod transaction;
 
 pub use atomic::{write_atomic, AtomicFile};
@@ -12,4 +13,5 @@ pub use run_files::{
     every_within, human_bytes, projected_run_bytes, size_notice, write_run, written_frames,
     RunFiles, RunSummary, SIZE_WARNING_BYTES,
 };
+pub use timing::{read_document, write_document, TIMING_FILE};
 pub use transaction::{published_path, recover, Recovery, Transaction};

@@ -1,6 +1,6 @@
 //! `springlab run`'s outputs: `trajectory.csv`, `energy.csv` and `summary.json`.
 
-use super::atomic::{write_atomic, AtomicFile};
+use super::atomic::AtomicFile;
 use crate::error::{Error, Result};
 use crate::model::State;
 use crate::run::{EnergyRecord, Observer, RunOutcome, Status};
@@ -184,10 +184,11 @@ impl RunSummary {
     }
 }
 
-/// Writes `summary.json` into `dir` atomically.
-pub fn write_run(dir: &Path, summary: &RunSummary) -> Result<PathBuf> {
+/// Writes `summary.json` into `dir` atomically, its wall times in `timing.json`
+/// ([`super::timing`]); returns the files written.
+pub fn write_run(dir: &Path, summary: &RunSummary) -> Result<Vec<PathBuf>> {
     let json = serde_json::to_vec_pretty(summary).expect("summary serialises");
-    write_atomic(dir.join("summary.json"), &json)
+    super::timing::write_document(dir.join("summary.json"), &json)
 }
 
 /// Bytes of one output number as `run` prints it (a shortest round-trip decimal of a value of

@@ -175,7 +175,7 @@ pub fn work_precision(s: &SceneStudy) -> Option<WorkPrecisionData> {
                         .map(|e| WorkPoint {
                             dt: r.dt,
                             error: e,
-                            wall_seconds: r.wall_seconds,
+                            modelled_seconds: r.modelled_seconds,
                             force_evals: r.force_evals,
                         })
                 })

@@ -104,8 +104,8 @@ pub struct WorkPoint {
     pub dt: f64,
     /// Error against the reference (m).
     pub error: f64,
-    /// Wall time in the integrator (s).
-    pub wall_seconds: f64,
+    /// Modelled seconds of the run ([`crate::run::cost`]).
+    pub modelled_seconds: f64,
     /// Force evaluations.
     pub force_evals: u64,
 }
@@ -119,7 +119,8 @@ pub struct WorkLine {
     pub points: Vec<WorkPoint>,
 }
 
-/// Error against wall time and against force evaluations (log-log), the speed–accuracy trade.
+/// Error against modelled time and against force evaluations (log-log), the speed–accuracy
+/// trade.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WorkPrecisionData {
     /// One line per integrator.
@@ -346,13 +347,19 @@ impl ChartCsv for WorkPrecisionData {
                     l.label.clone(),
                     num(p.dt),
                     num(p.error),
-                    num(p.wall_seconds),
+                    num(p.modelled_seconds),
                     p.force_evals.to_string(),
                 ]
             })
         });
         csv_bytes(
-            &["integrator", "dt", "error", "wall_seconds", "force_evals"],
+            &[
+                "integrator",
+                "dt",
+                "error",
+                "modelled_seconds",
+                "force_evals",
+            ],
             rows,
         )
     }

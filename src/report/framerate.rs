@@ -50,7 +50,7 @@ fn error_lines(fr: &Framerate) -> Vec<Series> {
 
 fn cost_lines(fr: &Framerate) -> Vec<Series> {
     lines(fr, |e| {
-        e.fewest.as_ref().and_then(|f| f.wall_seconds_per_frame)
+        e.fewest.as_ref().and_then(|f| f.modelled_seconds_per_frame)
     })
 }
 
@@ -60,7 +60,7 @@ pub fn chart_csv(fr: &Framerate) -> String {
     let mut out = String::from("group,series,x,y,kind\n");
     for (panel, series) in [
         ("error_one_substep_m", error_lines(fr)),
-        ("wall_seconds_per_frame_fewest", cost_lines(fr)),
+        ("modelled_seconds_per_frame_fewest", cost_lines(fr)),
     ] {
         for s in series {
             for p in s.points {
@@ -71,7 +71,7 @@ pub fn chart_csv(fr: &Framerate) -> String {
     out
 }
 
-/// The chart (SVG) of `fr`: error at one substep, and wall time per frame at the fewest
+/// The chart (SVG) of `fr`: error at one substep, and modelled time per frame at the fewest
 /// substeps meeting the tolerance, both against the frame rate.
 pub fn chart(fr: &Framerate) -> Result<String> {
     let (err, cost) = (error_lines(fr), cost_lines(fr));
@@ -97,7 +97,7 @@ pub fn chart(fr: &Framerate) -> Result<String> {
             ),
             panel(
                 format!("Cost per frame meeting {} m", fr.tolerance),
-                "wall time per frame (s)",
+                "modelled time per frame (s)",
                 &cost,
             ),
         ],
@@ -106,7 +106,7 @@ pub fn chart(fr: &Framerate) -> Result<String> {
 
 /// The page section: chart, then per backend and rate the run at one substep and the fewest
 /// substeps meeting the tolerance with its cost per frame, then `left_out`: the study's notes
-/// on the backends it left out (with their measured time per frame).
+/// on the backends it left out (with their modelled time per frame).
 pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> String {
     let mut rates: Vec<f64> = Vec::new();
     for e in &fr.entries {
@@ -116,7 +116,7 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
     }
     let names = backends(fr);
     let mut body = format!(
-        "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each backend at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · wall time per frame</em>; “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: wall time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">backend</th>",
+        "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each backend at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · modelled time per frame</em> (counted work, priced; the measured wall times are in framerate/timing.json); “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: modelled time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">backend</th>",
         esc(&fr.command),
         fr.duration,
         fr.max_substeps,
@@ -152,7 +152,7 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
                 format!(
                     "{} · {}",
                     f.substeps,
-                    f.wall_seconds_per_frame
+                    f.modelled_seconds_per_frame
                         .map_or("—".into(), |w| format!("{:.3} ms", w * 1e3))
                 )
             });

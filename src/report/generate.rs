@@ -56,8 +56,13 @@ fn write_chart(dir: &Path, stem: &str, svg: Result<String>, data: &dyn ChartCsv)
 pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
     use crate::measure::command::with_out;
     let mut docs = Vec::new();
+    // Each folder's timing.json is the measurement beside its documents, not a document a
+    // command re-creates: it is named on the page, not listed.
     let mut add = |sub: &str, files: Vec<PathBuf>, command: &str| {
-        for f in files {
+        for f in files
+            .into_iter()
+            .filter(|f| !f.ends_with(crate::output::TIMING_FILE))
+        {
             let name = f
                 .file_name()
                 .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
@@ -97,7 +102,7 @@ pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
         let d = dir.join("advise");
         add(
             "advise",
-            vec![crate::measure::advise::write_advice(&d, a)?],
+            crate::measure::advise::write_advice(&d, a)?,
             &a.command,
         );
     }
@@ -181,7 +186,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     } else {
         notes.push("Collision validation: this scene has no obstacles.".to_string());
     }
-    notes.push("Wall times are measured, so they vary from run to run; every other number is reproducible bit for bit from the command beside its document.".into());
+    notes.push("Costs on this page are modelled: each run's counted work (force evaluations, solver iterations, link updates, contact passes; an engine's frames from what it builds) priced per item, the same on every run. Measured wall times vary from run to run, so they are kept apart, in each folder's timing.json; every other number is reproducible bit for bit from the command beside its document.".into());
     let mut sections = Vec::new();
     sections.extend(super::collision_table::section(s));
     match &s.framerate {
@@ -225,7 +230,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
         dir.join("index.html"),
         scene_page(&sum, s, &figs, &sections, &notes).as_bytes(),
     )?;
-    write_atomic(
+    crate::output::write_document(
         dir.join("results.json"),
         serde_json::to_string_pretty(&sum)
             .map_err(|e| Error::Write {
@@ -260,6 +265,15 @@ pub fn write_overview(sum: &Summary, out: &Path) -> Result<()> {
     let mut tx = Transaction::new(out)?;
     tx.stage_file("index.html", index_page(sum).as_bytes())?;
     tx.stage_file("README.md", super::markdown::readme(sum).as_bytes())?;
-    tx.stage_file("summary.json", json.as_bytes())?;
+    // The scenes' part timings go to the folder's timing.json, beside the summary without them.
+    let (doc, timing) = crate::output::timing::split("summary.json", json.as_bytes());
+    tx.stage_file("summary.json", &doc)?;
+    if let Some(t) = timing {
+        let docs = [("summary.json".to_string(), t)].into_iter().collect();
+        tx.stage_file(
+            crate::output::TIMING_FILE,
+            &crate::output::timing::timing_text(docs),
+        )?;
+    }
     tx.commit()
 }

@@ -12,7 +12,7 @@ pub(crate) fn file_key(f: &Path) -> String {
 
 /// The earlier overview in `out`, when there is a readable one.
 pub fn previous_summary(out: &Path) -> Option<Summary> {
-    let text = std::fs::read_to_string(out.join("summary.json")).ok()?;
+    let text = crate::output::read_document(out.join("summary.json")).ok()?;
     serde_json::from_str(&text).ok()
 }
 

@@ -117,7 +117,7 @@ fn html(doc: &SmallSteps) -> String {
     let f = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.3e}"));
     for s in &doc.scenes {
         body += &format!(
-            "<h2>{}</h2>\n<p class=\"verdict\">{}</p>\n<p class=\"note\">dt = {:.6} s over {} s, {} frames compared; the reference stretches at most {:.3e}.</p>\n<table>\n<tr><th>n</th><th>error, n substeps (m)</th><th>error, n iterations (m)</th><th>stretch error, n substeps</th><th>stretch error, n iterations</th><th>wall time ratio (substeps / iterations)</th></tr>\n",
+            "<h2>{}</h2>\n<p class=\"verdict\">{}</p>\n<p class=\"note\">dt = {:.6} s over {} s, {} frames compared; the reference stretches at most {:.3e}.</p>\n<table>\n<tr><th>n</th><th>error, n substeps (m)</th><th>error, n iterations (m)</th><th>stretch error, n substeps</th><th>stretch error, n iterations</th></tr>\n",
             esc(&s.scene),
             esc(&s.verdict),
             s.frame_dt,
@@ -127,25 +127,24 @@ fn html(doc: &SmallSteps) -> String {
         );
         for b in &s.budgets {
             body += &format!(
-                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.2}</td></tr>\n",
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                 b.n,
                 f(b.substeps.error_max),
                 f(b.iterations.error_max),
                 f(b.substeps.stretch_error),
                 f(b.iterations.stretch_error),
-                b.wall_ratio
             );
         }
         body += "</table>\n";
     }
-    body += "<p class=\"note\">Wall times are measured and vary from run to run; every other number is reproducible from the command above.</p>\n";
+    body += "<p class=\"note\">Wall times are measured and vary from run to run, so they are kept apart, in timing.json; every other number is reproducible from the command above.</p>\n";
     page("springlab: Small Steps", &body)
 }
 
 /// The link to a Small Steps page already written under `out` (by shard 0 of a sharded
 /// report), read back from its document; `None` when there is none.
 pub fn read_link(out: &Path) -> Option<SmallStepsLink> {
-    let text = std::fs::read_to_string(out.join("small_steps/small_steps.json")).ok()?;
+    let text = crate::output::read_document(out.join("small_steps/small_steps.json")).ok()?;
     let v: serde_json::Value = serde_json::from_str(&text).ok()?;
     let verdicts = v["scenes"]
         .as_array()?

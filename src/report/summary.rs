@@ -62,7 +62,10 @@ pub struct BackendSummary {
     pub tunnelling: Option<u64>,
     /// Force evaluations of the comparison run (null for methods that never evaluate ours).
     pub force_evals: Option<u64>,
-    /// Wall time in the integrator (s); varies from run to run.
+    /// Modelled seconds of the comparison run ([`crate::run::cost`]).
+    pub modelled_seconds: f64,
+    /// Wall time in the integrator (s); varies from run to run, so documents keep it in
+    /// `timing.json`.
     pub wall_seconds: f64,
 }
 
@@ -106,8 +109,9 @@ pub struct SceneSummary {
     pub documents: Vec<Document>,
     /// What took part where, and what was left out.
     pub notes: Vec<String>,
-    /// Wall time of each part of the study (s): where the report's time went.
-    #[serde(default)]
+    /// Wall time of each part of the study (s): where the report's time went (documents keep
+    /// it in `timing.json`).
+    #[serde(default, rename = "wall_seconds")]
     pub seconds: crate::measure::study::StudySeconds,
     /// The scenario file's name, by which a later report recognises the scene if it cannot
     /// load it.
@@ -210,6 +214,7 @@ pub fn scene_summary(
             tunnelling: contacts.map(|c| c.tunnelling_count),
             force_evals: (info.cost == crate::method::CostUnit::ForceEvaluations)
                 .then_some(r.force_evals),
+            modelled_seconds: r.modelled_seconds,
             wall_seconds: r.wall_seconds,
         });
     }

@@ -109,8 +109,8 @@ pub fn free_words(a: &FreeStep) -> String {
 
 /// The game-rate answer in words, labelled where it only reports what was verified.
 pub fn game_words(a: &GameRate) -> String {
-    let per_frame = a.wall_seconds_per_frame.map_or(String::new(), |w| {
-        format!("; {} ms per frame", cell(Some(w * 1e3), 2))
+    let per_frame = a.modelled_seconds_per_frame.map_or(String::new(), |w| {
+        format!("; {} ms per frame, modelled", cell(Some(w * 1e3), 2))
     });
     match (&a.integrator, a.substeps) {
         (Some(m), Some(n)) if a.meets => format!(

@@ -155,17 +155,14 @@ fn axis_labels(stem: &str) -> &'static [&'static str] {
         "energy_error" => &["time t (s)", "|E(t) − E(0)|"],
         "position_error" => &["time t (s)", "max position error (m)"],
         "convergence" => &["time step dt (s)", "max position error over the run (m)"],
-        "work_precision" => &[
-            "wall time in the integrator (s)",
-            "force evaluations (count)",
-        ],
+        "work_precision" => &["modelled time (s)", "force evaluations (count)"],
         "paths" | "snapshots" => &["(m)"],
         "collision" => &["time t (s)", "height (m)", "bounce n"],
         "impacts" => &["approach speed |v_in| (m/s)", "impact time t (s)"],
         "framerate" => &[
             "frame rate (Hz)",
             "max position error (m)",
-            "wall time per frame (s)",
+            "modelled time per frame (s)",
         ],
         other => panic!("unexpected chart {other}"),
     }
@@ -227,7 +224,7 @@ fn expected_header(stem: &str) -> &'static str {
         "energy" | "energy_error" | "position_error" | "paths" | "collision" | "impacts"
         | "framerate" => "group,series,x,y,kind",
         "convergence" => "group,series,dt,error,kind,order,fitted_slope",
-        "work_precision" => "integrator,dt,error,wall_seconds,force_evals",
+        "work_precision" => "integrator,dt,error,modelled_seconds,force_evals",
         "snapshots" => "backend,t,line,index,u,v",
         other => panic!("unexpected csv {other}"),
     }

@@ -58,20 +58,3 @@ pub fn loglog_slope(h: &[f64], err: &[f64]) -> f64 {
     let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
     sxy / sxx
 }
-
-/// The lines of `csv` without the column its header names `name` (a measured wall time, which
-/// differs between identical runs): what remains must match bit for bit.
-pub fn without_column(csv: &str, name: &str) -> Vec<String> {
-    let k = csv
-        .lines()
-        .next()
-        .and_then(|h| h.split(',').position(|c| c == name))
-        .unwrap_or_else(|| panic!("no column {name}"));
-    csv.lines()
-        .map(|l| {
-            let mut f: Vec<&str> = l.split(',').collect();
-            f.remove(k);
-            f.join(",")
-        })
-        .collect()
-}

@@ -46,14 +46,8 @@ pub struct CostMeasure {
     pub measure: &'static str,
     /// How the ranking measure is made.
     pub model: &'static str,
-    /// What the wall times shown beside it are: the median over repetitions.
-    pub wall_time: &'static str,
-    /// Repetitions each timed run gets at least (unless its total passes `cap_seconds`).
-    pub repetitions: usize,
-    /// The full repetition rule.
-    pub rule: TimingRule,
-    /// How repetitions are scheduled.
-    pub schedule: &'static str,
+    /// How the wall times shown beside it were measured (kept with them, in `timing.json`).
+    pub timing: WallTiming,
     /// Relative tie band.
     pub tie_band: f64,
     /// How ties are broken.
@@ -62,16 +56,31 @@ pub struct CostMeasure {
     pub secondary: &'static str,
 }
 
+/// How advice's wall times were measured.
+#[derive(Debug, Clone, Serialize)]
+pub struct WallTiming {
+    /// What the wall times are: the median over repetitions.
+    pub wall_time: &'static str,
+    /// Repetitions each timed run gets at least (unless its total passes `cap_seconds`).
+    pub repetitions: usize,
+    /// The full repetition rule.
+    pub rule: TimingRule,
+    /// How repetitions are scheduled.
+    pub schedule: &'static str,
+}
+
 impl CostMeasure {
     /// The statement for `rule`.
     pub fn new(rule: &TimingRule) -> Self {
         CostMeasure {
             measure: MEASURE,
             model: "the run's counted work (steps, force evaluations, Newton and linear iterations, link updates, contact passes; an engine's frames priced from the scene) times fixed per-item costs: the same on every re-run",
-            wall_time: "median over repetitions, shown beside the ranking measure; it decides nothing",
-            repetitions: rule.min_repetitions,
-            rule: *rule,
-            schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh integrator, no observer, the runner's integrator wall time",
+            timing: WallTiming {
+                wall_time: "median over repetitions, shown beside the ranking measure; it decides nothing",
+                repetitions: rule.min_repetitions,
+                rule: *rule,
+                schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh integrator, no observer, the runner's integrator wall time",
+            },
             tie_band: TIE_BAND,
             tie_rule: format!(
                 "modelled costs within {:.0} % of the cheapest remaining candidate tie; a tie is broken by force evaluations per simulated second (a method with a count before one without), then by name",

@@ -377,15 +377,16 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     })
 }
 
-/// Writes `advice.json` into `dir` (with `--out dir` in its command).
-pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<std::path::PathBuf> {
+/// Writes `advice.json` into `dir` (with `--out dir` in its command), its wall times in
+/// `timing.json` ([`crate::output::timing`]); returns the files written.
+pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<Vec<std::path::PathBuf>> {
     let doc = Advice {
         command: super::command::with_out(&adv.command, dir),
         ..adv.clone()
     };
     let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
     json.push(b'\n');
-    crate::output::write_atomic(dir.join("advice.json"), &json)
+    crate::output::write_document(dir.join("advice.json"), &json)
 }
 
 /// The `[expect]` table that holds a scene to the advice's pick, or None without a pick: the

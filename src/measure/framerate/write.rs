@@ -3,7 +3,7 @@
 use super::{FrameRun, Framerate, RateEntry, RowKind};
 use crate::error::Result;
 use crate::measure::command::with_out;
-use crate::output::write_atomic;
+use crate::output::write_document;
 use std::path::{Path, PathBuf};
 
 /// The header of `framerate.csv`: two rows per backend and rate (`one_substep`, `fewest`).
@@ -63,8 +63,7 @@ pub fn write_framerate(dir: &Path, fr: &Framerate) -> Result<Vec<PathBuf>> {
     };
     let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
     json.push(b'\n');
-    Ok(vec![
-        write_atomic(dir.join("framerate.csv"), csv.as_bytes())?,
-        write_atomic(dir.join("framerate.json"), &json)?,
-    ])
+    let mut files = write_document(dir.join("framerate.csv"), csv.as_bytes())?;
+    files.extend(write_document(dir.join("framerate.json"), &json)?);
+    Ok(files)
 }

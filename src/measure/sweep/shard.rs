@@ -6,7 +6,7 @@ use super::SweepSummary;
 use super::{summarise, Shard, SweepResult, SweepRow, SWEEP_HEADER};
 use crate::error::{Error, Result};
 use crate::measure::reference::ReferenceInfo;
-use crate::output::write_atomic;
+use crate::output::{write_atomic, write_document};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -41,7 +41,7 @@ pub fn write_sweep(dir: &Path, res: &SweepResult) -> Result<Vec<PathBuf>> {
         csv.push_str(&r.csv_line());
         csv.push('\n');
     }
-    let mut out = vec![write_atomic(dir.join("sweep.csv"), csv.as_bytes())?];
+    let mut out = write_document(dir.join("sweep.csv"), csv.as_bytes())?;
     match (&res.summary, res.shard) {
         (Some(s), _) => {
             let doc = SweepSummary {
@@ -68,10 +68,8 @@ pub fn write_sweep(dir: &Path, res: &SweepResult) -> Result<Vec<PathBuf>> {
 
 fn read_rows(path: &Path) -> Result<Vec<SweepRow>> {
     let bad = |line: usize, m: String| Error::invalid(path, format!("line {line}"), m);
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
-        file: path.to_path_buf(),
-        source,
-    })?;
+    // The wall times come back from the shard's timing.json.
+    let text = crate::output::read_document(path)?;
     let mut lines = text.lines();
     if lines.next() != Some(SWEEP_HEADER) {
         return Err(bad(1, format!("header must be '{SWEEP_HEADER}'")));

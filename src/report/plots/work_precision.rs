@@ -1,10 +1,11 @@
-//! Work-precision: error against wall time and against force evaluations, log-log.
+//! Work-precision: error against modelled time ([`crate::run::cost`]) and against force
+//! evaluations, log-log.
 
 use super::common::{svg_grid, Axis, Panel};
 use crate::error::Result;
 use crate::report::data::{Series, WorkPrecisionData};
 
-/// SVG with two panels: error against wall time, and error against force evaluations.
+/// SVG with two panels: error against modelled time, and error against force evaluations.
 pub fn work_precision(data: &WorkPrecisionData) -> Result<String> {
     let by = |f: &dyn Fn(&crate::report::data::WorkPoint) -> f64| -> Vec<Series> {
         data.lines
@@ -17,14 +18,14 @@ pub fn work_precision(data: &WorkPrecisionData) -> Result<String> {
             })
             .collect()
     };
-    let wall = by(&|p| p.wall_seconds);
+    let modelled = by(&|p| p.modelled_seconds);
     let evals = by(&|p| p.force_evals as f64);
     let panels = [
         Panel {
-            title: "Error against wall time".into(),
-            x: Axis::log("wall time in the integrator (s)"),
+            title: "Error against modelled time".into(),
+            x: Axis::log("modelled time (s): counted work, priced"),
             y: Axis::log("RMS position error at the end (m)"),
-            series: &wall,
+            series: &modelled,
             guides: &[],
             dots: true,
             lines: true,
