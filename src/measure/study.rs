@@ -560,14 +560,14 @@ fn study_framerate(
         if projected > budget {
             left_out.push(name.clone());
             notes.push(format!(
-                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {} by the cost model of {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
+                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
                 per_substep * 1e3,
                 if info.engine {
                     format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))
                 } else {
                     "step".into()
                 },
-                if probed_out.iter().any(|(n, _)| n == name) { "its probe" } else { "compare" },
+                if probed_out.iter().any(|(n, _)| n == name) { "from the scene" } else { "from its compare run" },
                 rates.len(),
             ));
         } else {

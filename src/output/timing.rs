@@ -253,12 +253,55 @@ pub fn read_document(path: impl AsRef<Path>) -> Result<String> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let docs = read_timing(path.parent().unwrap_or(Path::new(".")))?;
-    Ok(match docs.get(&name) {
+    // The folder's own timing.json, else the one a folder above gathered it into.
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut rec = read_timing(dir)?.get(&name).cloned();
+    if rec.is_none() {
+        if let (Some(up), Some(sub)) = (dir.parent(), dir.file_name()) {
+            let key = format!("{}/{name}", sub.to_string_lossy());
+            rec = read_timing(up)?.get(&key).cloned();
+        }
+    }
+    Ok(match &rec {
         Some(rec @ Value::Object(_)) => restore_csv(&text, rec),
         Some(Value::Array(recs)) => restore_json(&text, recs),
         _ => text,
     })
+}
+
+/// Moves the `timing.json` of each folder directly inside `dir` into `dir`'s own, its
+/// documents named by their path from `dir` (`compare/summary.json`): one timing document for
+/// a folder of folders, such as a report's scene. Returns whether `dir` now has one.
+pub fn gather(dir: &Path) -> Result<bool> {
+    let mut docs = read_timing(dir)?;
+    let mut subs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|source| Error::Read {
+            file: dir.to_path_buf(),
+            source,
+        })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.join(TIMING_FILE).is_file())
+        .collect();
+    subs.sort();
+    for sub in &subs {
+        let name = sub
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        for (doc, rec) in read_timing(sub)? {
+            docs.insert(format!("{name}/{doc}"), rec);
+        }
+    }
+    if subs.is_empty() {
+        return Ok(dir.join(TIMING_FILE).is_file());
+    }
+    write_atomic(dir.join(TIMING_FILE), &timing_text(docs))?;
+    for sub in &subs {
+        let f = sub.join(TIMING_FILE);
+        std::fs::remove_file(&f).map_err(|source| Error::Write { file: f, source })?;
+    }
+    Ok(true)
 }
 
 /// Puts the wall-time fields recorded in `recs` back into JSON `text`, each into the object
@@ -367,6 +410,14 @@ mod tests {
             1
         );
         assert!(t["documents"]["b.json"].is_array());
+        // Gathered into the folder above, the records are found there.
+        let up = tempfile::tempdir().unwrap();
+        let sub = up.path().join("part");
+        std::fs::create_dir(&sub).unwrap();
+        write_document(sub.join("a.csv"), csv.as_bytes()).unwrap();
+        assert!(gather(up.path()).unwrap());
+        assert!(!sub.join(TIMING_FILE).exists());
+        assert_eq!(read_document(sub.join("a.csv")).unwrap(), csv);
     }
 
     // The twin: a document without wall times is written as given and adds no timing file.

@@ -186,7 +186,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     } else {
         notes.push("Collision validation: this scene has no obstacles.".to_string());
     }
-    notes.push("Costs on this page are modelled: each run's counted work (force evaluations, solver iterations, link updates, contact passes; an engine's frames from what it builds) priced per item, the same on every run. Measured wall times vary from run to run, so they are kept apart, in each folder's timing.json; every other number is reproducible bit for bit from the command beside its document.".into());
+    notes.push("Costs on this page are modelled: each run's counted work (force evaluations, solver iterations, link updates, contact passes; an engine's frames from what it builds) priced per item, the same on every run. Measured wall times vary from run to run, so they are kept apart, in the scene's timing.json (one for all its folders); every other number is reproducible bit for bit from the command beside its document.".into());
     let mut sections = Vec::new();
     sections.extend(super::collision_table::section(s));
     match &s.framerate {
@@ -239,6 +239,8 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
             })?
             .as_bytes(),
     )?;
+    // One timing document for the scene: its folders' wall times gathered beside the page.
+    crate::output::timing::gather(&dir)?;
     tx.commit()?;
     Ok(sum)
 }

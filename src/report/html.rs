@@ -106,7 +106,7 @@ fn backend_rows(s: &SceneSummary) -> String {
 const TABLE_HEAD: &str = "<th class=\"l\">backend</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy error</th><th>final energy change</th><th>energy drift rate (J/s)</th><th>strain max</th><th>observed order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>modelled time (ms)</th>";
 
 fn documents(s: &SceneSummary) -> String {
-    let mut out = String::from("<h2>Documents</h2>\n<p class=\"note\">Every number on this page comes from these files, written by the commands beside them; re-running a command gives the same numbers; the measured wall times are apart, in each folder's timing.json.</p>\n<table>\n<tr><th class=\"l\">document</th><th class=\"l\">command</th></tr>\n");
+    let mut out = String::from("<h2>Documents</h2>\n<p class=\"note\">Every number on this page comes from these files, written by the commands beside them; re-running a command gives the same file, byte for byte; the measured wall times are apart, in <a href=\"timing.json\">timing.json</a>.</p>\n<table>\n<tr><th class=\"l\">document</th><th class=\"l\">command</th></tr>\n");
     for d in &s.documents {
         out += &format!(
             "<tr><td class=\"l\"><a href=\"{f}\">{f}</a></td><td class=\"l\"><code>{}</code></td></tr>\n",

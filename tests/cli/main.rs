@@ -17,5 +17,6 @@ mod report_browser;
 mod report_collision;
 mod report_commands;
 mod report_files;
+mod report_rerun;
 mod support;
 mod verdict_outputs;

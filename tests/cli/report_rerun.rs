@@ -1,0 +1,103 @@
+//! Re-running the report leaves every file whose numbers did not change byte-identical: the
+//! measured wall times live in each scene's `timing.json`, nothing else moves. Oracle: the
+//! files themselves, byte for byte; the twin changes one scene (its length) and sees exactly
+//! that scene's files change while the other scene's stay as they were.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn report(scenes: &Path, out: &Path) {
+    let o = Command::new(env!("CARGO_BIN_EXE_springlab"))
+        .args(["report", "--quick", "--scenarios"])
+        .arg(scenes)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Every file under `dir` by its path from `dir`.
+fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().to_path_buf();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+/// The files that differ between two snapshots (or exist in one only).
+fn changed(a: &BTreeMap<PathBuf, Vec<u8>>, b: &BTreeMap<PathBuf, Vec<u8>>) -> Vec<PathBuf> {
+    a.keys()
+        .chain(b.keys())
+        .filter(|k| a.get(*k) != b.get(*k))
+        .cloned()
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect()
+}
+
+fn is_timing(p: &Path) -> bool {
+    p.file_name().is_some_and(|n| n == "timing.json")
+}
+
+#[test]
+fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scenes = tmp.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    for s in ["anchored_spring", "recoil_spring"] {
+        std::fs::copy(
+            root.join(format!("scenarios/{s}.toml")),
+            scenes.join(format!("{s}.toml")),
+        )
+        .unwrap();
+    }
+    let out = tmp.path().join("reports");
+    report(&scenes, &out);
+    let first = files(&out);
+    assert!(first.keys().any(|k| is_timing(k)), "no timing.json written");
+    report(&scenes, &out);
+    let second = files(&out);
+    let moved = changed(&first, &second);
+    assert!(
+        moved.iter().all(|p| is_timing(p)),
+        "a re-run changed more than the timing files: {moved:?}"
+    );
+    // Each scene has one timing document; the report's overview has its own.
+    for s in ["anchored_spring", "recoil_spring"] {
+        let timing: Vec<_> = second
+            .keys()
+            .filter(|k| k.starts_with(s) && is_timing(k))
+            .collect();
+        assert_eq!(timing.len(), 1, "{s}: {timing:?}");
+    }
+    // The twin: a longer anchored spring changes its own numbers, and only its own files.
+    let path = scenes.join("anchored_spring.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, text.replace("duration = 10.0", "duration = 12.0")).unwrap();
+    report(&scenes, &out);
+    let third = files(&out);
+    let moved = changed(&second, &third);
+    assert!(moved
+        .iter()
+        .any(|p| p.starts_with("anchored_spring") && !is_timing(p)));
+    assert!(
+        moved
+            .iter()
+            .filter(|p| p.starts_with("recoil_spring"))
+            .all(|p| is_timing(p)),
+        "the unchanged scene changed: {moved:?}"
+    );
+}
