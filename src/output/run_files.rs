@@ -117,9 +117,13 @@ pub struct RunSummary {
     pub steps_done: u64,
     /// Force evaluations (every substep's).
     pub force_evals: u64,
-    /// Wall time inside the integrator (s).
+    /// The work the run counted.
+    pub work: crate::run::Work,
+    /// Modelled seconds of that work ([`crate::run::cost`]).
+    pub modelled_seconds: f64,
+    /// Wall time inside the integrator (s; kept in `timing.json`).
     pub wall_seconds: f64,
-    /// Wall time inside the integrator per completed frame (s).
+    /// Wall time inside the integrator per completed frame (s; kept in `timing.json`).
     pub wall_seconds_per_frame: f64,
     /// `ok` or `unstable`.
     pub status: &'static str,
@@ -168,6 +172,8 @@ impl RunSummary {
             events: "exact",
             steps_done: out.steps_done,
             force_evals: out.force_evals,
+            work: out.work,
+            modelled_seconds: out.modelled_seconds,
             wall_seconds: out.wall_seconds,
             wall_seconds_per_frame: out.wall_seconds / out.steps_done.max(1) as f64,
             status: out.status.label(),

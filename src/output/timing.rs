@@ -89,11 +89,11 @@ fn split_json(v: &mut Value, at: &str, ids: &Map<String, Value>, out: &mut Vec<V
 /// their record: `columns` (each wall-time column's place in the header) and `lines` (one per
 /// data line). Quoted fields are kept whole.
 fn split_csv(text: &str) -> (String, Option<Value>) {
-    let mut lines = text.lines();
+    let mut lines = records(text).into_iter();
     let Some(header) = lines.next() else {
         return (text.to_string(), None);
     };
-    let head = fields(header);
+    let head = fields(&header);
     let walls: Vec<usize> = (0..head.len()).filter(|&i| is_wall(&head[i])).collect();
     if walls.is_empty() {
         return (text.to_string(), None);
@@ -113,7 +113,7 @@ fn split_csv(text: &str) -> (String, Option<Value>) {
     out.push('\n');
     let mut recs = Vec::new();
     for (n, line) in lines.enumerate() {
-        let f = fields(line);
+        let f = fields(&line);
         out.push_str(&keep(&f));
         out.push('\n');
         let mut rec = Map::new();
@@ -140,7 +140,29 @@ fn cell(f: &[String], i: usize) -> String {
     f.get(i).cloned().unwrap_or_default()
 }
 
-/// The fields of one CSV line as written (a quoted field keeps its quotes).
+/// The records of a CSV text: its lines, except that a line break inside a quoted field stays
+/// in its record.
+fn records(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut quoted = false;
+    for c in text.chars() {
+        match c {
+            '"' => {
+                quoted = !quoted;
+                cur.push(c);
+            }
+            '\n' if !quoted => out.push(std::mem::take(&mut cur)),
+            _ => cur.push(c),
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+/// The fields of one CSV record as written (a quoted field keeps its quotes).
 fn fields(line: &str) -> Vec<String> {
     let mut out = Vec::new();
     let mut cur = String::new();
@@ -229,7 +251,9 @@ pub fn write_document(path: impl AsRef<Path>, bytes: &[u8]) -> Result<Vec<PathBu
     let (doc, rec) = split(&name, bytes);
     let mut written = vec![write_atomic(path, &doc)?];
     let dir = path.parent().unwrap_or(Path::new("."));
-    let mut docs = read_timing(dir)?;
+    // One writer per folder (the commands lock it); a timing.json that does not parse is this
+    // module's own file damaged, and is written anew.
+    let mut docs = read_timing(dir).unwrap_or_default();
     let had = docs.shift_remove(&name).is_some();
     let has = rec.is_some();
     if let Some(r) = rec {
@@ -326,7 +350,9 @@ fn restore_json(text: &str, recs: &[Value]) -> String {
     out
 }
 
-/// Puts the wall-time columns recorded in `rec` back into CSV `text`, each at its place.
+/// Puts the wall-time columns recorded in `rec` back into CSV `text`, each at its place. A
+/// record that does not fit the text (a wall-time column already there, or another number of
+/// lines) is stale: the text is returned as it is.
 fn restore_csv(text: &str, rec: &Value) -> String {
     let mut cols: Vec<(usize, &String)> = rec["columns"]
         .as_object()
@@ -338,8 +364,15 @@ fn restore_csv(text: &str, rec: &Value) -> String {
         .unwrap_or_default();
     cols.sort();
     let lines_rec = rec["lines"].as_array().cloned().unwrap_or_default();
+    let rows = records(text);
+    let head_has_wall = rows
+        .first()
+        .is_some_and(|h| fields(h).iter().any(|f| is_wall(f)));
+    if head_has_wall || rows.len() != lines_rec.len() + 1 {
+        return text.to_string();
+    }
     let mut out = String::new();
-    for (n, line) in text.lines().enumerate() {
+    for (n, line) in rows.iter().enumerate() {
         let mut f = fields(line);
         let data = lines_rec
             .iter()
@@ -418,6 +451,23 @@ mod tests {
         assert!(gather(up.path()).unwrap());
         assert!(!sub.join(TIMING_FILE).exists());
         assert_eq!(read_document(sub.join("a.csv")).unwrap(), csv);
+    }
+
+    // A quoted field may hold a line break; a record that no longer fits is left out.
+    #[test]
+    fn quoted_line_breaks_and_stale_records() {
+        let dir = tempfile::tempdir().unwrap();
+        let csv = "integrator,wall_seconds,note\nrk4,1.5,\"two\nlines\"\neuler,2.5,\n";
+        write_document(dir.path().join("a.csv"), csv.as_bytes()).unwrap();
+        let kept = std::fs::read_to_string(dir.path().join("a.csv")).unwrap();
+        assert_eq!(kept, "integrator,note\nrk4,\"two\nlines\"\neuler,\n");
+        assert_eq!(read_document(dir.path().join("a.csv")).unwrap(), csv);
+        // The document replaced behind the record's back: one line fewer reads as it is.
+        std::fs::write(dir.path().join("a.csv"), "integrator,note\nrk4,x\n").unwrap();
+        assert_eq!(
+            read_document(dir.path().join("a.csv")).unwrap(),
+            "integrator,note\nrk4,x\n"
+        );
     }
 
     // The twin: a document without wall times is written as given and adds no timing file.

@@ -164,7 +164,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     }
     if let Some(w) = charts::work_precision(s) {
         write_chart(&dir, "work_precision", plots::work_precision(&w), &w)?;
-        fig("work_precision", "Work against precision", format!("The same sweep as cost: lower-left is better. Wall time varies between machines and runs; force evaluations do not. {}", link("sweep/sweep.csv")));
+        fig("work_precision", "Work against precision", format!("The same sweep as cost: lower-left is better. Modelled time is the runs' counted work priced per item, the same on every run (the measured wall times are in timing.json); force evaluations count one kind of that work. {}", link("sweep/sweep.csv")));
     } else if s.sweep.is_some() {
         notes.push("Work against precision: no run of the step-size sweep stayed stable, so there is nothing to plot.".to_string());
     }
@@ -268,14 +268,16 @@ pub fn write_overview(sum: &Summary, out: &Path) -> Result<()> {
     tx.stage_file("index.html", index_page(sum).as_bytes())?;
     tx.stage_file("README.md", super::markdown::readme(sum).as_bytes())?;
     // The scenes' part timings go to the folder's timing.json, beside the summary without them.
+    // Staged even when empty, so no earlier timing.json outlives the summary it described.
     let (doc, timing) = crate::output::timing::split("summary.json", json.as_bytes());
     tx.stage_file("summary.json", &doc)?;
-    if let Some(t) = timing {
-        let docs = [("summary.json".to_string(), t)].into_iter().collect();
-        tx.stage_file(
-            crate::output::TIMING_FILE,
-            &crate::output::timing::timing_text(docs),
-        )?;
-    }
+    let docs = timing
+        .map(|t| ("summary.json".to_string(), t))
+        .into_iter()
+        .collect();
+    tx.stage_file(
+        crate::output::TIMING_FILE,
+        &crate::output::timing::timing_text(docs),
+    )?;
     tx.commit()
 }

@@ -35,11 +35,9 @@ pub fn write_shard(out: &Path, rec: &ReportShard) -> Result<PathBuf> {
     write_atomic(shard_path(out, rec.shard), &json)
 }
 
+/// Reads a JSON document with its wall times put back from its `timing.json`.
 fn read_json<T: for<'de> Deserialize<'de>>(p: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(p).map_err(|source| Error::Read {
-        file: p.to_path_buf(),
-        source,
-    })?;
+    let text = crate::output::read_document(p)?;
     serde_json::from_str(&text).map_err(|e| Error::invalid(p, "(document)", e.to_string()))
 }
 

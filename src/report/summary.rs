@@ -62,10 +62,13 @@ pub struct BackendSummary {
     pub tunnelling: Option<u64>,
     /// Force evaluations of the comparison run (null for methods that never evaluate ours).
     pub force_evals: Option<u64>,
-    /// Modelled seconds of the comparison run ([`crate::run::cost`]).
+    /// Modelled seconds of the comparison run ([`crate::run::cost`]); 0 in a summary read
+    /// back from before it was recorded.
+    #[serde(default)]
     pub modelled_seconds: f64,
     /// Wall time in the integrator (s); varies from run to run, so documents keep it in
-    /// `timing.json`.
+    /// `timing.json` (0 when that file is gone).
+    #[serde(default)]
     pub wall_seconds: f64,
 }
 

@@ -181,7 +181,17 @@ impl Loop<'_> {
             self.x0.clone_from(&s.x);
             self.v0.clone_from(&s.v);
         }
-        let stats = self.integ.step(self.sys, s, h)?;
+        // A step that fails still did its work: it is counted before the error goes up.
+        let stepped = self.integ.step(self.sys, s, h);
+        let (newton, linear) = self.newton_counts();
+        let w = &mut self.work;
+        w.steps += 1;
+        w.newton_iterations += newton.saturating_sub(newton_before.0);
+        w.linear_iterations += linear.saturating_sub(newton_before.1);
+        let stats = stepped?;
+        w.force_evals += stats.force_evals;
+        w.link_updates += stats.link_updates;
+        w.engine_seconds += stats.engine_seconds;
         // Contact stage (obstacles only): resolve contacts after the accepted step, before the
         // energy account; what it removes joins `dissipated`, and a changed state resets the
         // integrator's history. The stage books losses and gains apart: energy it created stays
@@ -201,14 +211,6 @@ impl Loop<'_> {
             }
         }
         self.wall += t0.elapsed().as_secs_f64();
-        let (newton, linear) = self.newton_counts();
-        let w = &mut self.work;
-        w.steps += 1;
-        w.force_evals += stats.force_evals;
-        w.link_updates += stats.link_updates;
-        w.engine_seconds += stats.engine_seconds;
-        w.newton_iterations += newton.saturating_sub(newton_before.0);
-        w.linear_iterations += linear.saturating_sub(newton_before.1);
         self.dissipated += stats.dissipated;
         Ok(())
     }

@@ -101,3 +101,59 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
         "the unchanged scene changed: {moved:?}"
     );
 }
+
+/// Sharded, then merged: every file but the timing documents is the unsharded report's, byte
+/// for byte, once each report's folder is named alike (the shards' records aside).
+#[test]
+fn shards_merged_give_the_unsharded_report() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let scenes = tmp.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    for s in ["anchored_spring", "recoil_spring"] {
+        std::fs::copy(
+            root.join(format!("scenarios/{s}.toml")),
+            scenes.join(format!("{s}.toml")),
+        )
+        .unwrap();
+    }
+    let whole = tmp.path().join("whole");
+    report(&scenes, &whole);
+    let sharded = tmp.path().join("sharded");
+    let run = |extra: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_springlab"))
+            .args(["report", "--quick", "--scenarios"])
+            .arg(&scenes)
+            .arg("--out")
+            .arg(&sharded)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run(&["--shard", "0/2"]);
+    run(&["--shard", "1/2"]);
+    run(&["--merge"]);
+    // The commands name their folder: each report's own path reads as OUT.
+    let named = |dir: &Path| -> BTreeMap<PathBuf, Vec<u8>> {
+        let from = dir.display().to_string();
+        files(dir)
+            .into_iter()
+            .map(|(k, v)| {
+                (
+                    k,
+                    String::from_utf8_lossy(&v)
+                        .replace(&from, "OUT")
+                        .into_bytes(),
+                )
+            })
+            .collect()
+    };
+    let (a, b) = (named(&whole), named(&sharded));
+    assert!(a.keys().any(|k| k.ends_with("results.json")));
+    let differ: Vec<_> = changed(&a, &b)
+        .into_iter()
+        .filter(|p| !is_timing(p) && !p.starts_with("shards"))
+        .collect();
+    assert!(differ.is_empty(), "merged differs from whole: {differ:?}");
+}
