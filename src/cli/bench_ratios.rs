@@ -6,8 +6,8 @@ use anyhow::{bail, Result};
 use springlab::integrate::{ImplicitSettings, LinearSolver};
 use springlab::output::write_atomic;
 use springlab::perf::ratios::{
-    backend, best_loop, hand_loop, implicit_cost, interleaved, interleaved_stats, on_threads,
-    stepping, Contender, RoundTimes,
+    backend, best_loop, hand_loop, implicit_cost, interleaved_stats, on_threads, stepping,
+    Contender, RoundTimes,
 };
 use springlab::perf::{bench_dt, cloth};
 use std::path::PathBuf;
@@ -339,7 +339,7 @@ fn ratios_csv(rows: &[Row]) -> Result<Vec<u8>> {
 }
 
 /// `implicit.csv`'s header.
-const IMPLICIT_HEADER: [&str; 19] = [
+const IMPLICIT_HEADER: [&str; 22] = [
     "method",
     "solver",
     "n",
@@ -357,12 +357,16 @@ const IMPLICIT_HEADER: [&str; 19] = [
     "force_evals_per_step",
     "symplectic_seconds_per_step",
     "ratio_to_symplectic_step",
+    "median_seconds_per_step",
+    "symplectic_median_seconds_per_step",
+    "ratio_median",
     "target",
     "status",
 ];
 
 /// Every implicit method at one frame on each cloth size: solver work and cost relative to a
-/// symplectic step of the same cloth, measured in this run; printed, and `implicit.csv`.
+/// symplectic step of the same cloth, the two timed in one interleaved run (minimum and
+/// median over the rounds); printed, and `implicit.csv`.
 fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
     let mut imp = csv::Writer::from_writer(Vec::new());
     imp.write_record(IMPLICIT_HEADER)?;
@@ -372,7 +376,7 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
         a.implicit_steps
     );
     println!(
-        "{:<22} {:>9} {:>11} {:>10} {:>8} {:>11} {:>11} {:>9} {:>9} {:>10} {:>9}  status",
+        "{:<22} {:>9} {:>11} {:>10} {:>8} {:>11} {:>11} {:>9} {:>9} {:>10} {:>9} {:>9}  status",
         "method",
         "n",
         "ms/step",
@@ -383,6 +387,7 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
         "stalls/st",
         "factor/st",
         "×sympl.",
+        "median",
         "target"
     );
     let mut set = ImplicitSettings {
@@ -396,23 +401,37 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
         let scene = cloth(n);
         let (sys, s0) = (scene.build(), scene.initial_state());
         let h = bench_dt("symplectic_euler");
-        let mut c: Vec<Contender> = vec![stepping(&sys, &s0, backend("symplectic_euler")?, h, 5)];
-        let se = interleaved(a.rounds.min(5), &mut c)?[0];
         for method in &a.implicit_methods {
-            imp.write_record(implicit_row(a, (n, &scene), method, set, se)?)?;
+            // The implicit method's runs from rest and the symplectic step, interleaved.
+            let implicit: Contender = Box::new(|| {
+                implicit_cost(&scene, method, set, 1.0 / 60.0, a.implicit_steps)
+                    .map(|ic| ic.seconds_per_step)
+                    .map_err(springlab::Error::Step)
+            });
+            let mut c: Vec<Contender> = vec![
+                stepping(&sys, &s0, backend("symplectic_euler")?, h, 5),
+                implicit,
+            ];
+            let times = match interleaved_stats(a.rounds.min(7), &mut c) {
+                Ok(t) => Some((t[0], t[1])),
+                Err(_) => None,
+            };
+            drop(c);
+            imp.write_record(implicit_row(a, (n, &scene), method, set, times)?)?;
         }
     }
     Ok(imp.into_inner()?)
 }
 
 /// One implicit method on one cloth: its line on stdout and its `implicit.csv` record, a
-/// failed run keeping its row with the reason.
+/// failed run keeping its row with the reason. `times`: the symplectic step's and the
+/// implicit method's times per step from their interleaved rounds (None when a run failed).
 fn implicit_row(
     a: &Args,
     (n, scene): (usize, &springlab::scenario::Scenario),
     method: &str,
     set: ImplicitSettings,
-    se: f64,
+    times: Option<(RoundTimes, RoundTimes)>,
 ) -> Result<Vec<String>> {
     let springs = scene.build().springs.len();
     let target = IMPLICIT_TARGETS
@@ -427,9 +446,11 @@ fn implicit_row(
         (n * n).to_string(),
         springs.to_string(),
     ];
-    match implicit_cost(scene, method, set, 1.0 / 60.0, a.implicit_steps) {
-        Ok(ic) => {
-            let ratio = ic.seconds_per_step / se;
+    // The counts are the same on every run: one more, untimed, gives them (or the failure).
+    let counted = implicit_cost(scene, method, set, 1.0 / 60.0, a.implicit_steps);
+    match (counted, times) {
+        (Ok(ic), Some((se, it))) => {
+            let (ratio, ratio_median) = (it.min / se.min, it.median / se.median);
             let met = match target.split_once(' ') {
                 Some((_, v)) => {
                     if v.parse().is_ok_and(|v: f64| ratio <= v) {
@@ -442,8 +463,8 @@ fn implicit_row(
             };
             let per_newton = ic.linear_per_step / ic.newton_per_step.max(f64::MIN_POSITIVE);
             println!(
-                "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>10.1} {:>9}  ok {met}",
-                ic.seconds_per_step * 1e3,
+                "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>10.1} {:>9.1} {:>9}  ok {met}",
+                it.min * 1e3,
                 ic.newton_per_step,
                 ic.newton_max,
                 ic.linear_per_step,
@@ -451,12 +472,13 @@ fn implicit_row(
                 ic.switches_per_step,
                 ic.factorizations_per_step,
                 ratio,
+                ratio_median,
                 target,
             );
             rec.extend([
                 ic.steps.to_string(),
-                ic.seconds_per_step.to_string(),
-                (ic.seconds_per_step * 1e9 / springs as f64).to_string(),
+                it.min.to_string(),
+                (it.min * 1e9 / springs as f64).to_string(),
                 ic.newton_per_step.to_string(),
                 ic.linear_per_step.to_string(),
                 per_newton.to_string(),
@@ -464,18 +486,20 @@ fn implicit_row(
                 ic.switches_per_step.to_string(),
                 ic.factorizations_per_step.to_string(),
                 ic.force_evals_per_step.to_string(),
-                se.to_string(),
+                se.min.to_string(),
                 ratio.to_string(),
+                it.median.to_string(),
+                se.median.to_string(),
+                ratio_median.to_string(),
                 target.to_string(),
                 "ok".into(),
             ]);
         }
-        Err(why) => {
+        (counted, _) => {
+            let why = counted.err().unwrap_or_else(|| "a timed run failed".into());
             println!("{method:<22} {size:>9}  failed: {why}");
             rec.push(a.implicit_steps.to_string());
-            rec.extend(std::iter::repeat_n(String::new(), 9));
-            rec.push(se.to_string());
-            rec.push(String::new());
+            rec.extend(std::iter::repeat_n(String::new(), 14));
             rec.push(target.to_string());
             rec.push(format!("failed: {why}"));
         }

@@ -101,7 +101,11 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
     assert_eq!(methods, want);
     for r in &imp {
         assert_eq!(r[1], "block_jacobi_cg", "{r:?}");
-        assert_eq!(r[18], "ok", "{r:?}");
+        assert_eq!(r[21], "ok", "{r:?}");
+        // The ratio to a symplectic step, from the minimum and from the median round.
+        for k in [16, 19] {
+            assert!(r[k].parse::<f64>().is_ok_and(|x| x > 0.0), "{r:?}");
+        }
         let newton: f64 = r[8].parse().unwrap();
         let linear: f64 = r[9].parse().unwrap();
         let newton_max: f64 = r[11].parse().unwrap();
@@ -144,7 +148,7 @@ fn bench_ratios_takes_the_ic0_solver_and_reports_it() {
     assert_eq!(imp.len(), 4, "{imp:?}");
     for r in &imp {
         assert_eq!(r[1], "block_ic0_cg", "{r:?}");
-        assert_eq!(r[18], "ok", "{r:?}");
+        assert_eq!(r[21], "ok", "{r:?}");
         // One IC(0) factorisation per linear solve (Newton iteration).
         let newton: f64 = r[8].parse().unwrap();
         let factors: f64 = r[13].parse().unwrap();
