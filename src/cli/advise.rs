@@ -102,8 +102,9 @@ pub fn run(a: Args) -> Result<()> {
                 fmt_opt(adv.verified_error),
             );
             println!(
-                "  picked by {}: {} wall s per simulated s (median of {} interleaved runs); {evals}",
+                "  picked by {}: {} modelled s per simulated s ({} wall s, median of {} interleaved runs); {evals}",
                 adv.picked_by.map_or("-".into(), |p| p.describe()),
+                fmt_opt(adv.modelled_per_second),
                 fmt_opt(adv.wall_per_second),
                 adv.alternatives
                     .first()
@@ -117,13 +118,14 @@ pub fn run(a: Args) -> Result<()> {
         ),
     }
     println!(
-        "{:<22} {:>12} {:>14} {:>12} {:>12} {:>12}",
-        "alternative", "wall s/s", "evals/s", "dt", "predicted", "verified"
+        "{:<22} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}",
+        "alternative", "modelled s/s", "wall s/s", "evals/s", "dt", "predicted", "verified"
     );
     for c in &adv.alternatives {
         println!(
-            "{:<22} {:>12} {:>14} {:>12} {:>12} {:>12}",
+            "{:<22} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}",
             c.integrator,
+            fmt_opt(Some(c.modelled_per_second)),
             fmt_opt(Some(c.wall_per_second)),
             c.cost_per_second.map_or("-".into(), |e| format!("{e:.0}")),
             fmt_opt(Some(c.dt)),
@@ -136,7 +138,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     for fr in &adv.frame_rates {
         println!(
-            "{:>5} Hz: best {} (by wall s per simulated s); {}",
+            "{:>5} Hz: best {} (by modelled s per simulated s); {}",
             fr.fps,
             fr.best.as_deref().unwrap_or("none"),
             fr.entries

@@ -62,7 +62,7 @@ pub fn run(a: Args) -> Result<()> {
         scene.name, res.dt, res.steps, res.reference.kind
     );
     println!(
-        "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+        "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11} {:>11}",
         "backend",
         "status",
         "err final",
@@ -71,13 +71,14 @@ pub fn run(a: Args) -> Result<()> {
         "E balance",
         "strain max",
         "evals",
+        "modelled s",
         "wall s"
     );
     for e in &res.entries {
         match &e.result {
             Some(r) => {
                 println!(
-                    "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11}",
+                    "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11} {:>11}",
                     e.integrator,
                     e.status,
                     fmt_opt(r.metric(|m| m.error_final)),
@@ -86,6 +87,7 @@ pub fn run(a: Args) -> Result<()> {
                     fmt_opt(r.metric(|m| m.energy_balance)),
                     fmt_opt(r.metric(|m| m.strain_max)),
                     r.force_evals,
+                    fmt_opt(Some(r.modelled_seconds)),
                     fmt_opt(Some(r.wall_seconds))
                 );
                 if !r.ok() {

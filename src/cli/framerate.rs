@@ -95,30 +95,46 @@ pub fn run(a: Args) -> Result<()> {
         println!("  {n}");
     }
     println!(
-        "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>10}",
-        "backend", "hz", "1 substep", "error 1", "needed", "error", "wall/frame", "evals/fr"
+        "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>12} {:>10}",
+        "backend",
+        "hz",
+        "1 substep",
+        "error 1",
+        "needed",
+        "error",
+        "model/frame",
+        "wall/frame",
+        "evals/fr"
     );
     let e3 = super::measure_common::fmt_opt;
     for e in &fr.entries {
         let one = &e.one_substep;
-        let (needed, err, wall, evals) = match &e.fewest {
+        let (needed, err, modelled, wall, evals) = match &e.fewest {
             Some(f) => (
                 f.substeps.to_string(),
                 e3(f.error),
+                e3(f.modelled_seconds_per_frame),
                 e3(f.wall_seconds_per_frame),
                 f.force_evals_per_frame
                     .map_or("—".to_string(), |x| format!("{x:.0}")),
             ),
-            None => ("none".into(), "—".into(), "—".into(), "—".into()),
+            None => (
+                "none".into(),
+                "—".into(),
+                "—".into(),
+                "—".into(),
+                "—".into(),
+            ),
         };
         println!(
-            "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>10}",
+            "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>12} {:>10}",
             e.backend,
             e.hz,
             one.status,
             e3(one.error),
             needed,
             err,
+            modelled,
             wall,
             evals
         );
