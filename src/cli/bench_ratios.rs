@@ -7,7 +7,7 @@ use springlab::integrate::{ImplicitSettings, LinearSolver};
 use springlab::output::write_atomic;
 use springlab::perf::ratios::{
     backend, best_loop, hand_loop, implicit_cost, interleaved_stats, on_threads, stepping,
-    Contender, RoundTimes,
+    Contender, ImplicitCost, RoundTimes,
 };
 use springlab::perf::{bench_dt, cloth};
 use std::path::PathBuf;
@@ -402,36 +402,52 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
         let (sys, s0) = (scene.build(), scene.initial_state());
         let h = bench_dt("symplectic_euler");
         for method in &a.implicit_methods {
-            // The implicit method's runs from rest and the symplectic step, interleaved.
+            // The implicit method's runs from rest and the symplectic step, interleaved; the
+            // counts (the same in every run) are kept from the last one.
+            let (failed, last) = (std::sync::Mutex::new(None), std::sync::Mutex::new(None));
             let implicit: Contender = Box::new(|| {
-                implicit_cost(&scene, method, set, 1.0 / 60.0, a.implicit_steps)
-                    .map(|ic| ic.seconds_per_step)
-                    .map_err(springlab::Error::Step)
+                match implicit_cost(&scene, method, set, 1.0 / 60.0, a.implicit_steps) {
+                    Ok(ic) => {
+                        let s = ic.seconds_per_step;
+                        *last.lock().expect("not poisoned") = Some(ic);
+                        Ok(s)
+                    }
+                    Err(why) => {
+                        *failed.lock().expect("not poisoned") = Some(why.clone());
+                        Err(springlab::Error::Step(why))
+                    }
+                }
             });
             let mut c: Vec<Contender> = vec![
                 stepping(&sys, &s0, backend("symplectic_euler")?, h, 5),
                 implicit,
             ];
-            let times = match interleaved_stats(a.rounds.min(7), &mut c) {
-                Ok(t) => Some((t[0], t[1])),
-                Err(_) => None,
-            };
+            let times = interleaved_stats(a.rounds.min(7), &mut c);
             drop(c);
-            imp.write_record(implicit_row(a, (n, &scene), method, set, times)?)?;
+            let measured = match (times, last.into_inner().expect("not poisoned")) {
+                (Ok(t), Some(ic)) => Ok((ic, t[0], t[1])),
+                (Err(e), _) => Err(failed
+                    .into_inner()
+                    .expect("not poisoned")
+                    .unwrap_or_else(|| e.to_string())),
+                (Ok(_), None) => Err("no implicit run was timed".into()),
+            };
+            imp.write_record(implicit_row(a, (n, &scene), method, set, measured)?)?;
         }
     }
     Ok(imp.into_inner()?)
 }
 
 /// One implicit method on one cloth: its line on stdout and its `implicit.csv` record, a
-/// failed run keeping its row with the reason. `times`: the symplectic step's and the
-/// implicit method's times per step from their interleaved rounds (None when a run failed).
+/// failed run keeping its row with the reason. `measured`: the implicit run's counts, and the
+/// symplectic step's and the implicit method's times per step over their interleaved rounds;
+/// or why a run failed.
 fn implicit_row(
     a: &Args,
     (n, scene): (usize, &springlab::scenario::Scenario),
     method: &str,
     set: ImplicitSettings,
-    times: Option<(RoundTimes, RoundTimes)>,
+    measured: std::result::Result<(ImplicitCost, RoundTimes, RoundTimes), String>,
 ) -> Result<Vec<String>> {
     let springs = scene.build().springs.len();
     let target = IMPLICIT_TARGETS
@@ -446,10 +462,8 @@ fn implicit_row(
         (n * n).to_string(),
         springs.to_string(),
     ];
-    // The counts are the same on every run: one more, untimed, gives them (or the failure).
-    let counted = implicit_cost(scene, method, set, 1.0 / 60.0, a.implicit_steps);
-    match (counted, times) {
-        (Ok(ic), Some((se, it))) => {
+    match measured {
+        Ok((ic, se, it)) => {
             let (ratio, ratio_median) = (it.min / se.min, it.median / se.median);
             let met = match target.split_once(' ') {
                 Some((_, v)) => {
@@ -495,8 +509,7 @@ fn implicit_row(
                 "ok".into(),
             ]);
         }
-        (counted, _) => {
-            let why = counted.err().unwrap_or_else(|| "a timed run failed".into());
+        Err(why) => {
             println!("{method:<22} {size:>9}  failed: {why}");
             rec.push(a.implicit_steps.to_string());
             rec.extend(std::iter::repeat_n(String::new(), 14));

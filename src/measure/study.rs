@@ -407,6 +407,8 @@ fn study_sweep(
         options: cfg.options.clone(),
         progress: cfg.progress,
         blowup_factor: cfg.blowup_factor,
+        // Wall times decide nothing here: one run each, not five for a median.
+        repeat_short: false,
         ..Default::default()
     };
     let plan = plan_sweep(scene, &sweep_cfg)?;

@@ -140,45 +140,38 @@ fn cell(f: &[String], i: usize) -> String {
     f.get(i).cloned().unwrap_or_default()
 }
 
-/// The records of a CSV text: its lines, except that a line break inside a quoted field stays
-/// in its record.
-fn records(text: &str) -> Vec<String> {
+/// `text` cut at every `sep` outside double quotes; each piece as written (quotes kept).
+fn split_unquoted(text: &str, sep: char) -> Vec<String> {
     let mut out = Vec::new();
     let mut cur = String::new();
     let mut quoted = false;
     for c in text.chars() {
-        match c {
-            '"' => {
-                quoted = !quoted;
-                cur.push(c);
-            }
-            '\n' if !quoted => out.push(std::mem::take(&mut cur)),
-            _ => cur.push(c),
+        if c == '"' {
+            quoted = !quoted;
         }
-    }
-    if !cur.is_empty() {
-        out.push(cur);
-    }
-    out
-}
-
-/// The fields of one CSV record as written (a quoted field keeps its quotes).
-fn fields(line: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    let mut quoted = false;
-    for c in line.chars() {
-        match c {
-            '"' => {
-                quoted = !quoted;
-                cur.push(c);
-            }
-            ',' if !quoted => out.push(std::mem::take(&mut cur)),
-            _ => cur.push(c),
+        if c == sep && !quoted {
+            out.push(std::mem::take(&mut cur));
+        } else {
+            cur.push(c);
         }
     }
     out.push(cur);
     out
+}
+
+/// The records of a CSV text: its lines, except that a line break inside a quoted field stays
+/// in its record.
+fn records(text: &str) -> Vec<String> {
+    let mut r = split_unquoted(text, '\n');
+    if r.last().is_some_and(String::is_empty) {
+        r.pop();
+    }
+    r
+}
+
+/// The fields of one CSV record as written (a quoted field keeps its quotes).
+fn fields(line: &str) -> Vec<String> {
+    split_unquoted(line, ',')
 }
 
 /// Reads `dir/timing.json`, or an empty one.

@@ -53,9 +53,11 @@ impl RapierBackend {
     fn prepare(&mut self, sys: &System, s: &State, h: f64) {
         let rebuild = self.built.is_none() || (self.dirty && self.mode == Mode::Multibody);
         if rebuild {
+            if self.built.is_none() {
+                // The price depends on the scene alone: once, not at every rebuild.
+                self.frame_seconds = self.modelled_frame_seconds(sys).unwrap_or(0.0);
+            }
             self.built = Some(build(sys, s, self.mode, self.substeps, h));
-            self.frame_seconds =
-                super::cost::EngineShape::of(sys, self.mode).frame_seconds(self.substeps);
         } else if let Some(b) = &mut self.built {
             if self.dirty {
                 // Impulse bodies hold maximal coordinates: push the changed state in.

@@ -60,34 +60,21 @@ impl EngineShape {
             },
             Mode::Multibody => {
                 let topo = Topology::of(sys, tree_cap(sys));
-                let mut root: Vec<usize> = (0..bodies).collect();
-                fn find(root: &mut [usize], mut p: usize) -> usize {
-                    while root[p] != p {
-                        root[p] = root[root[p]];
-                        p = root[p];
-                    }
-                    p
-                }
-                for e in &topo.tree {
-                    let (a, b) = (find(&mut root, e.a), find(&mut root, e.b));
-                    root[b] = a;
-                }
-                let mut links = vec![0usize; bodies];
-                for e in &topo.tree {
-                    let r = find(&mut root, e.b);
-                    links[r] += 1;
-                }
-                let mut attached = 0;
-                for (e, _) in &topo.fallback {
-                    let (ra, rb) = (find(&mut root, e.a), find(&mut root, e.b));
-                    attached += links[ra] + if ra == rb { 0 } else { links[rb] };
-                }
+                let links_of = |p: usize| topo.tree_of[p].map_or(0, |t| topo.links[t]);
+                let attached = topo
+                    .fallback
+                    .iter()
+                    .map(|(e, _)| {
+                        let (ta, tb) = (topo.tree_of[e.a], topo.tree_of[e.b]);
+                        links_of(e.a) + if ta == tb { 0 } else { links_of(e.b) }
+                    })
+                    .sum();
                 EngineShape {
                     bodies,
                     impulse_joints: topo.fallback.len(),
-                    trees: links.into_iter().filter(|&l| l > 0).collect(),
                     attached_links: attached,
                     frame_per_substep: !topo.fallback.is_empty(),
+                    trees: topo.links,
                 }
             }
         }

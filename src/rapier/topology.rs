@@ -67,6 +67,10 @@ pub struct Topology {
     pub fallback: Vec<(Edge, FallbackReason)>,
     /// Number of trees (multibodies) with at least one joint.
     pub trees: usize,
+    /// Joints (links) of each of those trees, in the order they were grown.
+    pub links: Vec<usize>,
+    /// The tree (index into `links`) each particle belongs to; `None` outside every tree.
+    pub tree_of: Vec<Option<usize>>,
     /// The tree size cap this forest was built with.
     pub cap: usize,
 }
@@ -104,6 +108,7 @@ impl Topology {
         let mut visited = vec![false; n];
         let mut topo = Topology {
             cap: max_tree,
+            tree_of: vec![None; n],
             ..Topology::default()
         };
         let roots = (0..n)
@@ -116,6 +121,7 @@ impl Topology {
             visited[root] = true;
             let mut size = 1;
             let mut joints = 0;
+            let mut members = vec![root];
             let mut queue = VecDeque::from([root]);
             while let Some(p) = queue.pop_front() {
                 if !sys.free[p] && p != root {
@@ -138,6 +144,7 @@ impl Topology {
                     used[k] = true;
                     size += 1;
                     joints += 1;
+                    members.push(q);
                     topo.tree.push(Edge {
                         a: p,
                         b: q,
@@ -147,6 +154,10 @@ impl Topology {
                 }
             }
             if joints > 0 {
+                for p in members {
+                    topo.tree_of[p] = Some(topo.links.len());
+                }
+                topo.links.push(joints);
                 topo.trees += 1;
             }
         }

@@ -47,15 +47,11 @@ fn changed(a: &BTreeMap<PathBuf, Vec<u8>>, b: &BTreeMap<PathBuf, Vec<u8>>) -> Ve
         .collect()
 }
 
-fn is_timing(p: &Path) -> bool {
-    p.file_name().is_some_and(|n| n == "timing.json")
-}
-
-#[test]
-fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
-    let tmp = tempfile::tempdir().unwrap();
+/// A folder under `tmp` holding copies of two shipped scenes, the anchored and the recoil
+/// spring.
+fn two_scenes(tmp: &Path) -> PathBuf {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scenes = tmp.path().join("scenes");
+    let scenes = tmp.join("scenes");
     std::fs::create_dir(&scenes).unwrap();
     for s in ["anchored_spring", "recoil_spring"] {
         std::fs::copy(
@@ -64,6 +60,17 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
         )
         .unwrap();
     }
+    scenes
+}
+
+fn is_timing(p: &Path) -> bool {
+    p.file_name().is_some_and(|n| n == "timing.json")
+}
+
+#[test]
+fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenes = two_scenes(tmp.path());
     let out = tmp.path().join("reports");
     report(&scenes, &out);
     let first = files(&out);
@@ -107,16 +114,7 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
 #[test]
 fn shards_merged_give_the_unsharded_report() {
     let tmp = tempfile::tempdir().unwrap();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let scenes = tmp.path().join("scenes");
-    std::fs::create_dir(&scenes).unwrap();
-    for s in ["anchored_spring", "recoil_spring"] {
-        std::fs::copy(
-            root.join(format!("scenarios/{s}.toml")),
-            scenes.join(format!("{s}.toml")),
-        )
-        .unwrap();
-    }
+    let scenes = two_scenes(tmp.path());
     let whole = tmp.path().join("whole");
     report(&scenes, &whole);
     let sharded = tmp.path().join("sharded");
