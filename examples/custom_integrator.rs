@@ -81,7 +81,7 @@ fn main() -> springlab::Result<()> {
         ..Default::default()
     })?;
     // Register the method once, with its facts.
-    let methods = Registry::builtin().with(Method::new(
+    let registry = Registry::builtin().with(Method::new(
         MethodInfo {
             options: &[DAMPING_PPM],
             ..MethodInfo::native(
@@ -104,7 +104,7 @@ fn main() -> springlab::Result<()> {
     let plan = RunPlan::for_duration(1.0 / 60.0, 10.0);
     for ppm in [DAMPING_PPM.default, 0] {
         let opts = MethodOptions::default().with(&DAMPING_PPM, ppm);
-        let mut game = methods.create("game_euler", &opts)?;
+        let mut game = registry.create("game_euler", &opts)?;
         let out = run(
             &sys,
             game.as_mut(),
@@ -122,7 +122,7 @@ fn main() -> springlab::Result<()> {
     let cmp = compare(
         &scene,
         &CompareConfig {
-            methods: methods.clone(),
+            registry: registry.clone(),
             integrators: mine.to_vec(),
             series_points: 0,
             ..Default::default()
@@ -149,7 +149,7 @@ fn main() -> springlab::Result<()> {
     let sw = run_sweep(
         &scene,
         &SweepConfig {
-            methods: methods.clone(),
+            registry: registry.clone(),
             integrators: mine.to_vec(),
             ..Default::default()
         },
@@ -169,7 +169,7 @@ fn main() -> springlab::Result<()> {
     let st = analyse(
         &scene,
         &StabilityConfig {
-            methods: methods.clone(),
+            registry: registry.clone(),
             integrators: mine.to_vec(),
             ..Default::default()
         },
@@ -188,7 +188,7 @@ fn main() -> springlab::Result<()> {
     let adv = advise(
         &scene,
         &AdviseConfig {
-            methods: methods.clone(),
+            registry: registry.clone(),
             integrators: mine.to_vec(),
             tolerance: Some(1e-3),
             ..Default::default()
@@ -200,12 +200,12 @@ fn main() -> springlab::Result<()> {
         adv.dt.map_or("-".into(), |d| format!("{d:.4e} s"))
     );
 
-    // report: the same pages as `springlab report`, with game_euler among the methods.
+    // report: the same pages as `springlab report`, with game_euler among the registry.
     let opts = springlab::report::ReportOptions {
         out: "out/custom".into(),
         quick: true,
         energy_terms: false,
-        methods,
+        registry,
         blowup_factor: springlab::run::DEFAULT_BLOWUP_FACTOR,
     };
     let page = springlab::report::report_scene(&scene, &opts)?;

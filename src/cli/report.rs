@@ -53,7 +53,7 @@ pub fn run(a: Args) -> Result<()> {
             out: a.out,
             quick: a.quick,
             energy_terms: a.energy_terms,
-            methods: springlab::method::Registry::builtin(),
+            registry: springlab::method::Registry::builtin(),
             blowup_factor: a.blowup.value()?,
         },
         shard: a.shard,

@@ -128,7 +128,7 @@ fn sig(v: f64) -> String {
 }
 
 /// The free-step answer from the advice, or the labelled fallback from the comparison.
-pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) -> FreeStep {
+pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult) -> FreeStep {
     let metric = advice.metric;
     let base = FreeStep::none(
         metric,
@@ -159,7 +159,7 @@ pub fn free_step(methods: &Registry, advice: &Advice, compared: &CompareResult) 
         .iter()
         .filter_map(|e| e.result.as_ref())
         .filter(|r| {
-            methods
+            registry
                 .info(&r.integrator)
                 .is_ok_and(|i| i.order != Order::Exact)
         })
@@ -281,7 +281,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
 /// frame-rate table the missing half says why (`advice_note`, `framerate_note`).
 #[allow(clippy::too_many_arguments)]
 pub fn answer(
-    methods: &Registry,
+    registry: &Registry,
     compared: &CompareResult,
     advice: Option<&Advice>,
     advice_note: Option<&str>,
@@ -293,7 +293,7 @@ pub fn answer(
 ) -> Result<Answer> {
     let position = compared.position_tolerance.value;
     let free_step = match advice {
-        Some(a) => free_step(methods, a, compared),
+        Some(a) => free_step(registry, a, compared),
         None => FreeStep::none(
             Metric::Position,
             position,

@@ -159,7 +159,7 @@ pub fn time_interleaved(
             any = true;
             let started = std::time::Instant::now();
             let (plan, options) = frame_setup(set, r.dt, r.steps, r.substeps);
-            let mut integ = set.methods.create(&r.integrator, &options)?;
+            let mut integ = set.registry.create(&r.integrator, &options)?;
             let o = run(sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             samples[i].push(o.wall_seconds);
             totals[i] += started.elapsed().as_secs_f64();
@@ -225,7 +225,7 @@ impl CaseResult {
 #[derive(Debug, Clone)]
 pub struct CaseSettings {
     /// The methods cases are run with (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options.
     pub options: MethodOptions,
     /// Blow-up factor of the runner.
@@ -248,7 +248,7 @@ pub struct CaseSettings {
 impl Default for CaseSettings {
     fn default() -> Self {
         CaseSettings {
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 0,
@@ -271,7 +271,7 @@ pub fn run_case(
 ) -> Result<CaseResult> {
     let g: TimeGrid = reference.grids[grid];
     let (plan, options) = frame_setup(set, g.dt, g.steps, set.substeps);
-    let mut integ = set.methods.create(name, &options)?;
+    let mut integ = set.registry.create(name, &options)?;
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
     let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));
     let mut contacts = set
@@ -289,7 +289,7 @@ pub fn run_case(
     if set.repeat_short && out.wall_seconds < SHORT_RUN_SECONDS {
         let mut samples = vec![out.wall_seconds];
         while !SHORT_RUN_RULE.satisfied(samples.len(), samples.iter().sum()) {
-            let mut again = set.methods.create(name, &options)?;
+            let mut again = set.registry.create(name, &options)?;
             let o = run(sys, again.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             samples.push(o.wall_seconds);
         }
@@ -324,9 +324,9 @@ pub fn run_case(
 
 /// The methods asked for, or every registered one when none was named: what a measuring
 /// command runs, and what its `"command"` names.
-pub fn asked_or_all(methods: &Registry, asked: &[String]) -> Vec<String> {
+pub fn asked_or_all(registry: &Registry, asked: &[String]) -> Vec<String> {
     if asked.is_empty() {
-        methods.names().into_iter().map(String::from).collect()
+        registry.names().into_iter().map(String::from).collect()
     } else {
         asked.to_vec()
     }
@@ -336,14 +336,14 @@ pub fn asked_or_all(methods: &Registry, asked: &[String]) -> Vec<String> {
 /// method), canonical names split into (applicable, skipped with the reason).
 #[allow(clippy::type_complexity)]
 pub fn applicable(
-    methods: &Registry,
+    registry: &Registry,
     sys: &System,
     asked: &[String],
     opts: &MethodOptions,
 ) -> Result<(Vec<String>, Vec<(String, String)>)> {
     let (mut ok, mut skipped) = (Vec::new(), Vec::new());
-    for n in asked_or_all(methods, asked) {
-        let integ = methods.create(&n, opts)?;
+    for n in asked_or_all(registry, asked) {
+        let integ = registry.create(&n, opts)?;
         let canon = integ.name().to_string();
         if ok.contains(&canon) || skipped.iter().any(|(s, _)| *s == canon) {
             continue;

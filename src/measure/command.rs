@@ -62,8 +62,8 @@ impl CommandLine {
     }
     /// Adds `--flag value` for every option the methods of `methods` read (their declared
     /// schema, in registration order), at its value in `opts`.
-    pub fn method_options(self, methods: &Registry, opts: &MethodOptions) -> Self {
-        methods
+    pub fn method_options(self, registry: &Registry, opts: &MethodOptions) -> Self {
+        registry
             .option_schema()
             .into_iter()
             .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.get(&spec)))

@@ -29,7 +29,7 @@ pub struct CompareConfig {
     /// Simulated time (default: the scene's).
     pub duration: Option<f64>,
     /// The methods to choose from (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options (`substeps`: Rapier's solver substeps, unless `frame_substeps`).
     pub options: MethodOptions,
     /// Substeps per frame for every backend (`--substeps`): `dt` is then the frame step,
@@ -59,7 +59,7 @@ impl Default for CompareConfig {
             integrators: vec![],
             dt: None,
             duration: None,
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             frame_substeps: None,
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
@@ -134,7 +134,7 @@ fn within_budget(
         .iter()
         .map(|m| {
             let per =
-                seconds_per_step(sys, s0, &cfg.methods, &cfg.options, m, dt / n as f64, steps)
+                seconds_per_step(sys, s0, &cfg.registry, &cfg.options, m, dt / n as f64, steps)
                     .unwrap_or(0.0);
             Cost {
                 per_unit: per,
@@ -155,12 +155,12 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let Timing { dt, steps, .. } = Timing::resolve(scene, cfg.dt, cfg.duration)?;
     // Default: the scene's own [run].integrators next to every engine, else everything.
     let asked: Vec<String> = if cfg.integrators.is_empty() && !scene.run.integrators.is_empty() {
-        let ext = cfg.methods.engine_names().into_iter().map(String::from);
+        let ext = cfg.registry.engine_names().into_iter().map(String::from);
         scene.run.integrators.iter().cloned().chain(ext).collect()
     } else {
         cfg.integrators.clone()
     };
-    let (names, mut skipped) = applicable(&cfg.methods, &sys, &asked, &cfg.options)?;
+    let (names, mut skipped) = applicable(&cfg.registry, &sys, &asked, &cfg.options)?;
     let names = match cfg.budget_seconds {
         Some(b) => within_budget(&sys, &s0, cfg, names, dt, steps, b, &mut skipped)?,
         None => names,
@@ -196,7 +196,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         },
     });
     let set = CaseSettings {
-        methods: cfg.methods.clone(),
+        registry: cfg.registry.clone(),
         options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: cfg.series_points,
@@ -240,9 +240,9 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let command = CommandLine::new("compare", &scene.source)
         .flag("dt", dt)
         .flag("duration", grid.time(steps))
-        .list("integrators", &asked_or_all(&cfg.methods, &asked))
+        .list("integrators", &asked_or_all(&cfg.registry, &asked))
         .flag_opt("substeps", cfg.frame_substeps)
-        .method_options(&cfg.methods, &cfg.options)
+        .method_options(&cfg.registry, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag("series-points", cfg.series_points)
         .switch("trace", cfg.trace)

@@ -23,13 +23,13 @@ pub const PROBE_STEPS: u64 = 40;
 pub fn seconds_per_step(
     sys: &System,
     s0: &State,
-    methods: &Registry,
+    registry: &Registry,
     options: &MethodOptions,
     name: &str,
     dt: f64,
     steps: u64,
 ) -> Option<f64> {
-    let mut integ = methods.create(name, options).ok()?;
+    let mut integ = registry.create(name, options).ok()?;
     integ.check(sys).ok()?;
     if let Some(frame) = integ.modelled_frame_seconds(sys) {
         return Some(frame);

@@ -101,7 +101,7 @@ pub const QUICK_COST_CAP: f64 = 5e4;
 #[derive(Debug, Clone)]
 pub struct StudyConfig {
     /// The methods (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options.
     pub options: MethodOptions,
     /// Position tolerance of every answer (m); None: each scene's `[run] tolerance`, else 1 %
@@ -119,7 +119,7 @@ pub struct StudyConfig {
 impl Default for StudyConfig {
     fn default() -> Self {
         StudyConfig {
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             tolerance: None,
             quick: false,
@@ -189,7 +189,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let compared = compare(
         scene,
         &CompareConfig {
-            methods: cfg.methods.clone(),
+            registry: cfg.registry.clone(),
             integrators: asked,
             options: cfg.options.clone(),
             series_points: if cfg.quick { 120 } else { 250 },
@@ -202,7 +202,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     )?;
     lap(&mut seconds.compare);
     let advice_cfg = AdviseConfig {
-        methods: cfg.methods.clone(),
+        registry: cfg.registry.clone(),
         options: cfg.options.clone(),
         tolerance: cfg.tolerance,
         ensemble: compared.ensemble.clone(),
@@ -221,7 +221,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let stability = analyse(
         scene,
         &StabilityConfig {
-            methods: cfg.methods.clone(),
+            registry: cfg.registry.clone(),
             integrators: kept.measured.clone(),
             options: cfg.options.clone(),
             theory_only: cfg.quick,
@@ -247,7 +247,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         study_framerate(scene, cfg, &compared, &probed_out, &mut notes)?;
     lap(&mut seconds.framerate);
     let answer = super::answer::answer(
-        &cfg.methods,
+        &cfg.registry,
         &compared,
         advice.as_ref(),
         advice_note.as_deref(),
@@ -282,12 +282,12 @@ fn compared_methods(
     timing: crate::scenario::Timing,
     notes: &mut Vec<String>,
 ) -> Result<(Vec<String>, Vec<ProbedOut>)> {
-    let is_engine = |n: &str| cfg.methods.info(n).is_ok_and(|m| m.engine);
+    let is_engine = |n: &str| cfg.registry.info(n).is_ok_and(|m| m.engine);
     let asked: Vec<String> = if scene.run.integrators.is_empty() {
-        cfg.methods.names().into_iter().map(String::from).collect()
+        cfg.registry.names().into_iter().map(String::from).collect()
     } else {
         let mut v = scene.run.integrators.clone();
-        v.extend(cfg.methods.engine_names().into_iter().map(String::from));
+        v.extend(cfg.registry.engine_names().into_iter().map(String::from));
         v
     };
     let mut kept = Vec::new();
@@ -346,7 +346,7 @@ fn kept_after_compare(
                 .map(|r| (r.integrator.clone(), r.modelled_seconds))
         })
         .collect();
-    let info = |n: &str| cfg.methods.info(n).ok();
+    let info = |n: &str| cfg.registry.info(n).ok();
     let sweepable = ran
         .iter()
         .map(|(n, _)| n)
@@ -397,7 +397,7 @@ fn study_sweep(
         return Ok(None);
     }
     let sweep_cfg = SweepConfig {
-        methods: cfg.methods.clone(),
+        registry: cfg.registry.clone(),
         integrators: sweepable,
         cost_cap: Some(if cfg.quick {
             QUICK_COST_CAP
@@ -440,7 +440,7 @@ fn study_advice(
     let exact: Vec<String> = measured
         .iter()
         .filter(|n| {
-            cfg.methods
+            cfg.registry
                 .info(n)
                 .is_ok_and(|m| m.order == crate::method::Order::Exact)
         })
@@ -482,7 +482,7 @@ fn engine_probe(
     Ok(super::probe::seconds_per_step(
         &scene.build(),
         &scene.initial_state(),
-        &cfg.methods,
+        &cfg.registry,
         &cfg.options,
         name,
         timing.dt,
@@ -534,7 +534,7 @@ fn study_framerate(
     let probed = probed_out.iter().map(|(n, s)| (n, *s));
     let measured: Vec<(&String, f64)> = ran.chain(probed).collect();
     // The scene's cheapest engine is its Rapier row: it gets the engine budget.
-    let is_engine = |n: &str| cfg.methods.info(n).is_ok_and(|m| m.engine);
+    let is_engine = |n: &str| cfg.registry.info(n).is_ok_and(|m| m.engine);
     let cheapest_engine = measured
         .iter()
         .filter(|(n, _)| is_engine(n))
@@ -542,7 +542,7 @@ fn study_framerate(
         .map(|(n, _)| (*n).clone());
     let (mut chosen, mut left_out) = (Vec::new(), Vec::new());
     for (name, per_step) in measured {
-        let Ok(info) = cfg.methods.info(name) else {
+        let Ok(info) = cfg.registry.info(name) else {
             continue;
         };
         if info.order == crate::method::Order::Exact {
@@ -582,7 +582,7 @@ fn study_framerate(
             .entries
             .iter()
             .filter(|e| {
-                e.result.is_none() && cfg.methods.info(&e.integrator).is_ok_and(|m| m.engine)
+                e.result.is_none() && cfg.registry.info(&e.integrator).is_ok_and(|m| m.engine)
             })
             .map(|e| e.integrator.clone()),
     );
@@ -598,7 +598,7 @@ fn study_framerate(
         &FramerateConfig {
             rates,
             integrators: chosen,
-            methods: cfg.methods.clone(),
+            registry: cfg.registry.clone(),
             options: cfg.options.clone(),
             max_substeps,
             tolerance: cfg.tolerance,

@@ -25,7 +25,7 @@ pub struct ReportOptions {
     /// Add the individual energy terms to the energy chart.
     pub energy_terms: bool,
     /// The methods (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Blow-up factor of every run (see [`crate::run::verdict`]).
     pub blowup_factor: f64,
 }
@@ -223,7 +223,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
                 .to_string(),
         ),
     }
-    let mut sum = scene_summary(s, &opts.methods, docs)?;
+    let mut sum = scene_summary(s, &opts.registry, docs)?;
     sum.verdict = super::verdict::verdict(&sum);
     sum.file = super::overview::file_key(&scene.source);
     write_atomic(
@@ -248,7 +248,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
 /// Studies and writes one scene.
 pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<SceneSummary> {
     let cfg = StudyConfig {
-        methods: opts.methods.clone(),
+        registry: opts.registry.clone(),
         quick: opts.quick,
         blowup_factor: opts.blowup_factor,
         ..Default::default()

@@ -151,7 +151,7 @@ pub fn reference_words(s: &SceneStudy) -> String {
 /// The summary of one scene's study (the verdict is filled in by [`super::verdict`]).
 pub fn scene_summary(
     s: &SceneStudy,
-    methods: &Registry,
+    registry: &Registry,
     documents: Vec<Document>,
 ) -> crate::error::Result<SceneSummary> {
     let mut backends = Vec::new();
@@ -165,7 +165,7 @@ pub fn scene_summary(
             continue;
         };
         // Every compared method came from this registry; a mismatch is the caller's error.
-        let info = methods.info(&r.integrator)?;
+        let info = registry.info(&r.integrator)?;
         let stab = s
             .stability
             .integrators

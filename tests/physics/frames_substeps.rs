@@ -41,12 +41,12 @@ duration = 0.2
 
 fn same(name: &str, scene: &Scenario, n: u64) {
     let sys = scene.build();
-    let methods = Registry::builtin();
+    let registry = Registry::builtin();
     let opts = MethodOptions::default();
     let frame = 1.0 / 60.0;
     let frames = 12;
     let mut coarse = Keep::default();
-    let mut integ = methods.create(name, &opts).unwrap();
+    let mut integ = registry.create(name, &opts).unwrap();
     let plan = RunPlan::new(frame, frames).with_substeps(n);
     let a = run(
         &sys,
@@ -57,7 +57,7 @@ fn same(name: &str, scene: &Scenario, n: u64) {
     )
     .unwrap();
     let mut fine = Keep::default();
-    let mut integ = methods.create(name, &opts).unwrap();
+    let mut integ = registry.create(name, &opts).unwrap();
     let plan = RunPlan::new(frame / n as f64, frames * n);
     let b = run(
         &sys,
@@ -90,14 +90,14 @@ fn same(name: &str, scene: &Scenario, n: u64) {
 fn substeps_are_bit_identical_to_the_fine_step_for_every_native_method() {
     let chain = Scenario::from_toml_str(CHAIN, "chain.toml").unwrap();
     let rod = Scenario::from_file("scenarios/pendulum_rod.toml").unwrap();
-    let methods = Registry::builtin();
+    let registry = Registry::builtin();
     let mut covered = Vec::new();
-    for name in methods.names() {
-        let info = methods.info(name).unwrap();
+    for name in registry.names() {
+        let info = registry.info(name).unwrap();
         if info.engine {
             continue;
         }
-        let integ = methods.create(name, &MethodOptions::default()).unwrap();
+        let integ = registry.create(name, &MethodOptions::default()).unwrap();
         let mut ran = false;
         for scene in [&chain, &rod] {
             if integ.check(&scene.build()).is_ok() {
@@ -112,10 +112,10 @@ fn substeps_are_bit_identical_to_the_fine_step_for_every_native_method() {
         }
     }
     // analytic needs independent anchored springs; every other native method runs one scene.
-    let natives: Vec<&str> = methods
+    let natives: Vec<&str> = registry
         .names()
         .into_iter()
-        .filter(|n| !methods.info(n).unwrap().engine && *n != "analytic")
+        .filter(|n| !registry.info(n).unwrap().engine && *n != "analytic")
         .collect();
     for n in natives {
         assert!(covered.contains(&n), "{n} was not checked");
@@ -137,9 +137,9 @@ fn substeps_are_bit_identical_for_the_closed_form() {
 fn rapier_gets_whole_frames() {
     let scene = Scenario::from_toml_str(CHAIN, "chain.toml").unwrap();
     let sys = scene.build();
-    let methods = Registry::builtin();
+    let registry = Registry::builtin();
     let opts = MethodOptions::default().with_substeps(3);
-    let mut a = methods.create("rapier_impulse", &opts).unwrap();
+    let mut a = registry.create("rapier_impulse", &opts).unwrap();
     assert!(a.splits_frames());
     let plan = RunPlan::new(1.0 / 60.0, 6).with_substeps(3);
     let x = run(
@@ -150,7 +150,7 @@ fn rapier_gets_whole_frames() {
         &mut Keep::default(),
     )
     .unwrap();
-    let mut b = methods.create("rapier_impulse", &opts).unwrap();
+    let mut b = registry.create("rapier_impulse", &opts).unwrap();
     let plan = RunPlan::new(1.0 / 60.0, 6);
     let y = run(
         &sys,

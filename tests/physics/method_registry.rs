@@ -279,7 +279,7 @@ fn a_registered_method_runs_through_compare_like_a_builtin() {
     )
     .unwrap();
     let cfg = CompareConfig {
-        methods: Registry::builtin().with(user()).unwrap(),
+        registry: Registry::builtin().with(user()).unwrap(),
         integrators: vec!["user_euler".into(), "symplectic_euler".into()],
         series_points: 0,
         ..Default::default()

@@ -21,7 +21,7 @@ pub struct AdviseConfig {
     /// Candidates (empty: every applicable integrator except the closed form).
     pub integrators: Vec<String>,
     /// The methods to choose from (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options.
     pub options: MethodOptions,
     /// Predictions aim at tolerance / safety (default 2).
@@ -58,7 +58,7 @@ impl Default for AdviseConfig {
             metric: None,
             horizon: None,
             integrators: vec![],
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             safety: 2.0,
             points: 10,

@@ -95,12 +95,12 @@ impl CostMeasure {
 /// with the reason for a method whose registered cost unit is the modelled cost only (a physics
 /// engine, a closed form): it has no force-evaluation count, and 0 would read as free.
 pub fn force_evals_per_second(
-    methods: &Registry,
+    registry: &Registry,
     integrator: &str,
     force_evals: u64,
     simulated: f64,
 ) -> Result<(Option<f64>, Option<String>)> {
-    let info = methods.info(integrator)?;
+    let info = registry.info(integrator)?;
     Ok(match info.cost {
         CostUnit::ForceEvaluations => (Some(force_evals as f64 / simulated), None),
         CostUnit::ModelledOnly => (

@@ -115,7 +115,7 @@ impl FramePlan {
     /// The frame view from the results of [`FramePlan::grids`], before timing.
     pub(super) fn entries(
         &self,
-        methods: &Registry,
+        registry: &Registry,
         names: &[String],
         res: &[CaseResult],
         judge: &Judge,
@@ -134,7 +134,7 @@ impl FramePlan {
                         let sub = &res[2 * (fi * np + pi) + 1];
                         let se = judge.error(sub);
                         let (cost, why) = force_evals_per_second(
-                            methods,
+                            registry,
                             name,
                             sub.force_evals,
                             sub.dt * sub.steps as f64,

@@ -121,14 +121,14 @@ pub struct Advice {
 impl Choice {
     /// The choice of run `c` with its prediction `pred` and its repeated `timing`.
     fn new(
-        methods: &Registry,
+        registry: &Registry,
         c: &CaseResult,
         pred: f64,
         judge: &Judge,
         timing: WallTimes,
     ) -> Result<Self> {
         let simulated = c.dt * c.steps as f64;
-        let (cost, why) = force_evals_per_second(methods, &c.integrator, c.force_evals, simulated)?;
+        let (cost, why) = force_evals_per_second(registry, &c.integrator, c.force_evals, simulated)?;
         Ok(Choice {
             integrator: c.integrator.clone(),
             dt: c.dt,
@@ -237,7 +237,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let (horizon, grid) = step_grid_of(scene, cfg)?;
     let (names, mut unable) = candidates((scene, &sys), cfg, &grid)?;
     let set = CaseSettings {
-        methods: cfg.methods.clone(),
+        registry: cfg.registry.clone(),
         options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
@@ -301,7 +301,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             },
         )
         .collect();
-    let mut view = plan.entries(&cfg.methods, &names, &vres[np..], &judge, &scene.name)?;
+    let mut view = plan.entries(&cfg.registry, &names, &vres[np..], &judge, &scene.name)?;
     // Timing: every chosen run and every frame entry that meets the tolerance, once each,
     // interleaved on this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
@@ -330,12 +330,12 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     };
     let choices: Vec<Choice> = chosen
         .iter()
-        .map(|&(c, pred)| Choice::new(&cfg.methods, c, pred, &judge, timing_of(&run_of(c))))
+        .map(|&(c, pred)| Choice::new(&cfg.registry, c, pred, &judge, timing_of(&run_of(c))))
         .collect::<Result<_>>()?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     plan.apply_timings(&mut view, &timing_of);
     let pick = alternatives.first().cloned();
-    let asked = super::case::asked_or_all(&cfg.methods, &cfg.integrators);
+    let asked = super::case::asked_or_all(&cfg.registry, &cfg.integrators);
     let command = super::command::CommandLine::new("advise", &scene.source)
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
@@ -346,7 +346,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
         .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.methods, &cfg.options)
+        .method_options(&cfg.registry, &cfg.options)
         .switch("no-frame-rates", !cfg.frame_rates)
         .flag_opt("budget", cfg.budget_seconds)
         .render();

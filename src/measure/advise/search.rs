@@ -107,7 +107,7 @@ fn within_budget(
     let costs: Vec<Cost> = names
         .iter()
         .map(|n| {
-            let per = seconds_per_step(&sys, &s0, &cfg.methods, &cfg.options, n, dt, steps)
+            let per = seconds_per_step(&sys, &s0, &cfg.registry, &cfg.options, n, dt, steps)
                 .unwrap_or(0.0);
             Cost {
                 per_unit: per,
@@ -192,12 +192,12 @@ pub(super) fn candidates(
     cfg: &AdviseConfig,
     grid: &[(f64, u64)],
 ) -> Result<(Vec<String>, Vec<Unable>)> {
-    let (mut names, mut unable) = applicable(&cfg.methods, sys, &cfg.integrators, &cfg.options)?;
+    let (mut names, mut unable) = applicable(&cfg.registry, sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Exact methods are closed forms for special scenes, not general integrators.
         let exact: Vec<String> = names
             .iter()
-            .filter(|n| cfg.methods.info(n).is_ok_and(|m| m.order == Order::Exact))
+            .filter(|n| cfg.registry.info(n).is_ok_and(|m| m.order == Order::Exact))
             .cloned()
             .collect();
         for n in exact {

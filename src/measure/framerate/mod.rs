@@ -62,7 +62,7 @@ pub struct FramerateConfig {
     /// Backends (empty: every applicable one except closed forms).
     pub integrators: Vec<String>,
     /// The methods to choose from.
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options (`substeps` is searched, not read).
     pub options: MethodOptions,
     /// Simulated time (s; default the scene's duration).
@@ -91,7 +91,7 @@ impl Default for FramerateConfig {
             metric: None,
             ensemble: None,
             integrators: vec![],
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             duration: None,
             max_substeps: DEFAULT_MAX_SUBSTEPS,
@@ -203,9 +203,9 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
 }
 
 /// The measured part of a run (timing filled in later).
-fn frame_run(methods: &Registry, c: &CaseResult, substeps: u64, judge: &Judge) -> Result<FrameRun> {
+fn frame_run(registry: &Registry, c: &CaseResult, substeps: u64, judge: &Judge) -> Result<FrameRun> {
     let (evals, why) =
-        force_evals_per_second(methods, &c.integrator, c.force_evals, c.steps as f64)?;
+        force_evals_per_second(registry, &c.integrator, c.force_evals, c.steps as f64)?;
     Ok(FrameRun {
         substeps,
         status: c.status,
@@ -257,14 +257,14 @@ fn within_budget(
             let per = seconds_per_step(
                 sys,
                 s0,
-                &cfg.methods,
+                &cfg.registry,
                 &cfg.options,
                 n,
                 1.0 / hz,
                 PROBE_STEPS,
             )
             .unwrap_or(0.0);
-            let engine = cfg.methods.info(n).is_ok_and(|m| m.engine);
+            let engine = cfg.registry.info(n).is_ok_and(|m| m.engine);
             let per_unit = if engine {
                 per / cfg.options.substeps.max(1) as f64
             } else {
@@ -362,10 +362,10 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let s0 = scene.initial_state();
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
     let frames = frames_per_rate(scene, cfg, duration)?;
-    let (mut names, mut skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+    let (mut names, mut skipped) = applicable(&cfg.registry, &sys, &cfg.integrators, &cfg.options)?;
     if cfg.integrators.is_empty() {
         // Closed forms solve special scenes exactly; they are not a frame-rate choice.
-        names.retain(|n| cfg.methods.info(n).is_ok_and(|m| m.order != Order::Exact));
+        names.retain(|n| cfg.registry.info(n).is_ok_and(|m| m.order != Order::Exact));
     }
     if let Some(b) = cfg.budget_seconds {
         let frames_sum: f64 = frames.iter().map(|&n| n as f64).sum();
@@ -390,7 +390,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         cfg.ensemble.as_ref(),
     )?;
     let set = CaseSettings {
-        methods: cfg.methods.clone(),
+        registry: cfg.registry.clone(),
         options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
@@ -438,9 +438,9 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                     .map(|(_, c)| c)
                     .expect("every tried count has its run")
             };
-            let one = frame_run(&cfg.methods, of(1), 1, &judge)?;
+            let one = frame_run(&cfg.registry, of(1), 1, &judge)?;
             let fewest = match found.fewest {
-                Some(n) => Some(frame_run(&cfg.methods, of(n), n, &judge)?),
+                Some(n) => Some(frame_run(&cfg.registry, of(n), n, &judge)?),
                 None => None,
             };
             let largest = found.tried.iter().map(|t| t.0).max().unwrap_or(1);
@@ -479,7 +479,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .flag("duration", duration)
         .flag("max-substeps", cfg.max_substeps)
         .flag_opt("cost-cap", cfg.cost_cap)
-        .method_options(&cfg.methods, &cfg.options)
+        .method_options(&cfg.registry, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag_opt("budget", cfg.budget_seconds)
         .render();

@@ -16,7 +16,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let s0 = scene.initial_state();
     let ms = modes(&sys, &s0);
     let (names, skipped) =
-        crate::measure::case::applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+        crate::measure::case::applicable(&cfg.registry, &sys, &cfg.integrators, &cfg.options)?;
     let horizon = horizon(scene, cfg, &ms)?;
     let crit = EmpiricalCriterion {
         horizon,
@@ -29,7 +29,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let theories: Vec<Option<Limit>> = names
         .iter()
         .map(|name| {
-            let method = cfg.methods.get(name)?;
+            let method = cfg.registry.get(name)?;
             Ok((method.info.linear_theory() && !ms.modes.is_empty())
                 .then(|| theory_limit(method, &cfg.options, &ms)))
         })
@@ -60,11 +60,11 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         .inspect(|_| pb.inc(1))
         .collect();
     pb.finish_and_clear();
-    let asked = crate::measure::case::asked_or_all(&cfg.methods, &cfg.integrators);
+    let asked = crate::measure::case::asked_or_all(&cfg.registry, &cfg.integrators);
     let command = crate::measure::command::CommandLine::new("stability", &scene.source)
         .list("integrators", &asked)
         .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.methods, &cfg.options)
+        .method_options(&cfg.registry, &cfg.options)
         .flag("horizon", horizon)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag_opt("budget", cfg.budget_seconds)
@@ -133,7 +133,7 @@ fn search_starts(
         .zip(theories)
         .map(|(name, theory)| {
             let unconditional = cfg
-                .methods
+                .registry
                 .info(name)
                 .is_ok_and(|m| m.stability == StabilityTheory::Unconditional);
             let skip = unconditional
@@ -170,7 +170,7 @@ fn analyse_one(
     ms: &Modes,
     search: &Search,
 ) -> Result<IntegratorStability> {
-    let method = cfg.methods.get(name)?;
+    let method = cfg.registry.get(name)?;
     let exact = method.info.stability == StabilityTheory::Unconditional;
     let mut note = None;
     if theory.is_none() {

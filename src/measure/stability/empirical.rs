@@ -134,7 +134,7 @@ pub(super) fn searches_over_budget(
             Some(h) => {
                 let steps = (horizon / h).ceil().max(1.0);
                 let per =
-                    seconds_per_step(sys, s0, &cfg.methods, &cfg.options, name, *h, steps as u64)
+                    seconds_per_step(sys, s0, &cfg.registry, &cfg.options, name, *h, steps as u64)
                         .unwrap_or(0.0);
                 Cost {
                     per_unit: per,

@@ -48,7 +48,7 @@ pub struct MapConfig {
     /// Integrators (empty: all applicable).
     pub integrators: Vec<String>,
     /// The methods to choose from (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options.
     pub options: MethodOptions,
     /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
@@ -79,7 +79,7 @@ impl Default for MapConfig {
     fn default() -> Self {
         MapConfig {
             integrators: vec![],
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
             damping_scales: vec![1.0],
@@ -165,11 +165,11 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let w0 = modes(&sys0, &s0).omega_max;
     let w0 = if w0 > 0.0 { w0 } else { 1.0 };
     let (names, _) =
-        crate::measure::case::applicable(&cfg.methods, &sys0, &cfg.integrators, &cfg.options)?;
+        crate::measure::case::applicable(&cfg.registry, &sys0, &cfg.integrators, &cfg.options)?;
     // Exact methods are stable everywhere by construction: nothing to map.
     let methods: Vec<&Method> = names
         .iter()
-        .map(|n| cfg.methods.get(n))
+        .map(|n| cfg.registry.get(n))
         .collect::<Result<Vec<_>>>()?
         .into_iter()
         .filter(|m| m.info.stability != StabilityTheory::Unconditional)

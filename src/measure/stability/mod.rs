@@ -97,7 +97,7 @@ pub struct StabilityConfig {
     /// Integrators (empty: all applicable).
     pub integrators: Vec<String>,
     /// The methods to choose from (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options.
     pub options: MethodOptions,
     /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
@@ -122,7 +122,7 @@ impl Default for StabilityConfig {
     fn default() -> Self {
         StabilityConfig {
             integrators: vec![],
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             horizon: None,
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,

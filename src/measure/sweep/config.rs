@@ -60,7 +60,7 @@ pub struct SweepConfig {
     /// Simulated time (default: the scene's duration).
     pub duration: Option<f64>,
     /// The methods to choose from (built-ins unless a library user added theirs).
-    pub methods: Registry,
+    pub registry: Registry,
     /// Integrator options.
     pub options: MethodOptions,
     /// Blow-up factor of the runner.
@@ -88,7 +88,7 @@ impl Default for SweepConfig {
             extend: None,
             cost_cap: None,
             duration: None,
-            methods: Registry::builtin(),
+            registry: Registry::builtin(),
             options: MethodOptions::default(),
             blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             shard: None,

@@ -184,7 +184,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         .collect();
     let saturation = 0.1 * scale;
     let set = CaseSettings {
-        methods: cfg.methods.clone(),
+        registry: cfg.registry.clone(),
         options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
         series_points: 0,
@@ -274,7 +274,7 @@ fn apply_budget(
             crate::measure::probe::seconds_per_step(
                 sys,
                 s0,
-                &cfg.methods,
+                &cfg.registry,
                 &cfg.options,
                 name,
                 plan.dts[j],

@@ -169,7 +169,7 @@ fn dynamic_bounds(
     } else {
         names
             .iter()
-            .filter_map(|n| cfg.methods.get(n).ok())
+            .filter_map(|n| cfg.registry.get(n).ok())
             .filter(|m| m.info.linear_theory())
             .filter_map(|m| theory_limit(m, &cfg.options, &ms).1)
             .fold(None, |a: Option<f64>, h| Some(a.map_or(h, |a| a.max(h))))
@@ -218,7 +218,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .integrators
         .iter()
         .map(|n| {
-            cfg.methods
+            cfg.registry
                 .info(n)
                 .ok()
                 .filter(|m| !m.engine)
@@ -242,7 +242,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .flag_opt("budget", cfg.budget_seconds)
         .flag("duration", plan.duration)
         .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.methods, &cfg.options)
+        .method_options(&cfg.registry, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .render();
     Ok(plan)
@@ -257,7 +257,7 @@ fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     if cfg.points == Some(0) {
         return Err(Error::option("--points", "must be at least 1"));
     }
-    let (integrators, skipped) = applicable(&cfg.methods, &sys, &cfg.integrators, &cfg.options)?;
+    let (integrators, skipped) = applicable(&cfg.registry, &sys, &cfg.integrators, &cfg.options)?;
     let fixed_grid = cfg.dt_min.is_some() && cfg.dt_max.is_some() && cfg.points.is_some();
     let (mut hi, mut hi_src, mut lo, mut lo_src, w, widest) = if fixed_grid {
         (0.0, String::new(), 0.0, String::new(), 0.0, None)
@@ -383,7 +383,7 @@ fn finish(
         integrators,
         skipped,
         blowup_factor: cfg.blowup_factor,
-        options: cfg.options.resolved(&cfg.methods),
+        options: cfg.options.resolved(&cfg.registry),
         substeps: cfg.options.substeps,
         budget: None,
     })
