@@ -200,7 +200,7 @@ fn main() -> springlab::Result<()> {
         adv.dt.map_or("-".into(), |d| format!("{d:.4e} s"))
     );
 
-    // report: the same pages as `springlab report`, with game_euler among the registry.
+    // report: the same pages as `springlab report`, with game_euler among the methods.
     let opts = springlab::report::ReportOptions {
         out: "out/custom".into(),
         quick: true,

@@ -95,7 +95,7 @@ pub struct StepArgs {
     #[arg(long, allow_negative_numbers = true, value_parser = super::method_args::substeps)]
     pub substeps: Option<usize>,
     #[command(flatten)]
-    pub method: super::method_args::MethodArgs,
+    pub method_options: super::method_args::MethodArgs,
 }
 
 impl StepArgs {
@@ -125,7 +125,7 @@ impl StepArgs {
 
     /// Method options from the flags; `--substeps` is also an engine's solver substeps.
     pub fn options(&self) -> MethodOptions {
-        self.method.options(self.substeps)
+        self.method_options.options(self.substeps)
     }
 }
 

@@ -129,7 +129,7 @@ pub fn run(a: Args) -> Result<()> {
                 .map(|(k, s)| {
                     format!(
                         "{k} {} (ensemble {} ± {})",
-                        fmt_opt(Some(s.method_mean)),
+                        fmt_opt(Some(s.run_mean)),
                         fmt_opt(Some(s.ensemble_mean)),
                         fmt_opt(Some(s.ensemble_spread))
                     )

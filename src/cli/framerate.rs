@@ -39,7 +39,7 @@ pub struct Args {
     #[command(flatten)]
     pub budget: super::common::BudgetArg,
     #[command(flatten)]
-    pub method: super::method_args::MethodArgs,
+    pub method_options: super::method_args::MethodArgs,
     #[command(flatten)]
     pub blowup: super::common::BlowupArg,
     /// Output directory (default: out/<scenario>/framerate/).
@@ -64,7 +64,7 @@ pub fn run(a: Args) -> Result<()> {
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
         integrators: a.integrators.clone(),
-        options: a.method.options(None),
+        options: a.method_options.options(None),
         duration: a.duration,
         max_substeps: a.max_substeps,
         cost_cap: a.cost_cap,

@@ -17,7 +17,7 @@ pub struct MeasureArgs {
     #[arg(long, allow_negative_numbers = true, value_parser = super::method_args::substeps)]
     pub substeps: Option<usize>,
     #[command(flatten)]
-    pub method: super::method_args::MethodArgs,
+    pub method_options: super::method_args::MethodArgs,
     /// Output directory (default: out/<scenario>/<command>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -26,7 +26,7 @@ pub struct MeasureArgs {
 impl MeasureArgs {
     /// Method options; `--substeps` is also an engine's solver substeps.
     pub fn options(&self) -> MethodOptions {
-        self.method.options(self.substeps)
+        self.method_options.options(self.substeps)
     }
     /// Substeps per frame for every backend, when `--substeps` was given (`compare`).
     pub fn frame_substeps(&self) -> Option<u64> {

@@ -95,11 +95,11 @@ pub fn run(a: Args) -> Result<()> {
     let mut files = vec![write_stability(&dir, &rep)?];
     println!(
         "{}: ω_max = {:.6} rad/s ({})",
-        scene.name, rep.omega_max, rep.modes.method
+        scene.name, rep.omega_max, rep.modes.found_by
     );
     println!(
         "{:<22} {:<24} {:>12} {:>9} {:<22} {:>12}",
-        "integrator", "verdict", "max dt", "hω", "method", "empirical dt"
+        "integrator", "verdict", "max dt", "hω", "decided by", "empirical dt"
     );
     for i in &rep.integrators {
         println!(
@@ -108,7 +108,7 @@ pub fn run(a: Args) -> Result<()> {
             serde_json::to_value(i.verdict)?.as_str().unwrap_or(""),
             fmt_opt(i.max_stable_dt),
             i.h_omega.map_or("-".into(), |h| format!("{h:.6}")),
-            i.method,
+            i.decided_by,
             fmt_opt(i.empirical.as_ref().and_then(|e| e.max_stable_dt))
         );
     }

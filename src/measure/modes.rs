@@ -31,7 +31,7 @@ pub struct Modes {
     /// Highest natural frequency (rad/s), 0 without stiffness.
     pub omega_max: f64,
     /// How they were found.
-    pub method: String,
+    pub found_by: String,
     /// Largest off-diagonal modal damping relative to the largest diagonal one (0: exact
     /// decoupling); None for the power-iteration path.
     pub damping_coupling: Option<f64>,
@@ -154,7 +154,7 @@ pub fn modes(sys: &System, s0: &State) -> Modes {
         return Modes {
             modes: vec![],
             omega_max: 0.0,
-            method: "no free particles".into(),
+            found_by: "no free particles".into(),
             damping_coupling: None,
             negative_modes: 0,
             dofs,
@@ -208,7 +208,7 @@ pub fn modes(sys: &System, s0: &State) -> Modes {
         Modes {
             modes: list,
             omega_max: wmax2.max(0.0).sqrt(),
-            method: format!("dense symmetric eigen-decomposition of the mass-normalised stiffness ({dofs} coordinates), linearised at the initial state"),
+            found_by: format!("dense symmetric eigen-decomposition of the mass-normalised stiffness ({dofs} coordinates), linearised at the initial state"),
             damping_coupling: Some(if cmax > 0.0 { off / cmax } else { 0.0 }),
             negative_modes: negative,
             dofs,
@@ -253,7 +253,7 @@ pub fn modes(sys: &System, s0: &State) -> Modes {
                 damping: c.max(0.0),
             }],
             omega_max: w2.sqrt(),
-            method: format!("power iteration on the sparse mass-normalised stiffness ({dofs} coordinates, {iters} iterations): highest mode only, linearised at the initial state"),
+            found_by: format!("power iteration on the sparse mass-normalised stiffness ({dofs} coordinates, {iters} iterations): highest mode only, linearised at the initial state"),
             damping_coupling: None,
             negative_modes: 0,
             dofs,

@@ -130,14 +130,14 @@ pub struct Ensemble {
     /// Tolerance relative to the motion scale, behind the energy and strain floors.
     pub relative_tolerance: f64,
     /// How the members were made, in one sentence.
-    pub method: String,
+    pub made_by: String,
 }
 
 /// One observable of one run against the ensemble.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct Statistic {
     /// The run's value.
-    pub method_mean: f64,
+    pub run_mean: f64,
     /// Mean over the ensemble's members.
     pub ensemble_mean: f64,
     /// Sample standard deviation over the members.
@@ -191,7 +191,7 @@ impl Ensemble {
                     f64::INFINITY
                 };
                 let s = Statistic {
-                    method_mean: observed[k],
+                    run_mean: observed[k],
                     ensemble_mean: mean,
                     ensemble_spread: spread,
                     floor,
@@ -262,7 +262,7 @@ mod tests {
             members,
             tolerance: 0.01,
             relative_tolerance: 0.01,
-            method: String::new(),
+            made_by: String::new(),
         }
     }
 

@@ -127,7 +127,7 @@ fn stability_table(st: &StabilityReport) -> String {
             esc(&format!("{:?}", i.verdict)),
             cell(i.max_stable_dt, 4),
             cell(i.h_omega, 4),
-            esc(&i.method),
+            esc(&i.decided_by),
             cell(i.theory_max_stable_dt, 4),
             cell(i.empirical.as_ref().and_then(|e| e.max_stable_dt), 4),
             esc(i.note.as_deref().unwrap_or(""))

@@ -43,7 +43,7 @@ pub struct BackendSummary {
     /// The same as h·ω_max.
     pub stable_h_omega: Option<f64>,
     /// How the stability limit was decided (`spectral_radius`, `empirical_bisection`, ...).
-    pub stability_method: Option<String>,
+    pub stability_decided_by: Option<String>,
     /// For an empirical "stable at every step", the largest step the search tried (s): the
     /// claim holds up to there, not beyond.
     pub stable_up_to_tried: Option<f64>,
@@ -195,10 +195,10 @@ pub fn scene_summary(
             stability: stab.map(|i| i.verdict),
             stable_dt: stab.and_then(|i| i.max_stable_dt),
             stable_h_omega: stab.and_then(|i| i.h_omega),
-            stability_method: stab.map(|i| i.method.clone()),
+            stability_decided_by: stab.map(|i| i.decided_by.clone()),
             stable_up_to_tried: stab
                 .filter(|i| {
-                    i.method == "empirical_bisection" && i.verdict == Verdict::UnconditionallyStable
+                    i.decided_by == "empirical_bisection" && i.verdict == Verdict::UnconditionallyStable
                 })
                 .map(|_| s.stability.empirical_criterion.dt_max),
             observed_order: fit.and_then(|f| f.observed_order),

@@ -159,7 +159,7 @@ fn stability_leaves_out_a_search_beyond_its_budget_with_the_figure() {
 #[test]
 fn twin_stability_within_its_budget_searches() {
     let doc = measure(&STABILITY, "120", "stability.json");
-    assert_eq!(doc["integrators"][0]["method"], "empirical_bisection");
+    assert_eq!(doc["integrators"][0]["decided_by"], "empirical_bisection");
 }
 
 const ADVISE: [&str; 6] = [

@@ -3,7 +3,7 @@
 //! itself checked against textbook solutions in the core tests).
 
 use springlab::measure::grid::TimeGrid;
-use springlab::measure::reference::{Reference, ReferenceMethod};
+use springlab::measure::reference::{Reference, ReferenceSolver};
 use springlab::scenario::Scenario;
 
 fn max_gap(path: &str) -> (f64, f64, f64) {
@@ -16,7 +16,7 @@ fn max_gap(path: &str) -> (f64, f64, f64) {
     ];
     let exact = Reference::compute(&sys, &s0, &grids, 5.0).unwrap();
     assert_eq!(exact.info.kind, "analytic");
-    let dop = Reference::compute_with(&sys, &s0, &grids, 5.0, ReferenceMethod::Adaptive).unwrap();
+    let dop = Reference::compute_with(&sys, &s0, &grids, 5.0, ReferenceSolver::Adaptive).unwrap();
     assert_eq!(dop.info.kind, "dop853");
     let mut worst: f64 = 0.0;
     for (g, grid) in grids.iter().enumerate() {

@@ -69,7 +69,7 @@ fn anchored_spring_limits_match_theory() {
     ] {
         let s = find(&r, name);
         assert_eq!(s.verdict, Verdict::UnconditionallyStable, "{name}");
-        assert_eq!(s.method, "spectral_radius", "{name}: linear theory decides");
+        assert_eq!(s.decided_by, "spectral_radius", "{name}: linear theory decides");
     }
 }
 

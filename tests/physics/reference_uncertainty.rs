@@ -8,7 +8,7 @@
 //! (3) the thread count cannot change a number.
 
 use springlab::measure::grid::TimeGrid;
-use springlab::measure::reference::{Reference, ReferenceMethod};
+use springlab::measure::reference::{Reference, ReferenceSolver};
 use springlab::scenario::Scenario;
 
 /// A double pendulum of two 1 kg beads on springs, released from a horizontal line: chaotic.
@@ -91,7 +91,7 @@ fn linear_damped_spring_is_predictable_with_tiny_uncertainty() {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let grid = TimeGrid::new(0.01, 500, 500);
-    let r = Reference::compute_with(&sys, &s0, &[grid], 5.0, ReferenceMethod::Adaptive).unwrap();
+    let r = Reference::compute_with(&sys, &s0, &[grid], 5.0, ReferenceSolver::Adaptive).unwrap();
     assert_eq!(r.info.kind, "dop853");
     assert_eq!(r.info.predictability_horizon, None);
     assert!(r.info.uncertainty < 1e-9, "{:e}", r.info.uncertainty);

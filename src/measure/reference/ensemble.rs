@@ -113,7 +113,7 @@ pub(super) fn ensemble(
             done.len()
         )));
     }
-    let method = match solver {
+    let made_by = match solver {
         MemberSolver::Dop853 { rtol, .. } => format!(
             "{} DOP853 solves at rtol = atol = {rtol:e} ({LOOSE_FACTOR:e} x the reference's tolerance {REFERENCE_TOL:e}), each from initial positions moved by ±{PERTURBATION:e} x the length scale with signs from a fixed seed; {} finished",
             ENSEMBLE_SIZE,
@@ -130,7 +130,7 @@ pub(super) fn ensemble(
         members: done,
         tolerance,
         relative_tolerance,
-        method,
+        made_by,
     }))
 }
 

@@ -87,7 +87,7 @@ pub struct ReferenceInfo {
     pub predictability_threshold: f64,
     /// How the uncertainty was measured, in one sentence.
     #[serde(default)]
-    pub uncertainty_method: String,
+    pub uncertainty_measured_by: String,
     /// Obstacle impacts located and applied (adaptive reference with impulse contacts).
     #[serde(default)]
     pub impacts: u64,
@@ -107,7 +107,7 @@ pub struct ReferenceInfo {
 
 /// How to compute the reference.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ReferenceMethod {
+pub enum ReferenceSolver {
     /// The closed form when the scene has one, else the adaptive solver.
     Auto,
     /// Always the adaptive solver (DOP853, constrained where needed).
@@ -173,7 +173,7 @@ impl Reference {
     /// to `horizon` (≥ every sample time; pass the same horizon for every shard of a sweep so
     /// the solver takes the same steps).
     pub fn compute(sys: &System, s0: &State, grids: &[TimeGrid], horizon: f64) -> Result<Self> {
-        Self::compute_with(sys, s0, grids, horizon, ReferenceMethod::Auto)
+        Self::compute_with(sys, s0, grids, horizon, ReferenceSolver::Auto)
     }
 
     /// As [`Reference::compute`], choosing the method explicitly.
@@ -182,7 +182,7 @@ impl Reference {
         s0: &State,
         grids: &[TimeGrid],
         horizon: f64,
-        method: ReferenceMethod,
+        solver: ReferenceSolver,
     ) -> Result<Self> {
         let horizon = entries(grids).last().map_or(horizon, |e| e.t.max(horizon));
         let tracked = tracked_component(sys, s0);
@@ -205,7 +205,7 @@ impl Reference {
                 uncertainty: 0.0,
                 predictability_horizon: None,
                 predictability_threshold: 0.0,
-                uncertainty_method: String::new(),
+                uncertainty_measured_by: String::new(),
                 impacts: 0,
                 holds: 0,
                 motion_scale: 0.0,
@@ -222,7 +222,7 @@ impl Reference {
             ensemble: None,
             member_solver: None,
         };
-        if method == ReferenceMethod::Auto
+        if solver == ReferenceSolver::Auto
             && has_closed_form(sys)
             && r.fill_analytic(sys, s0).is_ok()
         {
@@ -250,7 +250,7 @@ impl Reference {
         let mut e = e.clone();
         e.tolerance = tolerance;
         e.relative_tolerance = tolerance / self.motion_scale();
-        self.info.ensemble = Some(e.method.clone());
+        self.info.ensemble = Some(e.made_by.clone());
         self.ensemble = Some(e);
     }
 
@@ -270,7 +270,7 @@ impl Reference {
         let relative = tolerance / self.motion_scale();
         match ensemble::ensemble(sys, s0, start, end, solver, tolerance, relative)? {
             Ok(e) => {
-                self.info.ensemble = Some(e.method.clone());
+                self.info.ensemble = Some(e.made_by.clone());
                 self.ensemble = Some(e);
             }
             Err(why) => self.info.ensemble = Some(format!("no ensemble: {why}")),
@@ -455,7 +455,7 @@ impl Reference {
             u.fill(floor);
         }
         self.info.uncertainty = floor;
-        self.info.uncertainty_method =
+        self.info.uncertainty_measured_by =
             "round-off of the closed form (1e-14 x the length scale); no chaos: linear".into();
         Ok(())
     }
@@ -502,7 +502,7 @@ impl Reference {
         self.set_uncertainty(&ents, &comp.uncertainty);
         self.info.predictability_horizon = comp.horizon;
         self.info.predictability_threshold = comp.threshold;
-        self.info.uncertainty_method = format!(
+        self.info.uncertainty_measured_by = format!(
             "larger of the distances to a solve at {:e} x the tolerance and to a solve from initial positions moved by {:e} x the length scale{}",
             uncertainty::LOOSE_FACTOR,
             uncertainty::PERTURBATION,
@@ -556,7 +556,7 @@ impl Reference {
         self.info.predictability_horizon = fine.horizon;
         self.info.predictability_threshold =
             uncertainty::PREDICTABILITY_THRESHOLD * self.motion_scale();
-        self.info.uncertainty_method = format!(
+        self.info.uncertainty_measured_by = format!(
             "distance between the last two of {} halvings of the step (finest {:e} s)",
             fine.levels, fine.step
         );

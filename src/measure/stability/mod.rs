@@ -58,8 +58,8 @@ pub struct IntegratorStability {
     pub max_stable_dt: Option<f64>,
     /// max_stable_dt × omega_max.
     pub h_omega: Option<f64>,
-    /// Which method decided: `spectral_radius` or `empirical_bisection`.
-    pub method: String,
+    /// What decided the verdict: `spectral_radius` or `empirical_bisection`.
+    pub decided_by: String,
     /// The theory verdict (None for external backends).
     pub theory_verdict: Option<Verdict>,
     /// The theory limit (s).
