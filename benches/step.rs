@@ -1,17 +1,17 @@
-//! Cost of one force evaluation and one step of every backend on cloths of 32², 100² and 316²
+//! Cost of one force evaluation and one step of every method on cloths of 32², 100² and 316²
 //! particles, in ns per spring (criterion `Throughput::Elements(springs)`), against a plain
 //! hand-written loop, plus the 1→2 thread speedup on the 316² cloth.
 //!
-//! Run: `cargo bench --bench step` (release); `SPRINGLAB_BENCH_BACKENDS=a,b` limits the step
-//! group to those backends. External backends (Rapier) are picked up from `springlab::backend`.
+//! Run: `cargo bench --bench step` (release); `SPRINGLAB_BENCH_METHODS=a,b` limits the step
+//! group to those methods. External methods (Rapier) are picked up from `springlab::method`.
 //! The hand loop is [`springlab::perf::hand_step`]. Ratios with targets are also measured
 //! interleaved in one process by `springlab bench-ratios`, which is steadier on a noisy machine.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use springlab::integrate::Integrator;
+use springlab::integrate::Stepper;
 use springlab::method::MethodOptions;
 use springlab::model::{State, System, Vec3};
-use springlab::perf::{backends_for, bench_dt, cloth, hand_step};
+use springlab::perf::{bench_dt, cloth, hand_step, methods_for};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -21,7 +21,7 @@ const SIZES: [usize; 3] = [32, 100, 316];
 /// conditionally stable methods never time a blown-up state.
 const RESTART_EVERY: u64 = 200;
 
-/// The same for backends timed at a frame (1/60 s): implicit Euler and Rapier stay within the
+/// The same for methods timed at a frame (1/60 s): implicit Euler and Rapier stay within the
 /// first 10 frames of the fall, where every cloth size is solvable.
 const RESTART_EVERY_FRAME: u64 = 10;
 
@@ -36,11 +36,11 @@ fn config<'a>(
     g
 }
 
-/// Steps `integ` `iters` times, restarting from `s0` every [`RESTART_EVERY`] steps.
+/// Steps `stepper` `iters` times, restarting from `s0` every [`RESTART_EVERY`] steps.
 fn timed_steps(
     sys: &System,
     s0: &State,
-    integ: &mut dyn Integrator,
+    stepper: &mut dyn Stepper,
     dt: f64,
     iters: u64,
 ) -> Duration {
@@ -54,11 +54,11 @@ fn timed_steps(
     };
     while done < iters {
         s.clone_from(s0);
-        integ.reset();
+        stepper.reset();
         let batch = restart.min(iters - done);
         let t0 = Instant::now();
         for _ in 0..batch {
-            integ.step(sys, &mut s, dt).expect("step");
+            stepper.step(sys, &mut s, dt).expect("step");
         }
         total += t0.elapsed();
         black_box(&s);
@@ -108,21 +108,21 @@ fn steps(c: &mut Criterion) {
         let sys = scene.build();
         let s0 = scene.initial_state();
         g.throughput(Throughput::Elements(sys.springs.len() as u64));
-        // Rapier (`rapier_impulse`) appears here once registered in `springlab::backend`.
-        for name in backends_for(&scene).into_iter().filter(|n| selected(n)) {
+        // Rapier (`rapier_impulse`) appears here once registered in `springlab::method`.
+        for name in methods_for(&scene).into_iter().filter(|n| selected(n)) {
             let dt = bench_dt(name);
-            let mut integ = springlab::method::create(name, &MethodOptions::default()).unwrap();
+            let mut stepper = springlab::method::create(name, &MethodOptions::default()).unwrap();
             g.bench_function(BenchmarkId::new(name, n), |b| {
-                b.iter_custom(|iters| timed_steps(&sys, &s0, integ.as_mut(), dt, iters))
+                b.iter_custom(|iters| timed_steps(&sys, &s0, stepper.as_mut(), dt, iters))
             });
         }
     }
     g.finish();
 }
 
-/// Backends to time: all, or the comma-separated list in `SPRINGLAB_BENCH_BACKENDS`.
+/// Methods to time: all, or the comma-separated list in `SPRINGLAB_BENCH_METHODS`.
 fn selected(name: &str) -> bool {
-    std::env::var("SPRINGLAB_BENCH_BACKENDS").map_or(true, |l| l.split(',').any(|n| n == name))
+    std::env::var("SPRINGLAB_BENCH_METHODS").map_or(true, |l| l.split(',').any(|n| n == name))
 }
 
 /// Implicit Euler solver statistics at dt = 1/60 over 10 steps from rest (printed, not timed
@@ -165,11 +165,11 @@ fn threads(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("accelerations", t), |b| {
             b.iter(|| pool.install(|| black_box(sys.accelerations(&s0.x, &s0.v, &mut a))))
         });
-        let mut integ =
+        let mut stepper =
             springlab::method::create("symplectic_euler", &MethodOptions::default()).unwrap();
         g.bench_function(BenchmarkId::new("symplectic_euler", t), |b| {
             b.iter_custom(|iters| {
-                pool.install(|| timed_steps(&sys, &s0, integ.as_mut(), 1e-3, iters))
+                pool.install(|| timed_steps(&sys, &s0, stepper.as_mut(), 1e-3, iters))
             })
         });
     }

@@ -36,19 +36,19 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
-    /// An integrator or backend cannot handle this scene (say, constraints without projection).
-    #[error("{integrator} cannot run scenario '{scenario}': {reason}")]
+    /// A method cannot handle this scene (say, constraints without projection).
+    #[error("{method} cannot run scenario '{scenario}': {reason}")]
     Unsupported {
-        /// Integrator or backend name.
-        integrator: String,
+        /// Method name.
+        method: String,
         /// Scenario name.
         scenario: String,
         /// Why not.
         reason: String,
     },
-    /// An unknown integrator or backend name was asked for.
-    #[error("unknown integrator '{name}'; known: {known}")]
-    UnknownIntegrator {
+    /// An unknown method name was asked for.
+    #[error("unknown method '{name}'; known: {known}")]
+    UnknownMethod {
         /// The name given.
         name: String,
         /// Comma-separated list of valid names.

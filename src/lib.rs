@@ -1,7 +1,7 @@
 //! springlab: how far to trust a particle-spring simulation.
 //!
 //! A scene ([`scenario::Scenario`]) builds a [`model::System`] with only the terms it uses;
-//! [`integrate::Integrator`]s step it, each registered with its facts in a
+//! [`integrate::Stepper`]s step it, each registered with its facts in a
 //! [`method::Registry`]; [`run::run`] owns the loop, the energy accounts and
 //! blow-up detection; [`output`] writes what a run produced, atomically.
 //!
@@ -48,7 +48,7 @@ pub mod scenario;
 
 // What a library user needs most, at the top: a scene, a method, a run, a study.
 pub use error::{Error, Result};
-pub use integrate::Integrator;
+pub use integrate::Stepper;
 pub use measure::study::{study, SceneStudy, StudyConfig};
 pub use method::{Method, MethodInfo, MethodOptions, Registry};
 pub use model::{State, System, Vec3};

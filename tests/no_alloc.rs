@@ -1,5 +1,5 @@
 //! No allocation inside a step: a counting global allocator (this test binary only) counts
-//! every allocation made by the stepping thread and its rayon helpers while every native integrator steps, after a warm-up
+//! every allocation made by the stepping thread and its rayon helpers while every native method steps, after a warm-up
 //! step that sizes its scratch buffers. Covers the serial spring loop (small scenes), the
 //! parallel path (a cloth above `PARALLEL_MIN_SPRINGS`), gravity, drag and dampers.
 
@@ -66,13 +66,13 @@ fn allocations(scene: &Scenario, name: &str, h: f64, steps: usize) -> Option<usi
 
 fn allocations_here(scene: &Scenario, name: &str, h: f64, steps: usize) -> Option<usize> {
     let sys = scene.build();
-    let mut integ = common::integ(name);
-    if integ.check(&sys).is_err() {
+    let mut stepper = common::stepper(name);
+    if stepper.check(&sys).is_err() {
         return None;
     }
     let mut s = scene.initial_state();
-    integ.step(&sys, &mut s, h).expect("warm-up step");
-    integ.step(&sys, &mut s, h).expect("warm-up step");
+    stepper.step(&sys, &mut s, h).expect("warm-up step");
+    stepper.step(&sys, &mut s, h).expect("warm-up step");
     // Three windows, the fewest allocations kept: a pool thread's first work steal registers
     // it once with crossbeam's epoch collector (rayon's one-time cost, at a moment the
     // scheduler picks); a step that allocated would do so in every window.
@@ -81,7 +81,7 @@ fn allocations_here(scene: &Scenario, name: &str, h: f64, steps: usize) -> Optio
         ALLOCS.store(0, Ordering::SeqCst);
         COUNTING.store(true, Ordering::SeqCst);
         for _ in 0..steps {
-            integ.step(&sys, &mut s, h).expect("step");
+            stepper.step(&sys, &mut s, h).expect("step");
         }
         COUNTING.store(false, Ordering::SeqCst);
         fewest = fewest.min(ALLOCS.load(Ordering::SeqCst));
@@ -92,7 +92,7 @@ fn allocations_here(scene: &Scenario, name: &str, h: f64, steps: usize) -> Optio
 
 // One test function: the counter is global, and tests in one binary run concurrently.
 #[test]
-fn no_integrator_allocates_inside_a_step() {
+fn no_method_allocates_inside_a_step() {
     let damped_cloth = |n: usize| {
         Scenario::from_toml_str(
             &format!(

@@ -1,4 +1,4 @@
-//! `springlab advise`: the cheapest verified integrator and step for a tolerance.
+//! `springlab advise`: the cheapest verified method and step for a tolerance.
 
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
@@ -33,7 +33,7 @@ pub struct Args {
     /// Largest step tried (s).
     #[arg(long, allow_negative_numbers = true)]
     pub dt_max: Option<f64>,
-    /// Steps tried per integrator.
+    /// Steps tried per method.
     #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub points: usize,
     #[command(flatten)]
@@ -60,7 +60,7 @@ pub fn run(a: Args) -> Result<()> {
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
         horizon: a.horizon,
-        integrators: a.m.integrators.clone(),
+        methods: a.m.methods.clone(),
         options: a.m.options(),
         safety: a.safety,
         points: a.points,
@@ -88,11 +88,11 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(n) = &adv.metric_note {
         println!("  {n}");
     }
-    match &adv.integrator {
+    match &adv.method {
         Some(n) => {
             let evals = match adv.cost_per_second {
                 Some(e) => format!("{e:.0} force evaluations per simulated second"),
-                None => "no force-evaluation count (Rapier backend)".into(),
+                None => "no force-evaluation count (Rapier method)".into(),
             };
             println!(
                 "{}: use {n} at dt = {} s (predicted error {}, verified {})",
@@ -124,7 +124,7 @@ pub fn run(a: Args) -> Result<()> {
     for c in &adv.alternatives {
         println!(
             "{:<22} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}",
-            c.integrator,
+            c.method,
             fmt_opt(Some(c.modelled_per_second)),
             fmt_opt(Some(c.wall_per_second)),
             c.cost_per_second.map_or("-".into(), |e| format!("{e:.0}")),
@@ -145,7 +145,7 @@ pub fn run(a: Args) -> Result<()> {
                 .iter()
                 .map(|e| format!(
                     "{} ×{} ({})",
-                    e.integrator,
+                    e.method,
                     e.substeps,
                     if e.meets_tolerance { "ok" } else { "fails" }
                 ))

@@ -6,7 +6,7 @@ use anyhow::{bail, Result};
 use springlab::integrate::{ImplicitSettings, LinearSolver};
 use springlab::output::write_atomic;
 use springlab::perf::ratios::{
-    backend, best_loop, hand_loop, implicit_cost, interleaved_stats, on_threads, stepping,
+    best_loop, fresh_stepper, hand_loop, implicit_cost, interleaved_stats, on_threads, stepping,
     Contender, ImplicitCost, RoundTimes,
 };
 use springlab::perf::{bench_dt, cloth};
@@ -142,7 +142,7 @@ fn checked(a: &Args) -> Result<LinearSolver> {
         );
     };
     for m in &a.implicit_methods {
-        let implicit = backend(m).ok().is_some_and(|i| i.newton().is_some());
+        let implicit = fresh_stepper(m).ok().is_some_and(|i| i.newton().is_some());
         if !implicit {
             bail!("--implicit-methods: {m:?} is not an implicit method with a Newton solver");
         }
@@ -160,7 +160,7 @@ fn step_rows(a: &Args) -> Result<Vec<Row>> {
     let h = bench_dt("symplectic_euler");
     let batch = (2_000_000 / sys.springs.len().max(1)).clamp(5, 200);
     let mut c: Vec<Contender> = vec![
-        stepping(&sys, &s0, backend("symplectic_euler")?, h, batch),
+        stepping(&sys, &s0, fresh_stepper("symplectic_euler")?, h, batch),
         hand_loop(&sys, &s0, h, batch),
     ];
     let t = interleaved_stats(a.rounds, &mut c)?;
@@ -176,8 +176,8 @@ fn step_rows(a: &Args) -> Result<Vec<Row>> {
     if !a.no_rapier {
         let frame = 1.0 / 60.0;
         let mut c: Vec<Contender> = vec![
-            stepping(&sys, &s0, backend("rapier_impulse")?, frame, 1),
-            stepping(&sys, &s0, backend("symplectic_euler")?, frame, 5),
+            stepping(&sys, &s0, fresh_stepper("rapier_impulse")?, frame, 1),
+            stepping(&sys, &s0, fresh_stepper("symplectic_euler")?, frame, 5),
         ];
         let t = interleaved_stats(a.rounds.min(5), &mut c)?;
         rows.push(Row {
@@ -208,7 +208,7 @@ fn best_loop_rows(a: &Args) -> Result<Vec<Row>> {
         let mut c: Vec<Contender> = vec![
             on_threads(
                 1,
-                stepping(&sys, &s0, backend("symplectic_euler")?, h, batch),
+                stepping(&sys, &s0, fresh_stepper("symplectic_euler")?, h, batch),
             )?,
             on_threads(1, best)?,
         ];
@@ -249,7 +249,7 @@ fn thread_rows(a: &Args) -> Result<Vec<Row>> {
     let steps = |threads| -> Result<Contender> {
         Ok(on_threads(
             threads,
-            stepping(&bsys, &bs0, backend("symplectic_euler")?, h, bbatch),
+            stepping(&bsys, &bs0, fresh_stepper("symplectic_euler")?, h, bbatch),
         )?)
     };
     let mut c: Vec<Contender> = vec![forces(1)?, forces(2)?, steps(1)?, steps(2)?];
@@ -419,7 +419,7 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
                 }
             });
             let mut c: Vec<Contender> = vec![
-                stepping(&sys, &s0, backend("symplectic_euler")?, h, 5),
+                stepping(&sys, &s0, fresh_stepper("symplectic_euler")?, h, 5),
                 implicit,
             ];
             let times = interleaved_stats(a.rounds.min(7), &mut c);

@@ -1,11 +1,11 @@
-//! `springlab bench-scaling`: wall time per step against particle count for every backend on
+//! `springlab bench-scaling`: wall time per step against particle count for every method on
 //! n×n cloths, as `scaling.csv` and a log-log `scaling.svg` (both written atomically).
 
 use anyhow::{bail, Result};
 use plotters::prelude::*;
 use springlab::method::MethodOptions;
 use springlab::output::write_atomic;
-use springlab::perf::{backends_for, bench_dt, cloth, time_per_step};
+use springlab::perf::{bench_dt, cloth, methods_for, time_per_step};
 use std::path::PathBuf;
 
 /// Flags of `springlab bench-scaling`.
@@ -29,12 +29,12 @@ pub struct Args {
 
 /// One measured point.
 struct Row {
-    backend: &'static str,
+    method: &'static str,
     n: usize,
     particles: usize,
     springs: usize,
     dt: f64,
-    /// Wall time per step, or why the backend could not step this cloth.
+    /// Wall time per step, or why the method could not step this cloth.
     seconds: std::result::Result<f64, String>,
 }
 
@@ -55,13 +55,13 @@ pub fn run(a: Args) -> Result<()> {
     for &n in &a.sizes {
         let scene = cloth(n);
         let springs = scene.springs.len();
-        for name in backends_for(&scene) {
-            let mut integ = springlab::method::create(name, &MethodOptions::default())?;
+        for name in methods_for(&scene) {
+            let mut stepper = springlab::method::create(name, &MethodOptions::default())?;
             let dt = bench_dt(name);
             // About 10⁶ spring updates per repetition, at least 2 steps.
             let steps = (1_000_000 / springs.max(1)).clamp(2, 500);
-            let seconds =
-                time_per_step(&scene, integ.as_mut(), dt, steps, a.reps).map_err(|e| e.to_string());
+            let seconds = time_per_step(&scene, stepper.as_mut(), dt, steps, a.reps)
+                .map_err(|e| e.to_string());
             match &seconds {
                 Ok(t) => println!(
                     "{name:>18} {n:>4}×{n:<4} {:>8} particles: {:>12.3} µs/step, {:>8.2} ns/spring",
@@ -72,7 +72,7 @@ pub fn run(a: Args) -> Result<()> {
                 Err(why) => println!("{name:>18} {n:>4}×{n:<4} failed: {why}"),
             }
             rows.push(Row {
-                backend: name,
+                method: name,
                 n,
                 particles: n * n,
                 springs,
@@ -92,7 +92,7 @@ pub fn run(a: Args) -> Result<()> {
 fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
-        "backend",
+        "method",
         "n",
         "particles",
         "springs",
@@ -103,7 +103,7 @@ fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
     ])?;
     for r in rows {
         w.write_record([
-            r.backend.to_string(),
+            r.method.to_string(),
             r.n.to_string(),
             r.particles.to_string(),
             r.springs.to_string(),
@@ -121,12 +121,12 @@ fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
     Ok(w.into_inner()?)
 }
 
-/// Log-log plot of seconds per step against particles, one line per backend (failed points
+/// Log-log plot of seconds per step against particles, one line per method (failed points
 /// are left out).
 fn plot(rows: &[Row]) -> Result<String> {
     let pts_of = |name: &str| -> Vec<(f64, f64)> {
         rows.iter()
-            .filter(|r| r.backend == name)
+            .filter(|r| r.method == name)
             .filter_map(|r| r.seconds.as_ref().ok().map(|&t| (r.particles as f64, t)))
             .collect()
     };
@@ -135,7 +135,7 @@ fn plot(rows: &[Row]) -> Result<String> {
         .filter_map(|r| r.seconds.as_ref().ok().map(|&t| (r.particles as f64, t)))
         .collect();
     if ok.is_empty() {
-        bail!("no backend could step any of the cloths: nothing to plot");
+        bail!("no method could step any of the cloths: nothing to plot");
     }
     let mut svg = String::new();
     {
@@ -165,7 +165,7 @@ fn plot(rows: &[Row]) -> Result<String> {
             .y_desc("wall time per step (s)")
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()?;
-        let mut names: Vec<&str> = rows.iter().map(|r| r.backend).collect();
+        let mut names: Vec<&str> = rows.iter().map(|r| r.method).collect();
         names.dedup();
         names.sort_unstable();
         names.dedup();

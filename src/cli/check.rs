@@ -126,10 +126,7 @@ pub fn run(a: Args) -> Result<()> {
             Err(why) => refused.push((m.info.name, why)),
         }
     }
-    println!(
-        "integrators and engines that apply: {}",
-        applicable.join(", ")
-    );
+    println!("methods and engines that apply: {}", applicable.join(", "));
     for (name, why) in refused {
         println!("  not {name}: {why}");
     }

@@ -90,8 +90,8 @@ pub struct StepArgs {
     #[command(flatten)]
     pub blowup: BlowupArg,
     /// Substeps per frame: native methods take N equal steps of dt/N per frame (bit for bit
-    /// the run at dt/N, every N-th state written), Rapier backends N solver substeps.
-    /// Default: 1 for native methods, Rapier's own 4 for Rapier backends.
+    /// the run at dt/N, every N-th state written), Rapier methods N solver substeps.
+    /// Default: 1 for native methods, Rapier's own 4 for Rapier methods.
     #[arg(long, allow_negative_numbers = true, value_parser = super::method_args::substeps)]
     pub substeps: Option<usize>,
     #[command(flatten)]

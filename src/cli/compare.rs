@@ -1,4 +1,4 @@
-//! `springlab compare`: every applicable backend at one step against the reference.
+//! `springlab compare`: every applicable method at one step against the reference.
 
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
@@ -38,7 +38,7 @@ pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     let scene = load(&a.scenario)?;
     let cfg = CompareConfig {
-        integrators: a.m.integrators.clone(),
+        methods: a.m.methods.clone(),
         dt: a.dt,
         duration: a.duration,
         options: a.m.options(),
@@ -63,7 +63,7 @@ pub fn run(a: Args) -> Result<()> {
     );
     println!(
         "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11} {:>11}",
-        "backend",
+        "method",
         "status",
         "err final",
         "err max",
@@ -79,7 +79,7 @@ pub fn run(a: Args) -> Result<()> {
             Some(r) => {
                 println!(
                     "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11} {:>11}",
-                    e.integrator,
+                    e.method,
                     e.status,
                     fmt_opt(r.metric(|m| m.error_final)),
                     fmt_opt(r.metric(|m| m.error_max)),
@@ -101,7 +101,7 @@ pub fn run(a: Args) -> Result<()> {
             }
             None => println!(
                 "{:<22} skipped: {}",
-                e.integrator,
+                e.method,
                 e.skip_reason.as_deref().unwrap_or("")
             ),
         }
@@ -136,9 +136,9 @@ pub fn run(a: Args) -> Result<()> {
                 })
                 .collect();
             if off.is_empty() {
-                println!("{:<22} consistent on every observable", e.integrator);
+                println!("{:<22} consistent on every observable", e.method);
             } else {
-                println!("{:<22} inconsistent: {}", e.integrator, off.join("; "));
+                println!("{:<22} inconsistent: {}", e.method, off.join("; "));
             }
         }
     }

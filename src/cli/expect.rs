@@ -8,7 +8,7 @@ use std::path::PathBuf;
 /// Flags of `springlab expect`.
 #[derive(Debug, clap::Args)]
 #[command(
-    long_about = "Runs each scene's [expect] integrator at its frame step (hz or dt) with its \
+    long_about = "Runs each scene's [expect] method at its frame step (hz or dt) with its \
 substeps over the scene's duration against the reference, the same run `compare` makes for one \
 method, and prints one line per expectation: what is expected, what was measured, pass or FAIL. \
 A scene without an [expect] table is listed as skipped (not a failure) unless no scene given has \

@@ -1,4 +1,4 @@
-//! `springlab framerate`: each backend at game frame rates, with one substep and with the
+//! `springlab framerate`: each method at game frame rates, with one substep and with the
 //! fewest substeps that meet a tolerance, and the cost per frame.
 
 use super::common::load;
@@ -23,10 +23,10 @@ pub struct Args {
     pub hz: Vec<f64>,
     #[command(flatten)]
     pub judge: super::common::JudgeArgs,
-    /// Integrators or backends, comma-separated (default: every one that applies, except
+    /// Methods, comma-separated (default: every one that applies, except
     /// closed forms).
-    #[arg(long, value_delimiter = ',')]
-    pub integrators: Vec<String>,
+    #[arg(long, value_delimiter = ',', alias = "integrators")]
+    pub methods: Vec<String>,
     /// Simulated time (s; default the scene's duration).
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
@@ -63,7 +63,7 @@ pub fn run(a: Args) -> Result<()> {
         rates: a.hz.clone(),
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
-        integrators: a.integrators.clone(),
+        methods: a.methods.clone(),
         options: a.method_options.options(None),
         duration: a.duration,
         max_substeps: a.max_substeps,
@@ -96,7 +96,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     println!(
         "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>12} {:>10}",
-        "backend",
+        "method",
         "hz",
         "1 substep",
         "error 1",
@@ -128,7 +128,7 @@ pub fn run(a: Args) -> Result<()> {
         };
         println!(
             "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>12} {:>10}",
-            e.backend,
+            e.method,
             e.hz,
             one.status,
             e3(one.error),
@@ -141,7 +141,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     for e in fr.entries.iter().filter(|e| e.fewest.is_none()) {
         if let Some(note) = &e.fewest_note {
-            println!("{} at {} Hz: {note}", e.backend, e.hz);
+            println!("{} at {} Hz: {note}", e.method, e.hz);
         }
     }
     if let Some(note) = &fr.reference_note {

@@ -15,7 +15,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
-    println!("integrators:");
+    println!("methods:");
     for m in springlab::method::Registry::builtin().iter() {
         let i = &m.info;
         let aliases = if i.aliases.is_empty() {

@@ -4,13 +4,13 @@ use anyhow::Result;
 use springlab::method::MethodOptions;
 use std::path::{Path, PathBuf};
 
-/// Integrator selection and options.
+/// Method selection and options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MeasureArgs {
-    /// Integrators or backends, comma-separated (default: every one that applies).
-    #[arg(long, value_delimiter = ',')]
-    pub integrators: Vec<String>,
-    /// Substeps per step. Rapier backends take this many solver substeps (default 4). In
+    /// Methods, comma-separated (default: every one that applies).
+    #[arg(long, value_delimiter = ',', alias = "integrators")]
+    pub methods: Vec<String>,
+    /// Substeps per step. Rapier methods take this many solver substeps (default 4). In
     /// `compare` the step is a frame and every native method also splits it into this many
     /// equal steps (default 1; bit-identical to dt/N, every N-th state measured); `sweep`,
     /// `stability` and `advise` vary the step itself, so there it sets Rapier's only.
@@ -28,7 +28,7 @@ impl MeasureArgs {
     pub fn options(&self) -> MethodOptions {
         self.method_options.options(self.substeps)
     }
-    /// Substeps per frame for every backend, when `--substeps` was given (`compare`).
+    /// Substeps per frame for every method, when `--substeps` was given (`compare`).
     pub fn frame_substeps(&self) -> Option<u64> {
         self.substeps.map(|n| n as u64)
     }

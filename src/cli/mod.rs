@@ -31,31 +31,31 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Run one scenario with one integrator and write its trajectory, energy and summary.
+    /// Run one scenario with one method and write its trajectory, energy and summary.
     Run(run::Args),
     /// Validate a scenario and print its particles, springs, constraints and active terms.
     Check(check::Args),
-    /// List the integrators and the shipped scenarios.
+    /// List the methods and the shipped scenarios.
     List(list::Args),
-    /// Time every backend on n×n cloths: cost per step against particle count (CSV + log-log SVG).
+    /// Time every method on n×n cloths: cost per step against particle count (CSV + log-log SVG).
     BenchScaling(bench_scaling::Args),
     /// Measure the cost ratios that have targets in one interleaved run: step vs hand loop, Rapier frame vs
     /// step, 1→2 threads, implicit Euler at 1/60 (CSV + table).
     BenchRatios(bench_ratios::Args),
-    /// Run every scene through every backend and write plots, pages and summary.json.
+    /// Run every scene through every method and write plots, pages and summary.json.
     Report(report::Args),
-    /// Run every integrator over a log grid of steps against the reference: sweep.csv, orders.
+    /// Run every method over a log grid of steps against the reference: sweep.csv, orders.
     Sweep(sweep::Args),
-    /// Largest stable step per integrator (spectral radius and empirical bisection).
+    /// Largest stable step per method (spectral radius and empirical bisection).
     Stability(stability::Args),
-    /// Cheapest verified integrator and step for an error tolerance.
+    /// Cheapest verified method and step for an error tolerance.
     Advise(advise::Args),
-    /// Every applicable backend at one step against the reference, side by side.
+    /// Every applicable method at one step against the reference, side by side.
     Compare(compare::Args),
-    /// Each backend at game frame rates: the run at one substep, the fewest substeps meeting a
+    /// Each method at game frame rates: the run at one substep, the fewest substeps meeting a
     /// tolerance, and the cost per frame (framerate.csv, framerate.json).
     Framerate(framerate::Args),
-    /// Hold scenes to their `[expect]` tables: run each one's integrator and step against
+    /// Hold scenes to their `[expect]` tables: run each one's method and step against
     /// the reference, print pass/FAIL per expectation, optionally write JUnit XML.
     Expect(expect::Args),
     /// Join the shard directories of one sweep.

@@ -1,4 +1,4 @@
-//! `springlab run`: one scenario, one integrator, full outputs.
+//! `springlab run`: one scenario, one method, full outputs.
 
 use super::common::{load, StepArgs};
 use super::measure_common::fmt_opt;
@@ -11,15 +11,15 @@ use std::path::PathBuf;
 pub struct Args {
     /// Scenario file (TOML).
     pub scenario: PathBuf,
-    /// Integrator or backend (see `springlab list`).
-    #[arg(long, short)]
-    pub integrator: String,
+    /// Method name (see `springlab list`).
+    #[arg(long, short, alias = "integrator", short_alias = 'i')]
+    pub method: String,
     #[command(flatten)]
     pub step: StepArgs,
     /// Write every k-th step to trajectory.csv and energy.csv (the last step always).
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub every: u64,
-    /// Output directory (default: out/<scenario>/<integrator>/).
+    /// Output directory (default: out/<scenario>/<method>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Stop at the first unstable verdict instead of computing on until the state diverges or
@@ -40,17 +40,17 @@ pub fn run(a: Args) -> Result<()> {
     if a.every == 0 {
         bail!("--every: must be at least 1");
     }
-    let mut integ = springlab::method::create(&a.integrator, &a.step.options())?;
+    let mut stepper = springlab::method::create(&a.method, &a.step.options())?;
     let sys = scene.build();
-    if let Err(reason) = integ.check(&sys) {
+    if let Err(reason) = stepper.check(&sys) {
         return Err(springlab::Error::Unsupported {
-            integrator: integ.name().into(),
+            method: stepper.name().into(),
             scenario: scene.name.clone(),
             reason,
         }
         .into());
     }
-    let name = integ.name().to_string();
+    let name = stepper.name().to_string();
     let dir = a
         .out
         .unwrap_or_else(|| PathBuf::from("out").join(&scene.name).join(&name));
@@ -72,7 +72,7 @@ pub fn run(a: Args) -> Result<()> {
     );
     let out = springlab::run::run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         s0,
         &plan,
         &mut (&mut files, (metrics.as_mut(), (&mut quality, &mut bar))),
@@ -92,7 +92,7 @@ pub fn run(a: Args) -> Result<()> {
     let q = finished.then(|| quality.quality());
     // Rapier splits frames itself with its solver substeps (the options'); native methods
     // with the plan's.
-    let substeps = if integ.splits_frames() {
+    let substeps = if stepper.splits_frames() {
         a.step.options().substeps as u64
     } else {
         plan.substeps
@@ -111,7 +111,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     write_run(&dir, &summary)?;
     println!(
-        "{} with {name}: dt = {} s per frame, {substeps} substep(s) per frame, {} frames, {} force evaluations, {:.3} ms modelled, {:.3} ms in the integrator ({:.3e} s per frame)",
+        "{} with {name}: dt = {} s per frame, {substeps} substep(s) per frame, {} frames, {} force evaluations, {:.3} ms modelled, {:.3} ms in the method ({:.3e} s per frame)",
         scene.name,
         plan.dt,
         out.steps_done,

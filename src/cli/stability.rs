@@ -1,4 +1,4 @@
-//! `springlab stability`: largest stable step per integrator, theory and experiment.
+//! `springlab stability`: largest stable step per method, theory and experiment.
 
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
@@ -79,7 +79,7 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     let cfg = StabilityConfig {
-        integrators: a.m.integrators.clone(),
+        methods: a.m.methods.clone(),
         options: a.m.options(),
         horizon: a.horizon,
         blowup_factor,
@@ -99,12 +99,12 @@ pub fn run(a: Args) -> Result<()> {
     );
     println!(
         "{:<22} {:<24} {:>12} {:>9} {:<22} {:>12}",
-        "integrator", "verdict", "max dt", "hω", "decided by", "empirical dt"
+        "method", "verdict", "max dt", "hω", "decided by", "empirical dt"
     );
-    for i in &rep.integrators {
+    for i in &rep.methods {
         println!(
             "{:<22} {:<24} {:>12} {:>9} {:<22} {:>12}",
-            i.integrator,
+            i.method,
             serde_json::to_value(i.verdict)?.as_str().unwrap_or(""),
             fmt_opt(i.max_stable_dt),
             i.h_omega.map_or("-".into(), |h| format!("{h:.6}")),
@@ -115,14 +115,14 @@ pub fn run(a: Args) -> Result<()> {
     for (n, why) in &rep.skipped {
         println!("{n:<22} skipped: {why}");
     }
-    for i in &rep.integrators {
+    for i in &rep.methods {
         if let Some(note) = &i.note {
-            println!("{:<22} note: {note}", i.integrator);
+            println!("{:<22} note: {note}", i.method);
         }
     }
     if a.map {
         let mut mc = MapConfig {
-            integrators: a.m.integrators.clone(),
+            methods: a.m.methods.clone(),
             options: a.m.options(),
             blowup_factor,
             progress: true,

@@ -1,4 +1,4 @@
-//! `springlab sweep`: every integrator over a grid of steps from the scene's dynamics, refined
+//! `springlab sweep`: every method over a grid of steps from the scene's dynamics, refined
 //! until asymptotic; orders (or why none); shards.
 
 use super::common::load;
@@ -35,7 +35,7 @@ pub struct Args {
     #[arg(long)]
     pub no_extend: bool,
     /// Cost cap per method: steps × particles summed over its runs (default 4e6). It counts
-    /// steps, not time: a costly backend (rapier_multibody on a large cloth) can still be slow.
+    /// steps, not time: a costly method (rapier_multibody on a large cloth) can still be slow.
     #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
     #[command(flatten)]
@@ -55,7 +55,7 @@ pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     let scene = load(&a.scenario)?;
     let cfg = SweepConfig {
-        integrators: a.m.integrators.clone(),
+        methods: a.m.methods.clone(),
         dt_min: a.dt_min,
         dt_max: a.dt_max,
         points: a.points,
@@ -95,12 +95,12 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(s) = &res.summary {
         println!(
             "{:<22} {:>8} {:>8} {:>9} {:>8} {:>10}  dt range (or why no order)",
-            "integrator", "theory", "observed", "R²", "points", "finest dt"
+            "method", "theory", "observed", "R²", "points", "finest dt"
         );
-        for i in &s.integrators {
+        for i in &s.methods {
             println!(
                 "{:<22} {:>8} {:>8} {:>9} {:>8} {:>10}  {}",
-                i.integrator,
+                i.method,
                 i.theoretical_order.map_or("-".into(), |o| o.to_string()),
                 i.observed_order.map_or("-".into(), |o| format!("{o:.3}")),
                 i.fit.r_squared.map_or("-".into(), |r| format!("{r:.5}")),
@@ -134,7 +134,7 @@ pub fn run(a: Args) -> Result<()> {
             for m in b.methods.iter().filter(|m| m.finest > res.plan.base_from) {
                 println!(
                     "budget: {} runs dt ≥ {} s only: {}",
-                    m.integrator,
+                    m.method,
                     fmt_opt(Some(res.plan.dts[m.finest])),
                     b.sentence(m)
                 );

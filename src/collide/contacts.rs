@@ -1,5 +1,5 @@
 //! The post-step contact stage for the `impulse` and `projection` responses: after each
-//! accepted integrator step, the runner calls [`Contacts::apply`], which resolves every
+//! accepted method step, the runner calls [`Contacts::apply`], which resolves every
 //! particle's contacts (including crossings between steps found by a swept test) and reports
 //! the mechanical energy the response removed and, apart, the energy it created, so the run's
 //! energy account stays a balance that cannot hide a gain behind a loss.
@@ -14,14 +14,14 @@
 //! a particle out of an obstacle against a spring "created", though the same move took the
 //! kinetic energy the spring had given it.)
 //!
-//! The books measure the stage, never the integrator: what the stage removes from the state it
-//! is handed is dissipated even when the integrator had just created it (explicit Euler gains
+//! The books measure the stage, never the method: what the stage removes from the state it
+//! is handed is dissipated even when the method had just created it (explicit Euler gains
 //! ½m h²|g|² per step under gravity; on a resting particle the stage takes it back), so the
-//! run's balance keeps the integrator's own gain or loss, step for step.
+//! run's balance keeps the method's own gain or loss, step for step.
 //!
-//! Coulomb friction acts at both levels, with the same cone for every integrator: the
+//! Coulomb friction acts at both levels, with the same cone for every method: the
 //! tangential velocity loses at most μ·Δv_n (Δv_n the normal velocity change the contact
-//! makes, which is the integrator's own approach speed times 1 + e), and the step's tangential
+//! makes, which is the method's own approach speed times 1 + e), and the step's tangential
 //! displacement is made consistent with it (see [`Response`]), so a sliding particle
 //! decelerates at μ·g, sticks when the cone holds it, and never creeps.
 
@@ -33,13 +33,13 @@ use std::sync::Arc;
 /// What the contact stage did in one step.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ContactStep {
-    /// True when some position or velocity changed (the integrator must then be reset).
+    /// True when some position or velocity changed (the method must then be reset).
     pub changed: bool,
     /// Mechanical energy the responses removed (J, ≥ 0): the sum of the particles' drops, each
     /// its kinetic plus gravitational energy plus the elastic energy at it (module docs).
     pub dissipated: f64,
     /// Mechanical energy the responses created (J, ≥ 0): the sum of the particles' rises, on
-    /// the same terms (e.g. a particle the integrator moved deeper than its speed allowed,
+    /// the same terms (e.g. a particle the method moved deeper than its speed allowed,
     /// pushed back out against gravity). Never netted against `dissipated`; `created −
     /// dissipated` is the stage's change of the system's mechanical energy.
     pub created: f64,
@@ -216,7 +216,7 @@ impl Contacts {
                 if mu > 0.0 && vt != tangential(v_in) {
                     // Friction acted: its velocity change moves the step's end as a constant
                     // force over the step would, by h/2 times it (exact for constant
-                    // deceleration; the integrator's own travel under the other forces is
+                    // deceleration; the method's own travel under the other forces is
                     // kept, so its stability is its own). A particle friction stops travels
                     // the trapezoid h·v_t,start/2 instead: zero for a stuck one, no creep.
                     if vt == Vec3::zeros() {
@@ -231,7 +231,7 @@ impl Contacts {
             Response::Projection => {
                 // Position-level Coulomb friction: the tangential displacement of this step
                 // loses at most μ·Δv_n·h, where Δv_n = (1 + e)·(approach speed) is the normal
-                // velocity change the contact makes (the same for every integrator, unlike the
+                // velocity change the contact makes (the same for every method, unlike the
                 // per-step penetration depth); the velocity loses at most μ·Δv_n.
                 let dvn = if vn_in < 0.0 { -(1.0 + e) * vn_in } else { 0.0 };
                 let cut = mu * dvn;

@@ -1,5 +1,5 @@
 //! Validated obstacle and collision settings: what the scene file asked for, in model units,
-//! before any parry shape is built (the Rapier backend reads the same definitions).
+//! before any parry shape is built (the Rapier method reads the same definitions).
 
 use crate::model::Vec3;
 
@@ -91,10 +91,10 @@ pub enum Response {
     /// normal velocity with restitution and apply a Coulomb friction impulse (at most μ × the
     /// normal velocity change) to the tangential part; when friction acted, the step's end
     /// moves by h/2 × friction's velocity change (exact under constant friction for every
-    /// integrator, whose own travel under the other forces is kept), and a particle friction
+    /// method, whose own travel under the other forces is kept), and a particle friction
     /// stops travels h·v_t,start/2 (a stuck particle does not creep).
     Impulse,
-    /// A spring-dashpot force on the penetration depth (a force term every integrator sees).
+    /// A spring-dashpot force on the penetration depth (a force term every method sees).
     Penalty {
         /// Contact spring stiffness k (N/m).
         stiffness: f64,
@@ -103,7 +103,7 @@ pub enum Response {
     },
     /// After each step: project positions out along the normal and cut the step's tangential
     /// displacement by at most μ·Δv_n·h (position-level Coulomb friction, Δv_n the normal
-    /// velocity change (1 + e)·approach speed, so the cone is the same for every integrator);
+    /// velocity change (1 + e)·approach speed, so the cone is the same for every method);
     /// the velocity gets the same restitution and at most μ·Δv_n of tangential loss.
     Projection,
 }

@@ -1,6 +1,6 @@
 //! The `penalty` response: a spring-dashpot force on each contact's penetration depth d,
 //! f = (k d − c v_n) n, with regularised Coulomb friction on the tangential velocity. It is an
-//! ordinary [`ForceTerm`], so every integrator handles it and its stiffness counts in stability.
+//! ordinary [`ForceTerm`], so every method handles it and its stiffness counts in stability.
 //!
 //! The dashpot acts for the whole contact (also pulling slightly at its end), which is the
 //! linear spring-dashpot model whose restitution is e = exp(−ζπ/√(1−ζ²)), ζ = c / (2√(k m)).

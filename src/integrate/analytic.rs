@@ -6,7 +6,7 @@
 //! C, S = cos, sin(√-Δ t)/√-Δ (Δ<0), 1, t (Δ=0), cosh, sinh(√Δ t)/√Δ (Δ>0).
 //! It is evaluated from the last reset (start or impulse), so it is exact at any step size.
 
-use super::{Integrator, StepStats};
+use super::{StepStats, Stepper};
 use crate::error::{Error, Result};
 use crate::model::{State, System, Vec3};
 
@@ -180,7 +180,7 @@ impl Analytic {
     }
 }
 
-impl Integrator for Analytic {
+impl Stepper for Analytic {
     fn name(&self) -> &str {
         "analytic"
     }

@@ -16,11 +16,11 @@
 //! (backward Euler's h·P at the start).
 
 use super::newton::{Newton, Stop};
-use super::{ensure_len, Integrator, StepStats};
+use super::{ensure_len, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 
-/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
 const NAME: &str = "bdf2";
 
 /// BDF2 with a backward-Euler start, on the shared Newton + block-Jacobi-PCG core.
@@ -38,7 +38,7 @@ pub struct Bdf2 {
     h_prev: Option<f64>,
 }
 
-impl Integrator for Bdf2 {
+impl Stepper for Bdf2 {
     fn name(&self) -> &str {
         NAME
     }

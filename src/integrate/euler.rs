@@ -5,7 +5,7 @@
 //! - Symplectic (semi-implicit) Euler: v += h a(x, v), x += h v_new. Order 1, symplectic:
 //!   the energy error stays bounded; stable on an undamped oscillator for hω < 2.
 
-use super::{ensure_len, Integrator, StepStats};
+use super::{ensure_len, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 
@@ -44,7 +44,7 @@ pub struct ExplicitEuler {
     a: Vec<Vec3>,
 }
 
-impl Integrator for ExplicitEuler {
+impl Stepper for ExplicitEuler {
     fn name(&self) -> &str {
         "explicit_euler"
     }
@@ -59,7 +59,7 @@ pub struct SymplecticEuler {
     a: Vec<Vec3>,
 }
 
-impl Integrator for SymplecticEuler {
+impl Stepper for SymplecticEuler {
     fn name(&self) -> &str {
         "symplectic_euler"
     }

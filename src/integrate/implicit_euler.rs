@@ -11,11 +11,11 @@
 //! 1/√(1 + (hω)²) per step, for every h.
 
 use super::newton::{Newton, Stop};
-use super::{Integrator, StepStats};
+use super::{StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System};
 
-/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
 const NAME: &str = "implicit_euler";
 
 /// Backward Euler with Newton + block-Jacobi-preconditioned CG.
@@ -25,7 +25,7 @@ pub struct ImplicitEuler {
     pub newton: Newton,
 }
 
-impl Integrator for ImplicitEuler {
+impl Stepper for ImplicitEuler {
     fn name(&self) -> &str {
         NAME
     }

@@ -12,11 +12,11 @@
 //! Dissipated work is booked by the midpoint rule, h·P(x_½, u).
 
 use super::newton::{Newton, Stop};
-use super::{Integrator, StepStats};
+use super::{StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System};
 
-/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
 const NAME: &str = "implicit_midpoint";
 
 /// Implicit midpoint with the shared Newton + block-Jacobi-preconditioned CG core.
@@ -26,7 +26,7 @@ pub struct ImplicitMidpoint {
     pub newton: Newton,
 }
 
-impl Integrator for ImplicitMidpoint {
+impl Stepper for ImplicitMidpoint {
     fn name(&self) -> &str {
         NAME
     }

@@ -1,6 +1,6 @@
 //! Linearly implicit Euler (Baraff & Witkin, "Large steps in cloth simulation", SIGGRAPH
 //! 1998): backward Euler with the forces linearised at the start of the step, so one linear
-//! solve per step and no Newton iteration — the classic cloth integrator.
+//! solve per step and no Newton iteration — the classic cloth method.
 //!
 //! (M − h ∂f/∂v − h² ∂f/∂x) Δv = h (f₀ + h ∂f/∂x v₀), v' = v₀ + Δv, x' = x₀ + h v', with the
 //! Jacobian at (x₀, v₀), solved by the shared core's block-Jacobi CG ([`Newton`]), clamping
@@ -10,11 +10,11 @@
 //! work is booked as backward Euler's, h·P(x', v') (one more force evaluation).
 
 use super::newton::Newton;
-use super::{Integrator, StepStats};
+use super::{StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System};
 
-/// The method's name: what [`Integrator::name`] reports and what the solver's errors say.
+/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
 const NAME: &str = "linear_implicit_euler";
 
 /// Baraff–Witkin linearly implicit Euler on the shared block-Jacobi-PCG core.
@@ -24,7 +24,7 @@ pub struct LinearImplicitEuler {
     pub newton: Newton,
 }
 
-impl Integrator for LinearImplicitEuler {
+impl Stepper for LinearImplicitEuler {
     fn name(&self) -> &str {
         NAME
     }

@@ -1,9 +1,9 @@
-//! Time integrators: one trait, one file per method. Their names and facts are registered in
+//! Time methods: one trait, one file per method. Their names and facts are registered in
 //! [`crate::method`].
 //!
-//! Write your own scheme by implementing [`Integrator`] and registering it
+//! Write your own scheme by implementing [`Stepper`] and registering it
 //! ([`crate::method::Registry::with`]); the runner, every command and the report then treat it
-//! exactly like the built-in ones (see `examples/custom_integrator.rs`).
+//! exactly like the built-in ones (see `examples/custom_method.rs`).
 
 mod analytic;
 mod bdf2;
@@ -54,7 +54,7 @@ pub struct StepStats {
 /// Advances a [`State`] of a [`System`] by one step; owns its scratch buffers.
 ///
 /// ```
-/// use springlab::integrate::{Integrator, SymplecticEuler};
+/// use springlab::integrate::{Stepper, SymplecticEuler};
 /// use springlab::scenario::Scenario;
 /// let scene = Scenario::from_toml_str("[[particle]]\nposition=[0.0,0.0,0.0]\nvelocity=[1.0,0.0,0.0]\nmass=1.0", "free.toml").unwrap();
 /// let sys = scene.build();
@@ -63,7 +63,7 @@ pub struct StepStats {
 /// m.step(&sys, &mut s, 0.5).unwrap();
 /// assert_eq!(s.x[0].x, 0.5);
 /// ```
-pub trait Integrator: Send {
+pub trait Stepper: Send {
     /// The CLI name (`symplectic_euler`, ...): the name its registry entry carries.
     fn name(&self) -> &str;
     /// `Err(reason)` when this method cannot run `sys` faithfully (say, it has constraints).
@@ -72,7 +72,7 @@ pub trait Integrator: Send {
             Ok(())
         } else {
             Err(format!(
-                "the scene has {} rigid constraint(s) this method cannot honour; use rattle, verlet_constraints or a Rapier backend",
+                "the scene has {} rigid constraint(s) this method cannot honour; use rattle, verlet_constraints or a Rapier method",
                 sys.constraints.len()
             ))
         }
@@ -83,7 +83,7 @@ pub trait Integrator: Send {
     fn handles_contacts(&self) -> bool {
         false
     }
-    /// True for a backend that splits each frame into substeps itself (a physics engine's
+    /// True for a method that splits each frame into substeps itself (a physics engine's
     /// solver substeps, `MethodOptions::substeps`): the runner then passes it whole frames
     /// instead of splitting them into `RunPlan::substeps` steps. The registry checks it
     /// against the method's `MethodInfo::splits_frames` fact.

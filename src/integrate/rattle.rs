@@ -12,12 +12,12 @@
 //! symplectic for conservative forces (energy error bounded, O(h²)); without constraints it
 //! is velocity Verlet (stable for hω < 2 on an undamped oscillator).
 //!
-//! Compliant (soft, compliance > 0) constraints are refused by [`Integrator::check`]: RATTLE
+//! Compliant (soft, compliance > 0) constraints are refused by [`Stepper::check`]: RATTLE
 //! is a method for rigid constraints, and a soft rod is a spring (a `[[spring]]`) or a job for
 //! `verlet_constraints`' XPBD compliance.
 
 use super::shake::{positions, velocities};
-use super::{ensure_len, Integrator, StepStats};
+use super::{ensure_len, StepStats, Stepper};
 use crate::error::{Error, Result};
 use crate::model::{State, System, Vec3};
 
@@ -54,7 +54,7 @@ pub struct Rattle {
     cached: bool,
 }
 
-impl Integrator for Rattle {
+impl Stepper for Rattle {
     fn name(&self) -> &str {
         "rattle"
     }

@@ -4,7 +4,7 @@
 //! References: Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.1 (tableaux of the explicit
 //! midpoint rule and of the classic fourth-order method of Kutta, 1901).
 
-use super::{ensure_len, Integrator, StepStats};
+use super::{ensure_len, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 
@@ -74,7 +74,7 @@ impl RungeKutta {
     }
 }
 
-impl Integrator for RungeKutta {
+impl Stepper for RungeKutta {
     fn name(&self) -> &str {
         self.tab.name
     }

@@ -5,7 +5,7 @@
 //! Velocity-dependent forces (dampers, drag) are evaluated at a first-order predicted velocity,
 //! which keeps the global order 2 (the predictor's O(h²) error enters multiplied by h).
 
-use super::{ensure_len, Integrator, StepStats};
+use super::{ensure_len, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 
@@ -18,7 +18,7 @@ pub struct VelocityVerlet {
     cached: bool,
 }
 
-impl Integrator for VelocityVerlet {
+impl Stepper for VelocityVerlet {
     fn name(&self) -> &str {
         "velocity_verlet"
     }
@@ -67,7 +67,7 @@ pub struct PositionVerlet {
     h_prev: Option<f64>,
 }
 
-impl Integrator for PositionVerlet {
+impl Stepper for PositionVerlet {
     fn name(&self) -> &str {
         "position_verlet"
     }

@@ -5,7 +5,7 @@
 //! Per step: x* = x + h v + h² a(x, v) (Verlet with v = (x_n - x_{n-1})/h), then `iterations`
 //! Gauss-Seidel sweeps over the distance constraints, then v = (x_{n+1} - x_n)/h.
 
-use super::{ensure_len, Integrator, StepStats};
+use super::{ensure_len, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 
@@ -37,7 +37,7 @@ impl Default for VerletConstraints {
     }
 }
 
-impl Integrator for VerletConstraints {
+impl Stepper for VerletConstraints {
     fn name(&self) -> &str {
         "verlet_constraints"
     }

@@ -27,7 +27,7 @@ pub const GAME_HZ: f64 = 60.0;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FreeStep {
     /// Method (null when nothing ran stably).
-    pub integrator: Option<String>,
+    pub method: Option<String>,
     /// Step (s).
     pub dt: Option<f64>,
     /// The metric that judged it.
@@ -54,7 +54,7 @@ pub struct GameRate {
     /// Frame rate (Hz).
     pub hz: f64,
     /// Method (null when none ran stably at this rate).
-    pub integrator: Option<String>,
+    pub method: Option<String>,
     /// Substeps per frame.
     pub substeps: Option<u64>,
     /// The metric that judged it.
@@ -89,7 +89,7 @@ impl FreeStep {
     /// `why` saying what was verified instead.
     fn none(metric: Metric, bound: f64, position: f64, why: String) -> Self {
         FreeStep {
-            integrator: None,
+            method: None,
             dt: None,
             metric,
             tolerance: bound,
@@ -109,7 +109,7 @@ impl GameRate {
     fn none(hz: f64, metric: Metric, bound: f64, position: f64, why: String) -> Self {
         GameRate {
             hz,
-            integrator: None,
+            method: None,
             substeps: None,
             metric,
             tolerance: bound,
@@ -136,9 +136,9 @@ pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult)
         advice.position_tolerance.value,
         String::new(),
     );
-    if let (Some(m), Some(dt)) = (&advice.integrator, advice.dt) {
+    if let (Some(m), Some(dt)) = (&advice.method, advice.dt) {
         return FreeStep {
-            integrator: Some(m.clone()),
+            method: Some(m.clone()),
             dt: Some(dt),
             error: advice.verified_error,
             modelled_seconds_per_simulated_second: advice.modelled_per_second,
@@ -160,20 +160,17 @@ pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult)
         .filter_map(|e| e.result.as_ref())
         .filter(|r| {
             registry
-                .info(&r.integrator)
+                .info(&r.method)
                 .is_ok_and(|i| i.order != Order::Exact)
         })
         .filter_map(|r| {
             let m = r.metrics.as_ref()?;
             Some((r, metric.error(m, advice.position_tolerance.value)?))
         })
-        .min_by(|a, b| {
-            a.1.total_cmp(&b.1)
-                .then(a.0.integrator.cmp(&b.0.integrator))
-        });
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.method.cmp(&b.0.method)));
     match best {
         Some((r, e)) => FreeStep {
-            integrator: Some(r.integrator.clone()),
+            method: Some(r.method.clone()),
             dt: Some(r.dt),
             error: Some(e),
             modelled_seconds_per_simulated_second: Some(r.modelled_seconds / (r.dt * r.steps as f64)),
@@ -217,7 +214,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
         let keys: Vec<CostKey> = meeting
             .iter()
             .map(|(e, f)| CostKey {
-                integrator: e.backend.clone(),
+                method: e.method.clone(),
                 modelled_per_second: f.modelled_seconds_per_frame.unwrap_or(f64::NAN) * hz,
                 force_evals_per_second: f.force_evals_per_frame.map(|x| x * hz),
             })
@@ -225,7 +222,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
         let (order, _) = rank(&keys, scenario)?;
         let (e, f) = meeting[order[0]];
         return Ok(GameRate {
-            integrator: Some(e.backend.clone()),
+            method: Some(e.method.clone()),
             substeps: Some(f.substeps),
             error: f.error,
             modelled_seconds_per_frame: f.modelled_seconds_per_frame,
@@ -244,7 +241,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
     let best = at
         .iter()
         .filter_map(|e| Some((e, e.one_substep.error?)))
-        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.backend.cmp(&b.0.backend)));
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.method.cmp(&b.0.method)));
     let untried = if left_out.is_empty() {
         String::new()
     } else {
@@ -255,7 +252,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
     };
     Ok(match best {
         Some((e, err)) => GameRate {
-            integrator: Some(e.backend.clone()),
+            method: Some(e.method.clone()),
             substeps: Some(1),
             error: Some(err),
             modelled_seconds_per_frame: e.one_substep.modelled_seconds_per_frame,

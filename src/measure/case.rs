@@ -1,4 +1,4 @@
-//! One measured case: an integrator at one step over a horizon, against a reference.
+//! One measured case: a method at one step over a horizon, against a reference.
 
 use super::contacts::{ContactMetrics, ContactReport};
 use super::grid::TimeGrid;
@@ -12,7 +12,7 @@ use crate::model::{State, System};
 use crate::run::{run, NoObserver, RunPlan, RunStatus, Status};
 use serde::Serialize;
 
-/// Runs shorter than this (integrator wall time, s) are repeated and the median kept.
+/// Runs shorter than this (stepping wall time, s) are repeated and the median kept.
 pub const SHORT_RUN_SECONDS: f64 = 0.05;
 /// Repetitions of a short run (including the measured one).
 pub const SHORT_RUN_REPEATS: usize = 5;
@@ -20,8 +20,8 @@ pub const SHORT_RUN_REPEATS: usize = 5;
 /// When to stop repeating a timed run: once it has `min_repetitions` runs and
 /// `min_total_seconds` of elapsed time, or once its elapsed time reaches `cap_seconds` with
 /// at least `cap_repetitions` runs, or at `max_repetitions` runs, whichever comes first.
-/// Elapsed time counts each repetition whole (integrator set-up included), so the rule bounds
-/// what the timing costs; the sample kept is the integrator's own wall time.
+/// Elapsed time counts each repetition whole (method set-up included), so the rule bounds
+/// what the timing costs; the sample kept is the method's own wall time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TimingRule {
     /// Repetitions wanted (≥ 1).
@@ -60,7 +60,7 @@ pub const SHORT_RUN_RULE: TimingRule = TimingRule {
 pub struct WallTimes {
     /// Runs timed.
     pub repetitions: usize,
-    /// Median integrator wall time of one run (s): the kept statistic.
+    /// Median stepping wall time of one run (s): the kept statistic.
     pub median_seconds: f64,
     /// Fastest run (s).
     pub min_seconds: f64,
@@ -101,21 +101,21 @@ impl WallTimes {
     }
 }
 
-/// One run to time: an integrator or backend at a step for a number of steps.
+/// One run to time: a method at a step for a number of steps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TimedRun {
-    /// Integrator or backend name.
-    pub integrator: String,
+    /// Method name.
+    pub method: String,
     /// Step (s): the frame step when `substeps` is set.
     pub dt: f64,
     /// Steps (frames).
     pub steps: u64,
-    /// Substeps per frame for every backend ([`CaseSettings::substeps`]); `None`: one step
+    /// Substeps per frame for every method ([`CaseSettings::substeps`]); `None`: one step
     /// per frame for native methods, the options' substeps for engines.
     pub substeps: Option<u64>,
 }
 
-/// The run plan and integrator options of `steps` frames of `dt` with `substeps` per frame
+/// The run plan and method options of `steps` frames of `dt` with `substeps` per frame
 /// (see [`CaseSettings::substeps`]): one place decides what a frame's substeps mean.
 pub fn frame_setup(
     set: &CaseSettings,
@@ -139,8 +139,8 @@ pub fn frame_setup(
 
 /// Times every run in `runs` on this thread, interleaved round-robin (A, B, C, A, B, C, …)
 /// so that a drift of the machine's speed touches all of them alike; a run leaves the rotation
-/// once `rule` is satisfied. Each repetition uses a fresh integrator and no observer; the time
-/// is the runner's integrator wall time. Returns one [`WallTimes`] per run, in input order.
+/// once `rule` is satisfied. Each repetition uses a fresh method and no observer; the time
+/// is the runner's stepping wall time. Returns one [`WallTimes`] per run, in input order.
 pub fn time_interleaved(
     sys: &System,
     s0: &State,
@@ -159,8 +159,8 @@ pub fn time_interleaved(
             any = true;
             let started = std::time::Instant::now();
             let (plan, options) = frame_setup(set, r.dt, r.steps, r.substeps);
-            let mut integ = set.registry.create(&r.integrator, &options)?;
-            let o = run(sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
+            let mut stepper = set.registry.create(&r.method, &options)?;
+            let o = run(sys, stepper.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
             samples[i].push(o.wall_seconds);
             totals[i] += started.elapsed().as_secs_f64();
         }
@@ -174,8 +174,8 @@ pub fn time_interleaved(
 /// The outcome of one case: cost, status and metrics.
 #[derive(Debug, Clone, Serialize)]
 pub struct CaseResult {
-    /// Canonical integrator or backend name.
-    pub integrator: String,
+    /// Canonical method name.
+    pub method: String,
     /// Step (s).
     pub dt: f64,
     /// Steps planned.
@@ -184,7 +184,7 @@ pub struct CaseResult {
     pub steps_done: u64,
     /// Force evaluations.
     pub force_evals: u64,
-    /// Integrator wall time (s); for a short run the median of [`SHORT_RUN_RULE`]'s repetitions.
+    /// Stepping wall time (s); for a short run the median of [`SHORT_RUN_RULE`]'s repetitions.
     pub wall_seconds: f64,
     /// The work the run counted.
     pub work: crate::run::Work,
@@ -226,7 +226,7 @@ impl CaseResult {
 pub struct CaseSettings {
     /// The methods cases are run with (built-ins unless a library user added theirs).
     pub registry: Registry,
-    /// Integrator options.
+    /// Method options.
     pub options: MethodOptions,
     /// Blow-up factor of the runner.
     pub blowup_factor: f64,
@@ -239,7 +239,7 @@ pub struct CaseSettings {
     /// Measure collision metrics on scenes with obstacles (compare's `contacts.json`; sweeps
     /// and advice leave them off: they would pay the per-step obstacle queries for nothing).
     pub contacts: bool,
-    /// Substeps per frame (a grid step is a frame) for every backend: native methods take
+    /// Substeps per frame (a grid step is a frame) for every method: native methods take
     /// that many equal steps per frame, engines that many solver substeps. `None`: one step
     /// per frame for native methods, `options.substeps` for engines.
     pub substeps: Option<u64>,
@@ -271,7 +271,7 @@ pub fn run_case(
 ) -> Result<CaseResult> {
     let g: TimeGrid = reference.grids[grid];
     let (plan, options) = frame_setup(set, g.dt, g.steps, set.substeps);
-    let mut integ = set.registry.create(name, &options)?;
+    let mut stepper = set.registry.create(name, &options)?;
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
     let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));
     let mut contacts = set
@@ -280,7 +280,7 @@ pub fn run_case(
         .flatten();
     let out = run(
         sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         s0.clone(),
         &plan,
         &mut (&mut obs, (&mut trace, &mut contacts)),
@@ -301,7 +301,7 @@ pub fn run_case(
         Status::Unstable { time, reason, .. } => (Some(*time), Some(reason.clone())),
     };
     Ok(CaseResult {
-        integrator: integ.name().to_string(),
+        method: stepper.name().to_string(),
         dt: g.dt,
         steps: g.steps,
         steps_done: out.steps_done,
@@ -343,12 +343,12 @@ pub fn applicable(
 ) -> Result<(Vec<String>, Vec<(String, String)>)> {
     let (mut ok, mut skipped) = (Vec::new(), Vec::new());
     for n in asked_or_all(registry, asked) {
-        let integ = registry.create(&n, opts)?;
-        let canon = integ.name().to_string();
+        let stepper = registry.create(&n, opts)?;
+        let canon = stepper.name().to_string();
         if ok.contains(&canon) || skipped.iter().any(|(s, _)| *s == canon) {
             continue;
         }
-        match integ.check(sys) {
+        match stepper.check(sys) {
             Ok(()) => ok.push(canon),
             Err(why) => skipped.push((canon, why)),
         }

@@ -142,7 +142,7 @@ mod tests {
     fn round_trips_words_and_numbers() {
         let c = CommandLine::new("compare", Path::new("my scenes/x.toml"))
             .flag("dt", 0.1 + 0.2)
-            .list("integrators", &["rk4", "velocity_verlet"])
+            .list("methods", &["rk4", "velocity_verlet"])
             .switch("quick", true);
         let line = with_out(&c.render(), Path::new("/tmp/it's"));
         let w = split_words(&line);

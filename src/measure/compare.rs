@@ -1,4 +1,4 @@
-//! Every applicable backend at one step against the reference, side by side.
+//! Every applicable method at one step against the reference, side by side.
 
 use super::case::{applicable, asked_or_all, run_case, CaseResult, CaseSettings};
 use super::command::{with_out, CommandLine};
@@ -21,18 +21,18 @@ use std::path::{Path, PathBuf};
 /// What to compare.
 #[derive(Debug, Clone)]
 pub struct CompareConfig {
-    /// Integrators (empty: every native method and external backend; those that cannot run
+    /// Methods (empty: every native and engine method; those that cannot run
     /// the scene are listed as skipped with the reason).
-    pub integrators: Vec<String>,
+    pub methods: Vec<String>,
     /// Step (default: the scene's).
     pub dt: Option<f64>,
     /// Simulated time (default: the scene's).
     pub duration: Option<f64>,
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub registry: Registry,
-    /// Integrator options (`substeps`: Rapier's solver substeps, unless `frame_substeps`).
+    /// Method options (`substeps`: Rapier's solver substeps, unless `frame_substeps`).
     pub options: MethodOptions,
-    /// Substeps per frame for every backend (`--substeps`): `dt` is then the frame step,
+    /// Substeps per frame for every method (`--substeps`): `dt` is then the frame step,
     /// native methods take that many equal steps per frame and Rapier that many solver
     /// substeps. `None`: one step per frame, and `options.substeps` for Rapier.
     pub frame_substeps: Option<u64>,
@@ -56,7 +56,7 @@ pub struct CompareConfig {
 impl Default for CompareConfig {
     fn default() -> Self {
         CompareConfig {
-            integrators: vec![],
+            methods: vec![],
             dt: None,
             duration: None,
             registry: Registry::builtin(),
@@ -72,11 +72,11 @@ impl Default for CompareConfig {
     }
 }
 
-/// One backend's line: a result, or why it was skipped.
+/// One method's line: a result, or why it was skipped.
 #[derive(Debug, Clone, Serialize)]
 pub struct CompareEntry {
-    /// Backend name.
-    pub integrator: String,
+    /// Method name.
+    pub method: String,
     /// `ok`, `unstable` or `skipped`.
     pub status: String,
     /// Why it was skipped.
@@ -100,11 +100,11 @@ pub struct CompareResult {
     pub steps: u64,
     /// Simulated time (s).
     pub duration: f64,
-    /// Solver substeps given to external backends.
+    /// Solver substeps given to engine methods.
     pub substeps: usize,
-    /// Substeps per frame of every backend, when asked (`dt` is then the frame step).
+    /// Substeps per frame of every method, when asked (`dt` is then the frame step).
     pub frame_substeps: Option<u64>,
-    /// One entry per backend, in the order asked.
+    /// One entry per method, in the order asked.
     pub entries: Vec<CompareEntry>,
     /// The position tolerance behind the statistics' floors, and where it came from.
     pub position_tolerance: Tolerance,
@@ -133,9 +133,16 @@ fn within_budget(
     let costs: Vec<Cost> = names
         .iter()
         .map(|m| {
-            let per =
-                seconds_per_step(sys, s0, &cfg.registry, &cfg.options, m, dt / n as f64, steps)
-                    .unwrap_or(0.0);
+            let per = seconds_per_step(
+                sys,
+                s0,
+                &cfg.registry,
+                &cfg.options,
+                m,
+                dt / n as f64,
+                steps,
+            )
+            .unwrap_or(0.0);
             Cost {
                 per_unit: per,
                 projected: per * (steps * n) as f64,
@@ -153,12 +160,12 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let Timing { dt, steps, .. } = Timing::resolve(scene, cfg.dt, cfg.duration)?;
-    // Default: the scene's own [run].integrators next to every engine, else everything.
-    let asked: Vec<String> = if cfg.integrators.is_empty() && !scene.run.integrators.is_empty() {
+    // Default: the scene's own [run].methods next to every engine, else everything.
+    let asked: Vec<String> = if cfg.methods.is_empty() && !scene.run.methods.is_empty() {
         let ext = cfg.registry.engine_names().into_iter().map(String::from);
-        scene.run.integrators.iter().cloned().chain(ext).collect()
+        scene.run.methods.iter().cloned().chain(ext).collect()
     } else {
-        cfg.integrators.clone()
+        cfg.methods.clone()
     };
     let (names, mut skipped) = applicable(&cfg.registry, &sys, &asked, &cfg.options)?;
     let names = match cfg.budget_seconds {
@@ -223,7 +230,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     for r in runs {
         let r = r?;
         entries.push(CompareEntry {
-            integrator: r.integrator.clone(),
+            method: r.method.clone(),
             status: r.status.label().to_string(),
             skip_reason: None,
             result: Some(r),
@@ -231,7 +238,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     }
     for (n, why) in skipped {
         entries.push(CompareEntry {
-            integrator: n,
+            method: n,
             status: "skipped".into(),
             skip_reason: Some(why),
             result: None,
@@ -240,7 +247,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let command = CommandLine::new("compare", &scene.source)
         .flag("dt", dt)
         .flag("duration", grid.time(steps))
-        .list("integrators", &asked_or_all(&cfg.registry, &asked))
+        .list("methods", &asked_or_all(&cfg.registry, &asked))
         .flag_opt("substeps", cfg.frame_substeps)
         .method_options(&cfg.registry, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
@@ -266,7 +273,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
 }
 
 /// The header of `compare.csv`.
-pub const COMPARE_HEADER: &str = "integrator,status,skip_reason,dt,steps,steps_done,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,error_max_predictable,strain_error,statistics_score,statistics_consistent,unstable_time,unstable_reason,reference";
+pub const COMPARE_HEADER: &str = "method,status,skip_reason,dt,steps,steps_done,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,error_max_predictable,strain_error,statistics_score,statistics_consistent,unstable_time,unstable_reason,reference";
 
 fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -315,7 +322,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
     csv.push('\n');
     let f = |v: f64| format!("{v:e}");
     for e in &res.entries {
-        let mut cells = vec![e.integrator.clone()];
+        let mut cells = vec![e.method.clone()];
         match &e.result {
             None => {
                 cells.push("skipped".into());
@@ -361,7 +368,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// `contacts.json` of a comparison: each backend's collision metrics at the compared step.
+/// `contacts.json` of a comparison: each method's collision metrics at the compared step.
 #[derive(Debug, Clone, Serialize)]
 pub struct ContactsDoc<'a> {
     /// The command that re-creates this document (the comparison's).
@@ -370,37 +377,37 @@ pub struct ContactsDoc<'a> {
     pub scenario: &'a str,
     /// Step (s).
     pub dt: f64,
-    /// Per backend that ran, in the comparison's order.
-    pub backends: Vec<BackendContacts<'a>>,
+    /// Per method that ran, in the comparison's order.
+    pub methods: Vec<MethodContacts<'a>>,
 }
 
-/// One backend's collision metrics.
+/// One method's collision metrics.
 #[derive(Debug, Clone, Serialize)]
-pub struct BackendContacts<'a> {
-    /// Backend name.
-    pub integrator: &'a str,
+pub struct MethodContacts<'a> {
+    /// Method name.
+    pub method: &'a str,
     /// What its contacts did.
     pub report: &'a ContactReport,
 }
 
 /// The contacts document of a comparison, `None` for a scene without obstacles.
 pub fn contacts_doc(res: &CompareResult) -> Option<ContactsDoc<'_>> {
-    let backends: Vec<BackendContacts> = res
+    let methods: Vec<MethodContacts> = res
         .entries
         .iter()
         .filter_map(|e| e.result.as_ref())
         .filter_map(|r| {
-            r.contacts.as_ref().map(|c| BackendContacts {
-                integrator: &r.integrator,
+            r.contacts.as_ref().map(|c| MethodContacts {
+                method: &r.method,
                 report: c,
             })
         })
         .collect();
-    (!backends.is_empty()).then(|| ContactsDoc {
+    (!methods.is_empty()).then(|| ContactsDoc {
         command: &res.command,
         scenario: &res.scenario,
         dt: res.dt,
-        backends,
+        methods,
     })
 }
 

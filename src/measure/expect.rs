@@ -3,7 +3,7 @@
 //! for a CI server.
 //!
 //! The run is the one `compare` makes for a single method, so a number here is the number
-//! `compare --integrators NAME --dt FRAME --substeps N` prints.
+//! `compare --methods NAME --dt FRAME --substeps N` prints.
 
 use super::compare::{compare, CompareConfig};
 use super::probe::sig3;
@@ -58,11 +58,11 @@ pub fn expectations(e: &Expect) -> Vec<String> {
     out
 }
 
-/// How the run is made, in words: integrator, frame step and substeps.
+/// How the run is made, in words: method, frame step and substeps.
 pub fn describe(e: &Expect) -> String {
     format!(
         "{} at dt = {} s ({} Hz) × {} substep{} per frame",
-        e.integrator,
+        e.method,
         sig3(e.frame_dt),
         sig3(1.0 / e.frame_dt),
         e.substeps,
@@ -96,7 +96,7 @@ pub fn skipped_row(scene: &str) -> ExpectRow {
 /// The config of the one-method comparison an expectation is measured with.
 fn config(e: &Expect) -> CompareConfig {
     CompareConfig {
-        integrators: vec![e.integrator.clone()],
+        methods: vec![e.method.clone()],
         dt: Some(e.frame_dt),
         frame_substeps: Some(e.substeps),
         series_points: 0,

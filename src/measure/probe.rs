@@ -16,7 +16,7 @@ pub const DEFAULT_BUDGET_SECONDS: f64 = 120.0;
 pub const PROBE_STEPS: u64 = 40;
 
 /// Modelled seconds per step of method `name` at step `dt`: its
-/// [`Integrator::modelled_frame_seconds`](crate::integrate::Integrator::modelled_frame_seconds)
+/// [`Stepper::modelled_frame_seconds`](crate::integrate::Stepper::modelled_frame_seconds)
 /// where it has one, else the work counted over at most `steps` (capped at [`PROBE_STEPS`])
 /// steps from `s0`; `None` when the method cannot be made or run on the scene (the command's
 /// own run then reports why).
@@ -29,15 +29,15 @@ pub fn seconds_per_step(
     dt: f64,
     steps: u64,
 ) -> Option<f64> {
-    let mut integ = registry.create(name, options).ok()?;
-    integ.check(sys).ok()?;
-    if let Some(frame) = integ.modelled_frame_seconds(sys) {
+    let mut stepper = registry.create(name, options).ok()?;
+    stepper.check(sys).ok()?;
+    if let Some(frame) = stepper.modelled_frame_seconds(sys) {
         return Some(frame);
     }
     let plan = crate::run::RunPlan::new(dt, PROBE_STEPS.min(steps).max(1));
     let out = crate::run::run(
         sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         s0.clone(),
         &plan,
         &mut crate::run::NoObserver,

@@ -181,7 +181,7 @@ fn run_split(
     frame_dt: f64,
     (substeps, iterations): (usize, usize),
 ) -> Result<SplitRun> {
-    let mut integ = Xpbd::new(substeps, iterations);
+    let mut stepper = Xpbd::new(substeps, iterations);
     let mut obs = SplitObserver {
         sys,
         reference,
@@ -194,7 +194,7 @@ fn run_split(
     };
     let out = run(
         sys,
-        &mut integ,
+        &mut stepper,
         s0.clone(),
         &RunPlan::new(frame_dt, frames),
         &mut obs,
@@ -209,7 +209,7 @@ fn run_split(
     Ok(SplitRun {
         substeps,
         iterations,
-        sweeps: integ.sweeps,
+        sweeps: stepper.sweeps,
         wall_seconds: out.wall_seconds,
         error_max: ok.then_some(obs.err_max),
         error_final: ok.then_some(obs.err_final),

@@ -3,7 +3,7 @@
 //! commands write. The report renders a [`SceneStudy`] and measures nothing itself.
 //!
 //! Which methods take part where (stated in [`SceneStudy::notes`]):
-//! - compare: the scene's `[run].integrators` (else every registered method) next to every
+//! - compare: the scene's `[run].methods` (else every registered method) next to every
 //!   engine, as `springlab compare` does by default; an engine only when its cost model
 //!   ([`crate::rapier::cost`]) projects its run at [`ENGINE_COMPARE_SECONDS`] or less (the
 //!   note gives its modelled time per step otherwise);
@@ -102,7 +102,7 @@ pub const QUICK_COST_CAP: f64 = 5e4;
 pub struct StudyConfig {
     /// The methods (built-ins unless a library user added theirs).
     pub registry: Registry,
-    /// Integrator options.
+    /// Method options.
     pub options: MethodOptions,
     /// Position tolerance of every answer (m); None: each scene's `[run] tolerance`, else 1 %
     /// of its motion scale ([`crate::measure::tolerance`]).
@@ -190,7 +190,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         scene,
         &CompareConfig {
             registry: cfg.registry.clone(),
-            integrators: asked,
+            methods: asked,
             options: cfg.options.clone(),
             series_points: if cfg.quick { 120 } else { 250 },
             progress: cfg.progress,
@@ -222,7 +222,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         scene,
         &StabilityConfig {
             registry: cfg.registry.clone(),
-            integrators: kept.measured.clone(),
+            methods: kept.measured.clone(),
             options: cfg.options.clone(),
             theory_only: cfg.quick,
             progress: cfg.progress,
@@ -273,7 +273,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     })
 }
 
-/// The methods compare runs: the scene's `[run] integrators` (else every method) plus the
+/// The methods compare runs: the scene's `[run] methods` (else every method) plus the
 /// engines, less each engine whose probe projects a compare run over
 /// [`ENGINE_COMPARE_SECONDS`] (returned apart with its modelled seconds per step, and noted).
 fn compared_methods(
@@ -283,10 +283,10 @@ fn compared_methods(
     notes: &mut Vec<String>,
 ) -> Result<(Vec<String>, Vec<ProbedOut>)> {
     let is_engine = |n: &str| cfg.registry.info(n).is_ok_and(|m| m.engine);
-    let asked: Vec<String> = if scene.run.integrators.is_empty() {
+    let asked: Vec<String> = if scene.run.methods.is_empty() {
         cfg.registry.names().into_iter().map(String::from).collect()
     } else {
-        let mut v = scene.run.integrators.clone();
+        let mut v = scene.run.methods.clone();
         v.extend(cfg.registry.engine_names().into_iter().map(String::from));
         v
     };
@@ -300,7 +300,7 @@ fn compared_methods(
         match engine_probe(scene, cfg, &n, timing)? {
             Some(per_step) if per_step * timing.steps as f64 > ENGINE_COMPARE_SECONDS => {
                 notes.push(format!(
-                    "Left out {n}: {:.3} ms per step by the cost model, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --integrators {n}` runs it.",
+                    "Left out {n}: {:.3} ms per step by the cost model, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --methods {n}` runs it.",
                     per_step * 1e3,
                     timing.steps,
                     per_step * timing.steps as f64
@@ -343,7 +343,7 @@ fn kept_after_compare(
         .filter_map(|e| {
             e.result
                 .as_ref()
-                .map(|r| (r.integrator.clone(), r.modelled_seconds))
+                .map(|r| (r.method.clone(), r.modelled_seconds))
         })
         .collect();
     let info = |n: &str| cfg.registry.info(n).ok();
@@ -369,7 +369,7 @@ fn kept_after_compare(
         let projected = cost / timing.steps as f64 * grid_steps as f64;
         if engine && projected > ENGINE_ADVICE_SECONDS {
             notes.push(format!(
-                "Advice leaves out {n}: its runs over the advice grid ({} steps, down to {:.2e} s) would take about {projected:.1} s (> {ENGINE_ADVICE_SECONDS} s); `springlab advise --integrators {n}` runs it.",
+                "Advice leaves out {n}: its runs over the advice grid ({} steps, down to {:.2e} s) would take about {projected:.1} s (> {ENGINE_ADVICE_SECONDS} s); `springlab advise --methods {n}` runs it.",
                 grid_steps,
                 advice_grid.first().map_or(0.0, |g| g.0)
             ));
@@ -398,7 +398,7 @@ fn study_sweep(
     }
     let sweep_cfg = SweepConfig {
         registry: cfg.registry.clone(),
-        integrators: sweepable,
+        methods: sweepable,
         cost_cap: Some(if cfg.quick {
             QUICK_COST_CAP
         } else {
@@ -428,7 +428,7 @@ fn study_sweep(
 }
 
 /// Advice over the advisable methods but closed forms (a closed form is for this scene only,
-/// not a general integrator; noted), with why there is none.
+/// not a general method; noted), with why there is none.
 fn study_advice(
     scene: &Scenario,
     cfg: &StudyConfig,
@@ -453,7 +453,7 @@ fn study_advice(
         .collect();
     if !exact.is_empty() {
         notes.push(format!(
-            "Advice leaves out {}: a closed form for this scene only, not a general integrator.",
+            "Advice leaves out {}: a closed form for this scene only, not a general method.",
             exact.join(", ")
         ));
     }
@@ -463,7 +463,7 @@ fn study_advice(
     let advice = advise(
         scene,
         &AdviseConfig {
-            integrators: candidates,
+            methods: candidates,
             ..advice_cfg
         },
     )?;
@@ -525,12 +525,7 @@ fn study_framerate(
         .entries
         .iter()
         .filter_map(|e| e.result.as_ref())
-        .map(|r| {
-            (
-                &r.integrator,
-                r.modelled_seconds / r.steps_done.max(1) as f64,
-            )
-        });
+        .map(|r| (&r.method, r.modelled_seconds / r.steps_done.max(1) as f64));
     let probed = probed_out.iter().map(|(n, s)| (n, *s));
     let measured: Vec<(&String, f64)> = ran.chain(probed).collect();
     // The scene's cheapest engine is its Rapier row: it gets the engine budget.
@@ -562,7 +557,7 @@ fn study_framerate(
         if projected > budget {
             left_out.push(name.clone());
             notes.push(format!(
-                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --integrators {name}` runs it.",
+                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
                 per_substep * 1e3,
                 if info.engine {
                     format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))
@@ -581,10 +576,8 @@ fn study_framerate(
         compared
             .entries
             .iter()
-            .filter(|e| {
-                e.result.is_none() && cfg.registry.info(&e.integrator).is_ok_and(|m| m.engine)
-            })
-            .map(|e| e.integrator.clone()),
+            .filter(|e| e.result.is_none() && cfg.registry.info(&e.method).is_ok_and(|m| m.engine))
+            .map(|e| e.method.clone()),
     );
     if chosen.is_empty() {
         return Ok((
@@ -597,7 +590,7 @@ fn study_framerate(
         scene,
         &FramerateConfig {
             rates,
-            integrators: chosen,
+            methods: chosen,
             registry: cfg.registry.clone(),
             options: cfg.options.clone(),
             max_substeps,

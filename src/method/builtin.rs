@@ -1,5 +1,5 @@
 //! springlab's built-in methods and their facts: the registry's one entry per method (a new
-//! method adds its integrator file and one entry here). Orders and limits are the textbook ones (Hairer, Nørsett & Wanner, *Solving
+//! method adds its method file and one entry here). Orders and limits are the textbook ones (Hairer, Nørsett & Wanner, *Solving
 //! ODEs I*; Hairer, Lubich & Wanner, *Geometric Numerical Integration*).
 
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
@@ -10,7 +10,7 @@ use crate::integrate::{
     PositionVerlet, Rattle, RungeKutta, SymplecticEuler, Tableau, VelocityVerlet,
     VerletConstraints, Xpbd,
 };
-use crate::rapier::{Mode, RapierBackend, IMPULSE, MULTIBODY};
+use crate::rapier::{Mode, RapierStepper, IMPULSE, MULTIBODY};
 
 /// A native method that solves a system each step ([`MethodInfo::implicit`]).
 const fn implicit(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
@@ -177,20 +177,20 @@ pub fn methods() -> Vec<Method> {
                 IMPULSE,
                 "Rapier 0.36 (f64): a body per particle, springs as force-based joint motors",
             ),
-            |o| Box::new(RapierBackend::new(Mode::Impulse, o.substeps)),
+            |o| Box::new(RapierStepper::new(Mode::Impulse, o.substeps)),
         ),
         Method::new(
             engine(
                 MULTIBODY,
                 "Rapier 0.36 (f64): multibody trees, loop-closing edges as impulse joints",
             ),
-            |o| Box::new(RapierBackend::new(Mode::Multibody, o.substeps)),
+            |o| Box::new(RapierStepper::new(Mode::Multibody, o.substeps)),
         ),
     ]
 }
 
 impl Registry {
-    /// springlab's own integrators and the Rapier backends.
+    /// springlab's own methods and the Rapier methods.
     pub fn builtin() -> Self {
         static BUILTIN: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
         BUILTIN

@@ -5,11 +5,11 @@
 use super::info::{MethodInfo, Order};
 use super::options::{MethodOptions, OptionSpec};
 use crate::error::{Error, Result};
-use crate::integrate::Integrator;
+use crate::integrate::Stepper;
 use std::sync::Arc;
 
 /// Builds a fresh, independent instance of a method.
-pub type Constructor = dyn Fn(&MethodOptions) -> Box<dyn Integrator> + Send + Sync;
+pub type Constructor = dyn Fn(&MethodOptions) -> Box<dyn Stepper> + Send + Sync;
 
 /// A method: its facts and how to make one.
 #[derive(Clone)]
@@ -29,7 +29,7 @@ impl Method {
     /// A method with `info` built by `make`.
     pub fn new(
         info: MethodInfo,
-        make: impl Fn(&MethodOptions) -> Box<dyn Integrator> + Send + Sync + 'static,
+        make: impl Fn(&MethodOptions) -> Box<dyn Stepper> + Send + Sync + 'static,
     ) -> Self {
         Method {
             info,
@@ -37,7 +37,7 @@ impl Method {
         }
     }
     /// A fresh instance.
-    pub fn create(&self, opts: &MethodOptions) -> Box<dyn Integrator> {
+    pub fn create(&self, opts: &MethodOptions) -> Box<dyn Stepper> {
         (self.make)(opts)
     }
 }
@@ -148,7 +148,7 @@ impl Registry {
         let made = m.create(&MethodOptions::default());
         if made.name() != info.name {
             return Err(refuse(format!(
-                "its constructor makes an integrator named '{}'",
+                "its constructor makes a method named '{}'",
                 made.name()
             )));
         }
@@ -183,7 +183,7 @@ impl Registry {
 
     /// The method answering to `name`, or an error listing every known name.
     pub fn get(&self, name: &str) -> Result<&Method> {
-        self.find(name).ok_or_else(|| Error::UnknownIntegrator {
+        self.find(name).ok_or_else(|| Error::UnknownMethod {
             name: name.to_string(),
             known: self.names().join(", "),
         })
@@ -196,7 +196,7 @@ impl Registry {
 
     /// A fresh instance of `name`'s method, refused (naming the flag) when one of the options
     /// it reads is below its least value.
-    pub fn create(&self, name: &str, opts: &MethodOptions) -> Result<Box<dyn Integrator>> {
+    pub fn create(&self, name: &str, opts: &MethodOptions) -> Result<Box<dyn Stepper>> {
         let m = self.get(name)?;
         opts.check(m.info.options)?;
         Ok(m.create(opts))
@@ -241,7 +241,7 @@ impl Registry {
             .collect()
     }
 
-    /// The canonical names of the engines (Rapier backends).
+    /// The canonical names of the engines (Rapier methods).
     pub fn engine_names(&self) -> Vec<&'static str> {
         self.methods
             .iter()

@@ -102,8 +102,8 @@ impl Observer for RunFiles {
 pub struct RunSummary {
     /// Scenario name.
     pub scenario: String,
-    /// Integrator or backend name.
-    pub integrator: String,
+    /// Method name.
+    pub method: String,
     /// Frame step (s): the step of every output row.
     pub dt: f64,
     /// Frames asked for.
@@ -121,9 +121,9 @@ pub struct RunSummary {
     pub work: crate::run::Work,
     /// Modelled seconds of that work ([`crate::run::cost`]).
     pub modelled_seconds: f64,
-    /// Wall time inside the integrator (s; kept in `timing.json`).
+    /// Wall time inside the method (s; kept in `timing.json`).
     pub wall_seconds: f64,
-    /// Wall time inside the integrator per completed frame (s; kept in `timing.json`).
+    /// Wall time inside the method per completed frame (s; kept in `timing.json`).
     pub wall_seconds_per_frame: f64,
     /// `ok` or `unstable`.
     pub status: &'static str,
@@ -158,14 +158,14 @@ impl RunSummary {
     /// Summarises an outcome of one step per frame with exact events (set `substeps` and
     /// `events` afterwards for other runs, and the quality observables where they were
     /// measured).
-    pub fn new(scenario: &str, integrator: &str, dt: f64, steps: u64, out: &RunOutcome) -> Self {
+    pub fn new(scenario: &str, method: &str, dt: f64, steps: u64, out: &RunOutcome) -> Self {
         let e0 = out.initial_energy;
         let scale = e0.kinetic.abs() + e0.gravity.abs() + e0.elastic.abs();
         let d = out.final_energy.total - e0.total;
         let finished = out.steps_done == steps;
         RunSummary {
             scenario: scenario.into(),
-            integrator: integrator.into(),
+            method: method.into(),
             dt,
             steps,
             substeps: 1,

@@ -27,16 +27,7 @@ pub const WALL_KEYS: &[&str] = &[
 
 /// Names that identify the object or line a wall time belongs to, recorded beside it.
 const ID_KEYS: &[&str] = &[
-    "scene",
-    "integrator",
-    "backend",
-    "n",
-    "hz",
-    "fps",
-    "row",
-    "dt",
-    "steps",
-    "substeps",
+    "scene", "method", "n", "hz", "fps", "row", "dt", "steps", "substeps",
 ];
 
 /// The file every folder's wall times go to.
@@ -395,16 +386,16 @@ mod tests {
     #[test]
     fn wall_times_leave_the_document_and_come_back() {
         let dir = tempfile::tempdir().unwrap();
-        let csv = "integrator,dt,modelled_seconds,wall_seconds,error,note\nrk4,1e-3,2e-3,3.1e-3,1e-9,\"a, b\"\neuler,1e-2,1e-4,1.7e-4,,\n";
+        let csv = "method,dt,modelled_seconds,wall_seconds,error,note\nrk4,1e-3,2e-3,3.1e-3,1e-9,\"a, b\"\neuler,1e-2,1e-4,1.7e-4,,\n";
         let files = write_document(dir.path().join("a.csv"), csv.as_bytes()).unwrap();
         assert_eq!(files.len(), 2, "the document and timing.json");
         let kept = std::fs::read_to_string(dir.path().join("a.csv")).unwrap();
         assert_eq!(
             kept,
-            "integrator,dt,modelled_seconds,error,note\nrk4,1e-3,2e-3,1e-9,\"a, b\"\neuler,1e-2,1e-4,,\n"
+            "method,dt,modelled_seconds,error,note\nrk4,1e-3,2e-3,1e-9,\"a, b\"\neuler,1e-2,1e-4,,\n"
         );
         assert_eq!(read_document(dir.path().join("a.csv")).unwrap(), csv);
-        let json = br#"{"command":"x","entries":[{"integrator":"rk4","dt":0.001,"wall_seconds":0.5,"timing":{"median_seconds":0.5},"error":1.0}]}"#;
+        let json = br#"{"command":"x","entries":[{"method":"rk4","dt":0.001,"wall_seconds":0.5,"timing":{"median_seconds":0.5},"error":1.0}]}"#;
         write_document(dir.path().join("b.json"), json).unwrap();
         let back: Value =
             serde_json::from_str(&read_document(dir.path().join("b.json")).unwrap()).unwrap();
@@ -413,22 +404,18 @@ mod tests {
             serde_json::from_slice(&std::fs::read(dir.path().join("b.json")).unwrap()).unwrap();
         assert_eq!(
             kept,
-            serde_json::json!({"command":"x","entries":[{"integrator":"rk4","dt":0.001,"error":1.0}]})
+            serde_json::json!({"command":"x","entries":[{"method":"rk4","dt":0.001,"error":1.0}]})
         );
         let t: Value =
             serde_json::from_slice(&std::fs::read(dir.path().join(TIMING_FILE)).unwrap()).unwrap();
         let rec = &t["documents"]["b.json"][0];
         assert_eq!(t["documents"]["a.csv"]["columns"]["wall_seconds"], 3);
         assert_eq!(rec["at"], "/entries/0");
-        assert_eq!(rec["integrator"], "rk4");
+        assert_eq!(rec["method"], "rk4");
         assert_eq!(rec["wall_seconds"], 0.5);
         // Both documents are listed; rewriting one replaces only its own records.
         assert!(t["documents"]["a.csv"]["lines"].is_array());
-        write_document(
-            dir.path().join("a.csv"),
-            b"integrator,wall_seconds\nrk4,1\n",
-        )
-        .unwrap();
+        write_document(dir.path().join("a.csv"), b"method,wall_seconds\nrk4,1\n").unwrap();
         let t: Value =
             serde_json::from_slice(&std::fs::read(dir.path().join(TIMING_FILE)).unwrap()).unwrap();
         assert_eq!(
@@ -450,16 +437,16 @@ mod tests {
     #[test]
     fn quoted_line_breaks_and_stale_records() {
         let dir = tempfile::tempdir().unwrap();
-        let csv = "integrator,wall_seconds,note\nrk4,1.5,\"two\nlines\"\neuler,2.5,\n";
+        let csv = "method,wall_seconds,note\nrk4,1.5,\"two\nlines\"\neuler,2.5,\n";
         write_document(dir.path().join("a.csv"), csv.as_bytes()).unwrap();
         let kept = std::fs::read_to_string(dir.path().join("a.csv")).unwrap();
-        assert_eq!(kept, "integrator,note\nrk4,\"two\nlines\"\neuler,\n");
+        assert_eq!(kept, "method,note\nrk4,\"two\nlines\"\neuler,\n");
         assert_eq!(read_document(dir.path().join("a.csv")).unwrap(), csv);
         // The document replaced behind the record's back: one line fewer reads as it is.
-        std::fs::write(dir.path().join("a.csv"), "integrator,note\nrk4,x\n").unwrap();
+        std::fs::write(dir.path().join("a.csv"), "method,note\nrk4,x\n").unwrap();
         assert_eq!(
             read_document(dir.path().join("a.csv")).unwrap(),
-            "integrator,note\nrk4,x\n"
+            "method,note\nrk4,x\n"
         );
     }
 
@@ -467,7 +454,7 @@ mod tests {
     #[test]
     fn a_document_without_wall_times_is_untouched() {
         let dir = tempfile::tempdir().unwrap();
-        let files = write_document(dir.path().join("c.csv"), b"integrator,error\nrk4,1\n").unwrap();
+        let files = write_document(dir.path().join("c.csv"), b"method,error\nrk4,1\n").unwrap();
         assert_eq!(files.len(), 1);
         assert!(!dir.path().join(TIMING_FILE).exists());
         let json = b"{\n  \"a\": 1\n}";

@@ -37,7 +37,7 @@ pub fn hand_step(sys: &System, x: &mut [Vec3], v: &mut [Vec3], f: &mut [Vec3], h
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrate::{Integrator, SymplecticEuler};
+    use crate::integrate::{Stepper, SymplecticEuler};
 
     /// Oracle: springlab's symplectic Euler on the same cloth; the hand loop must do the same
     /// physics (to rounding: its force expression groups the terms the same way, but it folds

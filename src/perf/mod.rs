@@ -7,7 +7,7 @@ pub mod stencil;
 pub use baseline::hand_step;
 
 use crate::error::Result;
-use crate::integrate::Integrator;
+use crate::integrate::Stepper;
 use crate::method::MethodOptions;
 use crate::scenario::Scenario;
 use std::time::Instant;
@@ -24,7 +24,7 @@ pub fn cloth(n: usize) -> Scenario {
     Scenario::from_toml_str(&toml, format!("cloth_{n}x{n}.toml")).expect("generated cloth is valid")
 }
 
-/// Time step each backend is timed at: implicit methods and physics engines at a frame
+/// Time step each method is timed at: implicit methods and physics engines at a frame
 /// (1/60 s; registry facts [`crate::method::MethodInfo::implicit`] and `engine`), explicit
 /// methods at 1 ms (the cloth's stable step; cost per step does not depend on it, stability
 /// over the timed steps does).
@@ -47,9 +47,9 @@ pub const NOT_SCALED: [(&str, &str); 1] = [(
     "a cloth is not a tree: 57 ms per step on an 8×8 cloth",
 )];
 
-/// Every backend that can step `scene`: native integrators and external backends whose
+/// Every method that can step `scene`: native and engine methods whose
 /// `check` accepts it (`analytic` refuses cloths), except [`NOT_SCALED`].
-pub fn backends_for(scene: &Scenario) -> Vec<&'static str> {
+pub fn methods_for(scene: &Scenario) -> Vec<&'static str> {
     let sys = scene.build();
     crate::method::Registry::builtin()
         .names()
@@ -67,7 +67,7 @@ pub fn backends_for(scene: &Scenario) -> Vec<&'static str> {
 /// repetition starting from the scene's initial state (so runs that grow unstable restart).
 pub fn time_per_step(
     scene: &Scenario,
-    integ: &mut dyn Integrator,
+    stepper: &mut dyn Stepper,
     dt: f64,
     steps: usize,
     reps: usize,
@@ -76,13 +76,13 @@ pub fn time_per_step(
     let s0 = scene.initial_state();
     let mut best = f64::INFINITY;
     let mut s = s0.clone();
-    integ.step(&sys, &mut s, dt)?; // warm-up: scratch buffers, caches
+    stepper.step(&sys, &mut s, dt)?; // warm-up: scratch buffers, caches
     for _ in 0..reps.max(1) {
         s.clone_from(&s0);
-        integ.reset();
+        stepper.reset();
         let t0 = Instant::now();
         for _ in 0..steps.max(1) {
-            integ.step(&sys, &mut s, dt)?;
+            stepper.step(&sys, &mut s, dt)?;
         }
         best = best.min(t0.elapsed().as_secs_f64() / steps.max(1) as f64);
     }

@@ -3,7 +3,7 @@
 //! shared, noisy machine a slow phase then hits both sides of a ratio instead of one.
 
 use crate::error::Result;
-use crate::integrate::{ImplicitSettings, Integrator};
+use crate::integrate::{ImplicitSettings, Stepper};
 use crate::method::MethodOptions;
 use crate::model::{State, System, Vec3};
 use crate::scenario::Scenario;
@@ -57,12 +57,12 @@ pub fn interleaved_stats(
         .collect())
 }
 
-/// A contender stepping `integ` `batch` times from `s0` (restarted, untimed, every batch, so
+/// A contender stepping `stepper` `batch` times from `s0` (restarted, untimed, every batch, so
 /// conditionally stable methods never time a blown-up state), after one untimed warm-up step.
 pub fn stepping<'a>(
     sys: &'a System,
     s0: &'a State,
-    mut integ: Box<dyn Integrator>,
+    mut stepper: Box<dyn Stepper>,
     h: f64,
     batch: usize,
 ) -> Contender<'a> {
@@ -70,14 +70,14 @@ pub fn stepping<'a>(
     let mut warm = false;
     Box::new(move || {
         if !warm {
-            integ.step(sys, &mut s, h)?;
+            stepper.step(sys, &mut s, h)?;
             warm = true;
         }
         s.clone_from(s0);
-        integ.reset();
+        stepper.reset();
         let t0 = Instant::now();
         for _ in 0..batch.max(1) {
-            integ.step(sys, &mut s, h)?;
+            stepper.step(sys, &mut s, h)?;
         }
         Ok(t0.elapsed().as_secs_f64() / batch.max(1) as f64)
     })
@@ -129,8 +129,8 @@ pub fn on_threads<'a>(threads: usize, mut inner: Contender<'a>) -> Result<Conten
     Ok(Box::new(move || pool.install(&mut inner)))
 }
 
-/// A fresh backend by name with default options.
-pub fn backend(name: &str) -> Result<Box<dyn Integrator>> {
+/// A fresh method by name with default options.
+pub fn fresh_stepper(name: &str) -> Result<Box<dyn Stepper>> {
     crate::method::create(name, &MethodOptions::default())
 }
 
@@ -168,8 +168,8 @@ pub fn implicit_cost(
 ) -> std::result::Result<ImplicitCost, String> {
     let sys = scene.build();
     let mut s = scene.initial_state();
-    let mut integ = backend(method).map_err(|e| e.to_string())?;
-    integ
+    let mut stepper = fresh_stepper(method).map_err(|e| e.to_string())?;
+    stepper
         .newton_mut()
         .ok_or_else(|| format!("{method} has no implicit solver"))?
         .settings = set;
@@ -177,16 +177,16 @@ pub fn implicit_cost(
     let mut newton_max = 0;
     let t0 = Instant::now();
     for k in 0..steps {
-        let before = integ.newton().map_or(0, |nw| nw.newton_iterations);
-        evals += integ
+        let before = stepper.newton().map_or(0, |nw| nw.newton_iterations);
+        evals += stepper
             .step(&sys, &mut s, h)
             .map_err(|e| format!("step {k} failed: {e}"))?
             .force_evals;
-        let after = integ.newton().map_or(0, |nw| nw.newton_iterations);
+        let after = stepper.newton().map_or(0, |nw| nw.newton_iterations);
         newton_max = newton_max.max(after - before);
     }
     let secs = t0.elapsed().as_secs_f64();
-    let nw = integ.newton().expect("checked above");
+    let nw = stepper.newton().expect("checked above");
     let n = steps.max(1) as f64;
     Ok(ImplicitCost {
         steps,

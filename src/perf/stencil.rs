@@ -200,7 +200,7 @@ fn spring_row(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrate::{Integrator, SymplecticEuler};
+    use crate::integrate::{Stepper, SymplecticEuler};
 
     /// Oracle: springlab's symplectic Euler on the same cloth; the stencil does the same
     /// physics, to rounding (each spring's force is the same expression, summed in another

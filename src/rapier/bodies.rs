@@ -22,7 +22,7 @@ pub const RESTITUTION_RULE: CoefficientCombineRule = CoefficientCombineRule::Max
 const MIN_INERTIA_RADIUS: f64 = 1e-3;
 
 /// The body for particle `p` of `sys` at the state's position and velocity. With
-/// `lock_rotations` (the impulse-joint backend) the body cannot turn: a particle has no
+/// `lock_rotations` (the impulse-joint method) the body cannot turn: a particle has no
 /// rotational degree of freedom, so a ball on an incline slides under Coulomb friction
 /// (a = g(sin θ − μ cos θ)) instead of rolling (a = 5/7·g·sin θ). Multibody links must turn
 /// about their parents and keep their rotations.

@@ -31,12 +31,12 @@ pub const TREE_CUBE_PER_SUBSTEP: f64 = 0.18e-6;
 /// Seconds per link of the trees an impulse joint attaches to, per substep.
 pub const ATTACHED_LINK_PER_SUBSTEP: f64 = 0.49e-6;
 
-/// What a Rapier backend builds for a scene: the counts the model prices.
+/// What a Rapier method builds for a scene: the counts the model prices.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct EngineShape {
     /// Rigid bodies (one per particle).
     pub bodies: usize,
-    /// Impulse joints (every edge for the impulse backend; loops and edges past the tree cap
+    /// Impulse joints (every edge for the impulse method; loops and edges past the tree cap
     /// for the multibody one).
     pub impulse_joints: usize,
     /// Links of each multibody tree.
@@ -49,7 +49,7 @@ pub struct EngineShape {
 }
 
 impl EngineShape {
-    /// What `mode` builds for `sys` (the same topology the backend builds).
+    /// What `mode` builds for `sys` (the same topology the method builds).
     pub fn of(sys: &System, mode: Mode) -> Self {
         let bodies = sys.len();
         match mode {

@@ -1,12 +1,11 @@
-//! Rapier 0.36 (f64) backends: the only module that imports Rapier.
+//! Rapier 0.36 (f64) methods: the only module that imports Rapier.
 //!
 //! `rapier_impulse` maps every particle to a rigid body and every spring/constraint to an
 //! impulse joint; `rapier_multibody` puts tree edges into multibody joints (reduced
 //! coordinates) and leaves loop-closing edges to impulse joints, saying so
-//! ([`RapierBackend::topology_note`]). [`scheme_prediction`] gives the known scheme Rapier's
+//! ([`RapierStepper::topology_note`]). [`scheme_prediction`] gives the known scheme Rapier's
 //! behaviour matches, as data to plot next to the measured curve.
 
-mod backend;
 mod bodies;
 mod convert;
 pub mod cost;
@@ -15,16 +14,17 @@ mod mode;
 mod multibody;
 mod obstacles;
 mod scheme;
+mod stepper;
 mod topology;
 mod user_forces;
 mod world;
 
-pub use backend::RapierBackend;
 pub use bodies::RESTITUTION_RULE;
 pub use cost::EngineShape;
 pub use mode::{Mode, IMPULSE, MULTIBODY};
 pub use obstacles::{Difference, DifferenceKind, DIFFERENCES};
 pub use scheme::{scheme_prediction, Prediction};
+pub use stepper::RapierStepper;
 pub use topology::{
     tree_cap, Edge, EdgeKind, FallbackReason, Topology, MAX_TREE_PARTICLES,
     MAX_TREE_PARTICLES_WITH_LOOPS,

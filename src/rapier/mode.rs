@@ -1,9 +1,9 @@
-//! The two Rapier backends: which joint family carries the scene's springs, and each one's
+//! The two Rapier methods: which joint family carries the scene's springs, and each one's
 //! method name (the registry registers them under these names).
 
-/// CLI name of the impulse-joint backend.
+/// CLI name of the impulse-joint method.
 pub const IMPULSE: &str = "rapier_impulse";
-/// CLI name of the multibody backend.
+/// CLI name of the multibody method.
 pub const MULTIBODY: &str = "rapier_multibody";
 
 /// Which Rapier joint family carries the scene's springs and constraints.
@@ -16,14 +16,14 @@ pub enum Mode {
 }
 
 impl Mode {
-    /// The backend's method name.
+    /// The method's name.
     pub fn name(self) -> &'static str {
         match self {
             Mode::Impulse => IMPULSE,
             Mode::Multibody => MULTIBODY,
         }
     }
-    /// The mode of the backend called `name`, `None` for any other method.
+    /// The mode of the method called `name`, `None` for any other method.
     pub fn of(name: &str) -> Option<Mode> {
         [Mode::Impulse, Mode::Multibody]
             .into_iter()

@@ -16,7 +16,7 @@
 //! velocities are set from the particle velocities (insertion starts them at zero).
 //!
 //! Edges left out of the trees are impulse joints between links, but not the coupled-axes
-//! joints of the impulse backend: see `joints::axial_joint`.
+//! joints of the impulse method: see `joints::axial_joint`.
 
 use super::convert::to_glam;
 use super::joints::spring_params;

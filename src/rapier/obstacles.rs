@@ -47,17 +47,17 @@ pub struct Difference {
     pub text: &'static str,
     /// The test (a `#[test]` function name under `tests/`) that measures it.
     pub test: &'static str,
-    /// The backends that show it (both Rapier modes, or `rapier_multibody` alone).
-    pub backends: &'static [&'static str],
+    /// The methods that show it (both Rapier modes, or `rapier_multibody` alone).
+    pub methods: &'static [&'static str],
     /// True for a penalty scene's difference (its obstacles are not Rapier colliders, so the
     /// others do not apply there), false for the colliders' differences.
     pub penalty: bool,
 }
 
 impl Difference {
-    /// Whether `backend`'s runs show it.
-    pub fn shown_by(&self, backend: &str) -> bool {
-        self.backends.contains(&backend)
+    /// Whether `method`'s runs show it.
+    pub fn shown_by(&self, method: &str) -> bool {
+        self.methods.contains(&method)
     }
     /// Whether it applies to a scene with contact response `response` (`"penalty"`, …).
     pub fn applies_to(&self, response: &str) -> bool {
@@ -73,7 +73,7 @@ pub const DIFFERENCES: [Difference; 5] = [
         title: "soft and speculative contacts",
         text: "penetration is corrected by a spring of static_contact_softness (60 Hz, damping ratio 10) through the biased solve, not projected away in one step; a contact is created within normalized_prediction_distance (0.02 m) and constrains the approach velocity so the ball stops at the surface in the step it would cross it, so a resting ball sits on a gap of up to about 1e-4 m instead of 0",
         test: "difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m",
-        backends: &[IMPULSE, MULTIBODY],
+        methods: &[IMPULSE, MULTIBODY],
         penalty: false,
     },
     Difference {
@@ -81,7 +81,7 @@ pub const DIFFERENCES: [Difference; 5] = [
         title: "impact friction bound μ|v_n|",
         text: "the friction cone is solved by projected Gauss-Seidel with friction left out of the biased pass and bounded by μ × the normal impulse that stops the approach, without the restitution part: an impact takes at most μ·|v_n| off the tangential speed (measured: 0.58 of the Newton–Coulomb μ(1 + e)|v_n| springlab's impulse law takes, for e = 0.5)",
         test: "difference_impact_friction_and_restitution_on_an_oblique_impact",
-        backends: &[IMPULSE, MULTIBODY],
+        methods: &[IMPULSE, MULTIBODY],
         penalty: false,
     },
     Difference {
@@ -89,7 +89,7 @@ pub const DIFFERENCES: [Difference; 5] = [
         title: "one-sided open meshes",
         text: "an open mesh is one-sided in Rapier: a ball hitting it from the side its triangles face bounces (no sideways kick on a shared edge now that it cannot turn), one coming from the back passes through (springlab's own responses treat it as a two-sided sheet)",
         test: "difference_a_fast_ball_on_a_sheets_shared_edge",
-        backends: &[IMPULSE, MULTIBODY],
+        methods: &[IMPULSE, MULTIBODY],
         penalty: false,
     },
     Difference {
@@ -97,7 +97,7 @@ pub const DIFFERENCES: [Difference; 5] = [
         title: "rapier_multibody links roll",
         text: "multibody links must turn about their parents, so their rotations cannot be locked: a ball on an incline rolls at 5/7·g·sin θ (a solid sphere) instead of sliding at g(sin θ − μ cos θ)",
         test: "difference_a_rapier_multibody_ball_rolls_down_the_incline",
-        backends: &[MULTIBODY],
+        methods: &[MULTIBODY],
         penalty: false,
     },
     Difference {
@@ -105,7 +105,7 @@ pub const DIFFERENCES: [Difference; 5] = [
         title: "penalty contact as a held user force",
         text: "Rapier has no penalty contact, so the penalty spring-dashpot is applied to each body as a user force evaluated at the start of each frame and held over the frame and its solver substeps (the obstacles are not colliders): with one substep that is symplectic Euler on the contact, with N substeps the force is frozen while the body moves, an error first order in the frame step",
         test: "rapier_with_a_held_penalty_force_is_symplectic_euler",
-        backends: &[IMPULSE, MULTIBODY],
+        methods: &[IMPULSE, MULTIBODY],
         penalty: true,
     },
 ];

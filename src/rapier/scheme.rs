@@ -39,7 +39,7 @@ pub struct Prediction {
     pub curve: Vec<(f64, f64)>,
 }
 
-/// The curve predicted for the Rapier backend of `mode` on `sys` from `s0` over `steps` frames of `h` with `substeps`
+/// The curve predicted for the Rapier method of `mode` on `sys` from `s0` over `steps` frames of `h` with `substeps`
 /// substeps, when Rapier matches a known scheme there: free fall (no springs, constraints or
 /// drag) and single-spring scenes without constraints or drag. `None` otherwise: with several
 /// joints Rapier's sequential (Gauss–Seidel) joint sweep is not one textbook scheme.

@@ -143,7 +143,7 @@ mod tests {
     fn scene(name: &str, file: &str) -> SceneSummary {
         let mut s: SceneSummary = serde_json::from_value(serde_json::json!({
             "scene": name, "description": "", "dt": 0.01, "duration": 1.0, "reference": "",
-            "omega_max": null, "answer": null, "backends": [], "skipped": [],
+            "omega_max": null, "answer": null, "methods": [], "skipped": [],
             "verdict": "Fine.", "page": format!("{name}/index.html"), "documents": [], "notes": []
         }))
         .unwrap();

@@ -32,12 +32,12 @@ fn time_series(
             .collect(),
         None => Vec::new(),
     };
-    let mut s = Series::new(run.integrator.clone(), points);
+    let mut s = Series::new(run.method.clone(), points);
     s.blowup = blowup_at(run, s.points.last().copied());
     s
 }
 
-/// Energy over time: totals per backend, and (when `terms`) the terms of the first backend.
+/// Energy over time: totals per method, and (when `terms`) the terms of the first method.
 pub fn energy(s: &SceneStudy, terms: bool) -> EnergyData {
     let totals = runs(s)
         .map(|run| time_series(run, |se, k| se.energy[k].total))
@@ -59,7 +59,7 @@ pub fn energy(s: &SceneStudy, terms: bool) -> EnergyData {
                 .is_some_and(|se| se.energy.iter().any(|e| f(e) != 0.0))
             {
                 let mut t = time_series(run, |se, k| f(&se.energy[k]));
-                t.label = format!("{name} ({})", run.integrator);
+                t.label = format!("{name} ({})", run.method);
                 term_series.push(t);
             }
         }
@@ -70,7 +70,7 @@ pub fn energy(s: &SceneStudy, terms: bool) -> EnergyData {
     }
 }
 
-/// Relative energy error per backend, as compare's metrics define it.
+/// Relative energy error per method, as compare's metrics define it.
 pub fn energy_error(s: &SceneStudy) -> EnergyErrorData {
     EnergyErrorData {
         series: runs(s)
@@ -80,12 +80,12 @@ pub fn energy_error(s: &SceneStudy) -> EnergyErrorData {
     }
 }
 
-/// Position error per backend, leaving out the run of the method that is the reference itself
+/// Position error per method, leaving out the run of the method that is the reference itself
 /// (the closed form's own run: zero error, nothing to plot).
 pub fn position_error(s: &SceneStudy) -> PositionErrorData {
     PositionErrorData {
         series: runs(s)
-            .filter(|run| run.integrator != s.compare.reference.kind)
+            .filter(|run| run.method != s.compare.reference.kind)
             .map(|run| time_series(run, |se, k| se.position_error[k]))
             .collect(),
         reference: super::summary::reference_words(s),
@@ -98,8 +98,8 @@ pub fn convergence(s: &SceneStudy) -> Option<ConvergenceData> {
     let sweep = s.sweep.as_ref()?;
     let summary = sweep.summary.as_ref()?;
     let mut lines = Vec::new();
-    for (name, order) in sweep.plan.integrators.iter().zip(&sweep.plan.orders) {
-        let rows = sweep.rows.iter().filter(|r| &r.integrator == name);
+    for (name, order) in sweep.plan.methods.iter().zip(&sweep.plan.orders) {
+        let rows = sweep.rows.iter().filter(|r| &r.method == name);
         let points: Vec<[f64; 2]> = rows
             .clone()
             .filter_map(|r| {
@@ -115,7 +115,7 @@ pub fn convergence(s: &SceneStudy) -> Option<ConvergenceData> {
         let top = points.iter().map(|p| p[1]).reduce(f64::max).unwrap_or(1.0);
         let mut series = Series::new(name.clone(), points);
         series.blowup = unstable.map(|dt| BlowUp { x: dt, y: top });
-        let fit = summary.integrators.iter().find(|i| &i.integrator == name);
+        let fit = summary.methods.iter().find(|i| &i.method == name);
         let Some(order) = *order else {
             continue;
         };
@@ -161,14 +161,14 @@ pub fn work_precision(s: &SceneStudy) -> Option<WorkPrecisionData> {
     let sweep = s.sweep.as_ref()?;
     let lines: Vec<WorkLine> = sweep
         .plan
-        .integrators
+        .methods
         .iter()
         .map(|name| WorkLine {
             label: name.clone(),
             points: sweep
                 .rows
                 .iter()
-                .filter(|r| &r.integrator == name)
+                .filter(|r| &r.method == name)
                 .filter_map(|r| {
                     r.error_max
                         .filter(|e| e.is_finite() && *e > 0.0)
@@ -239,9 +239,9 @@ pub fn paths(s: &SceneStudy, plane: [usize; 2]) -> PathData {
                 .map(|p| [p[a], p[b]])
                 .collect();
             let label = if tr.tracked.len() > 1 {
-                format!("{} particle {}", run.integrator, tr.tracked[k])
+                format!("{} particle {}", run.method, tr.tracked[k])
             } else {
-                run.integrator.clone()
+                run.method.clone()
             };
             let mut line = Series::new(label, points);
             line.blowup = match (run.unstable_time, line.points.last()) {
@@ -288,7 +288,7 @@ fn block_lines(
     lines
 }
 
-/// Snapshots of the scene's chains and cloths per backend, if it has any.
+/// Snapshots of the scene's chains and cloths per method, if it has any.
 pub fn snapshots(
     s: &SceneStudy,
     blocks: &[crate::scenario::Block],
@@ -299,7 +299,7 @@ pub fn snapshots(
     }
     let panels = runs(s)
         .map(|run| SnapshotPanel {
-            label: run.integrator.clone(),
+            label: run.method.clone(),
             snapshots: run
                 .trace
                 .iter()
@@ -322,7 +322,7 @@ pub fn snapshots(
 }
 
 /// Height over time, the h₀·e^(2n) envelope and per-bounce restitution and penetration, for
-/// scenes with obstacles (the first tracked particle of each backend's contact metrics).
+/// scenes with obstacles (the first tracked particle of each method's contact metrics).
 pub fn collision(s: &SceneStudy) -> Option<CollisionData> {
     let mut heights = Vec::new();
     let mut bounces = Vec::new();
@@ -332,7 +332,7 @@ pub fn collision(s: &SceneStudy) -> Option<CollisionData> {
         let Some(pb) = c.bounces.first() else {
             continue;
         };
-        let mut h = Series::new(run.integrator.clone(), pb.heights.clone());
+        let mut h = Series::new(run.method.clone(), pb.heights.clone());
         h.blowup = blowup_at(run, h.points.last().copied());
         heights.push(h);
         if envelope.is_none() && pb.apexes.len() > 1 {
@@ -355,7 +355,7 @@ pub fn collision(s: &SceneStudy) -> Option<CollisionData> {
                 })
             })
             .collect();
-        bounces.push((run.integrator.clone(), list));
+        bounces.push((run.method.clone(), list));
     }
     if heights.is_empty() {
         return None;
@@ -367,7 +367,7 @@ pub fn collision(s: &SceneStudy) -> Option<CollisionData> {
     })
 }
 
-/// Most impacts drawn per backend (evenly strided in time order beyond that).
+/// Most impacts drawn per method (evenly strided in time order beyond that).
 pub const MAX_IMPACT_POINTS: usize = 300;
 
 /// Measured against expected restitution per impact (the impacts each run's contact summary
@@ -390,9 +390,9 @@ pub fn impacts(s: &SceneStudy) -> Option<ImpactData> {
         let drawn: Vec<_> = list.into_iter().step_by(stride).collect();
         let mut by_speed: Vec<[f64; 2]> = drawn.iter().map(|(e, m)| [e.v_in.abs(), *m]).collect();
         by_speed.sort_by(|a, b| a[0].total_cmp(&b[0]));
-        measured.push(Series::new(run.integrator.clone(), by_speed));
+        measured.push(Series::new(run.method.clone(), by_speed));
         deviation.push(Series::new(
-            run.integrator.clone(),
+            run.method.clone(),
             drawn
                 .iter()
                 .map(|(e, m)| [e.t_in, m - e.expected_restitution])

@@ -1,4 +1,4 @@
-//! The collision-validation table of an obstacle scene's page: per backend, measured against
+//! The collision-validation table of an obstacle scene's page: per method, measured against
 //! expected restitution per impact, penetration, friction (slides against Coulomb's law) and
 //! the energy booked per impact, all read from compare's `contacts.json` (one computation:
 //! [`crate::measure::contacts`]).
@@ -36,7 +36,7 @@ pub fn section(st: &SceneStudy) -> Option<String> {
     if runs.is_empty() {
         return None;
     }
-    let mut body = String::from("<h2>Collision validation</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>, per backend at the comparison's step. Restitution: impacts approaching faster than the stated floor (1 % of the fastest), measured e = v_out/v_in against the expected e (the specified one; for penalty contacts, the contact equation's with gravity along the normal), mean and worst deviation; in/out speeds are carried from the samples to the surface under gravity alone, so for particles held by springs or constraints, whose pull acts over that stretch too, slow impacts can deviate far (the chart shows which). Penetration: deepest measured against the deepest expected. Friction: slides in resting contact of particles on which only gravity, the contact and friction act, measured deceleration against the point-mass Coulomb law (worst relative deviation); particles held by springs or constraints are not measured (their Coulomb law has the spring forces in it). Energy per impact: mean work booked as dissipated, and the energy any contact created (should be 0).</p>\n<table>\n<tr><th class=\"l\">backend</th><th>impacts (floor m/s)</th><th>mean e measured</th><th>mean e expected</th><th>worst e − expected</th><th>deepest penetration (m)</th><th>deepest expected (m)</th><th>slides</th><th>worst friction deviation</th><th>dissipated per impact (J)</th><th>created (J)</th><th>tunnelling</th></tr>\n");
+    let mut body = String::from("<h2>Collision validation</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>, per method at the comparison's step. Restitution: impacts approaching faster than the stated floor (1 % of the fastest), measured e = v_out/v_in against the expected e (the specified one; for penalty contacts, the contact equation's with gravity along the normal), mean and worst deviation; in/out speeds are carried from the samples to the surface under gravity alone, so for particles held by springs or constraints, whose pull acts over that stretch too, slow impacts can deviate far (the chart shows which). Penetration: deepest measured against the deepest expected. Friction: slides in resting contact of particles on which only gravity, the contact and friction act, measured deceleration against the point-mass Coulomb law (worst relative deviation); particles held by springs or constraints are not measured (their Coulomb law has the spring forces in it). Energy per impact: mean work booked as dissipated, and the energy any contact created (should be 0).</p>\n<table>\n<tr><th class=\"l\">method</th><th>impacts (floor m/s)</th><th>mean e measured</th><th>mean e expected</th><th>worst e − expected</th><th>deepest penetration (m)</th><th>deepest expected (m)</th><th>slides</th><th>worst friction deviation</th><th>dissipated per impact (J)</th><th>created (J)</th><th>tunnelling</th></tr>\n");
     for &(r, c) in &runs {
         let expected_pen = c
             .events
@@ -55,7 +55,7 @@ pub fn section(st: &SceneStudy) -> Option<String> {
         let has_e = c.restitution.count > 0;
         body += &format!(
             "<tr><td class=\"l\">{}</td><td>{} ({})</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-            esc(&r.integrator),
+            esc(&r.method),
             c.restitution.count,
             sci(c.impact_speed_floor),
             if has_e { num(c.restitution.mean) } else { "—".into() },
@@ -80,10 +80,10 @@ pub fn section(st: &SceneStudy) -> Option<String> {
     Some(body)
 }
 
-/// Impacts per backend in the first-impacts table.
+/// Impacts per method in the first-impacts table.
 pub const FIRST_IMPACTS: usize = 3;
 
-/// The first [`FIRST_IMPACTS`] impacts of each backend above its summary floor, in time order:
+/// The first [`FIRST_IMPACTS`] impacts of each method above its summary floor, in time order:
 /// measured e against the expected one, impact by impact.
 fn first_impacts(runs: &[(&CaseResult, &ContactReport)]) -> String {
     let mut rows = String::new();
@@ -93,7 +93,7 @@ fn first_impacts(runs: &[(&CaseResult, &ContactReport)]) -> String {
         for (k, (e, m)) in list.iter().take(FIRST_IMPACTS).enumerate() {
             rows += &format!(
                 "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                esc(&r.integrator),
+                esc(&r.method),
                 k + 1,
                 e.particle,
                 num(e.t_in),
@@ -107,16 +107,13 @@ fn first_impacts(runs: &[(&CaseResult, &ContactReport)]) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    format!("<h3>First impacts</h3>\n<p class=\"note\">Each backend's first {FIRST_IMPACTS} impacts above its floor, in time order: approach speed carried to the surface, measured e = v_out/|v_in| against the expected e.</p>\n<table>\n<tr><th class=\"l\">backend</th><th>impact</th><th>particle</th><th>t (s)</th><th>|v_in| (m/s)</th><th>e measured</th><th>e expected</th><th>measured − expected</th></tr>\n{rows}</table>\n")
+    format!("<h3>First impacts</h3>\n<p class=\"note\">Each method's first {FIRST_IMPACTS} impacts above its floor, in time order: approach speed carried to the surface, measured e = v_out/|v_in| against the expected e.</p>\n<table>\n<tr><th class=\"l\">method</th><th>impact</th><th>particle</th><th>t (s)</th><th>|v_in| (m/s)</th><th>e measured</th><th>e expected</th><th>measured − expected</th></tr>\n{rows}</table>\n")
 }
 
 /// Rapier's documented contact differences, each with what this scene's Rapier runs measured
-/// of it; empty when no Rapier backend ran.
+/// of it; empty when no Rapier method ran.
 fn rapier_differences(runs: &[(&CaseResult, &ContactReport)]) -> String {
-    if !runs
-        .iter()
-        .any(|(r, _)| differences::is_rapier(&r.integrator))
-    {
+    if !runs.iter().any(|(r, _)| differences::is_rapier(&r.method)) {
         return String::new();
     }
     let response = runs.first().map_or("", |(_, c)| c.response);
@@ -128,8 +125,8 @@ fn rapier_differences(runs: &[(&CaseResult, &ContactReport)]) -> String {
         let figures: Vec<String> = runs
             .iter()
             .filter_map(|(r, c)| {
-                differences::measured(d, &r.integrator, c)
-                    .map(|f| format!("{}: {}", esc(&r.integrator), esc(&f)))
+                differences::measured(d, &r.method, c)
+                    .map(|f| format!("{}: {}", esc(&r.method), esc(&f)))
             })
             .collect();
         let measured = if figures.is_empty() {

@@ -18,7 +18,7 @@ pub struct BlowUp {
 /// One labelled line of (x, y) points, optionally ending at a blow-up marker.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
-    /// Legend label (usually the backend name).
+    /// Legend label (usually the method name).
     pub label: String,
     /// Points in drawing order.
     pub points: Vec<[f64; 2]>,
@@ -46,34 +46,34 @@ pub struct Guide {
     pub points: Vec<[f64; 2]>,
 }
 
-/// Energy over time per backend: the total account, and optionally the terms of one backend.
+/// Energy over time per method: the total account, and optionally the terms of one method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EnergyData {
-    /// Total energy account (J) against time (s), one series per backend.
+    /// Total energy account (J) against time (s), one series per method.
     pub totals: Vec<Series>,
     /// Individual terms (kinetic, gravity, elastic, dissipated, …) when asked for.
     pub terms: Vec<Series>,
 }
 
-/// Relative energy error |E(t) − E(0)| / E_scale against time, one series per backend.
+/// Relative energy error |E(t) − E(0)| / E_scale against time, one series per method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EnergyErrorData {
-    /// One series per backend.
+    /// One series per method.
     pub series: Vec<Series>,
     /// What the error is relative to, in words (goes into the axis label).
     pub scale_note: String,
 }
 
-/// RMS position error against the reference over time, one series per backend.
+/// RMS position error against the reference over time, one series per method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PositionErrorData {
-    /// One series per backend (m against s).
+    /// One series per method (m against s).
     pub series: Vec<Series>,
     /// The reference, in words ("analytic", "rk4 at dt/16 (stand-in)").
     pub reference: String,
 }
 
-/// One integrator's convergence line: error against dt with its fitted slope.
+/// One method's convergence line: error against dt with its fitted slope.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ConvergenceLine {
     /// The points (dt in s, error in m); blow-ups are marked.
@@ -86,10 +86,10 @@ pub struct ConvergenceLine {
     pub note: Option<String>,
 }
 
-/// Error against dt, log-log, one line per integrator, with reference slopes.
+/// Error against dt, log-log, one line per method, with reference slopes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ConvergenceData {
-    /// One line per integrator.
+    /// One line per method.
     pub lines: Vec<ConvergenceLine>,
     /// Reference slopes (dt¹, dt², dt⁴ …) drawn dashed.
     pub guides: Vec<Guide>,
@@ -110,10 +110,10 @@ pub struct WorkPoint {
     pub force_evals: u64,
 }
 
-/// One integrator's work-precision points.
+/// One method's work-precision points.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WorkLine {
-    /// Integrator or backend name.
+    /// Method name.
     pub label: String,
     /// Stable runs only, coarsest dt first.
     pub points: Vec<WorkPoint>,
@@ -123,7 +123,7 @@ pub struct WorkLine {
 /// trade.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WorkPrecisionData {
-    /// One line per integrator.
+    /// One line per method.
     pub lines: Vec<WorkLine>,
 }
 
@@ -143,11 +143,11 @@ pub struct Bounce {
 /// Height over time with the e^(2n) envelope, restitution per bounce, penetration per contact.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CollisionData {
-    /// Height (m) against time (s), one series per backend.
+    /// Height (m) against time (s), one series per method.
     pub heights: Vec<Series>,
     /// Apex heights h₀·e^(2n) the specified restitution implies, as a step line.
     pub envelope: Series,
-    /// Bounces per backend: (backend, bounces).
+    /// Bounces per method: (method, bounces).
     pub bounces: Vec<(String, Vec<Bounce>)>,
 }
 
@@ -155,20 +155,20 @@ pub struct CollisionData {
 /// deviation over impact time (the impacts above each run's summary floor).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ImpactData {
-    /// Measured e against approach speed |v_in| (m/s), one series per backend.
+    /// Measured e against approach speed |v_in| (m/s), one series per method.
     pub measured: Vec<Series>,
     /// Expected e against approach speed, one line per obstacle met.
     pub expected: Vec<Guide>,
-    /// Measured − expected e against impact time (s), one series per backend.
+    /// Measured − expected e against impact time (s), one series per method.
     pub deviation: Vec<Series>,
 }
 
-/// Paths of particles projected on the scene's main plane, one series per backend.
+/// Paths of particles projected on the scene's main plane, one series per method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PathData {
     /// Names of the plane's axes ("x", "y").
     pub axes: [String; 2],
-    /// One series per backend and tracked particle.
+    /// One series per method and tracked particle.
     pub series: Vec<Series>,
 }
 
@@ -181,10 +181,10 @@ pub struct Snapshot {
     pub lines: Vec<Vec<[f64; 2]>>,
 }
 
-/// One backend's snapshots.
+/// One method's snapshots.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SnapshotPanel {
-    /// Backend name.
+    /// Method name.
     pub label: String,
     /// Snapshots in time order.
     pub snapshots: Vec<Snapshot>,
@@ -192,12 +192,12 @@ pub struct SnapshotPanel {
     pub blowup_time: Option<f64>,
 }
 
-/// Chain and cloth snapshots side by side per backend.
+/// Chain and cloth snapshots side by side per method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SnapshotData {
     /// Names of the plane's axes.
     pub axes: [String; 2],
-    /// One panel per backend.
+    /// One panel per method.
     pub panels: Vec<SnapshotPanel>,
 }
 
@@ -353,13 +353,7 @@ impl ChartCsv for WorkPrecisionData {
             })
         });
         csv_bytes(
-            &[
-                "integrator",
-                "dt",
-                "error",
-                "modelled_seconds",
-                "force_evals",
-            ],
+            &["method", "dt", "error", "modelled_seconds", "force_evals"],
             rows,
         )
     }
@@ -374,11 +368,11 @@ impl ChartCsv for CollisionData {
             }
         }
         rows.extend(series_rows("envelope", &self.envelope));
-        for (backend, bs) in &self.bounces {
+        for (method, bs) in &self.bounces {
             for b in bs {
                 rows.push(vec![
                     "bounce".into(),
-                    backend.clone(),
+                    method.clone(),
                     b.n.to_string(),
                     num(b.measured),
                     format!(
@@ -433,6 +427,6 @@ impl ChartCsv for SnapshotData {
                 }
             }
         }
-        csv_bytes(&["backend", "t", "line", "index", "u", "v"], rows)
+        csv_bytes(&["method", "t", "line", "index", "u", "v"], rows)
     }
 }

@@ -1,4 +1,4 @@
-//! The frame-rate section of a scene page: per backend, the error of one step per frame and
+//! The frame-rate section of a scene page: per method, the error of one step per frame and
 //! the cost per frame of the fewest substeps that meet the tolerance, against the frame rate,
 //! from the very `framerate.json` that `springlab framerate` writes.
 
@@ -8,30 +8,30 @@ use crate::error::Result;
 use crate::measure::framerate::Framerate;
 use crate::report::data::{BlowUp, Series};
 
-/// The backends of `fr`, in the order of its entries.
-fn backends(fr: &Framerate) -> Vec<&str> {
+/// The methods of `fr`, in the order of its entries.
+fn methods(fr: &Framerate) -> Vec<&str> {
     let mut names: Vec<&str> = Vec::new();
     for e in &fr.entries {
-        if !names.contains(&e.backend.as_str()) {
-            names.push(&e.backend);
+        if !names.contains(&e.method.as_str()) {
+            names.push(&e.method);
         }
     }
     names
 }
 
-/// One line per backend: (x = Hz, y) for each rate where `pick` gives a value; a rate where
+/// One line per method: (x = Hz, y) for each rate where `pick` gives a value; a rate where
 /// the run at one substep blew up ends the line with a marker at the last point.
 fn lines(
     fr: &Framerate,
     pick: impl Fn(&crate::measure::framerate::RateEntry) -> Option<f64>,
 ) -> Vec<Series> {
-    backends(fr)
+    methods(fr)
         .iter()
         .map(|n| {
             let points: Vec<[f64; 2]> = fr
                 .entries
                 .iter()
-                .filter(|e| e.backend == *n)
+                .filter(|e| e.method == *n)
                 .filter_map(|e| pick(e).map(|v| [e.hz, v]))
                 .collect();
             Series {
@@ -54,7 +54,7 @@ fn cost_lines(fr: &Framerate) -> Vec<Series> {
     })
 }
 
-/// The data behind the chart, as CSV (`group,series,x,y,kind`: panel, backend, Hz, value,
+/// The data behind the chart, as CSV (`group,series,x,y,kind`: panel, method, Hz, value,
 /// `point`), written beside the SVG like every chart's data.
 pub fn chart_csv(fr: &Framerate) -> String {
     let mut out = String::from("group,series,x,y,kind\n");
@@ -104,9 +104,9 @@ pub fn chart(fr: &Framerate) -> Result<String> {
     )
 }
 
-/// The page section: chart, then per backend and rate the run at one substep and the fewest
+/// The page section: chart, then per method and rate the run at one substep and the fewest
 /// substeps meeting the tolerance with its cost per frame, then `left_out`: the study's notes
-/// on the backends it left out (with their modelled time per frame).
+/// on the methods it left out (with their modelled time per frame).
 pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> String {
     let mut rates: Vec<f64> = Vec::new();
     for e in &fr.entries {
@@ -114,9 +114,9 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
             rates.push(e.hz);
         }
     }
-    let names = backends(fr);
+    let names = methods(fr);
     let mut body = format!(
-        "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each backend at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · modelled time per frame</em> (counted work, priced; the measured wall times are in the scene's <a href=\"timing.json\">timing.json</a>); “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: modelled time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">backend</th>",
+        "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each method at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · modelled time per frame</em> (counted work, priced; the measured wall times are in the scene's <a href=\"timing.json\">timing.json</a>); “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: modelled time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">method</th>",
         esc(&fr.command),
         fr.duration,
         fr.max_substeps,
@@ -134,7 +134,7 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
     for n in &names {
         body += &format!("<tr><td class=\"l\">{}</td>", esc(n));
         for hz in &rates {
-            let Some(e) = fr.entries.iter().find(|e| e.backend == *n && e.hz == *hz) else {
+            let Some(e) = fr.entries.iter().find(|e| e.method == *n && e.hz == *hz) else {
                 body += "<td>—</td><td>—</td>";
                 continue;
             };

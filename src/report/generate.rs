@@ -129,7 +129,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     };
     let e = charts::energy(s, opts.energy_terms);
     write_chart(&dir, "energy", plots::energy(&e), &e)?;
-    fig("energy", "Energy over time", format!("The total energy account per backend; flat is right. A run that blew up stops at its × marker. {}", link("compare/summary.json")));
+    fig("energy", "Energy over time", format!("The total energy account per method; flat is right. A run that blew up stops at its × marker. {}", link("compare/summary.json")));
     let ee = charts::energy_error(s);
     write_chart(&dir, "energy_error", plots::energy_error(&ee), &ee)?;
     fig(
@@ -174,14 +174,14 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     fig("paths", "Trajectories", format!("Paths of the most-travelled free particle(s) in the {}{}-plane (vertical: the axis gravity acts along, if any; else the plane where the motion spreads most). {}", p.axes[0], p.axes[1], link("compare/summary.json")));
     if let Some(sn) = charts::snapshots(s, &scene.blocks, plane) {
         write_chart(&dir, "snapshots", plots::snapshots(&sn), &sn)?;
-        fig("snapshots", "Snapshots", "The chain or cloth at a few instants (light to dark), one panel per backend at the same scale.".into());
+        fig("snapshots", "Snapshots", "The chain or cloth at a few instants (light to dark), one panel per method at the same scale.".into());
     }
     if let Some(c) = charts::collision(s) {
         write_chart(&dir, "collision", plots::collision(&c), &c)?;
         fig("collision", "Collision", format!("Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact. {}", link("compare/contacts.json")));
         if let Some(i) = charts::impacts(s) {
             write_chart(&dir, "impacts", plots::impacts(&i), &i)?;
-            fig("impacts", "Restitution per impact", format!("Left: measured restitution e = v_out/|v_in| of every impact faster than the run's summary floor, against its approach speed, with the expected e (dashed: the obstacle's; for penalty contacts the contact equation's with gravity, which varies with speed). Right: measured − expected per impact over time. At most {} impacts per backend. {}", charts::MAX_IMPACT_POINTS, link("compare/contacts.json")));
+            fig("impacts", "Restitution per impact", format!("Left: measured restitution e = v_out/|v_in| of every impact faster than the run's summary floor, against its approach speed, with the expected e (dashed: the obstacle's; for penalty contacts the contact equation's with gravity, which varies with speed). Right: measured − expected per impact over time. At most {} impacts per method. {}", charts::MAX_IMPACT_POINTS, link("compare/contacts.json")));
         }
     } else {
         notes.push("Collision validation: this scene has no obstacles.".to_string());

@@ -2,7 +2,7 @@
 //! CSS, no scripts, no web fonts; images and data are relative links next to the page.
 
 use super::finite::cell;
-use super::summary::{BackendSummary, SceneSummary, Summary};
+use super::summary::{MethodRow, SceneSummary, Summary};
 use super::verdict::{dt_words, front_row, limit_words};
 use crate::measure::stability::StabilityReport;
 use crate::measure::study::SceneStudy;
@@ -43,7 +43,7 @@ pub(crate) fn page(title: &str, body: &str) -> String {
 }
 
 /// The stable step cell: the stability report's limit (`dt ≤ … s (h·ω ≤ …)`, `any step`, …).
-pub fn stable_cell(b: &BackendSummary) -> String {
+pub fn stable_cell(b: &MethodRow) -> String {
     match b.stable_h_omega {
         Some(h) => format!("{} (h·ω ≤ {})", limit_words(b), cell(Some(h), 3)),
         None => limit_words(b),
@@ -51,7 +51,7 @@ pub fn stable_cell(b: &BackendSummary) -> String {
 }
 
 /// The observed-order cell: the sweep's fitted order, or `—` (its reason is on the page).
-pub fn order_cell(b: &BackendSummary) -> String {
+pub fn order_cell(b: &MethodRow) -> String {
     match (b.observed_order, &b.order_note) {
         (Some(p), _) => cell(Some(p), 3),
         (None, Some(_)) => "none".into(),
@@ -60,12 +60,12 @@ pub fn order_cell(b: &BackendSummary) -> String {
 }
 
 /// The force-evaluation cell: the count, or `—` for methods that never evaluate ours.
-pub fn evals_cell(b: &BackendSummary) -> String {
+pub fn evals_cell(b: &MethodRow) -> String {
     b.force_evals.map_or("—".into(), |n| n.to_string())
 }
 
 /// The status cell: `ok` or `unstable at t = …`.
-pub fn status_cell(b: &BackendSummary) -> String {
+pub fn status_cell(b: &MethodRow) -> String {
     match b.blowup_time {
         Some(t) => format!("unstable at t = {} s", cell(Some(t), 3)),
         None => b.status.to_string(),
@@ -80,13 +80,13 @@ pub fn drift_cell(v: Option<f64>) -> String {
     }
 }
 
-fn backend_rows(s: &SceneSummary) -> String {
+fn method_rows(s: &SceneSummary) -> String {
     let mut rows = String::new();
-    for b in &s.backends {
+    for b in &s.methods {
         rows += &format!(
             "<tr class=\"{}\"><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>\n",
             esc(b.status.label()),
-            esc(&b.backend),
+            esc(&b.method),
             b.order,
             esc(&status_cell(b)),
             cell(b.max_position_error, 2),
@@ -103,7 +103,7 @@ fn backend_rows(s: &SceneSummary) -> String {
     rows
 }
 
-const TABLE_HEAD: &str = "<th class=\"l\">backend</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy error</th><th>final energy change</th><th>energy drift rate (J/s)</th><th>strain max</th><th>observed order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>modelled time (ms)</th>";
+const TABLE_HEAD: &str = "<th class=\"l\">method</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy error</th><th>final energy change</th><th>energy drift rate (J/s)</th><th>strain max</th><th>observed order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>modelled time (ms)</th>";
 
 fn documents(s: &SceneSummary) -> String {
     let mut out = String::from("<h2>Documents</h2>\n<p class=\"note\">Every number on this page comes from these files, written by the commands beside them; re-running a command gives the same file, byte for byte; the measured wall times are apart, in <a href=\"timing.json\">timing.json</a>.</p>\n<table>\n<tr><th class=\"l\">document</th><th class=\"l\">command</th></tr>\n");
@@ -120,10 +120,10 @@ fn documents(s: &SceneSummary) -> String {
 fn stability_table(st: &StabilityReport) -> String {
     let mut out = format!("<h2>Stability</h2>\n<p class=\"note\">From <a href=\"stability/stability.json\">stability/stability.json</a>: ω_max = {} rad/s. Theory: {}. Empirical: a run of {} s is stable when its energy balance stays bounded: unstable once it diverges, rises past {}× the scene's energy scale, keeps doubling window after window, or stays ten scales above its start.</p>\n<table>\n<tr><th class=\"l\">method</th><th class=\"l\">verdict</th><th>largest stable step (s)</th><th>h·ω_max</th><th class=\"l\">decided by</th><th>theory limit (s)</th><th>empirical limit (s)</th><th class=\"l\">note</th></tr>\n",
         cell(Some(st.omega_max), 4), esc(&st.theory_criterion), cell(Some(st.empirical_criterion.horizon), 3), cell(Some(st.empirical_criterion.blowup_factor), 2));
-    for i in &st.integrators {
+    for i in &st.methods {
         out += &format!(
             "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>\n",
-            esc(&i.integrator),
+            esc(&i.method),
             esc(&format!("{:?}", i.verdict)),
             cell(i.max_stable_dt, 4),
             cell(i.h_omega, 4),
@@ -137,8 +137,8 @@ fn stability_table(st: &StabilityReport) -> String {
 }
 
 fn order_table(s: &SceneSummary) -> String {
-    let rows: Vec<&BackendSummary> = s
-        .backends
+    let rows: Vec<&MethodRow> = s
+        .methods
         .iter()
         .filter(|b| b.observed_order.is_some() || b.order_note.is_some())
         .collect();
@@ -149,7 +149,7 @@ fn order_table(s: &SceneSummary) -> String {
     for b in rows {
         out += &format!(
             "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>\n",
-            esc(&b.backend),
+            esc(&b.method),
             b.order,
             order_cell(b),
             esc(b.order_note.as_deref().unwrap_or(""))
@@ -177,16 +177,16 @@ pub fn scene_page(
         esc(&dt_words(s.dt)),
         cell(Some(s.duration), 3),
         esc(&s.reference),
-        backend_rows(s)
+        method_rows(s)
     );
     body += &stability_table(&st.stability);
     body += &order_table(s);
-    if s.backends.iter().any(|b| b.tunnelling.is_some()) {
-        body += "<h2>Contacts</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>.</p>\n<table>\n<tr><th class=\"l\">backend</th><th>mean measured restitution</th><th>mean specified restitution</th><th>deepest penetration (m)</th><th>tunnelling paths</th></tr>\n";
-        for b in &s.backends {
+    if s.methods.iter().any(|b| b.tunnelling.is_some()) {
+        body += "<h2>Contacts</h2>\n<p class=\"note\">From <a href=\"compare/contacts.json\">compare/contacts.json</a>.</p>\n<table>\n<tr><th class=\"l\">method</th><th>mean measured restitution</th><th>mean specified restitution</th><th>deepest penetration (m)</th><th>tunnelling paths</th></tr>\n";
+        for b in &s.methods {
             body += &format!(
                 "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                esc(&b.backend),
+                esc(&b.method),
                 cell(b.restitution_measured, 3),
                 cell(b.restitution_expected, 3),
                 cell(b.penetration_max, 2),
@@ -279,7 +279,7 @@ pub fn index_page(sum: &Summary) -> String {
             esc(&s.page),
             esc(&s.scene),
             esc(&s.verdict),
-            backend_rows(s)
+            method_rows(s)
         );
     }
     if !sum.failed.is_empty() {

@@ -51,11 +51,11 @@ pub fn readme(sum: &Summary) -> String {
     out += "\n## All methods at each scene's step\n\n";
     for s in &sum.scenes {
         out += &format!("### [{}]({})\n\n{}\n\n", md(&s.scene), s.page, s.verdict);
-        out += "| backend | order | status | max position error (m) | max energy error | strain max | observed order | stable step | force evaluations | modelled time (ms) |\n|---|---:|---|---:|---:|---:|---:|---|---:|---:|\n";
-        for b in &s.backends {
+        out += "| method | order | status | max position error (m) | max energy error | strain max | observed order | stable step | force evaluations | modelled time (ms) |\n|---|---:|---|---:|---:|---:|---:|---|---:|---:|\n";
+        for b in &s.methods {
             out += &format!(
                 "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-                md(&b.backend),
+                md(&b.method),
                 b.order,
                 md(&status_cell(b)),
                 cell(b.max_position_error, 2),

@@ -1,5 +1,5 @@
-//! Side-by-side playback of the compared runs on a scene page: every backend's particles (and
-//! its short springs and rods) drawn on a canvas per backend, all at the same scale, played at
+//! Side-by-side playback of the compared runs on a scene page: every method's particles (and
+//! its short springs and rods) drawn on a canvas per method, all at the same scale, played at
 //! [`PLAYBACK_FPS`] frames per simulated second from the frames compare's runs kept
 //! ([`crate::measure::trace::Trace::frames`]). The data goes to `playback.js` beside the page
 //! (a local script, nothing fetched from outside); a little inline script draws it.
@@ -36,7 +36,7 @@ fn project(x: &[f64; 3], plane: [usize; 2]) -> (f64, f64) {
 /// springs would double every line of a cloth).
 const LINE_LENGTH_FACTOR: f64 = 1.5;
 
-/// One backend's frames.
+/// One method's frames.
 #[derive(Debug, Serialize)]
 struct Run {
     name: String,
@@ -99,7 +99,7 @@ pub fn playback(s: &SceneStudy, scene: &Scenario, plane: [usize; 2]) -> Option<(
             .map(|r| {
                 let frames = &r.trace.as_ref().expect("filtered").frames;
                 Run {
-                    name: r.integrator.clone(),
+                    name: r.method.clone(),
                     status: r.status,
                     unstable_time: r.unstable_time,
                     count: frames.len(),
@@ -191,7 +191,7 @@ fn encode(frames: &[(f64, Vec<[f64; 3]>)], plane: [usize; 2], b: [f64; 4]) -> St
     out
 }
 
-/// The page section: one canvas per backend, play/pause, a time slider and the drawing script.
+/// The page section: one canvas per method, play/pause, a time slider and the drawing script.
 fn section(d: &Data) -> String {
     let panels: String = d
         .runs
@@ -205,7 +205,7 @@ fn section(d: &Data) -> String {
         })
         .collect();
     format!(
-        "<h2>Playback</h2>\n<p class=\"note\">Every backend's run of the comparison above, side by side at the same scale in the {}{}-plane (oblique view: the {}-axis drawn at half scale up and to the right), {} frames per simulated second (lines: springs and rods). A run that blew up stops at its blow-up; particles that left the box are counted, not drawn at its edge. From the runs of <a href=\"compare/summary.json\">compare</a>; data in <code>playback.js</code>.</p>\n<p><button id=\"pbplay\">pause</button> <input id=\"pbtime\" type=\"range\" min=\"0\" max=\"{}\" value=\"0\"> t = <span id=\"pbt\">0</span> s</p>\n<div id=\"playback\" data-frame=\"0\" data-drawn=\"\">{panels}</div>\n<script src=\"playback.js\"></script>\n<script>{}</script>\n",
+        "<h2>Playback</h2>\n<p class=\"note\">Every method's run of the comparison above, side by side at the same scale in the {}{}-plane (oblique view: the {}-axis drawn at half scale up and to the right), {} frames per simulated second (lines: springs and rods). A run that blew up stops at its blow-up; particles that left the box are counted, not drawn at its edge. From the runs of <a href=\"compare/summary.json\">compare</a>; data in <code>playback.js</code>.</p>\n<p><button id=\"pbplay\">pause</button> <input id=\"pbtime\" type=\"range\" min=\"0\" max=\"{}\" value=\"0\"> t = <span id=\"pbt\">0</span> s</p>\n<div id=\"playback\" data-frame=\"0\" data-drawn=\"\">{panels}</div>\n<script src=\"playback.js\"></script>\n<script>{}</script>\n",
         d.axes[0],
         d.axes[1],
         d.depth,

@@ -8,11 +8,11 @@ use crate::measure::study::SceneStudy;
 use crate::method::{Order, Registry};
 use serde::{Deserialize, Serialize};
 
-/// One backend's row in a scene's table and in the overview.
+/// One method's row in a scene's table and in the overview.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct BackendSummary {
-    /// Integrator or backend name.
-    pub backend: String,
+pub struct MethodRow {
+    /// Method name.
+    pub method: String,
     /// Theoretical order: a number, or `"exact"`.
     pub order: Order,
     /// `ok` or `unstable`.
@@ -66,7 +66,7 @@ pub struct BackendSummary {
     /// back from before it was recorded.
     #[serde(default)]
     pub modelled_seconds: f64,
-    /// Wall time in the integrator (s); varies from run to run, so documents keep it in
+    /// Wall time in the method (s); varies from run to run, so documents keep it in
     /// `timing.json` (0 when that file is gone).
     #[serde(default)]
     pub wall_seconds: f64,
@@ -100,9 +100,9 @@ pub struct SceneSummary {
     /// [`crate::measure::answer`]); null only in rows of an older report.
     #[serde(default)]
     pub answer: Option<crate::measure::answer::Answer>,
-    /// One row per backend that ran.
-    pub backends: Vec<BackendSummary>,
-    /// Backends that refused the scene, with the reason.
+    /// One row per method that ran.
+    pub methods: Vec<MethodRow>,
+    /// Methods that refused the scene, with the reason.
     pub skipped: Vec<(String, String)>,
     /// The plain-language verdict.
     pub verdict: String,
@@ -154,33 +154,26 @@ pub fn scene_summary(
     registry: &Registry,
     documents: Vec<Document>,
 ) -> crate::error::Result<SceneSummary> {
-    let mut backends = Vec::new();
+    let mut methods = Vec::new();
     let mut skipped = Vec::new();
     for e in &s.compare.entries {
         let Some(r) = &e.result else {
-            skipped.push((
-                e.integrator.clone(),
-                e.skip_reason.clone().unwrap_or_default(),
-            ));
+            skipped.push((e.method.clone(), e.skip_reason.clone().unwrap_or_default()));
             continue;
         };
         // Every compared method came from this registry; a mismatch is the caller's error.
-        let info = registry.info(&r.integrator)?;
-        let stab = s
-            .stability
-            .integrators
-            .iter()
-            .find(|i| i.integrator == r.integrator);
+        let info = registry.info(&r.method)?;
+        let stab = s.stability.methods.iter().find(|i| i.method == r.method);
         let fit = s.sweep.as_ref().and_then(|sw| {
             sw.summary
                 .as_ref()?
-                .integrators
+                .methods
                 .iter()
-                .find(|i| i.integrator == r.integrator)
+                .find(|i| i.method == r.method)
         });
         let contacts = r.contacts.as_ref();
-        backends.push(BackendSummary {
-            backend: r.integrator.clone(),
+        methods.push(MethodRow {
+            method: r.method.clone(),
             order: info.order,
             status: r.status,
             blowup_time: r.unstable_time,
@@ -198,7 +191,8 @@ pub fn scene_summary(
             stability_decided_by: stab.map(|i| i.decided_by.clone()),
             stable_up_to_tried: stab
                 .filter(|i| {
-                    i.decided_by == "empirical_bisection" && i.verdict == Verdict::UnconditionallyStable
+                    i.decided_by == "empirical_bisection"
+                        && i.verdict == Verdict::UnconditionallyStable
                 })
                 .map(|_| s.stability.empirical_criterion.dt_max),
             observed_order: fit.and_then(|f| f.observed_order),
@@ -229,7 +223,7 @@ pub fn scene_summary(
         reference: reference_words(s),
         omega_max: (s.stability.omega_max > 0.0).then_some(s.stability.omega_max),
         answer: Some(s.answer.clone()),
-        backends,
+        methods,
         skipped,
         verdict: String::new(),
         page: format!("{}/index.html", s.scenario),

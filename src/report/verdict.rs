@@ -2,7 +2,7 @@
 //! only (which are its documents' numbers).
 
 use super::finite::cell;
-use super::summary::{BackendSummary, SceneSummary};
+use super::summary::{MethodRow, SceneSummary};
 use crate::measure::answer::{FreeStep, GameRate};
 use crate::measure::stability::Verdict;
 use crate::measure::tolerance::Metric;
@@ -32,7 +32,7 @@ fn pct(v: f64) -> String {
 
 /// A stability limit in words: `dt ≤ 0.0249 s`, `any step` (theory), `every step tried (up to
 /// … s)` (an empirical search), `no step`, or `not analysed`.
-pub fn limit_words(b: &BackendSummary) -> String {
+pub fn limit_words(b: &MethodRow) -> String {
     match (b.stability, b.stable_dt) {
         (Some(Verdict::StableBelow), Some(dt)) => format!("dt ≤ {} s", cell(Some(dt), 3)),
         (Some(Verdict::UnconditionallyStable), _) => match b.stable_up_to_tried {
@@ -91,7 +91,7 @@ pub fn judging_notes(max_substeps: u64) -> Vec<String> {
 
 /// The free-step answer in words, labelled where it only reports what was verified.
 pub fn free_words(a: &FreeStep) -> String {
-    match (&a.integrator, a.dt) {
+    match (&a.method, a.dt) {
         (Some(m), Some(dt)) if a.meets => format!(
             "{m} at dt = {} ({})",
             dt_words(dt),
@@ -112,7 +112,7 @@ pub fn game_words(a: &GameRate) -> String {
     let per_frame = a.modelled_seconds_per_frame.map_or(String::new(), |w| {
         format!("; {} ms per frame, modelled", cell(Some(w * 1e3), 2))
     });
-    match (&a.integrator, a.substeps) {
+    match (&a.method, a.substeps) {
         (Some(m), Some(n)) if a.meets => format!(
             "{m} × {n} substep{} at {} Hz ({}{per_frame})",
             if n == 1 { "" } else { "s" },
@@ -169,16 +169,16 @@ pub fn front_row(s: &SceneSummary) -> FrontRow {
         free: stale(free),
         game: stale(game),
         limits: s
-            .backends
+            .methods
             .iter()
             .filter(|b| b.stability.is_some())
-            .map(|b| format!("{}: {}", b.backend, limit_words(b)))
+            .map(|b| format!("{}: {}", b.method, limit_words(b)))
             .collect(),
         blew: s
-            .backends
+            .methods
             .iter()
             .filter(|b| !b.status.is_ok())
-            .map(|b| format!("{} at t = {} s", b.backend, cell(b.blowup_time, 3)))
+            .map(|b| format!("{} at t = {} s", b.method, cell(b.blowup_time, 3)))
             .collect(),
     }
 }
@@ -195,14 +195,14 @@ pub fn verdict(s: &SceneSummary) -> String {
         Some(Metric::Statistics) => out.push("This scene is chaotic: past the reference's predictability horizon position error measures the chaos, not the method, so each run is judged there by its time-mean centre of mass, radius of gyration, kinetic energy and strain against an ensemble of references.".into()),
         _ => {}
     }
-    let bs = &s.backends;
+    let bs = &s.methods;
     let unstable: Vec<String> = bs
         .iter()
         .filter(|b| !b.status.is_ok())
         .map(|b| {
             format!(
                 "{} (t = {} s: {})",
-                b.backend,
+                b.method,
                 cell(b.blowup_time, 3),
                 b.blowup_reason.as_deref().unwrap_or("unstable")
             )
@@ -216,7 +216,7 @@ pub fn verdict(s: &SceneSummary) -> String {
     let mut acc: Vec<(&str, f64)> = bs
         .iter()
         .filter(|b| b.status.is_ok() && b.order != crate::method::Order::Exact)
-        .filter_map(|b| b.max_position_error.map(|e| (b.backend.as_str(), e)))
+        .filter_map(|b| b.max_position_error.map(|e| (b.method.as_str(), e)))
         .collect();
     acc.sort_by(|a, b| a.1.total_cmp(&b.1));
     match (acc.first(), acc.last()) {
@@ -251,14 +251,14 @@ pub fn verdict(s: &SceneSummary) -> String {
     if let Some((b, d)) = drift.filter(|(_, d)| *d > 0.01) {
         out.push(format!(
             "{} moves its energy account by up to {} of the scene's energy scale.",
-            b.backend,
+            b.method,
             pct(d)
         ));
     }
     let lims: Vec<String> = bs
         .iter()
         .filter(|b| b.stability.is_some())
-        .map(|b| format!("{} {}", b.backend, limit_words(b)))
+        .map(|b| format!("{} {}", b.method, limit_words(b)))
         .collect();
     if !lims.is_empty() {
         out.push(format!("Stable steps: {}.", lims.join("; ")));
@@ -268,7 +268,7 @@ pub fn verdict(s: &SceneSummary) -> String {
         .filter_map(|b| match (b.restitution_measured, b.restitution_expected) {
             (Some(m), Some(e)) => Some(format!(
                 "{} {} (specified {})",
-                b.backend,
+                b.method,
                 cell(Some(m), 3),
                 cell(Some(e), 3)
             )),
@@ -281,7 +281,7 @@ pub fn verdict(s: &SceneSummary) -> String {
     let tunnel: Vec<String> = bs
         .iter()
         .filter(|b| b.tunnelling.is_some_and(|t| t > 0))
-        .map(|b| format!("{} ({})", b.backend, b.tunnelling.unwrap_or(0)))
+        .map(|b| format!("{} ({})", b.method, b.tunnelling.unwrap_or(0)))
         .collect();
     if !tunnel.is_empty() {
         out.push(format!("Paths through an obstacle: {}.", tunnel.join(", ")));

@@ -9,9 +9,9 @@
 //! reported beside it and decide nothing.
 //!
 //! The per-item costs are this code's single-thread figures on a 2-core x86-64 machine,
-//! fitted to the integrator wall times of the shipped scenes (`springlab compare` on each:
+//! fitted to the stepping wall times of the shipped scenes (`springlab compare` on each:
 //! `work` against `wall_seconds` in `summary.json`). On them the model is within a factor of
-//! 2.2 of the clock for every method and backend, except the closed forms (up to 4.7: their
+//! 2.2 of the clock for every method, except the closed forms (up to 4.7: their
 //! step is trigonometry the model does not price), and mostly within 1.5. They are a scale,
 //! not a promise: a faster machine scales every figure alike and leaves every decision as it
 //! was.

@@ -21,7 +21,7 @@ pub struct EnergyRecord {
     /// terms, so `total` rises by it and the verdict counts it as a gain.
     pub created: f64,
     /// kinetic + gravity + elastic + dissipated − injected: constant for the exact solution,
-    /// so its change is the integrator's energy error in conservative and dissipative scenes.
+    /// so its change is the method's energy error in conservative and dissipative scenes.
     pub total: f64,
 }
 

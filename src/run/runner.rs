@@ -1,4 +1,4 @@
-//! The run loop (argmin's Executor pattern): integrators only step; this owns everything else.
+//! The run loop (argmin's Executor pattern): methods only step; this owns everything else.
 
 use super::cost::{CostModel, Work};
 use super::energy::EnergyRecord;
@@ -6,7 +6,7 @@ use super::observer::Observer;
 use super::scale::energy_scale;
 use super::verdict::{Rule, Verdict, DEFAULT_BLOWUP_FACTOR};
 use crate::error::{Error, Result};
-use crate::integrate::Integrator;
+use crate::integrate::Stepper;
 use crate::model::{Impulse, State, System};
 use serde::Serialize;
 use std::time::Instant;
@@ -15,8 +15,8 @@ use std::time::Instant;
 ///
 /// A run is `steps` frames of `dt`; observers see the state at the end of every frame.
 /// Each frame is `substeps` equal steps of `dt / substeps` for a native method — bit for bit
-/// the run at `dt / substeps` with every `substeps`-th state kept. A backend that substeps
-/// itself ([`Integrator::splits_frames`], Rapier) gets whole frames instead and splits them
+/// the run at `dt / substeps` with every `substeps`-th state kept. A method that substeps
+/// itself ([`Stepper::splits_frames`], Rapier) gets whole frames instead and splits them
 /// with its own setting ([`crate::method::MethodOptions::substeps`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunPlan {
@@ -146,7 +146,7 @@ pub struct RunOutcome {
     pub steps_done: u64,
     /// Force evaluations made.
     pub force_evals: u64,
-    /// Wall time spent inside the integrator's steps (s): measured, reported, never decides.
+    /// Wall time spent inside the method's steps (s): measured, reported, never decides.
     pub wall_seconds: f64,
     /// The work the run counted.
     pub work: Work,
@@ -162,7 +162,7 @@ pub struct RunOutcome {
 
 struct Loop<'a> {
     sys: &'a System,
-    integ: &'a mut dyn Integrator,
+    stepper: &'a mut dyn Stepper,
     work: Work,
     dissipated: f64,
     /// Energy the contact stage created (booked apart; it stays in the mechanical terms).
@@ -182,7 +182,7 @@ impl Loop<'_> {
             self.v0.clone_from(&s.v);
         }
         // A step that fails still did its work: it is counted before the error goes up.
-        let stepped = self.integ.step(self.sys, s, h);
+        let stepped = self.stepper.step(self.sys, s, h);
         let (newton, linear) = self.newton_counts();
         let w = &mut self.work;
         w.steps += 1;
@@ -194,20 +194,20 @@ impl Loop<'_> {
         w.engine_seconds += stats.engine_seconds;
         // Contact stage (obstacles only): resolve contacts after the accepted step, before the
         // energy account; what it removes joins `dissipated`, and a changed state resets the
-        // integrator's history. The stage books losses and gains apart: energy it created stays
+        // method's history. The stage books losses and gains apart: energy it created stays
         // in the mechanical terms, where the verdict sees it as a gain, and is listed in `created`.
         if let Some(c) = self
             .sys
             .post_step
             .as_ref()
-            .filter(|_| !self.integ.handles_contacts())
+            .filter(|_| !self.stepper.handles_contacts())
         {
             let cs = c.apply(self.sys, &self.x0, &self.v0, s, h);
             self.work.contact_passes += 1;
             self.dissipated += cs.dissipated;
             self.created += cs.created;
             if cs.changed {
-                self.integ.reset();
+                self.stepper.reset();
             }
         }
         self.wall += t0.elapsed().as_secs_f64();
@@ -217,22 +217,22 @@ impl Loop<'_> {
 
     /// The implicit core's Newton and linear iteration counters so far (0 without one).
     fn newton_counts(&self) -> (u64, u64) {
-        self.integ
+        self.stepper
             .newton()
             .map_or((0, 0), |n| (n.newton_iterations, n.cg_iterations))
     }
 }
 
-/// Runs `integ` on `sys` from `s0` for `plan`, feeding `obs` once per frame. A numerical
+/// Runs `stepper` on `sys` from `s0` for `plan`, feeding `obs` once per frame. A numerical
 /// blow-up is a [`Status::Unstable`] outcome (its step is the frame, its time the substep's
 /// end), not an error; errors are only the observers' (I/O).
 ///
 /// Impulses take effect when the scene's [`crate::model::Events`] says, relative to the
 /// frames of `plan.dt`; `steps_done` counts frames, and the cost counts every substep.
-// One function because the frame loop owns the integrator, the contact stage, impulses, energy accounts and the verdict together; each is a call, the loop is their order.
+// One function because the frame loop owns the method, the contact stage, impulses, energy accounts and the verdict together; each is a call, the loop is their order.
 pub fn run(
     sys: &System,
-    integ: &mut dyn Integrator,
+    stepper: &mut dyn Stepper,
     s0: State,
     plan: &RunPlan,
     obs: &mut dyn Observer,
@@ -244,8 +244,8 @@ pub fn run(
     let initial = EnergyRecord::new(sys.state_energy(&s), 0.0, 0.0);
     let mut last = initial;
     obs.observe(0, &s, &initial)?;
-    integ.reset();
-    let n = if integ.splits_frames() {
+    stepper.reset();
+    let n = if stepper.splits_frames() {
         1
     } else {
         plan.substeps.max(1)
@@ -262,7 +262,7 @@ pub fn run(
         .collect();
     let mut lp = Loop {
         sys,
-        integ,
+        stepper,
         work: Work::default(),
         dissipated: 0.0,
         created: 0.0,
@@ -297,7 +297,7 @@ pub fn run(
                 let before = s.v[p].norm_squared();
                 s.v[p] += im.delta_v;
                 injected += 0.5 * sys.mass[p] * (s.v[p].norm_squared() - before);
-                lp.integ.reset();
+                lp.stepper.reset();
                 next_imp += 1;
             }
             let split = next_imp > imp_at_start;

@@ -36,7 +36,7 @@ pub struct ScenarioFile {
     /// Cloth generators, indexed after all chains, in file order.
     #[serde(default)]
     pub cloth: Vec<ClothSpec>,
-    /// Run settings (step, length, default integrators).
+    /// Run settings (step, length, default methods).
     pub run: Option<RunSpec>,
     /// Static obstacles.
     #[serde(default)]
@@ -190,8 +190,9 @@ pub struct RunSpec {
     pub steps: Option<i64>,
     /// Simulated time in s (exclusive with steps).
     pub duration: Option<f64>,
-    /// Integrators `compare` uses by default.
-    pub integrators: Option<Vec<String>>,
+    /// Methods `compare` uses by default (`integrators` is read as the same key).
+    #[serde(alias = "integrators")]
+    pub methods: Option<Vec<String>>,
     /// When impulses take effect: "exact" (default) or "frame".
     pub events: Option<String>,
     /// Position tolerance of the scene's answers (m; default 1 % of the motion scale).
@@ -200,12 +201,13 @@ pub struct RunSpec {
     pub hz: Option<f64>,
 }
 
-/// `[expect]`: the integrator, step and limits a scene is held to by `springlab expect`.
+/// `[expect]`: the method, step and limits a scene is held to by `springlab expect`.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ExpectSpec {
-    /// Integrator name (a registered method).
-    pub integrator: String,
+    /// Method name (a registered method; `integrator` is read as the same key).
+    #[serde(alias = "integrator")]
+    pub method: String,
     /// Frame rate in Hz (exclusive with `dt`).
     pub hz: Option<f64>,
     /// Frame step in s (exclusive with `hz`).

@@ -102,8 +102,8 @@ pub struct RunSettings {
     pub steps: Option<u64>,
     /// Simulated time (s), if given.
     pub duration: Option<f64>,
-    /// Integrators `compare` uses by default (empty: all that apply).
-    pub integrators: Vec<String>,
+    /// Methods `compare` uses by default (empty: all that apply).
+    pub methods: Vec<String>,
     /// When impulses take effect: at their time, or at the next frame boundary.
     pub events: crate::model::Events,
     /// Position tolerance of the scene's answers (m), when the scene gives one; else
@@ -146,12 +146,12 @@ pub struct Scenario {
     pub raw: ScenarioFile,
 }
 
-/// A validated `[expect]` table: one integrator at one frame step, and the limits its run
+/// A validated `[expect]` table: one method at one frame step, and the limits its run
 /// is held to (each check optional).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Expect {
-    /// Integrator name (registered).
-    pub integrator: String,
+    /// Method name (registered).
+    pub method: String,
     /// Frame step (s): `1/hz` or `dt`.
     pub frame_dt: f64,
     /// Steps per frame (≥ 1).

@@ -12,7 +12,7 @@ pub(super) fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettin
             dt: None,
             steps: None,
             duration: None,
-            integrators: Vec::new(),
+            methods: Vec::new(),
             events: Default::default(),
             tolerance: None,
             hz: None,
@@ -60,13 +60,13 @@ pub(super) fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettin
             ));
         }
     }
-    let integrators = r.integrators.clone().unwrap_or_default();
-    for (k, name) in integrators.iter().enumerate() {
+    let methods = r.methods.clone().unwrap_or_default();
+    for (k, name) in methods.iter().enumerate() {
         if crate::method::Registry::builtin().find(name).is_none() {
             return Err(ck.err(
-                format!("run.integrators[{k}]"),
+                format!("run.methods[{k}]"),
                 format!(
-                    "unknown integrator '{name}'; known: {}",
+                    "unknown method '{name}'; known: {}",
                     crate::method::Registry::builtin().names().join(", ")
                 ),
             ));
@@ -88,26 +88,26 @@ pub(super) fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettin
         dt,
         steps,
         duration,
-        integrators,
+        methods,
         events,
         tolerance,
         hz,
     })
 }
 
-/// Checks `[expect]`: a registered integrator, exactly one positive finite `hz` or `dt`,
+/// Checks `[expect]`: a registered method, exactly one positive finite `hz` or `dt`,
 /// `substeps` ≥ 1, and positive finite limits.
 pub(super) fn validate_expect(ck: &Checker, raw: &ScenarioFile) -> Result<Option<Expect>> {
     let Some(e) = &raw.expect else {
         return Ok(None);
     };
     let registry = crate::method::Registry::builtin();
-    if registry.find(&e.integrator).is_none() {
+    if registry.find(&e.method).is_none() {
         return Err(ck.err(
-            "expect.integrator",
+            "expect.method",
             format!(
-                "unknown integrator '{}'; known: {}",
-                e.integrator,
+                "unknown method '{}'; known: {}",
+                e.method,
                 registry.names().join(", ")
             ),
         ));
@@ -135,7 +135,7 @@ pub(super) fn validate_expect(ck: &Checker, raw: &ScenarioFile) -> Result<Option
             .transpose()
     };
     Ok(Some(Expect {
-        integrator: e.integrator.clone(),
+        method: e.method.clone(),
         frame_dt,
         substeps,
         stable: e.stable,

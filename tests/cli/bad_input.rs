@@ -178,10 +178,10 @@ fn huge_values() {
 }
 
 #[test]
-fn unknown_integrator_in_run_table() {
+fn unknown_method_in_run_table() {
     rejects(
-        &good_with("steps = 10", "steps = 10\nintegrators = [\"leapfrog9\"]"),
-        &["run.integrators[0]", "leapfrog9"],
+        &good_with("steps = 10", "steps = 10\nmethods = [\"leapfrog9\"]"),
+        &["run.methods[0]", "leapfrog9"],
     );
 }
 
@@ -242,7 +242,7 @@ fn flag_rejected(args: &[&str], needle: &str) {
 fn bad_flags() {
     flag_rejected(&["-i", "rk4", "--dt", "-0.1"], "--dt");
     flag_rejected(&["-i", "rk4", "--dt", "abc"], "--dt");
-    flag_rejected(&["-i", "rk9"], "unknown integrator 'rk9'");
+    flag_rejected(&["-i", "rk9"], "unknown method 'rk9'");
     flag_rejected(&["-i", "rk4", "--steps", "0"], "--steps");
     flag_rejected(&["-i", "rk4", "--every", "0"], "--every");
     flag_rejected(&["-i", "rk4", "--wobble"], "--wobble");
@@ -250,7 +250,7 @@ fn bad_flags() {
 }
 
 #[test]
-fn integrator_that_cannot_honour_constraints_says_why() {
+fn method_that_cannot_honour_constraints_says_why() {
     let out = bin()
         .args([
             "run",

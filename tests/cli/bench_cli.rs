@@ -1,5 +1,5 @@
 //! The benchmark subcommands end to end on tiny cloths: the files they promise, one row per
-//! backend and size (bench-scaling) or per targeted ratio (bench-ratios), with finite positive
+//! method and size (bench-scaling) or per targeted ratio (bench-ratios), with finite positive
 //! timings. Speed itself is not asserted here: speed claims live in `cargo bench` and in the
 //! commands' own output, never in timed tests.
 
@@ -14,7 +14,7 @@ fn csv_rows(p: &Path) -> Vec<Vec<String>> {
 }
 
 #[test]
-fn bench_scaling_writes_one_row_per_backend_and_size_and_a_plot() {
+fn bench_scaling_writes_one_row_per_method_and_size_and_a_plot() {
     let d = tempfile::tempdir().unwrap();
     let out = d.path().to_str().unwrap();
     springlab(&[
@@ -27,9 +27,9 @@ fn bench_scaling_writes_one_row_per_backend_and_size_and_a_plot() {
         out,
     ]);
     let rows = csv_rows(&d.path().join("scaling.csv"));
-    let backends = springlab::perf::backends_for(&springlab::perf::cloth(4));
-    assert_eq!(rows.len(), 2 * backends.len(), "{rows:?}");
-    for name in &backends {
+    let methods = springlab::perf::methods_for(&springlab::perf::cloth(4));
+    assert_eq!(rows.len(), 2 * methods.len(), "{rows:?}");
+    for name in &methods {
         for n in ["4", "6"] {
             let row = rows
                 .iter()

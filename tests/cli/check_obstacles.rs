@@ -1,5 +1,5 @@
 //! `springlab check` on obstacle scenes: obstacles with shape, pose,
-//! restitution and friction, particle radii, the contact response, and every backend that
+//! restitution and friction, particle radii, the contact response, and every method that
 //! applies, Rapier included (penalty scenes too), with the reason each other one does not.
 //!
 //! Oracle: the shipped scene files themselves (`scenarios/bounce.toml`,

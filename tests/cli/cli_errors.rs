@@ -118,7 +118,7 @@ fn twin_positive_values_near_zero_get_past_the_same_flags() {
         "--out",
         s(&dir.path().join("c")),
     ]));
-    // --dt-min and --tolerance pass; the unknown integrator is refused after them.
+    // --dt-min and --tolerance pass; the unknown method is refused after them.
     fails_elsewhere(
         &run(&[
             "advise",
@@ -127,7 +127,7 @@ fn twin_positive_values_near_zero_get_past_the_same_flags() {
             "1e-9",
             "--dt-min",
             "1e-6",
-            "--integrators",
+            "--methods",
             "nosuch",
         ]),
         "--dt-min",
@@ -330,11 +330,7 @@ fn advise_refuses_a_horizon_past_the_step_limit_at_once() {
     let t0 = Instant::now();
     // 1.1e7 s / 1e-3 s = 1.1e10 steps > MAX_STEPS.
     let line = one_line_error(
-        &run(&[
-            &base[..],
-            &["--horizon", "1.1e7", "--integrators", "nosuch"],
-        ]
-        .concat()),
+        &run(&[&base[..], &["--horizon", "1.1e7", "--methods", "nosuch"]].concat()),
         "--horizon",
     );
     assert!(line.contains("11000000000 steps"), "{line}");
@@ -344,9 +340,9 @@ fn advise_refuses_a_horizon_past_the_step_limit_at_once() {
     );
     assert!(line.contains("above the limit"), "{line}");
     assert!(t0.elapsed() < Duration::from_secs(10));
-    // Twin: 1e7 s / 1e-3 s = 1e10 steps, at the limit: refused later, for the integrator.
+    // Twin: 1e7 s / 1e-3 s = 1e10 steps, at the limit: refused later, for the method.
     fails_elsewhere(
-        &run(&[&base[..], &["--horizon", "1e7", "--integrators", "nosuch"]].concat()),
+        &run(&[&base[..], &["--horizon", "1e7", "--methods", "nosuch"]].concat()),
         "--horizon",
         "nosuch",
     );
@@ -423,7 +419,7 @@ fn advise_needs_at_least_two_points() {
         );
         assert!(line.contains("at least 2"), "{line}");
     }
-    // Twin: two points pass; the unknown integrator is refused after them.
+    // Twin: two points pass; the unknown method is refused after them.
     fails_elsewhere(
         &run(&[
             "advise",
@@ -432,7 +428,7 @@ fn advise_needs_at_least_two_points() {
             "1e-3",
             "--points",
             "2",
-            "--integrators",
+            "--methods",
             "nosuch",
         ]),
         "--points",

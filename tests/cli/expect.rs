@@ -1,5 +1,5 @@
 //! `springlab expect`: scenes held to their `[expect]` tables, with oracles that do not depend
-//! on the integrators' accuracy: limits far above or below what the scene itself implies.
+//! on the methods' accuracy: limits far above or below what the scene itself implies.
 
 use crate::support::{bin, ok};
 use std::path::{Path, PathBuf};
@@ -42,7 +42,7 @@ duration = {duration}
 /// the amplitude 0.1 m bounds any sensible position error, the energy (0.5 J) drifts far less
 /// than 1 J/s.
 const PASSING: &str = r#"[expect]
-integrator = "velocity_verlet"
+method = "velocity_verlet"
 hz = 600
 stable = true
 max_position_error = 0.1
@@ -51,9 +51,9 @@ max_energy_drift_rate = 1.0
 "#;
 
 /// The same run with max_strain = 0.05: the spring starts 10 % stretched, so the strain is at
-/// least 0.1 at t = 0 whatever the integrator does. The other three still pass.
+/// least 0.1 at t = 0 whatever the method does. The other three still pass.
 const STRAIN_TOO_TIGHT: &str = r#"[expect]
-integrator = "velocity_verlet"
+method = "velocity_verlet"
 hz = 600
 stable = true
 max_position_error = 0.1
@@ -65,7 +65,7 @@ max_energy_drift_rate = 1.0
 /// amplitude by about √(1 + 25) ≈ 5, so over 10 s (20 steps) the run blows up. Both the
 /// stability and the (generous) strain limit fail: an unstable run has no number.
 const UNSTABLE: &str = r#"[expect]
-integrator = "explicit_euler"
+method = "explicit_euler"
 hz = 2
 stable = true
 max_strain = 1.0
@@ -180,7 +180,7 @@ fn expect_table_errors_name_the_field_and_file() {
         dir.path(),
         "typo",
         1.0,
-        "[expect]\nintegrator = \"rk4\"\nhz = 60\nmax_strian = 0.1\n",
+        "[expect]\nmethod = \"rk4\"\nhz = 60\nmax_strian = 0.1\n",
     );
     let (success, _, err) = run(&["check", typo.to_str().unwrap()]);
     assert!(!success);
@@ -191,7 +191,7 @@ fn expect_table_errors_name_the_field_and_file() {
         dir.path(),
         "both",
         1.0,
-        "[expect]\nintegrator = \"rk4\"\nhz = 60\ndt = 0.01\n",
+        "[expect]\nmethod = \"rk4\"\nhz = 60\ndt = 0.01\n",
     );
     let (success, _, err) = run(&["check", both.to_str().unwrap()]);
     assert!(!success);
@@ -202,11 +202,11 @@ fn expect_table_errors_name_the_field_and_file() {
         dir.path(),
         "unknown",
         1.0,
-        "[expect]\nintegrator = \"no_such_method\"\nhz = 60\n",
+        "[expect]\nmethod = \"no_such_method\"\nhz = 60\n",
     );
     let (success, _, err) = run(&["check", unknown.to_str().unwrap()]);
     assert!(!success);
-    assert!(err.contains("expect.integrator"), "{err}");
+    assert!(err.contains("expect.method"), "{err}");
 }
 
 #[test]
@@ -230,7 +230,7 @@ fn advise_writes_the_answer_that_expect_then_holds() {
     let out = ok(&[
         "advise",
         p,
-        "--integrators",
+        "--methods",
         "velocity_verlet",
         "--points",
         "3",
@@ -241,7 +241,7 @@ fn advise_writes_the_answer_that_expect_then_holds() {
     ]);
     assert!(out.contains("appended an [expect] table"), "{out}");
     let text = std::fs::read_to_string(&scene).unwrap();
-    assert!(text.contains("[expect]") && text.contains("integrator = \"velocity_verlet\""));
+    assert!(text.contains("[expect]") && text.contains("method = \"velocity_verlet\""));
     assert!(
         text.contains("# The answer verified by: springlab advise"),
         "{text}"

@@ -50,7 +50,7 @@ fn symplectic_euler_needs_ceil_h_omega_max_over_two() {
             rates: rates.clone(),
             tolerance: Some(1e3),
             blowup_factor: 100.0,
-            integrators: vec!["symplectic_euler".into()],
+            methods: vec!["symplectic_euler".into()],
             ..Default::default()
         },
     )
@@ -93,7 +93,7 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
     // the re-run below measures another method.
     let cfg = FramerateConfig {
         rates: vec![30.0, 60.0],
-        integrators: vec![
+        methods: vec![
             "symplectic_euler".into(),
             "rapier_impulse".into(),
             "xpbd".into(),
@@ -108,7 +108,7 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
     let csv = std::fs::read_to_string(dir.path().join("framerate.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     for col in [
-        "backend",
+        "method",
         "hz",
         "substeps",
         "status",
@@ -130,7 +130,7 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
     assert_eq!(
         csv.lines().count(),
         1 + 2 * 2 * 3,
-        "two rows per backend and rate"
+        "two rows per method and rate"
     );
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("framerate.json")).unwrap()).unwrap();
@@ -159,7 +159,7 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
         .iter()
         .zip(again["entries"].as_array().unwrap())
     {
-        for k in ["backend", "hz", "tried"] {
+        for k in ["method", "hz", "tried"] {
             assert_eq!(a[k], b[k]);
         }
         for r in ["one_substep", "fewest"] {

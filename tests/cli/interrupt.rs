@@ -89,7 +89,7 @@ fn killed_run_leaves_the_previous_outputs_intact() {
     assert_eq!(read_all(&out), before, "earlier outputs changed");
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(summary["integrator"], "symplectic_euler");
+    assert_eq!(summary["method"], "symplectic_euler");
     assert_eq!(summary["steps_done"], 50);
     let mut rdr = csv::Reader::from_path(out.join("energy.csv")).unwrap();
     assert_eq!(

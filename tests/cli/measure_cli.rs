@@ -1,7 +1,8 @@
-//! The measuring subcommands end to end: file names, headers, skipped backends, shard + merge.
+//! The measuring subcommands end to end: file names, headers, skipped methods, shard + merge.
 //! Oracles: the documented CSV headers and JSON fields; merge equality is exact.
 
 use crate::support::ok as springlab;
+use springlab::scenario::Scenario;
 use std::path::Path;
 
 fn read(p: &Path) -> String {
@@ -9,13 +10,13 @@ fn read(p: &Path) -> String {
 }
 
 #[test]
-fn compare_lists_skipped_backends_with_the_reason() {
+fn compare_lists_skipped_methods_with_the_reason() {
     let d = tempfile::tempdir().unwrap();
     let out = d.path().to_str().unwrap();
     springlab(&[
         "compare",
         "scenarios/pendulum_rod.toml",
-        "--integrators",
+        "--methods",
         "verlet_constraints,rk4",
         "--duration",
         "0.5",
@@ -27,7 +28,7 @@ fn compare_lists_skipped_backends_with_the_reason() {
     assert!(lines
         .next()
         .unwrap()
-        .starts_with("integrator,status,skip_reason,"));
+        .starts_with("method,status,skip_reason,"));
     let rows: Vec<&str> = lines.collect();
     assert!(rows.iter().any(|r| r.starts_with("verlet_constraints,ok,")));
     assert!(rows
@@ -46,7 +47,7 @@ fn sweep_shards_merge_and_stability_advise_files() {
     let common = [
         "sweep",
         "scenarios/anchored_spring.toml",
-        "--integrators",
+        "--methods",
         "rk4,symplectic_euler",
         "--dt-min",
         "1e-3",
@@ -84,10 +85,10 @@ fn sweep_shards_merge_and_stability_advise_files() {
     let full_csv = read(&Path::new(&fo).join("sweep.csv"));
     // The wall times are in timing.json; the merged document is the unsharded one, byte for
     // byte, and reads back with its wall times.
-    assert!(full_csv.starts_with("integrator,dt,steps,force_evals,modelled_seconds,error_final,error_max,error_rms,energy_drift,status\n"));
+    assert!(full_csv.starts_with("method,dt,steps,force_evals,modelled_seconds,error_final,error_max,error_rms,energy_drift,status\n"));
     assert_eq!(full_csv, read(&Path::new(&mo).join("sweep.csv")));
     let back = springlab::output::read_document(Path::new(&mo).join("sweep.csv")).unwrap();
-    assert!(back.starts_with("integrator,dt,steps,force_evals,modelled_seconds,wall_seconds,"));
+    assert!(back.starts_with("method,dt,steps,force_evals,modelled_seconds,wall_seconds,"));
     assert_eq!(
         strip(back),
         strip(springlab::output::read_document(Path::new(&fo).join("sweep.csv")).unwrap())
@@ -106,13 +107,13 @@ fn sweep_shards_merge_and_stability_advise_files() {
     assert_eq!(fc.replace(&fo, "DIR"), mc.replace(&mo, "DIR"));
     let sum: serde_json::Value =
         serde_json::from_str(&read(&Path::new(&fo).join("summary.json"))).unwrap();
-    assert!(sum["integrators"][0]["observed_order"].is_number());
+    assert!(sum["methods"][0]["observed_order"].is_number());
 
     let so = p("stab");
     springlab(&[
         "stability",
         "scenarios/anchored_spring.toml",
-        "--integrators",
+        "--methods",
         "rk4",
         "--map",
         "--stiffness-scales",
@@ -122,8 +123,8 @@ fn sweep_shards_merge_and_stability_advise_files() {
     ]);
     let st: serde_json::Value =
         serde_json::from_str(&read(&Path::new(&so).join("stability.json"))).unwrap();
-    assert_eq!(st["integrators"][0]["verdict"], "stable_below");
-    assert!(st["omega_max"].is_number() && st["integrators"][0]["max_stable_dt"].is_number());
+    assert_eq!(st["methods"][0]["verdict"], "stable_below");
+    assert!(st["omega_max"].is_number() && st["methods"][0]["max_stable_dt"].is_number());
     let map = read(&Path::new(&so).join("stability_map.csv"));
     assert_eq!(map.lines().count(), 1 + 2 * 16);
 
@@ -135,7 +136,7 @@ fn sweep_shards_merge_and_stability_advise_files() {
         "1e-3",
         "--points",
         "4",
-        "--integrators",
+        "--methods",
         "rk4,velocity_verlet",
         "--out",
         &ao,
@@ -143,7 +144,7 @@ fn sweep_shards_merge_and_stability_advise_files() {
     let adv: serde_json::Value =
         serde_json::from_str(&read(&Path::new(&ao).join("advice.json"))).unwrap();
     for k in [
-        "integrator",
+        "method",
         "dt",
         "predicted_error",
         "verified_error",
@@ -183,7 +184,7 @@ fn a_step_override_keeps_the_scenes_length_in_seconds() {
     let (run, cmp) = (d.path().join("run"), d.path().join("compare"));
     let run_args = ["run", scene, "-i", "rk4", "--dt", "0.005"];
     assert_eq!(steps_ran(&run_args, &run), 20);
-    let cmp_args = ["compare", scene, "--integrators", "rk4", "--dt", "0.005"];
+    let cmp_args = ["compare", scene, "--methods", "rk4", "--dt", "0.005"];
     assert_eq!(steps_ran(&cmp_args, &cmp), 20);
     // The twin: an explicit step count is kept as asked.
     let counted = ["run", scene, "-i", "rk4", "--dt", "0.005", "--steps", "7"];
@@ -212,4 +213,65 @@ fn steps_without_a_scene_step_count_in_the_given_step() {
     assert!(!refused.status.success());
     let err = String::from_utf8_lossy(&refused.stderr);
     assert!(err.contains("--dt") && err.contains("no_dt.toml"), "{err}");
+}
+
+/// Scenes and scripts written with the older words still run: `integrators`/`integrator`
+/// scene keys and the `--integrators`, `--integrator` and `-i` flags read as `methods`/`method`.
+/// Oracle: the same run asked both ways writes the same document, byte for byte.
+#[test]
+fn older_method_words_are_read_as_method() {
+    let old = Scenario::from_toml_str(
+        "[[particle]]\nposition=[0.0,0.0,0.0]\nvelocity=[1.0,0.0,0.0]\nmass=1.0\n[run]\ndt=0.01\nsteps=5\nintegrators=[\"rk4\"]\n[expect]\nintegrator=\"rk4\"\nhz=60\n",
+        "old.toml",
+    )
+    .unwrap();
+    assert_eq!(old.run.methods, vec!["rk4".to_string()]);
+    assert_eq!(old.expect.as_ref().unwrap().method, "rk4");
+    let d = tempfile::tempdir().unwrap();
+    let summary = |flag: &str, dir: &str| {
+        let out = d.path().join(dir);
+        springlab(&[
+            "run",
+            "scenarios/anchored_spring.toml",
+            flag,
+            "rk4",
+            "--steps",
+            "20",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        read(&out.join("summary.json"))
+    };
+    let new = summary("--method", "new");
+    assert!(new.contains("\"method\": \"rk4\""), "{new}");
+    assert_eq!(summary("--integrator", "old"), new);
+    assert_eq!(summary("-i", "short"), new);
+    let compare = |flag: &str, dir: &str| {
+        let out = d.path().join(dir);
+        springlab(&[
+            "compare",
+            "scenarios/anchored_spring.toml",
+            flag,
+            "rk4",
+            "--duration",
+            "0.2",
+            "--series-points",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        read(&out.join("compare.csv"))
+    };
+    assert_eq!(compare("--integrators", "c_old"), compare("--methods", "c_new"));
+}
+
+/// The twin: a word that was never a name for a method is refused with a clear error.
+#[test]
+fn an_unknown_method_flag_is_refused() {
+    let out = crate::support::bin()
+        .args(["compare", "scenarios/anchored_spring.toml", "--backends", "rk4"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--backends"));
 }

@@ -14,7 +14,7 @@ fn sweep(env: Option<&str>, extra: &[&str]) -> std::process::Output {
     c.args([
         "sweep",
         "scenarios/hanging_chain.toml",
-        "--integrators",
+        "--methods",
         "implicit_euler,implicit_midpoint",
         "--out",
     ])
@@ -91,7 +91,7 @@ fn compare(budget: &str) -> String {
         .args([
             "compare",
             "scenarios/anchored_spring.toml",
-            "--integrators",
+            "--methods",
             "rk4,implicit_euler",
             "--budget",
             budget,
@@ -140,14 +140,14 @@ fn measure(cmd: &[&str], budget: &str, doc: &str) -> serde_json::Value {
 const STABILITY: [&str; 4] = [
     "stability",
     "scenarios/anchored_spring.toml",
-    "--integrators",
+    "--methods",
     "xpbd",
 ];
 
 #[test]
 fn stability_leaves_out_a_search_beyond_its_budget_with_the_figure() {
     let doc = measure(&STABILITY, "1e-9", "stability.json");
-    let x = &doc["integrators"][0];
+    let x = &doc["methods"][0];
     assert_eq!(x["verdict"], "not_analysed");
     let note = x["note"].as_str().unwrap();
     assert!(
@@ -159,7 +159,7 @@ fn stability_leaves_out_a_search_beyond_its_budget_with_the_figure() {
 #[test]
 fn twin_stability_within_its_budget_searches() {
     let doc = measure(&STABILITY, "120", "stability.json");
-    assert_eq!(doc["integrators"][0]["decided_by"], "empirical_bisection");
+    assert_eq!(doc["methods"][0]["decided_by"], "empirical_bisection");
 }
 
 const ADVISE: [&str; 6] = [
@@ -167,14 +167,14 @@ const ADVISE: [&str; 6] = [
     "scenarios/anchored_spring.toml",
     "--tolerance",
     "1e-3",
-    "--integrators",
+    "--methods",
     "rk4",
 ];
 
 #[test]
 fn advise_leaves_out_a_method_beyond_its_budget_with_the_figure() {
     let doc = measure(&ADVISE, "1e-9", "advice.json");
-    assert!(doc["integrator"].is_null());
+    assert!(doc["method"].is_null());
     let text = doc.to_string();
     assert!(
         text.contains("left out") && text.contains("ms per step"),
@@ -185,13 +185,13 @@ fn advise_leaves_out_a_method_beyond_its_budget_with_the_figure() {
 #[test]
 fn twin_advise_within_its_budget_answers() {
     let doc = measure(&ADVISE, "120", "advice.json");
-    assert_eq!(doc["integrator"], "rk4");
+    assert_eq!(doc["method"], "rk4");
 }
 
 const FRAMERATE: [&str; 6] = [
     "framerate",
     "scenarios/anchored_spring.toml",
-    "--integrators",
+    "--methods",
     "rk4",
     "--hz",
     "60",

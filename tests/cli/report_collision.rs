@@ -1,11 +1,11 @@
 //! The collision-validation section of an obstacle scene's page, from a
 //! quick report of the shipped bounce scene into a temporary directory: the per-impact chart
-//! and table carry the measured e beside the expected one for every backend, and Rapier's
-//! documented differences are each named where a Rapier backend ran.
+//! and table carry the measured e beside the expected one for every method, and Rapier's
+//! documented differences are each named where a Rapier method ran.
 //!
 //! Oracle: the ball is dropped from rest at 1 m above the plane's surface with e = 0.5 (the
 //! scene file), so its first impact arrives at √(2·9.81·1) = 4.429 m/s, and every impulse-type
-//! backend must rebound at 0.5 of it (within 2 %); the page's first-impacts
+//! method must rebound at 0.5 of it (within 2 %); the page's first-impacts
 //! table must show both numbers.
 
 use std::path::Path;
@@ -59,15 +59,15 @@ fn the_bounce_page_shows_each_impact_against_theory_and_rapiers_differences() {
             }
         }
     }
-    // The fastest impact of each backend is the first: 4.429 m/s in, e = 0.5 out.
+    // The fastest impact of each method is the first: 4.429 m/s in, e = 0.5 out.
     let v1 = (2.0f64 * 9.81 * 1.0).sqrt();
     assert!(first.len() >= 4, "{first:?}");
-    for (backend, (v, e)) in &first {
+    for (method, (v, e)) in &first {
         assert!(
             (v / v1 - 1.0).abs() < 0.01,
-            "{backend}: first impact at {v} m/s"
+            "{method}: first impact at {v} m/s"
         );
-        assert!((e / 0.5 - 1.0).abs() < 0.02, "{backend}: first e = {e}");
+        assert!((e / 0.5 - 1.0).abs() < 0.02, "{method}: first e = {e}");
     }
     assert!(page.contains("First impacts"));
     assert!(

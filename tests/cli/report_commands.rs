@@ -122,17 +122,17 @@ fn every_command_in_a_report_recreates_its_document() {
         }
         // The page's stability limits are the stability command's.
         let st: Value = serde_json::from_str(&read(&dir.join("stability/stability.json"))).unwrap();
-        for b in res["backends"].as_array().unwrap() {
-            if let Some(i) = st["integrators"]
+        for b in res["methods"].as_array().unwrap() {
+            if let Some(i) = st["methods"]
                 .as_array()
                 .unwrap()
                 .iter()
-                .find(|i| i["integrator"] == b["backend"])
+                .find(|i| i["method"] == b["method"])
             {
                 assert_eq!(
                     b["stable_dt"], i["max_stable_dt"],
                     "{scene} {}",
-                    b["backend"]
+                    b["method"]
                 );
             }
         }
@@ -141,11 +141,11 @@ fn every_command_in_a_report_recreates_its_document() {
     // The closed form's order reads "exact" in JSON and on the page.
     let res: Value =
         serde_json::from_str(&read(&out.join("anchored_spring/results.json"))).unwrap();
-    let analytic = res["backends"]
+    let analytic = res["methods"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|b| b["backend"] == "analytic")
+        .find(|b| b["method"] == "analytic")
         .unwrap();
     assert_eq!(analytic["order"], "exact");
     let page = read(&out.join("anchored_spring/index.html"));

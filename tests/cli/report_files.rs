@@ -194,7 +194,7 @@ fn every_svg_is_well_formed_with_axes_and_legend() {
         let csv = read(&f.with_extension("csv"));
         let mut rdr = csv::Reader::from_reader(csv.as_bytes());
         let headers = rdr.headers().unwrap().clone();
-        let col = ["series", "integrator", "backend"]
+        let col = ["series", "method", "method"]
             .iter()
             .find_map(|c| headers.iter().position(|h| h == *c))
             .unwrap();
@@ -224,8 +224,8 @@ fn expected_header(stem: &str) -> &'static str {
         "energy" | "energy_error" | "position_error" | "paths" | "collision" | "impacts"
         | "framerate" => "group,series,x,y,kind",
         "convergence" => "group,series,dt,error,kind,order,fitted_slope",
-        "work_precision" => "integrator,dt,error,modelled_seconds,force_evals",
-        "snapshots" => "backend,t,line,index,u,v",
+        "work_precision" => "method,dt,error,modelled_seconds,force_evals",
+        "snapshots" => "method,t,line,index,u,v",
         other => panic!("unexpected csv {other}"),
     }
 }
@@ -295,28 +295,28 @@ fn an_unstable_run_stops_at_its_marker() {
         .iter()
         .find(|s| s["scene"] == "stiff_spring")
         .unwrap();
-    let ee = scene["backends"]
+    let ee = scene["methods"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|b| b["backend"] == "explicit_euler")
+        .find(|b| b["method"] == "explicit_euler")
         .unwrap();
     assert_eq!(ee["status"], "unstable");
     assert!(ee["blowup_time"].as_f64().unwrap() > 0.0);
 }
 
-fn backend<'a>(sum: &'a serde_json::Value, scene: &str, b: &str) -> &'a serde_json::Value {
+fn method<'a>(sum: &'a serde_json::Value, scene: &str, b: &str) -> &'a serde_json::Value {
     let s = sum["scenes"]
         .as_array()
         .unwrap()
         .iter()
         .find(|s| s["scene"] == scene)
         .unwrap();
-    s["backends"]
+    s["methods"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|x| x["backend"] == b)
+        .find(|x| x["method"] == b)
         .unwrap()
 }
 
@@ -332,7 +332,7 @@ fn fitted_orders_and_stability_limits_match_the_textbook() {
         ("rk2", 2.0),
         ("rk4", 4.0),
     ] {
-        let k = backend(&sum, "anchored_spring", b)["observed_order"]
+        let k = method(&sum, "anchored_spring", b)["observed_order"]
             .as_f64()
             .unwrap_or_else(|| panic!("{b}: no observed order"));
         assert!(
@@ -347,7 +347,7 @@ fn fitted_orders_and_stability_limits_match_the_textbook() {
         ("velocity_verlet", 2.0),
         ("rk4", 2.0 * 2f64.sqrt()),
     ] {
-        let h = backend(&sum, "anchored_spring", b)["stable_h_omega"]
+        let h = method(&sum, "anchored_spring", b)["stable_h_omega"]
             .as_f64()
             .unwrap();
         assert!(
@@ -356,11 +356,11 @@ fn fitted_orders_and_stability_limits_match_the_textbook() {
         );
     }
     // Explicit Euler grows at every step size on an undamped oscillator.
-    let ee = backend(&sum, "anchored_spring", "explicit_euler");
+    let ee = method(&sum, "anchored_spring", "explicit_euler");
     assert_eq!(ee["stability"], "unstable_for_all_dt");
     // The closed form's order is "exact", never a number.
     assert_eq!(
-        backend(&sum, "anchored_spring", "analytic")["order"],
+        method(&sum, "anchored_spring", "analytic")["order"],
         "exact"
     );
     // Every scene has a verdict that names the step it compares at.

@@ -101,7 +101,7 @@ fn a_run_past_the_cap_stops_there_and_shows_no_number() {
     let printed = ok(&[
         "compare",
         &scene,
-        "--integrators",
+        "--methods",
         "symplectic_euler,implicit_euler",
         "--duration",
         "0.1",
@@ -135,7 +135,7 @@ fn a_run_past_the_cap_stops_there_and_shows_no_number() {
     let metrics = |name: &str| {
         entries
             .iter()
-            .find(|e| e["integrator"] == name)
+            .find(|e| e["method"] == name)
             .map(|e| e["result"]["metrics"].clone())
             .unwrap()
     };

@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use springlab::integrate::Integrator;
+use springlab::integrate::Stepper;
 use springlab::method::MethodOptions;
 use springlab::model::{State, System};
 use springlab::run::{run, NoObserver, RunOutcome, RunPlan};
@@ -19,15 +19,15 @@ pub fn oscillator(k: f64, c: f64, u0: f64, v0: f64) -> Scenario {
     Scenario::from_toml_str(&toml, "oscillator.toml").expect("valid oscillator")
 }
 
-/// A fresh integrator by name with default options.
-pub fn integ(name: &str) -> Box<dyn Integrator> {
-    springlab::method::create(name, &MethodOptions::default()).expect("known integrator")
+/// A fresh method by name with default options.
+pub fn stepper(name: &str) -> Box<dyn Stepper> {
+    springlab::method::create(name, &MethodOptions::default()).expect("known method")
 }
 
 /// Runs `name` on `scene` for `steps` of `dt` with no observer.
 pub fn run_steps(scene: &Scenario, name: &str, dt: f64, steps: u64) -> RunOutcome {
     let sys = scene.build();
-    let mut i = integ(name);
+    let mut i = stepper(name);
     run(
         &sys,
         i.as_mut(),
@@ -40,7 +40,7 @@ pub fn run_steps(scene: &Scenario, name: &str, dt: f64, steps: u64) -> RunOutcom
 
 /// Steps `name` by hand `steps` times (no runner), returning the state.
 pub fn step_n(sys: &System, s0: &State, name: &str, h: f64, steps: usize) -> State {
-    let mut i = integ(name);
+    let mut i = stepper(name);
     let mut s = s0.clone();
     for _ in 0..steps {
         i.step(sys, &mut s, h).expect("step");

@@ -1,5 +1,5 @@
-//! Advice ranks by a cost every backend shares (modelled seconds per simulated second: counted
-//! work, priced), so a Rapier backend, which has no force-evaluation count, is never free; the
+//! Advice ranks by a cost every method shares (modelled seconds per simulated second: counted
+//! work, priced), so a Rapier method, which has no force-evaluation count, is never free; the
 //! measured wall time beside it agrees where the gap is wide.
 //!
 //! Both tests compare costs from one run of the advisor (ratios, not timed thresholds).
@@ -46,7 +46,7 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
         tolerance: Some(0.1),
         metric: Some(Metric::Position),
         horizon: Some(2.0),
-        integrators: vec![
+        methods: vec![
             "velocity_verlet".into(),
             "symplectic_euler".into(),
             "rapier_impulse".into(),
@@ -58,7 +58,7 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
         ..Default::default()
     };
     let adv = advise(&scene, &cfg).unwrap();
-    let pick = adv.integrator.clone().expect("a method meets 10 cm");
+    let pick = adv.method.clone().expect("a method meets 10 cm");
     assert!(!is_rapier(&pick), "picked {pick}");
     let wall = adv.wall_per_second.unwrap();
     assert!(wall.is_finite() && wall > 0.0);
@@ -68,7 +68,7 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
     let rapier: Vec<_> = adv
         .alternatives
         .iter()
-        .filter(|c| is_rapier(&c.integrator))
+        .filter(|c| is_rapier(&c.method))
         .collect();
     assert!(
         !rapier.is_empty(),
@@ -79,7 +79,7 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
         assert!(
             cost <= r.modelled_per_second && wall <= r.wall_per_second,
             "pick {pick} {cost:e} ({wall:e}) s/s vs {} {:e} ({:e}) s/s",
-            r.integrator,
+            r.method,
             r.modelled_per_second,
             r.wall_per_second
         );
@@ -111,8 +111,8 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
             assert!(
                 a.modelled_per_second <= (1.0 + band) * b.modelled_per_second,
                 "{} before {}",
-                a.integrator,
-                b.integrator
+                a.method,
+                b.method
             );
         }
     }
@@ -123,7 +123,7 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
             let bw = fr
                 .entries
                 .iter()
-                .find(|e| &e.integrator == best)
+                .find(|e| &e.method == best)
                 .and_then(|e| e.modelled_per_second)
                 .expect("best has a modelled cost");
             for e in fr.entries.iter().filter(|e| e.meets_tolerance) {
@@ -165,7 +165,7 @@ impl Observer for FallErr {
 
 /// Oracle: y(t) = 10 − g t²/2, evaluated here (1 s, g = 9.81 m/s²). Velocity Verlet integrates a constant
 /// acceleration exactly (its position update is the Taylor series, which ends at t²), so it
-/// meets any tolerance at the largest step of the grid; a Rapier backend at a small step
+/// meets any tolerance at the largest step of the grid; a Rapier method at a small step
 /// cannot be cheaper, by the model or by the clock.
 #[test]
 fn free_fall_pick_is_exact_at_the_largest_grid_step() {
@@ -177,7 +177,7 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
         ..Default::default()
     };
     let adv = advise(&scene, &cfg).unwrap();
-    let pick = adv.integrator.clone().expect("velocity Verlet meets 1 mm");
+    let pick = adv.method.clone().expect("velocity Verlet meets 1 mm");
     assert!(!is_rapier(&pick), "picked {pick}");
     let largest = adv.grid.iter().copied().fold(0.0, f64::max);
     assert_eq!(adv.dt, Some(largest), "pick {pick}");
@@ -185,17 +185,17 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
     let vv = adv
         .alternatives
         .iter()
-        .find(|c| c.integrator == "velocity_verlet")
+        .find(|c| c.method == "velocity_verlet")
         .expect("velocity_verlet meets 1 mm");
     assert_eq!(vv.dt, largest);
     // The pick, re-run independently, is exact to round-off against the closed form.
-    let mut integ = springlab::method::create(&pick, &Default::default()).unwrap();
+    let mut stepper = springlab::method::create(&pick, &Default::default()).unwrap();
     let dt = adv.dt.unwrap();
     let steps = (1.0 / dt).round() as u64;
     let mut obs = FallErr(0.0, dt);
     let out = run(
         &scene.build(),
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::new(dt, steps),
         &mut obs,
@@ -203,12 +203,12 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
     .unwrap();
     assert!(out.status.is_ok());
     assert!(obs.0 <= 1e-9, "{pick} error {:e} at dt {dt}", obs.0);
-    // The Rapier backends meet 1 mm only at the smallest steps (a user's pick was one at
+    // The Rapier methods meet 1 mm only at the smallest steps (a user's pick was one at
     // dt = 4e-4); each costs at least as much wall time as the pick.
     let rapier: Vec<_> = adv
         .alternatives
         .iter()
-        .filter(|c| is_rapier(&c.integrator))
+        .filter(|c| is_rapier(&c.method))
         .collect();
     assert!(
         !rapier.is_empty(),
@@ -216,7 +216,7 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
         adv.unable
     );
     for r in rapier {
-        assert!(r.dt < 1e-3, "{} at {}", r.integrator, r.dt);
+        assert!(r.dt < 1e-3, "{} at {}", r.method, r.dt);
         assert!(adv.modelled_per_second.unwrap() <= r.modelled_per_second);
         assert!(adv.wall_per_second.unwrap() <= r.wall_per_second);
     }

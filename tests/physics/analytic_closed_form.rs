@@ -1,4 +1,4 @@
-//! The `analytic` integrator against the textbook closed forms of the damped oscillator
+//! The `analytic` method against the textbook closed forms of the damped oscillator
 //! m u'' + c u' + k u = 0 (e.g. Thomson & Dahleh, *Theory of Vibration*, §2.6), written here in
 //! their classic per-case forms, independent of the implementation's unified propagators.
 
@@ -40,7 +40,7 @@ fn check_case(c: f64) {
     let scene = oscillator(k, c, u0, v0);
     let sys = scene.build();
     for &h in &[1e-3, 0.1, 1.0, 10.0] {
-        let mut i = integ("analytic");
+        let mut i = stepper("analytic");
         let mut s = scene.initial_state();
         for n in 1..=20 {
             i.step(&sys, &mut s, h).unwrap();
@@ -101,8 +101,8 @@ fn impulses_are_applied_exactly() {
 #[test]
 fn analytic_refuses_coupled_scenes() {
     let scene = springlab::scenario::Scenario::from_file("scenarios/two_body.toml").unwrap();
-    let why = integ("analytic").check(&scene.build()).unwrap_err();
+    let why = stepper("analytic").check(&scene.build()).unwrap_err();
     assert!(why.contains("coupled"), "{why}");
     let chain = springlab::scenario::Scenario::from_file("scenarios/hanging_chain.toml").unwrap();
-    assert!(integ("analytic").check(&chain.build()).is_err());
+    assert!(stepper("analytic").check(&chain.build()).is_err());
 }

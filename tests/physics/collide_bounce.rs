@@ -16,12 +16,12 @@ fn scene(file: &str) -> Scenario {
     Scenario::from_file(format!("{}/scenarios/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
-fn apex_ratios(scene: &Scenario, integrator: &str, dt: f64) -> (Vec<f64>, f64) {
+fn apex_ratios(scene: &Scenario, method: &str, dt: f64) -> (Vec<f64>, f64) {
     let sys = scene.build();
-    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
+    let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
     let plan = RunPlan::for_duration(dt, 1.3);
-    let out = run(&sys, integ.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
+    let out = run(&sys, stepper.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
     assert!(out.status.is_ok());
     let rep = m.report();
     let apexes = &rep.bounces[0].apexes;
@@ -36,19 +36,23 @@ fn apex_ratios(scene: &Scenario, integrator: &str, dt: f64) -> (Vec<f64>, f64) {
 fn impulse_apex_ratios_match_e_squared() {
     let s = scene("bounce.toml");
     let e: f64 = 0.5;
-    for integ in [
+    for stepper in [
         "symplectic_euler",
         "velocity_verlet",
         "rk4",
         "implicit_euler",
     ] {
-        let (ratios, _) = apex_ratios(&s, integ, 1e-4);
-        assert!(ratios.len() >= 3, "{integ}: only {} bounces", ratios.len());
+        let (ratios, _) = apex_ratios(&s, stepper, 1e-4);
+        assert!(
+            ratios.len() >= 3,
+            "{stepper}: only {} bounces",
+            ratios.len()
+        );
         for (n, r) in ratios.iter().take(3).enumerate() {
             let rel = (r / (e * e) - 1.0).abs();
             assert!(
                 rel < 0.02,
-                "{integ}: apex ratio {} = {r}, e² = {}, off by {rel:.3}",
+                "{stepper}: apex ratio {} = {r}, e² = {}, off by {rel:.3}",
                 n + 1,
                 e * e
             );

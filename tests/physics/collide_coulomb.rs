@@ -1,5 +1,5 @@
 //! Coulomb friction of the post-step responses and the penalty force, for every native
-//! integrator, against closed forms nobody tuned:
+//! method, against closed forms nobody tuned:
 //!
 //! - a particle released on a plane inclined at θ with friction μ < tan θ slides with constant
 //!   acceleration a = g(sin θ − μ cos θ), so s(t) = a t²/2 (any mechanics text);
@@ -16,7 +16,7 @@ use springlab::scenario::Scenario;
 const G: f64 = 9.81;
 const DT: f64 = 1e-3;
 
-/// Native integrators that accept a scene with obstacles (the Rapier backends have their own
+/// Native methods that accept a scene with obstacles (the Rapier methods have their own
 /// tests; `analytic` has no closed form with contacts).
 fn natives() -> Vec<&'static str> {
     let probe = flat(1.0, 0.1, 0.0, IMPULSE).build();
@@ -85,20 +85,20 @@ fn flat(v0: f64, mu: f64, radius: f64, collision: &str) -> Scenario {
     .unwrap()
 }
 
-fn go(scene: &Scenario, integrator: &str, duration: f64) -> RunOutcome {
+fn go(scene: &Scenario, method: &str, duration: f64) -> RunOutcome {
     let sys = scene.build();
-    let mut integ = Registry::builtin()
-        .create(integrator, &MethodOptions::default())
+    let mut stepper = Registry::builtin()
+        .create(method, &MethodOptions::default())
         .unwrap();
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::for_duration(DT, duration),
         &mut NoObserver,
     )
     .unwrap();
-    assert!(out.status.is_ok(), "{integrator}: {:?}", out.status);
+    assert!(out.status.is_ok(), "{method}: {:?}", out.status);
     out
 }
 
@@ -108,14 +108,14 @@ const PROJECTION: &str = "response = \"projection\"";
 const PENALTY: &str = "response = \"penalty\"\nstiffness = 1e4\nrestitution = 0.0";
 
 /// Distance travelled in 1 s against a t²/2 for the point and the finite particle.
-fn check_incline(collision: &str, e: f64, integrators: &[&str]) {
+fn check_incline(collision: &str, e: f64, methods: &[&str]) {
     let (deg, mu) = (30.0f64, 0.2);
     let th = deg.to_radians();
     let a = G * (th.sin() - mu * th.cos());
     for radius in [0.0, 0.05] {
         let scene = incline(deg, mu, e, radius, collision);
         let x0 = scene.initial_state().x[0];
-        for &name in integrators {
+        for &name in methods {
             let out = go(&scene, name, 1.0);
             let s = (out.final_state.x[0] - x0).norm();
             let v = out.final_state.v[0].norm();
@@ -149,7 +149,7 @@ fn incline_acceleration_is_g_sin_minus_mu_cos_for_points_and_finite_radii() {
 }
 
 #[test]
-fn stopping_distance_is_v0_squared_over_two_mu_g_for_every_response_and_integrator() {
+fn stopping_distance_is_v0_squared_over_two_mu_g_for_every_response_and_method() {
     let (v0, mu) = (5.0, 0.3);
     let d_exp = v0 * v0 / (2.0 * mu * G);
     let t_exp = v0 / (mu * G);

@@ -36,7 +36,7 @@ impl Observer for Books {
 }
 
 #[test]
-fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_backend() {
+fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_method() {
     let dir = format!("{}/scenarios", env!("CARGO_MANIFEST_DIR"));
     let mut scenes: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -54,14 +54,14 @@ fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_backend() {
         let dt = scene.run.dt.unwrap_or(1e-3);
         let duration = scene.run.duration.unwrap_or(1.0);
         for m in Registry::builtin().iter() {
-            let mut integ = m.create(&MethodOptions::default());
-            if integ.check(&sys).is_err() {
+            let mut stepper = m.create(&MethodOptions::default());
+            if stepper.check(&sys).is_err() {
                 continue;
             }
             let mut books = Books::default();
             let out = run(
                 &sys,
-                integ.as_mut(),
+                stepper.as_mut(),
                 scene.initial_state(),
                 &RunPlan::for_duration(dt, duration),
                 &mut books,
@@ -98,13 +98,13 @@ fn the_issue_incline_books_no_negative_dissipation() {
     .unwrap();
     let sys = scene.build();
     for name in ["rk4", "symplectic_euler", "velocity_verlet"] {
-        let mut integ = Registry::builtin()
+        let mut stepper = Registry::builtin()
             .create(name, &MethodOptions::default())
             .unwrap();
         let mut books = Books::default();
         let out = run(
             &sys,
-            integ.as_mut(),
+            stepper.as_mut(),
             scene.initial_state(),
             &RunPlan::new(1e-3, 1000),
             &mut books,
@@ -142,13 +142,13 @@ fn compliant_rods_book_half_stretch_squared_over_compliance() {
     )
     .unwrap();
     let sys = scene.build();
-    let mut integ = Registry::builtin()
+    let mut stepper = Registry::builtin()
         .create("verlet_constraints", &MethodOptions::default())
         .unwrap();
     let mut s = scene.initial_state();
     let mut peak: f64 = 0.0;
     for _ in 0..2000 {
-        integ.step(&sys, &mut s, 1e-3).unwrap();
+        stepper.step(&sys, &mut s, 1e-3).unwrap();
         let stretch = |i: usize, j: usize| (s.x[j] - s.x[i]).norm() - 1.0;
         let expected = 0.5 * (stretch(0, 1).powi(2) + stretch(1, 2).powi(2)) / alpha;
         let booked = sys.energy(&s.x, &s.v).elastic;

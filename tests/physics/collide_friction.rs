@@ -8,7 +8,7 @@ use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 
-fn slide(collision: &str, integrator: &str, dt: f64) -> f64 {
+fn slide(collision: &str, method: &str, dt: f64) -> f64 {
     let s = Scenario::from_toml_str(
         &format!(
             r#"
@@ -31,10 +31,10 @@ fn slide(collision: &str, integrator: &str, dt: f64) -> f64 {
     )
     .unwrap();
     let sys = s.build();
-    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
+    let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         s.initial_state(),
         &RunPlan::for_duration(dt, 0.8),
         &mut NoObserver,
@@ -56,11 +56,11 @@ fn every_response_stops_a_slide_at_v0_squared_over_two_mu_g() {
             "rk4",
         ),
     ];
-    for (collision, integ) in cases {
-        let d = slide(collision, integ, 1e-4);
+    for (collision, stepper) in cases {
+        let d = slide(collision, stepper, 1e-4);
         assert!(
             (d / expected - 1.0).abs() < 0.02,
-            "{collision} / {integ}: stopped at {d}, expected {expected}"
+            "{collision} / {stepper}: stopped at {d}, expected {expected}"
         );
     }
 }

@@ -1,10 +1,10 @@
-//! Impacts measured the same way for every backend.
+//! Impacts measured the same way for every method.
 //!
 //! Oracles: (1) the trajectory itself: every reversal of a bouncing ball's vertical velocity
 //! from falling to rising is an impact the metrics must list; (2) Newton's law of impact: each
 //! listed impact returns e·|v_in| for the obstacle's e; (3) for a penalty contact, the contact
 //! ODE m z'' = −k z − c z' + m g (gravity along the normal) integrated independently here with
-//! `ode_solvers`' Dopri5, not with springlab's integrator.
+//! `ode_solvers`' Dopri5, not with springlab's method.
 
 use springlab::collide::damping_ratio_for_restitution;
 use springlab::measure::contacts::{ContactMetrics, ContactReport};
@@ -29,7 +29,7 @@ impl Observer for Trace {
 
 fn trace(scene: &Scenario, name: &str, dt: f64, duration: f64) -> (ContactReport, Vec<(f64, f64)>) {
     let sys = scene.build();
-    let mut integ = Registry::builtin()
+    let mut stepper = Registry::builtin()
         .create(name, &MethodOptions::default())
         .unwrap();
     let mut obs = Trace {
@@ -38,7 +38,7 @@ fn trace(scene: &Scenario, name: &str, dt: f64, duration: f64) -> (ContactReport
     };
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::for_duration(dt, duration),
         &mut obs,
@@ -60,7 +60,7 @@ fn ball(e: f64, collision: &str) -> Scenario {
 }
 
 #[test]
-fn every_bounce_of_a_ball_is_found_for_every_backend_with_e_within_2_percent() {
+fn every_bounce_of_a_ball_is_found_for_every_method_with_e_within_2_percent() {
     let scene = ball(0.7, "response = \"impulse\"");
     let sys = scene.build();
     // At 0.1 ms the sampled flight of a first-order method is ballistic to g·dt/v ≤ 0.5 %

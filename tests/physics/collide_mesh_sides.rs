@@ -63,7 +63,7 @@ fn fly(scene: &Scenario, dt: f64, steps: u64) -> (f64, u64) {
         }
     }
     let sys = scene.build();
-    let mut integ =
+    let mut stepper =
         springlab::method::create("symplectic_euler", &MethodOptions::default()).unwrap();
     let mut obs = NoJump {
         prev: None,
@@ -73,7 +73,7 @@ fn fly(scene: &Scenario, dt: f64, steps: u64) -> (f64, u64) {
     };
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::new(dt, steps),
         &mut obs,

@@ -1,7 +1,7 @@
 //! A scene without obstacles pays nothing for collision.
 //!
 //! Oracle: counting. The thread-local parry counters must not move while such a scene is
-//! built and run with every integrator (one test per binary, so nothing else runs on the
+//! built and run with every method (one test per binary, so nothing else runs on the
 //! thread); the same run with one plane must move them (the counter works).
 
 use springlab::collide::{build_count, query_count};
@@ -21,13 +21,13 @@ fn no_obstacles_no_queries() {
     let (q0, b0) = (query_count(), build_count());
     let sys = scene.build();
     assert!(sys.post_step.is_none());
-    for integ in [
+    for stepper in [
         "symplectic_euler",
         "implicit_euler",
         "rk4",
         "verlet_constraints",
     ] {
-        let mut m = by_name(integ, &MethodOptions::default()).unwrap();
+        let mut m = by_name(stepper, &MethodOptions::default()).unwrap();
         run(
             &sys,
             m.as_mut(),

@@ -36,20 +36,16 @@ fn wall(collision: &str, restitution: f64) -> Scenario {
     .unwrap()
 }
 
-fn measure(
-    scene: &Scenario,
-    integrator: &str,
-    dt: f64,
-) -> springlab::measure::contacts::ContactEvent {
+fn measure(scene: &Scenario, method: &str, dt: f64) -> springlab::measure::contacts::ContactEvent {
     let sys = scene.build();
     assert!(sys.active_terms().contains(&"penalty_contacts"));
-    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
+    let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let plan = RunPlan::for_duration(dt, 0.1);
-    let out = run(&sys, integ.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
+    let out = run(&sys, stepper.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
     assert!(out.status.is_ok());
     let rep = m.report();
-    assert_eq!(rep.events_total, 1, "{integrator}: one contact");
+    assert_eq!(rep.events_total, 1, "{method}: one contact");
     rep.events[0].clone()
 }
 
@@ -67,23 +63,23 @@ fn formulas_are_inverse() {
 fn restitution_derived_from_obstacle_matches_formula() {
     // k = 1e4 N/m, m = 1 kg: ω = 100 rad/s, contact ≈ 31 ms; dt = 1e-5 s.
     let s = wall("response = \"penalty\"\nstiffness = 1e4", 0.5);
-    for integ in [
+    for stepper in [
         "rk4",
         "velocity_verlet",
         "symplectic_euler",
         "implicit_euler",
     ] {
-        let ev = measure(&s, integ, 1e-5);
+        let ev = measure(&s, stepper, 1e-5);
         let e = ev.restitution.unwrap();
         assert!((ev.expected_restitution - 0.5).abs() < 1e-12);
         assert!(
             (e / 0.5 - 1.0).abs() < 0.02,
-            "{integ}: measured e = {e}, formula 0.5"
+            "{stepper}: measured e = {e}, formula 0.5"
         );
         let d = ev.expected_duration.unwrap();
         assert!(
             (ev.duration / d - 1.0).abs() < 0.02,
-            "{integ}: duration {} vs π/ω_d = {d}",
+            "{stepper}: duration {} vs π/ω_d = {d}",
             ev.duration
         );
         assert!(

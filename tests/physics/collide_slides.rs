@@ -1,4 +1,4 @@
-//! Friction as `contacts.json` reports it, for every backend (the data of the collision
+//! Friction as `contacts.json` reports it, for every method (the data of the collision
 //! validation): slides in resting contact against the point-mass Coulomb law.
 //!
 //! Oracles (closed forms): on a 30° incline with μ = 0.2 a particle released at rest
@@ -35,13 +35,13 @@ fn scene(deg: f64, mu: f64, v0: f64) -> Scenario {
 fn report(scene: &Scenario, name: &str, duration: f64) -> ContactReport {
     let sys = scene.build();
     let dt = 1e-3;
-    let mut integ = Registry::builtin()
+    let mut stepper = Registry::builtin()
         .create(name, &MethodOptions::default())
         .unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::for_duration(dt, duration),
         &mut m,
@@ -51,7 +51,7 @@ fn report(scene: &Scenario, name: &str, duration: f64) -> ContactReport {
     m.report()
 }
 
-fn backends() -> Vec<&'static str> {
+fn methods() -> Vec<&'static str> {
     let sys = scene(30.0, 0.2, 0.0).build();
     Registry::builtin()
         .iter()
@@ -62,10 +62,10 @@ fn backends() -> Vec<&'static str> {
 }
 
 #[test]
-fn contacts_json_reports_the_incline_acceleration_for_every_backend() {
+fn contacts_json_reports_the_incline_acceleration_for_every_method() {
     let th = 30f64.to_radians();
     let a = G * (th.sin() - 0.2 * th.cos());
-    for name in backends() {
+    for name in methods() {
         let rep = report(&scene(30.0, 0.2, 0.0), name, 1.0);
         assert_eq!(rep.slides.len(), 1, "{name}: {:?}", rep.slides);
         let s = &rep.slides[0];
@@ -80,10 +80,10 @@ fn contacts_json_reports_the_incline_acceleration_for_every_backend() {
 }
 
 #[test]
-fn contacts_json_reports_the_stopping_distance_for_every_backend() {
+fn contacts_json_reports_the_stopping_distance_for_every_method() {
     let (v0, mu) = (5.0, 0.3);
     let d = v0 * v0 / (2.0 * mu * G);
-    for name in backends() {
+    for name in methods() {
         let rep = report(&scene(0.0, mu, v0), name, 2.0);
         let s = &rep.slides[0];
         eprintln!(
@@ -125,7 +125,7 @@ fn up_an_incline_and_back_are_two_slides_each_with_its_own_law() {
         -G * (th.sin() + mu * th.cos()),
         G * (th.sin() - mu * th.cos()),
     );
-    let mut names = backends();
+    let mut names = methods();
     names.push("explicit_euler");
     for v0 in [2.0, 3.0] {
         let t_stop = v0 / -up;
@@ -158,7 +158,7 @@ fn up_an_incline_that_holds_it_is_one_slide() {
     let th = 30f64.to_radians();
     let mu = 0.6;
     let up = -G * (th.sin() + mu * th.cos());
-    let mut names = backends();
+    let mut names = methods();
     names.push("explicit_euler");
     for name in names {
         let rep = report(&pushed_up(mu, 3.0), name, 1.5);

@@ -4,17 +4,17 @@
 //! Oracles nobody tuned:
 //! - bookkeeping: the stage's `created − dissipated` is, by definition, the change of the
 //!   system's mechanical energy (kinetic + gravitational + elastic) across the stage, so it is
-//!   checked against `System::energy` before and after, for every native integrator on the
+//!   checked against `System::energy` before and after, for every native method on the
 //!   chain draped over the box (springs, friction, restitution);
 //! - a particle resting on a plane (e = 0, impulse or projection) under gravity alone: velocity Verlet moves it from
 //!   rest by exactly −½h²g with speed hg, so the stage's lift gains m·g·½h²g and its stop
 //!   loses ½m(hg)²: nothing created. Symplectic Euler moves it by −h²g (drift with the kicked
 //!   velocity): the lift gains m·h²g², the stop loses ½m(hg)², so the stage gives back exactly
-//!   the ½m(hg)² the integrator lost that step — booked as created, never hidden;
+//!   the ½m(hg)² the method lost that step — booked as created, never hidden;
 //! - a particle on a 30° incline (held by μ = 0.6, or sliding with μ = 0.2): under constant
 //!   gravity a step of explicit Euler gains exactly ½m h²|g|² whatever the state, symplectic
 //!   Euler loses as much, velocity Verlet neither; the stage books, step by step, the energy
-//!   change computed here by hand, so the run's balance is N times the integrator's own change.
+//!   change computed here by hand, so the run's balance is N times the method's own change.
 //!   Explicit Euler's rise is its own, not the stage's: on the held particle at h = 1/30 s it
 //!   is +6.04 J over 113 steps while the stage dissipates 6.67 J and the mechanical energy
 //!   falls by 0.63 J;
@@ -32,7 +32,7 @@ fn mechanical(sys: &System, s: &State) -> f64 {
     sys.energy(&s.x, &s.v).mechanical()
 }
 
-/// Native integrators that take obstacle scenes through the post-step stage.
+/// Native methods that take obstacle scenes through the post-step stage.
 fn natives(sys: &System) -> Vec<&'static str> {
     Registry::builtin()
         .iter()
@@ -49,14 +49,14 @@ fn natives(sys: &System) -> Vec<&'static str> {
 /// returns the stage's (created, dissipated) totals after checking each step's books.
 fn stage_books(sys: &System, s0: State, name: &str, h: f64, steps: usize) -> (f64, f64) {
     let stage = springlab::collide::of(sys).expect("obstacles");
-    let mut integ = Registry::builtin()
+    let mut stepper = Registry::builtin()
         .create(name, &MethodOptions::default())
         .unwrap();
     let mut s = s0;
     let (mut created, mut dissipated) = (0.0, 0.0);
     for k in 0..steps {
         let (x0, v0) = (s.x.clone(), s.v.clone());
-        integ.step(sys, &mut s, h).unwrap();
+        stepper.step(sys, &mut s, h).unwrap();
         let before = mechanical(sys, &s);
         let c = stage.apply(sys, &x0, &v0, &mut s, h);
         let change = mechanical(sys, &s) - before;
@@ -69,7 +69,7 @@ fn stage_books(sys: &System, s0: State, name: &str, h: f64, steps: usize) -> (f6
         );
         assert!(c.created >= 0.0 && c.dissipated >= 0.0);
         if c.changed {
-            integ.reset();
+            stepper.reset();
         }
         created += c.created;
         dissipated += c.dissipated;
@@ -157,7 +157,7 @@ fn a_block_on_a_spring_on_a_rough_floor_loses_two_mu_m_g_over_k_per_half_swing()
         .collect();
     let mut bad = vec![];
     for name in names {
-        let mut integ = Registry::builtin()
+        let mut stepper = Registry::builtin()
             .create(name, &MethodOptions::default())
             .unwrap();
         let stage = springlab::collide::of(&sys).unwrap();
@@ -166,9 +166,9 @@ fn a_block_on_a_spring_on_a_rough_floor_loses_two_mu_m_g_over_k_per_half_swing()
         let mut last_v: f64 = 0.0;
         for _ in 0..300 {
             let (x0, v0) = (s.x.clone(), s.v.clone());
-            integ.step(&sys, &mut s, h).unwrap();
+            stepper.step(&sys, &mut s, h).unwrap();
             if stage.apply(&sys, &x0, &v0, &mut s, h).changed {
-                integ.reset();
+                stepper.reset();
             }
             let v = s.v[0].x;
             if last_v != 0.0 && (v == 0.0 || v.signum() != last_v.signum()) {
@@ -236,7 +236,7 @@ fn incline_books(mu: f64, e: f64, name: &str, h: f64, steps: u64) -> (f64, f64, 
     let sys = scene.build();
     let (m, g) = (1.0, sys.gravity.unwrap());
     let stage = springlab::collide::of(&sys).unwrap();
-    let mut integ = Registry::builtin()
+    let mut stepper = Registry::builtin()
         .create(name, &MethodOptions::default())
         .unwrap();
     let mut s = scene.initial_state();
@@ -244,7 +244,7 @@ fn incline_books(mu: f64, e: f64, name: &str, h: f64, steps: u64) -> (f64, f64, 
     let (mut created, mut dissipated) = (0.0, 0.0);
     for k in 0..steps {
         let (x0, v0) = (s.x.clone(), s.v.clone());
-        integ.step(&sys, &mut s, h).unwrap();
+        stepper.step(&sys, &mut s, h).unwrap();
         let before = by_hand(m, g, &s);
         let c = stage.apply(&sys, &x0, &v0, &mut s, h);
         let change = by_hand(m, g, &s) - before;
@@ -257,18 +257,18 @@ fn incline_books(mu: f64, e: f64, name: &str, h: f64, steps: u64) -> (f64, f64, 
             c.created
         );
         if c.changed {
-            integ.reset();
+            stepper.reset();
         }
         created += c.created;
         dissipated += c.dissipated;
     }
     let mech = by_hand(m, g, &s) - e0;
-    let mut integ = Registry::builtin()
+    let mut stepper = Registry::builtin()
         .create(name, &MethodOptions::default())
         .unwrap();
     let out = springlab::run::run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         // The whole run: the verdict's threshold is not the question here.
         &springlab::run::RunPlan {
@@ -297,7 +297,7 @@ fn explicit_euler_on_an_incline_books_what_the_stage_removes_and_keeps_its_own_g
     // v += h g) changes ½m|v|² − m g·x by exactly +½ m h² |g|², whatever the state; symplectic
     // Euler (v += h g, x += h v) by −½ m h² |g|²; velocity Verlet by 0. The contact stage
     // books exactly what it changes (checked per step), so over N steps the balance
-    // (mechanical change + dissipated − created) must be N times the integrator's own change:
+    // (mechanical change + dissipated − created) must be N times the method's own change:
     // a rise for explicit Euler however much the stage dissipates, and the twins near it, a
     // fall for symplectic Euler and nothing for velocity Verlet.
     let (h, steps, m, g) = (1.0 / 30.0, 113u64, 1.0, 9.81);
@@ -311,11 +311,11 @@ fn explicit_euler_on_an_incline_books_what_the_stage_removes_and_keeps_its_own_g
             let (balance, mech, d, c) = incline_books(mu, e, name, h, steps);
             let expected = sign * own * steps as f64;
             eprintln!(
-                "μ {mu} e {e} {name}: mechanical {mech:+.4} J, dissipated {d:.4} J, created {c:.4} J, balance {balance:+.6} J (integrator's own {expected:+.6} J)"
+                "μ {mu} e {e} {name}: mechanical {mech:+.4} J, dissipated {d:.4} J, created {c:.4} J, balance {balance:+.6} J (method's own {expected:+.6} J)"
             );
             assert!(
                 (balance - expected).abs() <= 1e-9 * (1.0 + d + mech.abs()),
-                "μ {mu} e {e} {name}: balance {balance} J, the integrator's own {expected} J"
+                "μ {mu} e {e} {name}: balance {balance} J, the method's own {expected} J"
             );
         }
     }

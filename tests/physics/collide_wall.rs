@@ -18,31 +18,31 @@ fn path() -> String {
     )
 }
 
-fn tunnels(scene: &Scenario, integrator: &str) -> (u64, f64) {
+fn tunnels(scene: &Scenario, method: &str) -> (u64, f64) {
     let sys = scene.build();
     let dt = scene.run.dt.unwrap();
-    let mut integ = by_name(integrator, &MethodOptions::default()).unwrap();
+    let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let plan = RunPlan::for_duration(dt, scene.run.duration.unwrap());
-    let out = run(&sys, integ.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
+    let out = run(&sys, stepper.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
     (m.report().tunnelling_count, out.final_state.x[0].x)
 }
 
 #[test]
 fn shipped_fast_particle_does_not_tunnel() {
     let s = Scenario::from_file(path()).unwrap();
-    for integ in [
+    for stepper in [
         "symplectic_euler",
         "velocity_verlet",
         "rk4",
         "implicit_euler",
         "explicit_euler",
     ] {
-        let (count, x) = tunnels(&s, integ);
-        assert_eq!(count, 0, "{integ}: tunnelled");
+        let (count, x) = tunnels(&s, stepper);
+        assert_eq!(count, 0, "{stepper}: tunnelled");
         assert!(
             x < 0.99,
-            "{integ}: ended at x = {x}, beyond the wall's front face"
+            "{stepper}: ended at x = {x}, beyond the wall's front face"
         );
     }
 }

@@ -18,10 +18,10 @@ fn chain() -> Scenario {
 fn outcome(name: &str, opts: &MethodOptions, steps: u64) -> springlab::run::RunOutcome {
     let scene = chain();
     let sys = scene.build();
-    let mut integ = Registry::builtin().create(name, opts).unwrap();
+    let mut stepper = Registry::builtin().create(name, opts).unwrap();
     run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::new(1e-3, steps),
         &mut NoObserver,

@@ -29,7 +29,7 @@ fn energy_ratio(name: &str, h: f64, steps: u64) -> (f64, f64) {
     let e0 = sys.state_energy(&scene.initial_state()).mechanical();
     let mut plan = springlab::run::RunPlan::new(h, steps);
     plan.blowup_factor = 1e300;
-    let mut i = integ(name);
+    let mut i = stepper(name);
     let out = springlab::run::run(
         &sys,
         i.as_mut(),
@@ -119,7 +119,7 @@ fn implicit_midpoint_keeps_linear_spring_energy_at_any_step() {
     let n = 1000u64;
     let tol = springlab::integrate::ImplicitSettings::default().newton_tol;
     for h in [0.1, 1.0, 10.0, 100.0] {
-        let mut i = integ("implicit_midpoint");
+        let mut i = stepper("implicit_midpoint");
         let mut max_dev: f64 = 0.0;
         struct Watch<'a>(&'a mut f64, f64);
         impl springlab::run::Observer for Watch<'_> {
@@ -171,7 +171,7 @@ fn implicit_midpoint_keeps_a_linear_chain_energy_where_cg_iterates() {
     let n = 500u64;
     let tol = springlab::integrate::ImplicitSettings::default().newton_tol;
     for h in [0.01, 0.1, 1.0] {
-        let mut i = integ("implicit_midpoint");
+        let mut i = stepper("implicit_midpoint");
         let out = springlab::run::run(
             &sys,
             i.as_mut(),

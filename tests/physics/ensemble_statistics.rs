@@ -120,7 +120,7 @@ fn advice_on_a_chaotic_cloth_answers_over_its_whole_duration() {
     let adv = advise(
         &scene,
         &AdviseConfig {
-            integrators: vec!["symplectic_euler".into(), "rk4".into()],
+            methods: vec!["symplectic_euler".into(), "rk4".into()],
             points: 4,
             frame_rates: false,
             ..AdviseConfig::default()

@@ -1,4 +1,4 @@
-//! Extreme parameters: every backend must either finish with finite results or report an
+//! Extreme parameters: every method must either finish with finite results or report an
 //! `unstable` status with step and reason; never panic, never NaN in outputs. Each case states
 //! what theory predicts and checks it where the prediction is sharp (textbook stability limits
 //! of the undamped oscillator: explicit Euler never stable; symplectic Euler and Verlet for
@@ -24,7 +24,7 @@ fn scene(toml: &str) -> Scenario {
     Scenario::from_toml_str(toml, "extreme.toml").expect("valid extreme scene")
 }
 
-/// Runs every backend that accepts `scene` and checks the no-NaN contract on each outcome.
+/// Runs every method that accepts `scene` and checks the no-NaN contract on each outcome.
 /// Returns (name, outcome) pairs; `skipped` collects names whose `check` refused the scene.
 fn run_all(scene: &Scenario, dt: f64, steps: u64) -> Vec<(&'static str, RunOutcome)> {
     run_names(scene, dt, steps, &known_names())
@@ -40,13 +40,13 @@ fn run_names(
     let sys = scene.build();
     let mut out = Vec::new();
     for &name in names {
-        let mut integ = common::integ(name);
-        if integ.check(&sys).is_err() {
+        let mut stepper = common::stepper(name);
+        if stepper.check(&sys).is_err() {
             continue;
         }
         let o = run(
             &sys,
-            integ.as_mut(),
+            stepper.as_mut(),
             scene.initial_state(),
             &RunPlan::new(dt, steps),
             &mut NoObserver,
@@ -80,7 +80,7 @@ fn status<'a>(runs: &'a [(&str, RunOutcome)], name: &str) -> &'a Status {
         .status
 }
 
-/// Native integrators only: the exactness and accuracy oracles below are theirs; external
+/// Native methods only: the exactness and accuracy oracles below are theirs; external
 /// engines (Rapier) are held to the no-NaN contract in [`run_all`] and have their outcome printed.
 fn native(runs: &[(&'static str, RunOutcome)]) -> Vec<(&'static str, RunOutcome)> {
     runs.iter()
@@ -342,7 +342,7 @@ fn hundred_thousand_particles() {
     // every method finishes, and the pinned corners have not moved.
     let sc = springlab::perf::cloth(316);
     assert!(sc.particles.len() >= 99_000);
-    // Rapier's multibody backend needs minutes for this scene: natives and rapier_impulse only.
+    // Rapier's multibody method needs minutes for this scene: natives and rapier_impulse only.
     let names: Vec<&'static str> = native_names()
         .into_iter()
         .chain(["rapier_impulse"])
@@ -361,7 +361,7 @@ fn hundred_thousand_particles() {
 /// implicit Euler loses energy (amplitude factor (1 + (hω)²)^(-n/2)), explicit Euler gains it
 /// until it trips the blow-up bound.
 fn long_run(n: u64) {
-    // Native integrators only: the Rapier backends take minutes for 1e6 steps.
+    // Native methods only: the Rapier methods take minutes for 1e6 steps.
     let runs = run_names(&oscillator(1.0), 0.01, n, &native_names());
     print("long run", &runs);
     let e0 = 0.5 * 0.01;

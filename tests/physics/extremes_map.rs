@@ -1,5 +1,5 @@
 //! The stability map over the extremes: the stiff anchored spring with stiffness from
-//! 1e-3 to 1e9 N/m (1 kg) and steps from 1e-6 to 1 s, for every native integrator and Rapier.
+//! 1e-3 to 1e9 N/m (1 kg) and steps from 1e-6 to 1 s, for every native method and Rapier.
 //!
 //! Oracles, none tuned here:
 //! - textbook stability limits of the undamped oscillator (Hairer, Lubich & Wanner, Geometric
@@ -21,10 +21,10 @@ use springlab::scenario::Scenario;
 const STIFFNESS_SCALES: [f64; 5] = [1e-9, 1e-6, 1e-3, 1.0, 1e3]; // k = 1e-3 … 1e9 N/m
 const DTS: [f64; 7] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
 
-fn map(integrators: &[&str]) -> Vec<MapRow> {
+fn map(methods: &[&str]) -> Vec<MapRow> {
     let scene = Scenario::from_file("scenarios/stiff_spring.toml").unwrap();
     let cfg = MapConfig {
-        integrators: integrators.iter().map(|s| s.to_string()).collect(),
+        methods: methods.iter().map(|s| s.to_string()).collect(),
         stiffness_scales: STIFFNESS_SCALES.to_vec(),
         dts: DTS.to_vec(),
         blowup_factor: 1e4,
@@ -33,7 +33,7 @@ fn map(integrators: &[&str]) -> Vec<MapRow> {
     let rows = stability_map(&scene, &cfg).unwrap();
     assert_eq!(
         rows.len(),
-        integrators.len() * STIFFNESS_SCALES.len() * DTS.len()
+        methods.len() * STIFFNESS_SCALES.len() * DTS.len()
     );
     rows
 }
@@ -54,7 +54,7 @@ fn map_of_the_stiff_spring_shows_the_textbook_boundaries() {
     for r in &rows {
         let hw = r.h_omega;
         // Textbook verdicts and limits.
-        let textbook = match r.integrator.as_str() {
+        let textbook = match r.method.as_str() {
             "symplectic_euler" | "velocity_verlet" | "position_verlet" => Some(2.0),
             "rk4" => Some(2.0 * 2f64.sqrt()),
             _ => None,
@@ -62,7 +62,7 @@ fn map_of_the_stiff_spring_shows_the_textbook_boundaries() {
         let verdict = r
             .theory_verdict
             .expect("native linear methods have a theory");
-        match (r.integrator.as_str(), textbook) {
+        match (r.method.as_str(), textbook) {
             ("implicit_euler", _) => assert_eq!(verdict, Verdict::UnconditionallyStable),
             ("explicit_euler" | "rk2", _) => assert_eq!(verdict, Verdict::UnstableForAllDt),
             (_, Some(limit)) => {
@@ -71,7 +71,7 @@ fn map_of_the_stiff_spring_shows_the_textbook_boundaries() {
                 assert!(
                     (got - limit).abs() < 1e-6 * limit,
                     "{}: hω limit {got}",
-                    r.integrator
+                    r.method
                 );
             }
             _ => unreachable!(),
@@ -89,34 +89,30 @@ fn map_of_the_stiff_spring_shows_the_textbook_boundaries() {
             assert!(
                 !r.stable,
                 "{} at k×{:e}, dt {:e} (hω {hw:e}): ρ = {rho} predicts blow-up",
-                r.integrator, r.stiffness_scale, r.dt
+                r.method, r.stiffness_scale, r.dt
             );
             decided += 1;
         } else if growth < 0.9 * 2f64.ln() {
             assert!(
                 r.stable,
                 "{} at k×{:e}, dt {:e} (hω {hw:e}): ρ = {rho} predicts bounded",
-                r.integrator, r.stiffness_scale, r.dt
+                r.method, r.stiffness_scale, r.dt
             );
             decided += 1;
         }
         // Where the textbook says stable with margin, the run must be stable, whatever ρ says.
         if let Some(limit) = textbook {
             if hw < 0.9 * limit {
-                assert!(
-                    r.stable,
-                    "{} stable below hω = {limit}, at {hw}",
-                    r.integrator
-                );
+                assert!(r.stable, "{} stable below hω = {limit}, at {hw}", r.method);
             } else if hw > 1.1 * limit {
                 assert!(
                     !r.stable,
                     "{} unstable above hω = {limit}, at {hw}",
-                    r.integrator
+                    r.method
                 );
             }
         }
-        if r.integrator == "implicit_euler" {
+        if r.method == "implicit_euler" {
             assert!(r.stable, "backward Euler is A-stable: hω = {hw}");
         }
     }

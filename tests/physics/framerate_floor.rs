@@ -20,7 +20,7 @@ fn config() -> FramerateConfig {
     FramerateConfig {
         rates: vec![30.0],
         tolerance: Some(1e-3),
-        integrators: vec!["symplectic_euler".into()],
+        methods: vec!["symplectic_euler".into()],
         max_substeps: 8,
         ..Default::default()
     }

@@ -86,13 +86,13 @@ fn closed_form(t: f64, kicks: &[(f64, f64)]) -> f64 {
 fn frames_of(events: &str, hz: f64, substeps: u64, method: &str) -> Vec<State> {
     let sc = scene(events);
     let sys = sc.build();
-    let mut integ = Registry::builtin()
+    let mut stepper = Registry::builtin()
         .create(method, &MethodOptions::default())
         .unwrap();
     let frames = (0.5 * hz).round() as u64;
     let plan = RunPlan::new(1.0 / hz, frames).with_substeps(substeps);
     let mut keep = Keep::default();
-    let out = run(&sys, integ.as_mut(), sc.initial_state(), &plan, &mut keep).unwrap();
+    let out = run(&sys, stepper.as_mut(), sc.initial_state(), &plan, &mut keep).unwrap();
     assert!(out.status.is_ok());
     keep.0
 }

@@ -46,22 +46,22 @@ fn same(name: &str, scene: &Scenario, n: u64) {
     let frame = 1.0 / 60.0;
     let frames = 12;
     let mut coarse = Keep::default();
-    let mut integ = registry.create(name, &opts).unwrap();
+    let mut stepper = registry.create(name, &opts).unwrap();
     let plan = RunPlan::new(frame, frames).with_substeps(n);
     let a = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &plan,
         &mut coarse,
     )
     .unwrap();
     let mut fine = Keep::default();
-    let mut integ = registry.create(name, &opts).unwrap();
+    let mut stepper = registry.create(name, &opts).unwrap();
     let plan = RunPlan::new(frame / n as f64, frames * n);
     let b = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &plan,
         &mut fine,
@@ -97,10 +97,10 @@ fn substeps_are_bit_identical_to_the_fine_step_for_every_native_method() {
         if info.engine {
             continue;
         }
-        let integ = registry.create(name, &MethodOptions::default()).unwrap();
+        let stepper = registry.create(name, &MethodOptions::default()).unwrap();
         let mut ran = false;
         for scene in [&chain, &rod] {
-            if integ.check(&scene.build()).is_ok() {
+            if stepper.check(&scene.build()).is_ok() {
                 for n in [2, 3, 4] {
                     same(name, scene, n);
                 }
@@ -183,7 +183,7 @@ fn compare_splits_frames_for_every_native_method() {
         compare(
             &scene,
             &CompareConfig {
-                integrators: names.clone(),
+                methods: names.clone(),
                 dt: Some(dt),
                 duration: Some(0.2),
                 frame_substeps,
@@ -199,16 +199,16 @@ fn compare_splits_frames_for_every_native_method() {
     assert_eq!(split.substeps, 4);
     for (a, b) in split.entries.iter().zip(&fine.entries) {
         let (a, b) = (a.result.as_ref().unwrap(), b.result.as_ref().unwrap());
-        if a.integrator == "rapier_impulse" {
+        if a.method == "rapier_impulse" {
             continue;
         }
-        assert_eq!(a.steps_done * 4, b.steps_done, "{}", a.integrator);
-        assert_eq!(a.force_evals, b.force_evals, "{}", a.integrator);
+        assert_eq!(a.steps_done * 4, b.steps_done, "{}", a.method);
+        assert_eq!(a.force_evals, b.force_evals, "{}", a.method);
         assert_eq!(
             a.metric(|m| m.error_final).map(f64::to_bits),
             b.metric(|m| m.error_final).map(f64::to_bits),
             "{}",
-            a.integrator
+            a.method
         );
     }
 }

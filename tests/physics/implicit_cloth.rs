@@ -5,7 +5,7 @@
 //! v_pred = v + h M⁻¹ f(x + h v, v) is the first-order explicit predictor, both in the
 //! mass-weighted RMS norm √(Σ m|·|² / Σ m).
 
-use springlab::integrate::{ImplicitEuler, Integrator, LinearSolver};
+use springlab::integrate::{ImplicitEuler, LinearSolver, Stepper};
 use springlab::model::Vec3;
 use springlab::scenario::Scenario;
 

@@ -10,7 +10,7 @@ use springlab::integrate::ImplicitSettings;
 use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
-use springlab::{method, perf, Error, Integrator, Registry, State, System, Vec3};
+use springlab::{method, perf, Error, Registry, State, Stepper, System, Vec3};
 
 /// The implicit methods, by the registry's fact (`MethodInfo::implicit`).
 fn implicit_methods() -> Vec<&'static str> {
@@ -27,7 +27,7 @@ const H: f64 = 1.0 / 30.0;
 /// The stiffnesses swept, as hω.
 const H_OMEGA: [f64; 5] = [0.1, 1.0, 10.0, 100.0, 1000.0];
 
-fn fresh(name: &str) -> Box<dyn Integrator> {
+fn fresh(name: &str) -> Box<dyn Stepper> {
     method::create(name, &MethodOptions::default()).expect("known method")
 }
 
@@ -134,13 +134,13 @@ fn free_unequal_masses_keep_linear_momentum_at_any_stiffness() {
         let sc = spinning_triangle(h_omega);
         let sys = sc.build();
         for name in implicit_methods() {
-            let mut integ = fresh(name);
+            let mut stepper = fresh(name);
             let mut s = sc.initial_state();
             let p0 = sys.momentum(&s.v);
             let mut allowed = 0.0;
             for k in 0..steps {
                 allowed += 64.0 * f64::EPSILON * momentum_magnitude(&sys, &s, H);
-                integ
+                stepper
                     .step(&sys, &mut s, H)
                     .unwrap_or_else(|e| panic!("{name} at hω = {h_omega}, step {k}: {e}"));
                 let drift = (sys.momentum(&s.v) - p0).amax();
@@ -168,13 +168,13 @@ fn angular_momentum_follows_the_method_at_any_stiffness() {
         let sc = spinning_triangle(h_omega);
         let sys = sc.build();
         for (name, balance) in [("implicit_midpoint", false), ("implicit_euler", true)] {
-            let mut integ = fresh(name);
+            let mut stepper = fresh(name);
             let mut s = sc.initial_state();
             let mut law_gap = 0.0f64;
             let mut allowed = 0.0;
             for _ in 0..steps {
                 let (x0, v0) = (s.x.clone(), s.v.clone());
-                integ.step(&sys, &mut s, H).expect("step");
+                stepper.step(&sys, &mut s, H).expect("step");
                 let mut expected = angular_momentum(&sys, &x0, &v0);
                 if balance {
                     expected += (0..3)
@@ -229,7 +229,7 @@ fn implicit_euler_is_exact_backward_euler_on_a_linear_spring() {
     for h_omega in H_OMEGA {
         let (sc, k) = linear_pair(h_omega);
         let sys = sc.build();
-        let mut integ = fresh("implicit_euler");
+        let mut stepper = fresh("implicit_euler");
         let mut s = sc.initial_state();
         let mass = Matrix2::new(m1, 0.0, 0.0, m2);
         let stiff = Matrix2::new(k, -k, -k, k);
@@ -244,7 +244,7 @@ fn implicit_euler_is_exact_backward_euler_on_a_linear_spring() {
             roundoff += 16.0 * f64::EPSILON * H * (v.amax() + H * f.amax() / m1);
             v = lu.solve(&(mass * v + f * H)).expect("SPD");
             x += v * H;
-            integ.step(&sys, &mut s, H).expect("step");
+            stepper.step(&sys, &mut s, H).expect("step");
             let t = n as f64 * H;
             let sep = 1.0 + a * (omega * t).cos() + b * (omega * t).sin();
             let com = com0 + com_v * t;
@@ -271,13 +271,13 @@ fn a_capped_newton_is_reported_not_converged_and_its_twins_meet_the_root() {
     let stage = |h_omega: f64, max_newton: Option<usize>| {
         let sc = spinning_triangle(h_omega);
         let sys = sc.build();
-        let mut integ = fresh("implicit_euler");
+        let mut stepper = fresh("implicit_euler");
         if let Some(cap) = max_newton {
-            integ.newton_mut().unwrap().settings.max_newton = cap;
+            stepper.newton_mut().unwrap().settings.max_newton = cap;
         }
         let mut s = sc.initial_state();
         let (x0, v0) = (s.x.clone(), s.v.clone());
-        integ
+        stepper
             .step(&sys, &mut s, H)
             .map(|_| backward_euler_residual(&sys, &x0, &v0, &s, H))
     };
@@ -299,11 +299,11 @@ fn a_capped_newton_is_reported_not_converged_and_its_twins_meet_the_root() {
 fn the_runner_reports_a_stage_that_is_not_a_root() {
     let sc = spinning_triangle(100.0);
     let sys = sc.build();
-    let mut integ = fresh("implicit_euler");
-    integ.newton_mut().unwrap().settings.max_newton = 1;
+    let mut stepper = fresh("implicit_euler");
+    stepper.newton_mut().unwrap().settings.max_newton = 1;
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         sc.initial_state(),
         &RunPlan::new(H, 5),
         &mut NoObserver,
@@ -315,10 +315,10 @@ fn the_runner_reports_a_stage_that_is_not_a_root() {
         "{:?}",
         out.status
     );
-    let mut integ = fresh("implicit_euler");
+    let mut stepper = fresh("implicit_euler");
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         sc.initial_state(),
         &RunPlan::new(H, 5),
         &mut NoObserver,
@@ -336,11 +336,11 @@ fn cloth_steps_meet_the_backward_euler_equation() {
     let h = 1.0 / 60.0;
     let sc = perf::cloth(32);
     let sys = sc.build();
-    let mut integ = fresh("implicit_euler");
+    let mut stepper = fresh("implicit_euler");
     let mut s = sc.initial_state();
     for k in 0..10 {
         let (x0, v0) = (s.x.clone(), s.v.clone());
-        integ.step(&sys, &mut s, h).expect("step");
+        stepper.step(&sys, &mut s, h).expect("step");
         let (worst, scale) = backward_euler_residual(&sys, &x0, &v0, &s, h);
         assert!(
             worst <= root_tol * scale,

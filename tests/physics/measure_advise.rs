@@ -31,7 +31,7 @@ fn advised_step_meets_the_tolerance_when_rerun() {
         ..Default::default()
     };
     let adv = advise(&scene, &cfg).unwrap();
-    let name = adv.integrator.clone().expect("something meets 1e-4 m");
+    let name = adv.method.clone().expect("something meets 1e-4 m");
     assert!(adv.verified_error.unwrap() <= tol);
     assert!(!adv.alternatives.is_empty());
     // Ranked by modelled seconds per simulated second: none comes before one cheaper by more
@@ -41,13 +41,13 @@ fn advised_step_meets_the_tolerance_when_rerun() {
         assert!(w[0].modelled_per_second <= (1.0 + band) * w[1].modelled_per_second);
     }
     for choice in &adv.alternatives {
-        let mut integ = springlab::method::create(&choice.integrator, &Default::default()).unwrap();
+        let mut stepper = springlab::method::create(&choice.method, &Default::default()).unwrap();
         let steps = (5.0 / choice.dt).round() as u64;
         let mut obs = MaxErr(0.0, choice.dt);
         let plan = RunPlan::new(choice.dt, steps);
         let out = run(
             &scene.build(),
-            integ.as_mut(),
+            stepper.as_mut(),
             scene.initial_state(),
             &plan,
             &mut obs,
@@ -57,7 +57,7 @@ fn advised_step_meets_the_tolerance_when_rerun() {
         assert!(
             obs.0 <= tol,
             "{}: re-run error {:e} > {tol:e} at dt {}",
-            choice.integrator,
+            choice.method,
             obs.0,
             choice.dt
         );
@@ -65,7 +65,7 @@ fn advised_step_meets_the_tolerance_when_rerun() {
         assert!(
             (obs.0 - choice.verified_error).abs() <= 1e-9 + 1e-6 * obs.0,
             "{}",
-            choice.integrator
+            choice.method
         );
     }
     assert_eq!(adv.frame_rates.len(), 4);

@@ -1,5 +1,5 @@
 //! The adaptive reference (DOP853 at 1e-12) against the closed form.
-//! Oracle: the closed-form damped/undamped oscillator (the `analytic` integrator's formula,
+//! Oracle: the closed-form damped/undamped oscillator (the `analytic` method's formula,
 //! itself checked against textbook solutions in the core tests).
 
 use springlab::measure::grid::TimeGrid;

@@ -17,8 +17,8 @@ use springlab::scenario::Scenario;
 fn find<'a>(
     r: &'a StabilityReport,
     name: &str,
-) -> &'a springlab::measure::stability::IntegratorStability {
-    r.integrators.iter().find(|i| i.integrator == name).unwrap()
+) -> &'a springlab::measure::stability::MethodStability {
+    r.methods.iter().find(|i| i.method == name).unwrap()
 }
 
 #[test]
@@ -69,7 +69,10 @@ fn anchored_spring_limits_match_theory() {
     ] {
         let s = find(&r, name);
         assert_eq!(s.verdict, Verdict::UnconditionallyStable, "{name}");
-        assert_eq!(s.decided_by, "spectral_radius", "{name}: linear theory decides");
+        assert_eq!(
+            s.decided_by, "spectral_radius",
+            "{name}: linear theory decides"
+        );
     }
 }
 
@@ -198,7 +201,7 @@ fn damped_explicit_euler_limit_is_two_zeta_over_omega() {
     )
     .unwrap();
     let cfg = StabilityConfig {
-        integrators: vec!["explicit_euler".into()],
+        methods: vec!["explicit_euler".into()],
         ..Default::default()
     };
     let r = analyse(&scene, &cfg).unwrap();

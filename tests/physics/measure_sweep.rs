@@ -10,9 +10,9 @@ fn anchored() -> Scenario {
     Scenario::from_file("scenarios/anchored_spring.toml").unwrap()
 }
 
-fn config(integrators: &[&str]) -> SweepConfig {
+fn config(methods: &[&str]) -> SweepConfig {
     SweepConfig {
-        integrators: integrators.iter().map(|s| s.to_string()).collect(),
+        methods: methods.iter().map(|s| s.to_string()).collect(),
         dt_min: Some(2e-4),
         dt_max: Some(2e-2),
         points: Some(9),
@@ -40,11 +40,7 @@ fn observed_orders_match_theory() {
     assert_eq!(sum.reference.kind, "analytic");
     let mut report = String::new();
     for (name, p) in names {
-        let s = sum
-            .integrators
-            .iter()
-            .find(|s| s.integrator == name)
-            .unwrap();
+        let s = sum.methods.iter().find(|s| s.method == name).unwrap();
         let q = s.observed_order.unwrap_or(f64::NAN);
         report += &format!("{name}: {q:.3} (theory {p}, {:?})\n", s.fit.dt_range);
         assert!((q - p).abs() <= 0.15, "{report}");

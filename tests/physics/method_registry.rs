@@ -1,7 +1,7 @@
 //! The method registry: facts registered once, refused when inconsistent, and a user's own
 //! method run by the measuring commands exactly like a built-in.
 
-use springlab::integrate::{Integrator, StepStats};
+use springlab::integrate::{StepStats, Stepper};
 use springlab::measure::compare::{compare, CompareConfig};
 use springlab::method::{CostUnit, Method, MethodInfo, Order, Registry, StabilityTheory};
 use springlab::model::{State, System};
@@ -12,7 +12,7 @@ struct UserEuler {
     a: Vec<springlab::model::Vec3>,
 }
 
-impl Integrator for UserEuler {
+impl Stepper for UserEuler {
     fn name(&self) -> &str {
         "user_euler"
     }
@@ -155,7 +155,7 @@ fn options_and_runner_facts_are_checked_at_registration() {
     use springlab::method::options::ITERATIONS;
     use springlab::method::{MethodOptions, OptionSpec};
     let r = Registry::builtin();
-    let make = |_: &MethodOptions| -> Box<dyn Integrator> { Box::new(UserEuler { a: Vec::new() }) };
+    let make = |_: &MethodOptions| -> Box<dyn Stepper> { Box::new(UserEuler { a: Vec::new() }) };
     let with_options = |options: &'static [OptionSpec]| {
         Method::new(
             MethodInfo {
@@ -280,13 +280,13 @@ fn a_registered_method_runs_through_compare_like_a_builtin() {
     .unwrap();
     let cfg = CompareConfig {
         registry: Registry::builtin().with(user()).unwrap(),
-        integrators: vec!["user_euler".into(), "symplectic_euler".into()],
+        methods: vec!["user_euler".into(), "symplectic_euler".into()],
         series_points: 0,
         ..Default::default()
     };
     let res = compare(&scene, &cfg).unwrap();
     let err = |n: &str| {
-        let e = res.entries.iter().find(|e| e.integrator == n).unwrap();
+        let e = res.entries.iter().find(|e| e.method == n).unwrap();
         e.result
             .as_ref()
             .unwrap()

@@ -39,15 +39,15 @@ fn crumpled_cloth_stage_converges_through_both_strategies() {
         }
     }
     let (x0, v0) = (s.x.clone(), s.v.clone());
-    let mut integ = method::create("implicit_euler", &MethodOptions::default()).unwrap();
+    let mut stepper = method::create("implicit_euler", &MethodOptions::default()).unwrap();
     {
         // Only the tight stop: the truncation-error stop would end the stage early.
-        let set = &mut integ.newton_mut().unwrap().settings;
+        let set = &mut stepper.newton_mut().unwrap().settings;
         set.kappa = 0.0;
         set.max_newton = 200;
     }
-    integ.step(&sys, &mut s, h).expect("the stage converges");
-    let nw = integ.newton().unwrap();
+    stepper.step(&sys, &mut s, h).expect("the stage converges");
+    let nw = stepper.newton().unwrap();
     assert!(
         nw.strategy_switches >= 2,
         "the stage should stall in both strategies (switches: {})",

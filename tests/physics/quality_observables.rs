@@ -46,10 +46,17 @@ impl Observer for Positions {
 /// the same plan as [`measure`]'s run, so the same states bit for bit.
 fn record(scene: &Scenario, name: &str, dt: f64, steps: u64) -> Vec<Vec<Vec3>> {
     let sys = scene.build();
-    let mut integ = springlab::method::create(name, &Default::default()).unwrap();
+    let mut stepper = springlab::method::create(name, &Default::default()).unwrap();
     let mut rec = Positions::default();
     let plan = RunPlan::new(dt, steps);
-    let out = run::run(&sys, integ.as_mut(), scene.initial_state(), &plan, &mut rec).unwrap();
+    let out = run::run(
+        &sys,
+        stepper.as_mut(),
+        scene.initial_state(),
+        &plan,
+        &mut rec,
+    )
+    .unwrap();
     assert!(out.status.is_ok());
     assert_eq!(rec.0.len() as u64, steps + 1);
     rec.0
@@ -254,7 +261,7 @@ fn penetration_max_is_the_contact_metrics_deepest_penetration_and_absent_without
     let (dt, duration) = (0.0005, 0.6);
     let names = ["symplectic_euler", "rk4"];
     let cfg = CompareConfig {
-        integrators: names.iter().map(|s| s.to_string()).collect(),
+        methods: names.iter().map(|s| s.to_string()).collect(),
         duration: Some(duration),
         series_points: 0,
         ..Default::default()
@@ -271,7 +278,7 @@ fn penetration_max_is_the_contact_metrics_deepest_penetration_and_absent_without
         row.unwrap().split(',').nth(i).unwrap().to_string()
     };
     for name in names {
-        let r = res.entries.iter().find(|e| e.integrator == name).unwrap();
+        let r = res.entries.iter().find(|e| e.method == name).unwrap();
         let r = r.result.as_ref().unwrap();
         let m = r.metrics.as_ref().expect("ok");
         let contacts = r.contacts.as_ref().expect("a scene with obstacles");
@@ -316,10 +323,10 @@ fn quality_is_the_same_bits_with_one_and_two_threads() {
         pool.install(|| {
             let s0 = scene.initial_state();
             let mut obs = QualityObserver::new(&sys, &s0, dt, dt * steps as f64);
-            let mut integ =
+            let mut stepper =
                 springlab::method::create("symplectic_euler", &Default::default()).unwrap();
             let plan = RunPlan::new(dt, steps);
-            let out = run::run(&sys, integ.as_mut(), s0.clone(), &plan, &mut obs).unwrap();
+            let out = run::run(&sys, stepper.as_mut(), s0.clone(), &plan, &mut obs).unwrap();
             assert!(out.status.is_ok());
             obs.quality()
         })

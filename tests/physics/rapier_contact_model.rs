@@ -49,11 +49,11 @@ fn plane_scene(deg: f64, mu: f64, e: f64, y: f64, v: [f64; 3]) -> Scenario {
 
 fn go(scene: &Scenario, dt: f64, duration: f64) -> RunOutcome {
     let sys = scene.build();
-    let mut integ = springlab::method::create("rapier_impulse", &MethodOptions::default())
+    let mut stepper = springlab::method::create("rapier_impulse", &MethodOptions::default())
         .expect("rapier_impulse");
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::for_duration(dt, duration),
         &mut NoObserver,
@@ -124,11 +124,12 @@ fn difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m() {
     // 3e-5 to 2e-4 m), which the impact metrics' contact threshold covers.
     let scene = plane_scene(0.0, 0.3, 0.0, R + 0.2, [0.0; 3]);
     let sys = scene.build();
-    let mut integ = springlab::method::create("rapier_impulse", &MethodOptions::default()).unwrap();
+    let mut stepper =
+        springlab::method::create("rapier_impulse", &MethodOptions::default()).unwrap();
     let mut s = scene.initial_state();
     let mut worst: f64 = 0.0;
     for k in 0..2000 {
-        integ.step(&sys, &mut s, 1e-3).unwrap();
+        stepper.step(&sys, &mut s, 1e-3).unwrap();
         if k > 500 {
             worst = worst.max((s.x[0].y - R).abs());
         }
@@ -142,12 +143,13 @@ fn difference_soft_and_speculative_contacts_leave_a_resting_gap_below_2e_4_m() {
 /// `jump` (m/s) under `rapier_impulse` at dt = 1e-4 s.
 fn first_kick(scene: &Scenario, jump: f64) -> (springlab::model::Vec3, springlab::model::Vec3) {
     let sys = scene.build();
-    let mut integ = springlab::method::create("rapier_impulse", &MethodOptions::default()).unwrap();
+    let mut stepper =
+        springlab::method::create("rapier_impulse", &MethodOptions::default()).unwrap();
     let mut s = scene.initial_state();
     let g = sys.gravity.unwrap();
     for _ in 0..20000 {
         let v0 = s.v[0];
-        integ.step(&sys, &mut s, 1e-4).unwrap();
+        stepper.step(&sys, &mut s, 1e-4).unwrap();
         if (s.v[0] - v0 - g * 1e-4).norm() > jump {
             return (v0, s.v[0]);
         }

@@ -20,12 +20,12 @@ fn rapier_bounce_apex_ratios_match_e_squared() {
     let sys = s.build();
     for name in ["rapier_impulse", "rapier_multibody"] {
         let dt = 1e-3;
-        let mut integ = springlab::method::create(name, &Default::default()).unwrap();
-        assert!(integ.handles_contacts());
+        let mut stepper = springlab::method::create(name, &Default::default()).unwrap();
+        assert!(stepper.handles_contacts());
         let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
         let out = run(
             &sys,
-            integ.as_mut(),
+            stepper.as_mut(),
             s.initial_state(),
             &RunPlan::for_duration(dt, 1.3),
             &mut m,
@@ -53,12 +53,12 @@ fn rapier_bounce_apex_ratios_match_e_squared() {
 fn rapier_fast_particle_does_not_pass_the_wall() {
     let s = scene("fast_particle_wall.toml");
     let sys = s.build();
-    let mut integ = springlab::method::create("rapier_impulse", &Default::default()).unwrap();
+    let mut stepper = springlab::method::create("rapier_impulse", &Default::default()).unwrap();
     let dt = s.run.dt.unwrap();
     let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         s.initial_state(),
         &RunPlan::new(dt, 50),
         &mut m,

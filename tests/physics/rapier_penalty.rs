@@ -26,12 +26,12 @@ impl Observer for Keep {
 fn states(scene: &Scenario, name: &str, substeps: usize, dt: f64) -> Vec<State> {
     let sys = scene.build();
     let opts = MethodOptions::default().with_substeps(substeps);
-    let mut integ = Registry::builtin().create(name, &opts).unwrap();
-    assert!(integ.check(&sys).is_ok(), "{name} takes penalty contacts");
+    let mut stepper = Registry::builtin().create(name, &opts).unwrap();
+    assert!(stepper.check(&sys).is_ok(), "{name} takes penalty contacts");
     let mut k = Keep(Vec::new());
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         scene.initial_state(),
         &RunPlan::for_duration(dt, 2.0),
         &mut k,

@@ -16,7 +16,7 @@ fn pendulum_rod_period_matches_elliptic_formula() {
     let period = 4.0 * (l / g).sqrt() * elliptic_k((theta0 / 2.0).sin());
     let h = 1e-3;
     let steps = (2.6 * period / h) as u64;
-    for name in BACKENDS {
+    for name in METHODS {
         let (rec, out) = record(&scene, name, h, 4, steps);
         assert!(out.status.is_ok(), "{name}: {:?}", out.status);
         let t: Vec<f64> = rec.energy.iter().map(|e| e.0).collect();

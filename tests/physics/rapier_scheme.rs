@@ -20,7 +20,7 @@ fn free_fall_is_symplectic_euler_at_the_substep() {
         scene.initial_state().v[0],
         scene.build().gravity.unwrap(),
     );
-    for name in BACKENDS {
+    for name in METHODS {
         for (h, n) in [(1.0 / 60.0, 4), (1.0 / 600.0, 1), (0.05, 3)] {
             let (rec, _) = record(&scene, name, h, n, 30);
             let hs = h / n as f64;

@@ -1,10 +1,10 @@
 //! Multibody topology: trees become multibody joints, loops fall back to impulse joints and the
-//! backend says so; impulses reach Rapier after the runner's reset.
+//! method says so; impulses reach Rapier after the runner's reset.
 //! Oracles: graph counting (a connected graph with V vertices has a spanning tree of V−1 edges,
 //! so E − (V − 1) edges close loops); momentum balance of an impulse (Δp = m·Δv).
 use crate::rapier_support;
 use rapier_support::*;
-use springlab::rapier::{FallbackReason, Mode, RapierBackend, Topology, MAX_TREE_PARTICLES};
+use springlab::rapier::{FallbackReason, Mode, RapierStepper, Topology, MAX_TREE_PARTICLES};
 use springlab::scenario::Scenario;
 
 fn small_cloth() -> Scenario {
@@ -24,7 +24,7 @@ fn cloth_loops_fall_back_and_are_reported() {
     let (v, e) = (sys.len(), sys.springs.len());
     assert_eq!(topo.tree.len(), v - 1, "one spanning tree");
     assert_eq!(topo.fallback.len(), e - (v - 1));
-    // Loops make the backend use the smaller tree cap; the note reports that forest.
+    // Loops make the method use the smaller tree cap; the note reports that forest.
     assert_eq!(
         springlab::rapier::tree_cap(&sys),
         springlab::rapier::MAX_TREE_PARTICLES_WITH_LOOPS
@@ -34,14 +34,14 @@ fn cloth_loops_fall_back_and_are_reported() {
         .fallback
         .iter()
         .all(|(_, r)| *r == FallbackReason::Loop));
-    let note = RapierBackend::new(Mode::Multibody, 4)
+    let note = RapierStepper::new(Mode::Multibody, 4)
         .topology_note(&sys)
         .unwrap();
     assert!(
         note.contains(&format!("{} edge(s) fell back", used.fallback.len())),
         "{note}"
     );
-    assert!(RapierBackend::new(Mode::Impulse, 4)
+    assert!(RapierStepper::new(Mode::Impulse, 4)
         .topology_note(&sys)
         .is_none());
     // It runs: a few frames, finite, the pinned corner stays put.
@@ -67,7 +67,7 @@ fn shipped_cloth_reports_its_fallback() {
 fn chain_is_one_tree_without_fallback() {
     let scene = Scenario::from_file("scenarios/hanging_chain.toml").unwrap();
     let sys = scene.build();
-    let note = RapierBackend::new(Mode::Multibody, 4)
+    let note = RapierStepper::new(Mode::Multibody, 4)
         .topology_note(&sys)
         .unwrap();
     assert!(note.contains("no fallback"), "{note}");

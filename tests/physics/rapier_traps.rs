@@ -31,7 +31,7 @@ fn spring_motor_is_force_based() {
         Some(MotorModel::ForceBased)
     );
     let period = 2.0 * std::f64::consts::PI * 4.0_f64.sqrt();
-    for name in BACKENDS {
+    for name in METHODS {
         let h = 1e-2;
         let (rec, _) = record(&scene, name, h, 4, (2.6 * period / h) as u64);
         let t: Vec<f64> = rec.energy.iter().map(|e| e.0).collect();
@@ -78,7 +78,7 @@ fn multibody_default_damping_is_zeroed() {
 #[test]
 fn sleeping_never_freezes_a_spring() {
     let scene = common::oscillator(0.01, 0.0, 0.1, 0.0);
-    for name in BACKENDS {
+    for name in METHODS {
         let (rec, _) = record(&scene, name, 1.0 / 60.0, 4, 360);
         let u = rec.x.last().unwrap()[1].x - 1.0;
         let want = 0.1 * (0.1_f64 * 6.0).cos();
@@ -145,7 +145,7 @@ fn no_default_gravity_no_speed_cap_and_rapier_confined() {
         "coast.toml",
     )
     .unwrap();
-    for name in BACKENDS {
+    for name in METHODS {
         let (rec, _) = record(&scene, name, 0.01, 4, 10);
         let x = rec.x.last().unwrap()[0];
         assert!(
@@ -178,7 +178,7 @@ fn no_default_gravity_no_speed_cap_and_rapier_confined() {
 #[test]
 fn runs_are_bitwise_reproducible() {
     let scene = Scenario::from_file("scenarios/hanging_chain.toml").unwrap();
-    for name in BACKENDS {
+    for name in METHODS {
         let (a, _) = record(&scene, name, 1.0 / 240.0, 4, 40);
         let (b, _) = record(&scene, name, 1.0 / 240.0, 4, 40);
         assert_eq!(a.x, b.x, "{name}");

@@ -29,7 +29,7 @@ fn period_matches_reduced_mass_oscillator() {
     let l0 = sys.springs.l0[0];
     let period = 2.0 * std::f64::consts::PI * (mu / k).sqrt();
     let h = 1e-3;
-    for name in BACKENDS {
+    for name in METHODS {
         let (rec, out) = record(&scene, name, h, 4, (3.5 * period / h) as u64);
         assert!(out.status.is_ok());
         let t: Vec<f64> = rec.energy.iter().map(|e| e.0).collect();

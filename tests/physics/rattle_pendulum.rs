@@ -44,9 +44,9 @@ fn swing(name: &str, dt: f64, seconds: f64) -> Watch {
         max_dev: 0.0,
         xs: vec![(0.0, 1.0)],
     };
-    let mut integ = springlab::method::create(name, &Default::default()).unwrap();
+    let mut stepper = springlab::method::create(name, &Default::default()).unwrap();
     let plan = RunPlan::new(dt, (seconds / dt).round() as u64);
-    let out = run(&sys, integ.as_mut(), s0, &plan, &mut w).unwrap();
+    let out = run(&sys, stepper.as_mut(), s0, &plan, &mut w).unwrap();
     assert!(out.status.is_ok(), "{name} at {dt}");
     w
 }
@@ -130,8 +130,8 @@ fn rattle_refuses_compliant_constraints_and_says_why() {
         "soft.toml",
     )
     .unwrap();
-    let integ = springlab::method::create("rattle", &Default::default()).unwrap();
-    let why = integ.check(&scene.build()).unwrap_err();
+    let stepper = springlab::method::create("rattle", &Default::default()).unwrap();
+    let why = stepper.check(&scene.build()).unwrap_err();
     assert!(why.contains("compliant") && why.contains("spring"), "{why}");
-    assert!(integ.check(&pendulum().build()).is_ok());
+    assert!(stepper.check(&pendulum().build()).is_ok());
 }

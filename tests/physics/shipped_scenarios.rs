@@ -1,12 +1,12 @@
-//! Every shipped scenario parses, builds and runs a few steps with every integrator that
-//! applies to it; integrators that do not apply say why.
+//! Every shipped scenario parses, builds and runs a few steps with every method that
+//! applies to it; methods that do not apply say why.
 
 use crate::common;
 use common::*;
 use springlab::scenario::Scenario;
 
 #[test]
-fn every_shipped_scenario_runs_with_every_applicable_integrator() {
+fn every_shipped_scenario_runs_with_every_applicable_method() {
     let mut files: Vec<_> = std::fs::read_dir("scenarios")
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -23,7 +23,7 @@ fn every_shipped_scenario_runs_with_every_applicable_integrator() {
         let dt = scene.run.dt.expect("shipped scenes give a step");
         let mut ran = 0;
         for name in springlab::method::Registry::builtin().native_names() {
-            let mut i = integ(name);
+            let mut i = stepper(name);
             if let Err(why) = i.check(&sys) {
                 assert!(!why.is_empty());
                 continue;
@@ -41,7 +41,7 @@ fn every_shipped_scenario_runs_with_every_applicable_integrator() {
             assert!(out.final_state.first_non_finite().is_none());
             ran += 1;
         }
-        assert!(ran >= 1, "{}: no integrator applies", scene.name);
+        assert!(ran >= 1, "{}: no method applies", scene.name);
     }
 }
 

@@ -10,7 +10,7 @@ use springlab::scenario::Scenario;
 fn sweep(budget: Option<f64>) -> SweepResult {
     let scene = Scenario::from_file("scenarios/hanging_chain.toml").unwrap();
     let cfg = SweepConfig {
-        integrators: vec!["symplectic_euler".into(), "implicit_euler".into()],
+        methods: vec!["symplectic_euler".into(), "implicit_euler".into()],
         duration: Some(1.0),
         extend: Some(false),
         repeat_short: false,
@@ -27,7 +27,7 @@ fn rows(r: &SweepResult) -> Vec<(String, u64, SweepRow)> {
         .map(|row| {
             let mut x = row.clone();
             x.wall_seconds = 0.0;
-            (row.integrator.clone(), row.dt.to_bits(), x)
+            (row.method.clone(), row.dt.to_bits(), x)
         })
         .collect()
 }

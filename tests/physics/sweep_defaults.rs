@@ -76,7 +76,7 @@ duration = 1.0
 
 fn config(names: &[&str]) -> SweepConfig {
     SweepConfig {
-        integrators: names.iter().map(|s| s.to_string()).collect(),
+        methods: names.iter().map(|s| s.to_string()).collect(),
         repeat_short: false,
         ..Default::default()
     }
@@ -92,16 +92,12 @@ fn check_orders(res: &SweepResult) -> (usize, String) {
     let mut with_order = 0;
     let mut table = String::new();
     for (name, order) in METHODS {
-        let s = sum
-            .integrators
-            .iter()
-            .find(|s| s.integrator == name)
-            .unwrap();
+        let s = sum.methods.iter().find(|s| s.method == name).unwrap();
         table += &format!(
             "{name}: {:?} ({:?}, {:?}) {:?}\n",
             s.observed_order, s.extension_stop, s.fit.reason, s.fit.note
         );
-        let i = plan.integrators.iter().position(|n| n == name).unwrap();
+        let i = plan.methods.iter().position(|n| n == name).unwrap();
         let rows: Vec<(usize, &springlab::measure::sweep::SweepRow)> = res
             .case_indices
             .iter()
@@ -179,7 +175,7 @@ fn rope_never_prints_an_order_off_theory() {
     // largest stable steps is more than 0.15 off its order (else this test would be idle).
     let p = res.plan.dts.len();
     let pre = METHODS.iter().any(|(name, order)| {
-        let i = res.plan.integrators.iter().position(|n| n == name).unwrap();
+        let i = res.plan.methods.iter().position(|n| n == name).unwrap();
         let mut e: Vec<(f64, f64)> = res
             .case_indices
             .iter()
@@ -251,7 +247,7 @@ fn explicit_grid_flags_are_honoured_exactly() {
     let sum = res.summary.unwrap();
     assert_eq!(sum.dts, want);
     assert!(!sum.grid_rule.extend);
-    for s in &sum.integrators {
+    for s in &sum.methods {
         assert_eq!(s.stable_points + s.unstable_points, want.len());
     }
 }

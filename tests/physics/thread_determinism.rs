@@ -31,10 +31,10 @@ fn stepping_is_bit_identical_across_thread_counts() {
         for name in ["symplectic_euler", "rk4", "implicit_euler", "xpbd"] {
             let run = |threads| {
                 in_pool(threads, || {
-                    let mut integ = method::create(name, &Default::default()).unwrap();
+                    let mut stepper = method::create(name, &Default::default()).unwrap();
                     let mut s = scene.initial_state();
                     for _ in 0..3 {
-                        integ.step(&sys, &mut s, 1e-3).unwrap();
+                        stepper.step(&sys, &mut s, 1e-3).unwrap();
                     }
                     s
                 })
@@ -54,7 +54,7 @@ fn stepping_is_bit_identical_across_thread_counts() {
 /// the parallel products) gives the same bits with 1 and 2 threads.
 #[test]
 fn implicit_euler_with_ic0_is_bit_identical_across_thread_counts() {
-    use springlab::integrate::{ImplicitEuler, Integrator, LinearSolver};
+    use springlab::integrate::{ImplicitEuler, LinearSolver, Stepper};
     let scene = cloth(130);
     let sys = scene.build();
     assert!(sys.springs.is_parallel(sys.len()));

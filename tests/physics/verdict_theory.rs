@@ -137,10 +137,10 @@ fn shaken(scene: &Scenario, amp: f64) -> springlab::model::State {
 /// Whether `method` reads stable over `steps` steps of `h` from the shaken scene.
 fn stable(scene: &Scenario, amp: f64, method: &str, h: f64, steps: u64) -> bool {
     let sys = scene.build();
-    let mut integ = springlab::method::create(method, &Default::default()).unwrap();
+    let mut stepper = springlab::method::create(method, &Default::default()).unwrap();
     let out = run(
         &sys,
-        integ.as_mut(),
+        stepper.as_mut(),
         shaken(scene, amp),
         &RunPlan::new(h, steps),
         &mut NoObserver,

@@ -78,7 +78,7 @@ fn the_blown_up_rope_is_not_ok_and_the_stable_rope_is() {
 }
 
 #[test]
-fn a_particle_on_an_incline_is_ok_for_every_backend() {
+fn a_particle_on_an_incline_is_ok_for_every_method() {
     for friction in [1.0, 0.0] {
         let scene = incline(friction);
         let sys = scene.build();
@@ -90,10 +90,10 @@ fn a_particle_on_an_incline_is_ok_for_every_backend() {
             "implicit_euler",
             "rapier_impulse",
         ] {
-            let mut integ = common::integ(name);
+            let mut stepper = common::stepper(name);
             let out = run(
                 &sys,
-                integ.as_mut(),
+                stepper.as_mut(),
                 scene.initial_state(),
                 &RunPlan::new(0.01, 100),
                 &mut NoObserver,
@@ -120,7 +120,7 @@ fn map_cells_above(scene: &Scenario, rho_min: f64) -> (usize, usize) {
                 stable += 1;
                 eprintln!(
                     "{} at k×{}, hω = {}: ρ = {:?} called stable",
-                    r.integrator, r.stiffness_scale, r.h_omega, r.spectral_radius
+                    r.method, r.stiffness_scale, r.h_omega, r.spectral_radius
                 );
             }
         }

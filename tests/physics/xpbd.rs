@@ -3,7 +3,7 @@
 //! α = 1/k), a rigid rod kept to rounding, and Gauss–Seidel convergence on a rod chain.
 
 use crate::common;
-use springlab::integrate::{Integrator, Xpbd};
+use springlab::integrate::{Stepper, Xpbd};
 use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;

@@ -26,7 +26,7 @@ impl Observer for Record {
     }
 }
 
-/// Runs backend `name` with `substeps` on `scene` for `steps` frames of `h`, recording.
+/// Runs method `name` with `substeps` on `scene` for `steps` frames of `h`, recording.
 pub fn record(
     scene: &Scenario,
     name: &str,
@@ -36,8 +36,8 @@ pub fn record(
 ) -> (Record, RunOutcome) {
     let sys = scene.build();
     let opts = MethodOptions::default().with_substeps(substeps);
-    let mut i = springlab::method::create(name, &opts).expect("backend");
-    i.check(&sys).expect("backend accepts the scene");
+    let mut i = springlab::method::create(name, &opts).expect("method");
+    i.check(&sys).expect("method accepts the scene");
     let mut rec = Record::default();
     let out = run(
         &sys,
@@ -74,5 +74,5 @@ pub fn elliptic_k(k: f64) -> f64 {
     std::f64::consts::PI / (2.0 * a)
 }
 
-/// The two backends.
-pub const BACKENDS: [&str; 2] = ["rapier_impulse", "rapier_multibody"];
+/// The two methods.
+pub const METHODS: [&str; 2] = ["rapier_impulse", "rapier_multibody"];

@@ -34,7 +34,7 @@
 mod colouring;
 mod link;
 
-use super::{ensure_len, Integrator, StepStats};
+use super::{ensure_len, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::parallel::{each_particle, each_particle2, sum_partials, SPRING_CHUNK};
 use crate::model::{State, System, Vec3, PARALLEL_MIN_SPRINGS};
@@ -165,7 +165,7 @@ impl Xpbd {
     }
 }
 
-impl Integrator for Xpbd {
+impl Stepper for Xpbd {
     fn name(&self) -> &str {
         "xpbd"
     }

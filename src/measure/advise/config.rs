@@ -18,11 +18,11 @@ pub struct AdviseConfig {
     pub metric: Option<Metric>,
     /// Horizon (s; default the scene's duration).
     pub horizon: Option<f64>,
-    /// Candidates (empty: every applicable integrator except the closed form).
-    pub integrators: Vec<String>,
+    /// Candidates (empty: every applicable method except the closed form).
+    pub methods: Vec<String>,
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub registry: Registry,
-    /// Integrator options.
+    /// Method options.
     pub options: MethodOptions,
     /// Predictions aim at tolerance / safety (default 2).
     pub safety: f64,
@@ -57,7 +57,7 @@ impl Default for AdviseConfig {
             tolerance: None,
             metric: None,
             horizon: None,
-            integrators: vec![],
+            methods: vec![],
             registry: Registry::builtin(),
             options: MethodOptions::default(),
             safety: 2.0,

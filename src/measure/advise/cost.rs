@@ -1,5 +1,5 @@
 //! The cost advice ranks by: modelled seconds per simulated second ([`crate::run::cost`]: the
-//! run's counted work priced per item), a unit every backend shares (a Rapier backend has no
+//! run's counted work priced per item), a unit every method shares (a Rapier method has no
 //! force-evaluation count, so counting force evaluations would make it look free; its frames
 //! are priced by its own model). Being counted, not clocked, it ranks the same on every re-run
 //! and every machine. Force evaluations per simulated second stay beside it for the native
@@ -79,28 +79,28 @@ impl CostMeasure {
                 wall_time: "median over repetitions, shown beside the ranking measure; it decides nothing",
                 repetitions: rule.min_repetitions,
                 rule: *rule,
-                schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh integrator, no observer, the runner's integrator wall time",
+                schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh method, no observer, the runner's stepping wall time",
             },
             tie_band: TIE_BAND,
             tie_rule: format!(
                 "modelled costs within {:.0} % of the cheapest remaining candidate tie; a tie is broken by force evaluations per simulated second (a method with a count before one without), then by name",
                 TIE_BAND * 100.0
             ),
-            secondary: "force evaluations per simulated second (cost_per_second), null for a method without that count (Rapier backends, closed forms)",
+            secondary: "force evaluations per simulated second (cost_per_second), null for a method without that count (Rapier methods, closed forms)",
         }
     }
 }
 
-/// Force evaluations per simulated second of `integrator` over `simulated` seconds, or null
+/// Force evaluations per simulated second of `method` over `simulated` seconds, or null
 /// with the reason for a method whose registered cost unit is the modelled cost only (a physics
 /// engine, a closed form): it has no force-evaluation count, and 0 would read as free.
 pub fn force_evals_per_second(
     registry: &Registry,
-    integrator: &str,
+    method: &str,
     force_evals: u64,
     simulated: f64,
 ) -> Result<(Option<f64>, Option<String>)> {
-    let info = registry.info(integrator)?;
+    let info = registry.info(method)?;
     Ok(match info.cost {
         CostUnit::ForceEvaluations => (Some(force_evals as f64 / simulated), None),
         CostUnit::ModelledOnly => (
@@ -117,8 +117,8 @@ pub fn force_evals_per_second(
 /// What [`rank`] compares for one candidate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CostKey {
-    /// Integrator or backend name.
-    pub integrator: String,
+    /// Method name.
+    pub method: String,
     /// Modelled seconds per simulated second (s/s).
     pub modelled_per_second: f64,
     /// Force evaluations per simulated second (None: no count).
@@ -164,7 +164,7 @@ fn tie_order(a: &CostKey, b: &CostKey) -> std::cmp::Ordering {
         (None, Some(_)) => Greater,
         (None, None) => Equal,
     };
-    by_evals.then_with(|| a.integrator.cmp(&b.integrator))
+    by_evals.then_with(|| a.method.cmp(&b.method))
 }
 
 /// Orders `keys` cheapest first (indices into `keys`) by the rule in the module docs, and says
@@ -176,10 +176,10 @@ pub fn rank(keys: &[CostKey], scenario: &str) -> Result<(Vec<usize>, Option<Pick
         .find(|k| !(k.modelled_per_second.is_finite() && k.modelled_per_second > 0.0))
     {
         return Err(Error::Unsupported {
-            integrator: k.integrator.clone(),
+            method: k.method.clone(),
             scenario: scenario.to_string(),
             reason: format!(
-                "modelled seconds per simulated second is {}: a failed count, not a cost (no backend is free)",
+                "modelled seconds per simulated second is {}: a failed count, not a cost (no method is free)",
                 k.modelled_per_second
             ),
         });
@@ -189,7 +189,7 @@ pub fn rank(keys: &[CostKey], scenario: &str) -> Result<(Vec<usize>, Option<Pick
         keys[a]
             .modelled_per_second
             .total_cmp(&keys[b].modelled_per_second)
-            .then_with(|| keys[a].integrator.cmp(&keys[b].integrator))
+            .then_with(|| keys[a].method.cmp(&keys[b].method))
     });
     let mut order = Vec::with_capacity(keys.len());
     let mut picked_by = None;
@@ -230,7 +230,7 @@ mod tests {
 
     fn key(name: &str, cost: f64, evals: Option<f64>) -> CostKey {
         CostKey {
-            integrator: name.into(),
+            method: name.into(),
             modelled_per_second: cost,
             force_evals_per_second: evals,
         }
@@ -238,7 +238,7 @@ mod tests {
 
     fn names(keys: &[CostKey]) -> Vec<String> {
         let (order, _) = rank(keys, "test").unwrap();
-        order.iter().map(|&i| keys[i].integrator.clone()).collect()
+        order.iter().map(|&i| keys[i].method.clone()).collect()
     }
 
     // Oracle: the rule as stated in the module docs, applied by hand to each input.

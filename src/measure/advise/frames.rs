@@ -16,11 +16,11 @@ pub const FRAME_RATES: [f64; 4] = [30.0, 60.0, 144.0, 240.0];
 /// Why an entry that fails the tolerance has no wall time.
 const NOT_TIMED: &str = "not timed: the substepped run does not meet the tolerance";
 
-/// How one integrator fares at one frame rate.
+/// How one method fares at one frame rate.
 #[derive(Debug, Clone, Serialize)]
 pub struct FrameEntry {
-    /// Integrator name.
-    pub integrator: String,
+    /// Method name.
+    pub method: String,
     /// Status with one step per frame.
     pub one_step_status: crate::run::RunStatus,
     /// Error with one step per frame (None when unstable).
@@ -41,7 +41,7 @@ pub struct FrameEntry {
     pub wall_per_second_reason: Option<String>,
     /// The repeated timing behind `wall_per_second`.
     pub timing: Option<WallTimes>,
-    /// Force evaluations per simulated second at that many substeps; null for a backend that
+    /// Force evaluations per simulated second at that many substeps; null for a method that
     /// has no such count.
     pub cost_per_second: Option<f64>,
     /// Why `cost_per_second` is null.
@@ -55,11 +55,11 @@ pub struct FrameRate {
     pub fps: f64,
     /// Frame time (s).
     pub frame_dt: f64,
-    /// Cheapest integrator meeting the tolerance at this frame rate, by the advice's cost.
+    /// Cheapest method meeting the tolerance at this frame rate, by the advice's cost.
     pub best: Option<String>,
     /// Which rule made `best` the cheapest.
     pub picked_by: Option<PickedBy>,
-    /// Per integrator.
+    /// Per method.
     pub entries: Vec<FrameEntry>,
 }
 
@@ -141,7 +141,7 @@ impl FramePlan {
                         )?;
                         let meets = se.is_some_and(|e| e <= judge.bound);
                         Ok(FrameEntry {
-                            integrator: name.clone(),
+                            method: name.clone(),
                             one_step_status: one.status,
                             one_step_error: judge.error(one),
                             substeps: self.substeps[fi][pi],
@@ -171,10 +171,10 @@ impl FramePlan {
     }
 
     /// The substepped run of entry `pi` at frame rate `fi`.
-    fn run_of(&self, fi: usize, pi: usize, integrator: &str) -> TimedRun {
+    fn run_of(&self, fi: usize, pi: usize, method: &str) -> TimedRun {
         let n = self.substeps[fi][pi];
         TimedRun {
-            integrator: integrator.to_string(),
+            method: method.to_string(),
             dt: (1.0 / self.rates[fi]) / n as f64,
             steps: self.frames[fi] * n,
             substeps: None,
@@ -187,7 +187,7 @@ impl FramePlan {
         for (fi, fr) in view.iter().enumerate() {
             for (pi, e) in fr.entries.iter().enumerate() {
                 if e.meets_tolerance {
-                    out.push(self.run_of(fi, pi, &e.integrator));
+                    out.push(self.run_of(fi, pi, &e.method));
                 }
             }
         }
@@ -206,7 +206,7 @@ impl FramePlan {
                 if !e.meets_tolerance {
                     continue;
                 }
-                let r = self.run_of(fi, pi, &e.integrator);
+                let r = self.run_of(fi, pi, &e.method);
                 let t = timing_of(&r);
                 e.wall_per_second = Some(t.median_seconds / (r.dt * r.steps as f64));
                 e.timing = Some(t);
@@ -225,14 +225,11 @@ fn cheapest(entries: &[FrameEntry], scenario: &str) -> Result<(Option<String>, O
     let keys: Vec<CostKey> = meeting
         .iter()
         .map(|e| CostKey {
-            integrator: e.integrator.clone(),
+            method: e.method.clone(),
             modelled_per_second: e.modelled_per_second.unwrap_or(f64::NAN),
             force_evals_per_second: e.cost_per_second,
         })
         .collect();
     let (order, picked_by) = rank(&keys, scenario)?;
-    Ok((
-        order.first().map(|&k| meeting[k].integrator.clone()),
-        picked_by,
-    ))
+    Ok((order.first().map(|&k| meeting[k].method.clone()), picked_by))
 }

@@ -1,4 +1,4 @@
-//! Timestep advice: the cheapest integrator and step whose error over a horizon stays within
+//! Timestep advice: the cheapest method and step whose error over a horizon stays within
 //! a tolerance, verified by running it, with alternatives and the frame-rate view for games.
 //!
 //! Method: every candidate runs on a log grid of steps against one reference; for each, the
@@ -8,7 +8,7 @@
 //! within the tolerance, else the last passing grid step is used. Candidates are ranked by
 //! modelled seconds per simulated second (the run's counted work, priced: [`crate::run::cost`]),
 //! with force evaluations per simulated second beside it and breaking ties ([`cost`]): a Rapier
-//! backend has no force-evaluation count, and counting them would make it look free. The
+//! method has no force-evaluation count, and counting them would make it look free. The
 //! median wall time of repeated interleaved runs is shown beside it.
 //!
 //! Every number in [`Advice`] is reproducible bit for bit, the ranking and the pick included,
@@ -41,8 +41,8 @@ use serde::Serialize;
 /// One candidate's recommendation.
 #[derive(Debug, Clone, Serialize)]
 pub struct Choice {
-    /// Integrator name.
-    pub integrator: String,
+    /// Method name.
+    pub method: String,
     /// Recommended step (s).
     pub dt: f64,
     /// Error predicted for that step from the grid.
@@ -51,9 +51,9 @@ pub struct Choice {
     pub verified_error: f64,
     /// Modelled seconds per simulated second (s/s): what candidates are ranked by.
     pub modelled_per_second: f64,
-    /// Median integrator wall time per simulated second (s/s), shown beside it.
+    /// Median stepping wall time per simulated second (s/s), shown beside it.
     pub wall_per_second: f64,
-    /// Force evaluations per simulated second; null for a backend without such a count.
+    /// Force evaluations per simulated second; null for a method without such a count.
     pub cost_per_second: Option<f64>,
     /// Why `cost_per_second` is null.
     pub cost_per_second_reason: Option<String>,
@@ -92,7 +92,7 @@ pub struct Advice {
     /// Which rule of the ranking made the pick (None when there is no pick).
     pub picked_by: Option<PickedBy>,
     /// The pick (None when nothing meets the tolerance on the grid).
-    pub integrator: Option<String>,
+    pub method: Option<String>,
     /// Its step (s).
     pub dt: Option<f64>,
     /// Its predicted error.
@@ -128,9 +128,9 @@ impl Choice {
         timing: WallTimes,
     ) -> Result<Self> {
         let simulated = c.dt * c.steps as f64;
-        let (cost, why) = force_evals_per_second(registry, &c.integrator, c.force_evals, simulated)?;
+        let (cost, why) = force_evals_per_second(registry, &c.method, c.force_evals, simulated)?;
         Ok(Choice {
-            integrator: c.integrator.clone(),
+            method: c.method.clone(),
             dt: c.dt,
             predicted_error: pred,
             verified_error: judge.error(c).unwrap_or(f64::INFINITY),
@@ -150,7 +150,7 @@ fn rank_choices(choices: Vec<Choice>, scenario: &str) -> Result<(Vec<Choice>, Op
     let keys: Vec<CostKey> = choices
         .iter()
         .map(|c| CostKey {
-            integrator: c.integrator.clone(),
+            method: c.method.clone(),
             modelled_per_second: c.modelled_per_second,
             force_evals_per_second: c.cost_per_second,
         })
@@ -305,7 +305,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     // Timing: every chosen run and every frame entry that meets the tolerance, once each,
     // interleaved on this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
-        integrator: c.integrator.clone(),
+        method: c.method.clone(),
         dt: c.dt,
         steps: c.steps,
         substeps: None,
@@ -335,12 +335,12 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     plan.apply_timings(&mut view, &timing_of);
     let pick = alternatives.first().cloned();
-    let asked = super::case::asked_or_all(&cfg.registry, &cfg.integrators);
+    let asked = super::case::asked_or_all(&cfg.registry, &cfg.methods);
     let command = super::command::CommandLine::new("advise", &scene.source)
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
         .flag("horizon", horizon)
-        .list("integrators", &asked)
+        .list("methods", &asked)
         .flag("safety", cfg.safety)
         .flag("points", cfg.points)
         .flag_opt("dt-min", cfg.dt_min)
@@ -362,7 +362,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         safety: cfg.safety,
         cost: CostMeasure::new(&cfg.timing),
         picked_by,
-        integrator: pick.as_ref().map(|p| p.integrator.clone()),
+        method: pick.as_ref().map(|p| p.method.clone()),
         dt: pick.as_ref().map(|p| p.dt),
         predicted_error: pick.as_ref().map(|p| p.predicted_error),
         verified_error: pick.as_ref().map(|p| p.verified_error),
@@ -397,7 +397,7 @@ pub fn expect_table(adv: &Advice) -> Option<crate::scenario::file::ExpectSpec> {
     let pick = adv.alternatives.first()?;
     let relative = adv.position_tolerance.value / adv.reference.motion_scale;
     Some(crate::scenario::file::ExpectSpec {
-        integrator: pick.integrator.clone(),
+        method: pick.method.clone(),
         hz: None,
         dt: Some(pick.dt),
         substeps: Some(1),

@@ -192,9 +192,9 @@ pub(super) fn candidates(
     cfg: &AdviseConfig,
     grid: &[(f64, u64)],
 ) -> Result<(Vec<String>, Vec<Unable>)> {
-    let (mut names, mut unable) = applicable(&cfg.registry, sys, &cfg.integrators, &cfg.options)?;
-    if cfg.integrators.is_empty() {
-        // Exact methods are closed forms for special scenes, not general integrators.
+    let (mut names, mut unable) = applicable(&cfg.registry, sys, &cfg.methods, &cfg.options)?;
+    if cfg.methods.is_empty() {
+        // Exact methods are closed forms for special scenes, not general methods.
         let exact: Vec<String> = names
             .iter()
             .filter(|n| cfg.registry.info(n).is_ok_and(|m| m.order == Order::Exact))
@@ -202,7 +202,7 @@ pub(super) fn candidates(
             .collect();
         for n in exact {
             names.retain(|m| *m != n);
-            unable.push((n, "closed form for this scene only, not a general integrator (ask for it with --integrators to include it)".into()));
+            unable.push((n, "closed form for this scene only, not a general method (ask for it with --methods to include it)".into()));
         }
     }
     if let Some(b) = cfg.budget_seconds {

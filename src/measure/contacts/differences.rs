@@ -5,15 +5,15 @@
 use super::{ContactReport, CONTACT_GAP};
 pub use crate::rapier::{Difference, DifferenceKind, DIFFERENCES};
 
-/// True for the backends some difference applies to (Rapier's).
-pub fn is_rapier(backend: &str) -> bool {
-    DIFFERENCES.iter().any(|d| d.shown_by(backend))
+/// True for the methods some difference applies to (Rapier's).
+pub fn is_rapier(method: &str) -> bool {
+    DIFFERENCES.iter().any(|d| d.shown_by(method))
 }
 
-/// The figure `c` (a run of `backend`) gives for difference `d`, `None` when the run measured
-/// nothing of it (or `d` does not apply to `backend`).
-pub fn measured(d: &Difference, backend: &str, c: &ContactReport) -> Option<String> {
-    if !d.shown_by(backend) || !d.applies_to(c.response) {
+/// The figure `c` (a run of `method`) gives for difference `d`, `None` when the run measured
+/// nothing of it (or `d` does not apply to `method`).
+pub fn measured(d: &Difference, method: &str, c: &ContactReport) -> Option<String> {
+    if !d.shown_by(method) || !d.applies_to(c.response) {
         return None;
     }
     match d.kind {

@@ -6,7 +6,7 @@
 //!   projection the expectation is the obstacle's e, no penetration and no duration; for
 //!   penalty it is the contact ODE with gravity along the normal, solved per impact from the
 //!   measured approach speed ([`crate::collide::penalty_impact`]);
-//! - impacts are found the same way for every backend, from each particle's state relative to
+//! - impacts are found the same way for every method, from each particle's state relative to
 //!   its nearest obstacle: touching (gap below [`CONTACT_GAP`], which covers an engine's
 //!   resting gap) and leaving, or an approach reversed into a separation between two samples
 //!   near the obstacle without a sample in contact (an engine's speculative contact);

@@ -1,13 +1,13 @@
-//! The game question: at each frame rate, how does each backend fare with one step per frame,
+//! The game question: at each frame rate, how does each method fare with one step per frame,
 //! and how many substeps per frame does it need to stay stable and within a position
 //! tolerance — at what cost per frame?
 //!
 //! Method: one reference (exact impulses, [`super::reference`]) sampled on every rate's frame
-//! grid; per backend and rate, the run at 1 substep, then the fewest substeps that is stable
+//! grid; per method and rate, the run at 1 substep, then the fewest substeps that is stable
 //! and meets the tolerance ([`search::fewest_substeps`]: doubling, then bisection, up to
 //! `max_substeps`, and in a budgeted study up to a cost cap in particle-steps). A substep
-//! means the same for every backend ([`crate::run::RunPlan`]): native methods take n equal
-//! steps per frame, Rapier backends n solver substeps. Position error and energy drift are
+//! means the same for every method ([`crate::run::RunPlan`]): native methods take n equal
+//! steps per frame, Rapier methods n solver substeps. Position error and energy drift are
 //! compare's metrics ([`super::metrics`]); the runs of the table are then timed like advice's
 //! candidates ([`super::case::time_interleaved`], on one thread after every accuracy run).
 //!
@@ -59,11 +59,11 @@ pub struct FramerateConfig {
     /// An ensemble already made for this scene over the same run (the study passes
     /// compare's); None: made here when the statistics metric needs it.
     pub ensemble: Option<Ensemble>,
-    /// Backends (empty: every applicable one except closed forms).
-    pub integrators: Vec<String>,
+    /// Methods (empty: every applicable one except closed forms).
+    pub methods: Vec<String>,
     /// The methods to choose from.
     pub registry: Registry,
-    /// Integrator options (`substeps` is searched, not read).
+    /// Method options (`substeps` is searched, not read).
     pub options: MethodOptions,
     /// Simulated time (s; default the scene's duration).
     pub duration: Option<f64>,
@@ -90,7 +90,7 @@ impl Default for FramerateConfig {
             tolerance: None,
             metric: None,
             ensemble: None,
-            integrators: vec![],
+            methods: vec![],
             registry: Registry::builtin(),
             options: MethodOptions::default(),
             duration: None,
@@ -161,9 +161,9 @@ pub struct Framerate {
     pub cost_cap: Option<f64>,
     /// How the runs were timed.
     pub timing: TimingRule,
-    /// Per backend, per rate (backends in the order asked, rates as given).
+    /// Per method, per rate (methods in the order asked, rates as given).
     pub entries: Vec<RateEntry>,
-    /// Backends that cannot run the scene, with the reason.
+    /// Methods that cannot run the scene, with the reason.
     pub skipped: Vec<(String, String)>,
     /// Set when the reference's own uncertainty before its predictability horizon exceeds
     /// the position tolerance: then no run can be verified to it, and "none" means that.
@@ -203,9 +203,13 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
 }
 
 /// The measured part of a run (timing filled in later).
-fn frame_run(registry: &Registry, c: &CaseResult, substeps: u64, judge: &Judge) -> Result<FrameRun> {
-    let (evals, why) =
-        force_evals_per_second(registry, &c.integrator, c.force_evals, c.steps as f64)?;
+fn frame_run(
+    registry: &Registry,
+    c: &CaseResult,
+    substeps: u64,
+    judge: &Judge,
+) -> Result<FrameRun> {
+    let (evals, why) = force_evals_per_second(registry, &c.method, c.force_evals, c.steps as f64)?;
     Ok(FrameRun {
         substeps,
         status: c.status,
@@ -353,7 +357,7 @@ fn no_fewest_note(
     }
 }
 
-/// Measures every backend at every frame rate: per method and rate, the fewest substeps that
+/// Measures every method at every frame rate: per method and rate, the fewest substeps that
 /// meet the tolerance.
 // Long because the per-rate search runs as one parallel closure over the shared reference, judge and settings; its validation and notes are separate functions.
 pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
@@ -362,8 +366,8 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let s0 = scene.initial_state();
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
     let frames = frames_per_rate(scene, cfg, duration)?;
-    let (mut names, mut skipped) = applicable(&cfg.registry, &sys, &cfg.integrators, &cfg.options)?;
-    if cfg.integrators.is_empty() {
+    let (mut names, mut skipped) = applicable(&cfg.registry, &sys, &cfg.methods, &cfg.options)?;
+    if cfg.methods.is_empty() {
         // Closed forms solve special scenes exactly; they are not a frame-rate choice.
         names.retain(|n| cfg.registry.info(n).is_ok_and(|m| m.order != Order::Exact));
     }
@@ -449,7 +453,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                 .then(|| no_fewest_note(cfg, largest, floors[r], judge.tolerance.value));
             pb.inc(1);
             Ok(RateEntry {
-                backend: name.clone(),
+                method: name.clone(),
                 hz: cfg.rates[r],
                 frame_dt: 1.0 / cfg.rates[r],
                 frames: frames[r],
@@ -469,7 +473,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
         .list(
-            "integrators",
+            "methods",
             &names
                 .iter()
                 .chain(skipped.iter().map(|s| &s.0))

@@ -1,10 +1,10 @@
-//! The frame-rate table's rows: one backend at one rate, with its one-substep run and the
+//! The frame-rate table's rows: one method at one rate, with its one-substep run and the
 //! fewest substeps that meet the bound.
 
 use crate::measure::case::WallTimes;
 use serde::Serialize;
 
-/// Which run of a backend at a rate a row is.
+/// Which run of a method at a rate a row is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RowKind {
@@ -24,7 +24,7 @@ impl RowKind {
     }
 }
 
-/// One measured run: a backend at a frame rate with some substeps per frame.
+/// One measured run: a method at a frame rate with some substeps per frame.
 #[derive(Debug, Clone, Serialize)]
 pub struct FrameRun {
     /// Substeps per frame.
@@ -42,11 +42,11 @@ pub struct FrameRun {
     /// Modelled seconds per frame ([`crate::run::cost`]): what "the cheapest that does"
     /// ranks by; null for an unstable run.
     pub modelled_seconds_per_frame: Option<f64>,
-    /// Median integrator wall time per frame (s); null for an unstable run (not timed).
+    /// Median stepping wall time per frame (s); null for an unstable run (not timed).
     pub wall_seconds_per_frame: Option<f64>,
     /// The repeated timing behind it.
     pub timing: Option<WallTimes>,
-    /// Force evaluations per frame; null for a backend without such a count.
+    /// Force evaluations per frame; null for a method without such a count.
     pub force_evals_per_frame: Option<f64>,
     /// Why `force_evals_per_frame` is null.
     pub force_evals_reason: Option<String>,
@@ -56,11 +56,11 @@ pub struct FrameRun {
     pub unstable_reason: Option<String>,
 }
 
-/// One backend at one frame rate.
+/// One method at one frame rate.
 #[derive(Debug, Clone, Serialize)]
 pub struct RateEntry {
-    /// Backend name.
-    pub backend: String,
+    /// Method name.
+    pub method: String,
     /// Frame rate (Hz).
     pub hz: f64,
     /// Frame step (s).

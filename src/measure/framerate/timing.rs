@@ -1,5 +1,5 @@
 //! Timing the frame-rate table's runs, like advice's candidates: on one thread after every
-//! accuracy run, interleaved round-robin, each repetition a fresh integrator.
+//! accuracy run, interleaved round-robin, each repetition a fresh method.
 
 use super::rows::{FrameRun, RateEntry};
 use crate::error::Result;
@@ -26,7 +26,7 @@ pub(super) fn time_entries(
     rule: &TimingRule,
 ) -> Result<()> {
     let run_of = |e: &RateEntry, r: &FrameRun| TimedRun {
-        integrator: e.backend.clone(),
+        method: e.method.clone(),
         dt: e.frame_dt,
         steps: e.frames,
         substeps: Some(r.substeps),
@@ -46,7 +46,7 @@ pub(super) fn time_entries(
         let (one, fewest) = (&mut e.one_substep, &mut e.fewest);
         for r in std::iter::once(one).chain(fewest.as_mut()) {
             let t = TimedRun {
-                integrator: e.backend.clone(),
+                method: e.method.clone(),
                 dt: e.frame_dt,
                 steps: e.frames,
                 substeps: Some(r.substeps),

@@ -6,8 +6,8 @@ use crate::measure::command::with_out;
 use crate::output::write_document;
 use std::path::{Path, PathBuf};
 
-/// The header of `framerate.csv`: two rows per backend and rate (`one_substep`, `fewest`).
-pub const FRAMERATE_HEADER: &str = "backend,hz,row,substeps,status,meets_tolerance,error,max_position_error,energy_drift,modelled_seconds_per_frame,wall_seconds_per_frame,force_evals_per_frame,unstable_time,note";
+/// The header of `framerate.csv`: two rows per method and rate (`one_substep`, `fewest`).
+pub const FRAMERATE_HEADER: &str = "method,hz,row,substeps,status,meets_tolerance,error,max_position_error,energy_drift,modelled_seconds_per_frame,wall_seconds_per_frame,force_evals_per_frame,unstable_time,note";
 
 fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -22,7 +22,7 @@ fn row(e: &RateEntry, kind: RowKind, r: Option<&FrameRun>) -> String {
     match r {
         Some(r) => format!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            e.backend,
+            e.method,
             e.hz,
             kind.label(),
             r.substeps,
@@ -39,7 +39,7 @@ fn row(e: &RateEntry, kind: RowKind, r: Option<&FrameRun>) -> String {
         ),
         None => format!(
             "{},{},{},,not_reached,false,,,,,,,,{}",
-            e.backend,
+            e.method,
             e.hz,
             kind.label(),
             csv_text(e.fewest_note.as_deref().unwrap_or("")),

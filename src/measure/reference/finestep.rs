@@ -2,7 +2,7 @@
 //! `projection` response: positions are pushed out and velocities re-derived after each step,
 //! a rule defined only for a discrete step).
 //!
-//! The scene is run with [`FINE_INTEGRATOR`] and the scene's own contact stage at steps
+//! The scene is run with [`FINE_METHOD`] and the scene's own contact stage at steps
 //! h₀, h₀/2, h₀/4, … (h₀ = half the finest requested grid step, at most the horizon / 1000),
 //! landing exactly on every sample time and impulse. Refinement stops when two successive
 //! levels agree to [`FINE_AGREEMENT`] × the motion scale, after [`FINE_LEVELS_MAX`] levels, or
@@ -19,8 +19,8 @@ use crate::method::create as by_name;
 use crate::method::MethodOptions;
 use crate::model::{State, System, Vec3};
 
-/// The integrator of the fine-step reference.
-pub const FINE_INTEGRATOR: &str = "rk4";
+/// The method of the fine-step reference.
+pub const FINE_METHOD: &str = "rk4";
 /// Agreement of two successive levels (relative to the motion scale) that ends refinement.
 pub const FINE_AGREEMENT: f64 = 1e-6;
 /// Most refinement levels.
@@ -60,7 +60,7 @@ fn run_at(
     Ok((out, evals))
 }
 
-/// One run of the fine-step integrator with its contact stage at step `h` from `s0` to
+/// One run of the fine-step method with its contact stage at step `h` from `s0` to
 /// `horizon`, calling `sink(i, state)` at each of the sorted `times` (steps shortened to land
 /// on them); returns the force evaluations. The fine-step reference and its ensemble members
 /// ([`super::ensemble`]) are both this loop: a reference run is not a [`crate::run::run`] (its
@@ -73,7 +73,7 @@ pub(super) fn run_with(
     h: f64,
     sink: &mut dyn FnMut(usize, &State),
 ) -> Result<u64> {
-    let mut integ = by_name(FINE_INTEGRATOR, &MethodOptions::default())?;
+    let mut stepper = by_name(FINE_METHOD, &MethodOptions::default())?;
     let mut s = s0.clone();
     s.t = 0.0;
     let mut next = 0;
@@ -82,7 +82,7 @@ pub(super) fn run_with(
     let eps = 1e-9 * h;
     let mut x0 = s.x.clone();
     let mut v0 = s.v.clone();
-    integ.reset();
+    stepper.reset();
     loop {
         while next < times.len() && times[next] <= s.t + eps {
             sink(next, &s);
@@ -91,7 +91,7 @@ pub(super) fn run_with(
         while imp < sys.impulses.len() && sys.impulses[imp].time <= s.t + eps {
             let im = sys.impulses[imp];
             s.v[im.particle] += im.delta_v;
-            integ.reset();
+            stepper.reset();
             imp += 1;
         }
         if s.t >= horizon - eps {
@@ -107,16 +107,16 @@ pub(super) fn run_with(
         let step = target - s.t;
         x0.clone_from(&s.x);
         v0.clone_from(&s.v);
-        evals += integ.step(sys, &mut s, step)?.force_evals;
+        evals += stepper.step(sys, &mut s, step)?.force_evals;
         if let Some(c) = &sys.post_step {
             if c.apply(sys, &x0, &v0, &mut s, step).changed {
-                integ.reset();
+                stepper.reset();
             }
         }
         s.t = target;
         if !s.x.iter().all(|x| x.iter().all(|c| c.is_finite())) {
             return Err(Error::Step(format!(
-                "fine-step reference ({FINE_INTEGRATOR} at {h:e} s) blew up at t = {}",
+                "fine-step reference ({FINE_METHOD} at {h:e} s) blew up at t = {}",
                 s.t
             )));
         }

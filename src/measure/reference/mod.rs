@@ -36,7 +36,7 @@ pub mod uncertainty;
 use super::grid::TimeGrid;
 use crate::collide::Response;
 use crate::error::Result;
-use crate::integrate::{Analytic, Integrator};
+use crate::integrate::{Analytic, Stepper};
 use crate::model::{State, System, Vec3};
 use adaptive::{length_scale, solve};
 use rhs::unpack_x;
@@ -142,7 +142,7 @@ pub struct Reference {
     strain_until: Vec<std::sync::OnceLock<Vec<f64>>>,
 }
 
-/// True when the scene has a closed form (the `analytic` integrator accepts it).
+/// True when the scene has a closed form (the `analytic` method accepts it).
 pub fn has_closed_form(sys: &System) -> bool {
     Analytic::default().check(sys).is_ok()
 }
@@ -564,7 +564,7 @@ impl Reference {
         self.info.kind = "fine_step".into();
         self.info.description = format!(
             "the scene's projection contacts have no continuous counterpart: {} with the scene's contact stage at successively halved steps until two levels agree to {:e} x the motion scale (finest step {:e} s, {} levels)",
-            finestep::FINE_INTEGRATOR, finestep::FINE_AGREEMENT, fine.step, fine.levels
+            finestep::FINE_METHOD, finestep::FINE_AGREEMENT, fine.step, fine.levels
         );
         Ok(())
     }

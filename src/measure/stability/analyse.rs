@@ -2,21 +2,21 @@
 
 use super::empirical::{empirical_limit, searches_over_budget, EmpiricalCriterion};
 use super::theory::{theory_limit, Limit, RHO_TOL, SCAN_MAX, SCAN_MIN};
-use super::{IntegratorStability, StabilityConfig, StabilityReport, Verdict};
+use super::{MethodStability, StabilityConfig, StabilityReport, Verdict};
 use crate::error::{Error, Result};
 use crate::measure::modes::{modes, Modes};
 use crate::method::StabilityTheory;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
 
-/// Analyses every applicable integrator on `scene`: the linear theory per method, then the
+/// Analyses every applicable method on `scene`: the linear theory per method, then the
 /// empirical searches the budget allows, in parallel, each method judged by [`analyse_one`].
 pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityReport> {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let ms = modes(&sys, &s0);
     let (names, skipped) =
-        crate::measure::case::applicable(&cfg.registry, &sys, &cfg.integrators, &cfg.options)?;
+        crate::measure::case::applicable(&cfg.registry, &sys, &cfg.methods, &cfg.options)?;
     let horizon = horizon(scene, cfg, &ms)?;
     let crit = EmpiricalCriterion {
         horizon,
@@ -44,7 +44,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         &format!("stability {}", scene.name),
         cfg.progress,
     );
-    let results: Vec<Result<IntegratorStability>> = names
+    let results: Vec<Result<MethodStability>> = names
         .par_iter()
         .enumerate()
         .map(|(k, name)| {
@@ -60,9 +60,9 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         .inspect(|_| pb.inc(1))
         .collect();
     pb.finish_and_clear();
-    let asked = crate::measure::case::asked_or_all(&cfg.registry, &cfg.integrators);
+    let asked = crate::measure::case::asked_or_all(&cfg.registry, &cfg.methods);
     let command = crate::measure::command::CommandLine::new("stability", &scene.source)
-        .list("integrators", &asked)
+        .list("methods", &asked)
         .flag("substeps", cfg.options.substeps)
         .method_options(&cfg.registry, &cfg.options)
         .flag("horizon", horizon)
@@ -77,7 +77,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         omega_max: ms.omega_max,
         theory_criterion: format!("spectral radius of the one-step map on every linearised mode ≤ 1 + {RHO_TOL:e}, scanned over hω ∈ [{SCAN_MIN:e}, {SCAN_MAX:e}] and bisected"),
         empirical_criterion: crit,
-        integrators: results.into_iter().collect::<Result<_>>()?,
+        methods: results.into_iter().collect::<Result<_>>()?,
         skipped,
         modes: ms,
     })
@@ -169,7 +169,7 @@ fn analyse_one(
     theory: Option<Limit>,
     ms: &Modes,
     search: &Search,
-) -> Result<IntegratorStability> {
+) -> Result<MethodStability> {
     let method = cfg.registry.get(name)?;
     let exact = method.info.stability == StabilityTheory::Unconditional;
     let mut note = None;
@@ -185,8 +185,8 @@ fn analyse_one(
         }
     }
     if exact {
-        return Ok(IntegratorStability {
-            integrator: name.to_string(),
+        return Ok(MethodStability {
+            method: name.to_string(),
             verdict: Verdict::UnconditionallyStable,
             max_stable_dt: None,
             h_omega: None,
@@ -231,8 +231,8 @@ fn analyse_one(
             ms.damping_coupling.unwrap_or(0.0)
         ));
     }
-    Ok(IntegratorStability {
-        integrator: name.to_string(),
+    Ok(MethodStability {
+        method: name.to_string(),
         verdict,
         max_stable_dt: dt,
         h_omega: dt.map(|d| d * ms.omega_max),

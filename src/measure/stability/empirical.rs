@@ -47,7 +47,7 @@ pub fn empirical_limit(
     let mut runs = 0;
     let mut stable = |h: f64| -> Result<bool> {
         runs += 1;
-        let mut integ = method.create(opts);
+        let mut stepper = method.create(opts);
         let plan = RunPlan {
             dt: h,
             steps: crate::model::covering_steps(crit.horizon, h),
@@ -56,7 +56,7 @@ pub fn empirical_limit(
             stop_at_verdict: true,
         };
         Ok(
-            run(sys, integ.as_mut(), s0.clone(), &plan, &mut NoObserver)?
+            run(sys, stepper.as_mut(), s0.clone(), &plan, &mut NoObserver)?
                 .status
                 .is_ok(),
         )

@@ -45,11 +45,11 @@ pub fn seeded(sys: &System, s0: &State) -> State {
 /// Options of [`stability_map`].
 #[derive(Debug, Clone)]
 pub struct MapConfig {
-    /// Integrators (empty: all applicable).
-    pub integrators: Vec<String>,
+    /// Methods (empty: all applicable).
+    pub methods: Vec<String>,
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub registry: Registry,
-    /// Integrator options.
+    /// Method options.
     pub options: MethodOptions,
     /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
     pub stiffness_scales: Vec<f64>,
@@ -78,7 +78,7 @@ fn logspace(a: f64, b: f64, n: usize) -> Vec<f64> {
 impl Default for MapConfig {
     fn default() -> Self {
         MapConfig {
-            integrators: vec![],
+            methods: vec![],
             registry: Registry::builtin(),
             options: MethodOptions::default(),
             stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
@@ -95,8 +95,8 @@ impl Default for MapConfig {
 /// One cell of `stability_map.csv`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MapRow {
-    /// Integrator.
-    pub integrator: String,
+    /// Method.
+    pub method: String,
     /// Stiffness multiplier.
     pub stiffness_scale: f64,
     /// Damping multiplier.
@@ -118,7 +118,7 @@ pub struct MapRow {
 }
 
 /// The header of `stability_map.csv`.
-pub const MAP_HEADER: &str = "integrator,stiffness_scale,damping_scale,dt,omega_max,h_omega,spectral_radius,theory_max_dt,theory_verdict,stable";
+pub const MAP_HEADER: &str = "method,stiffness_scale,damping_scale,dt,omega_max,h_omega,spectral_radius,theory_max_dt,theory_verdict,stable";
 
 impl MapRow {
     /// The CSV line.
@@ -132,7 +132,7 @@ impl MapRow {
         };
         format!(
             "{},{:e},{:e},{:e},{:e},{:e},{},{},{},{}",
-            self.integrator,
+            self.method,
             self.stiffness_scale,
             self.damping_scale,
             self.dt,
@@ -165,7 +165,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let w0 = modes(&sys0, &s0).omega_max;
     let w0 = if w0 > 0.0 { w0 } else { 1.0 };
     let (names, _) =
-        crate::measure::case::applicable(&cfg.registry, &sys0, &cfg.integrators, &cfg.options)?;
+        crate::measure::case::applicable(&cfg.registry, &sys0, &cfg.methods, &cfg.options)?;
     // Exact methods are stable everywhere by construction: nothing to map.
     let methods: Vec<&Method> = names
         .iter()
@@ -232,7 +232,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             let steps = ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64)
                 .clamp(MAP_MIN_STEPS, MAP_MAX_STEPS);
             let method = methods[ni];
-            let mut integ = method.create(&cfg.options);
+            let mut stepper = method.create(&cfg.options);
             let plan = RunPlan {
                 dt: *dt,
                 steps,
@@ -242,7 +242,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             };
             let stable = run(
                 &sys,
-                integ.as_mut(),
+                stepper.as_mut(),
                 seeded(&sys, &s0),
                 &plan,
                 &mut NoObserver,
@@ -257,7 +257,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
             });
             pb.inc(1);
             Ok(MapRow {
-                integrator: name.clone(),
+                method: name.clone(),
                 stiffness_scale: *ks,
                 damping_scale: *cs,
                 dt: *dt,

@@ -1,8 +1,8 @@
-//! Largest stable step per integrator: exactly from the spectral radius of each method's
+//! Largest stable step per method: exactly from the spectral radius of each method's
 //! one-step map on the scene's linearised modes, and empirically by bisection on the real
 //! scene.
 //!
-//! Theory: for every mode q'' + c q' + ω² q = 0 (see [`super::modes`]) the integrator itself
+//! Theory: for every mode q'' + c q' + ω² q = 0 (see [`super::modes`]) the method itself
 //! is stepped on a one-particle system with exactly that linear force, and its one-step map
 //! M(h) on (x, v) is identified from two consecutive steps of two independent trajectories
 //! (M = Y₂ Y₁⁻¹, which also covers methods whose memory is a function of (x, v), such as
@@ -47,11 +47,11 @@ use super::modes::Modes;
 use crate::method::{MethodOptions, Registry};
 use serde::Serialize;
 
-/// Per-integrator stability.
+/// Per-method stability.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct IntegratorStability {
-    /// Integrator name.
-    pub integrator: String,
+pub struct MethodStability {
+    /// Method name.
+    pub method: String,
     /// The verdict (theory when available, else empirical).
     pub verdict: Verdict,
     /// Largest stable step (s) when `stable_below`.
@@ -60,7 +60,7 @@ pub struct IntegratorStability {
     pub h_omega: Option<f64>,
     /// What decided the verdict: `spectral_radius` or `empirical_bisection`.
     pub decided_by: String,
-    /// The theory verdict (None for external backends).
+    /// The theory verdict (None for engine methods).
     pub theory_verdict: Option<Verdict>,
     /// The theory limit (s).
     pub theory_max_stable_dt: Option<f64>,
@@ -85,20 +85,20 @@ pub struct StabilityReport {
     pub theory_criterion: String,
     /// Empirical criterion.
     pub empirical_criterion: EmpiricalCriterion,
-    /// Per integrator.
-    pub integrators: Vec<IntegratorStability>,
-    /// Integrators that do not apply, with the reason.
+    /// Per method.
+    pub methods: Vec<MethodStability>,
+    /// Methods that do not apply, with the reason.
     pub skipped: Vec<(String, String)>,
 }
 
 /// Options of [`analyse`].
 #[derive(Debug, Clone)]
 pub struct StabilityConfig {
-    /// Integrators (empty: all applicable).
-    pub integrators: Vec<String>,
+    /// Methods (empty: all applicable).
+    pub methods: Vec<String>,
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub registry: Registry,
-    /// Integrator options.
+    /// Method options.
     pub options: MethodOptions,
     /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
     pub horizon: Option<f64>,
@@ -121,7 +121,7 @@ pub struct StabilityConfig {
 impl Default for StabilityConfig {
     fn default() -> Self {
         StabilityConfig {
-            integrators: vec![],
+            methods: vec![],
             registry: Registry::builtin(),
             options: MethodOptions::default(),
             horizon: None,

@@ -82,17 +82,17 @@ fn trajectory(
     h: f64,
     steps: usize,
 ) -> Option<Vec<(f64, f64)>> {
-    let mut integ = method.create(opts);
-    integ.check(sys).ok()?;
+    let mut stepper = method.create(opts);
+    stepper.check(sys).ok()?;
     let mut s = State {
         t: 0.0,
         x: vec![Vec3::new(start.0, 0.0, 0.0)],
         v: vec![Vec3::new(start.1, 0.0, 0.0)],
     };
-    integ.reset();
+    stepper.reset();
     let mut ys = vec![start];
     for _ in 0..steps {
-        integ.step(sys, &mut s, h).ok()?;
+        stepper.step(sys, &mut s, h).ok()?;
         ys.push((s.x[0].x, s.v[0].x));
     }
     Some(ys)

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MethodBudget {
     /// The method.
-    pub integrator: String,
+    pub method: String,
     /// Its probe's modelled seconds per step.
     pub seconds_per_step: f64,
     /// Projected modelled seconds of all its candidate steps.
@@ -85,18 +85,18 @@ pub fn allot(steps: &[u64], per_step: &[f64], budget: f64) -> Vec<usize> {
 }
 
 impl SweepBudget {
-    /// The budget for `integrators` over the grid's `steps` from their modelled seconds per
+    /// The budget for `methods` over the grid's `steps` from their modelled seconds per
     /// step.
-    pub fn new(steps: &[u64], integrators: &[String], seconds: f64, per_step: &[f64]) -> Self {
+    pub fn new(steps: &[u64], methods: &[String], seconds: f64, per_step: &[f64]) -> Self {
         let finest = allot(steps, per_step, seconds);
         SweepBudget {
             seconds,
-            methods: integrators
+            methods: methods
                 .iter()
                 .zip(per_step)
                 .zip(finest)
                 .map(|((n, &s), f)| MethodBudget {
-                    integrator: n.clone(),
+                    method: n.clone(),
                     seconds_per_step: s,
                     projected_seconds: cost_from(steps, s, 0),
                     finest: f,
@@ -106,14 +106,14 @@ impl SweepBudget {
     }
     /// The entry of method `name`.
     pub fn of(&self, name: &str) -> Option<&MethodBudget> {
-        self.methods.iter().find(|m| m.integrator == name)
+        self.methods.iter().find(|m| m.method == name)
     }
     /// Why `m` runs no step below its allowed one, with the figures.
     pub fn sentence(&self, m: &MethodBudget) -> String {
         format!(
             "the sweep's budget of {} s: its {} candidate steps would take about {} s at {} ms per step by the cost model; `--budget` raises it",
             sig3(self.seconds),
-            m.integrator,
+            m.method,
             sig3(m.projected_seconds),
             sig3(m.seconds_per_step * 1e3)
         )

@@ -15,7 +15,7 @@ pub struct Shard {
 }
 
 impl Shard {
-    /// True when integrator `i` belongs to this shard.
+    /// True when method `i` belongs to this shard.
     pub fn owns(&self, i: usize) -> bool {
         i % self.count == self.index
     }
@@ -43,8 +43,8 @@ impl std::str::FromStr for Shard {
 /// What to sweep. The grid fields are overrides of the dynamics-based default (module doc).
 #[derive(Debug, Clone)]
 pub struct SweepConfig {
-    /// Integrators (empty: every applicable native method and external backend).
-    pub integrators: Vec<String>,
+    /// Methods (empty: every applicable native and engine method).
+    pub methods: Vec<String>,
     /// Smallest base step (default: hω_max = 0.05); giving it turns extension off unless
     /// `extend` is `Some(true)`.
     pub dt_min: Option<f64>,
@@ -61,7 +61,7 @@ pub struct SweepConfig {
     pub duration: Option<f64>,
     /// The methods to choose from (built-ins unless a library user added theirs).
     pub registry: Registry,
-    /// Integrator options.
+    /// Method options.
     pub options: MethodOptions,
     /// Blow-up factor of the runner.
     pub blowup_factor: f64,
@@ -81,7 +81,7 @@ pub struct SweepConfig {
 impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
-            integrators: Vec::new(),
+            methods: Vec::new(),
             dt_min: None,
             dt_max: None,
             points: None,

@@ -1,6 +1,6 @@
-//! Work-precision sweeps: every integrator over a grid of steps drawn from the scene's
+//! Work-precision sweeps: every method over a grid of steps drawn from the scene's
 //! dynamics, refined per method until its error is asymptotic, against one reference; the
-//! observed order per integrator; deterministic sharding.
+//! observed order per method; deterministic sharding.
 //!
 //! # The default grid
 //! - ω_max is the highest natural frequency of the linearised scene ([`super::modes`]).
@@ -29,8 +29,8 @@
 //!   Giving `--dt-min` fixes the small end, so no extension runs unless `--extend` asks.
 //!
 //! # Sharding
-//! Case k is integrator i = k / P at candidate step j = k mod P (P = the plan's candidate
-//! steps, ascending). Shard I/N runs every case of the integrators with i mod N = I: the
+//! Case k is method i = k / P at candidate step j = k mod P (P = the plan's candidate
+//! steps, ascending). Shard I/N runs every case of the methods with i mod N = I: the
 //! extension of a method depends only on that method's own errors, so the shard that owns it
 //! decides it alone, exactly as the unsharded sweep does. Every shard computes the reference
 //! on every candidate step over the same horizon (the solver takes the same steps; samples
@@ -38,7 +38,7 @@
 //! in parallel (rayon), in rounds (the base grid, then one halving per still-refining method),
 //! and are collected in case order, so every output except `wall_seconds` is bit-identical
 //! whatever the thread count, and a merge of all shards equals the unsharded sweep. At most
-//! one shard per integrator does work.
+//! one shard per method does work.
 
 pub mod budget;
 mod config;
@@ -51,7 +51,7 @@ pub use config::{Shard, SweepConfig};
 pub use extend::Stop;
 pub use plan::{plan_sweep, step_grid, theoretical_order, GridRule, SweepPlan, DEFAULT_COST_CAP};
 pub use shard::{merge, write_sweep, ShardFile};
-pub use summary::{summarise, IntegratorSummary, SweepSummary};
+pub use summary::{summarise, MethodSummary, SweepSummary};
 
 use super::case::{run_case, CaseResult, CaseSettings};
 use super::grid::TimeGrid;
@@ -65,8 +65,8 @@ use serde::{Deserialize, Serialize};
 /// One row of `sweep.csv`. Error and energy columns are empty for unstable runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SweepRow {
-    /// Integrator name.
-    pub integrator: String,
+    /// Method name.
+    pub method: String,
     /// Step (s).
     pub dt: f64,
     /// Steps planned.
@@ -75,7 +75,7 @@ pub struct SweepRow {
     pub force_evals: u64,
     /// Modelled seconds of the run ([`crate::run::cost`]).
     pub modelled_seconds: f64,
-    /// Integrator wall time (s): the one column that varies between identical runs.
+    /// Stepping wall time (s): the one column that varies between identical runs.
     pub wall_seconds: f64,
     /// Final position error (m).
     pub error_final: Option<f64>,
@@ -91,12 +91,12 @@ pub struct SweepRow {
 
 /// The CSV header of `sweep.csv`.
 pub const SWEEP_HEADER: &str =
-    "integrator,dt,steps,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,status";
+    "method,dt,steps,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,status";
 
 impl SweepRow {
     fn from_case(c: &CaseResult) -> Self {
         SweepRow {
-            integrator: c.integrator.clone(),
+            method: c.method.clone(),
             dt: c.dt,
             steps: c.steps,
             force_evals: c.force_evals,
@@ -113,7 +113,7 @@ impl SweepRow {
         let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
         format!(
             "{},{:e},{},{},{:e},{:e},{},{},{},{},{}",
-            self.integrator,
+            self.method,
             self.dt,
             self.steps,
             self.force_evals,
@@ -167,7 +167,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         apply_budget(&mut plan, &sys, &s0, cfg, seconds)?;
     }
     let p = plan.dts.len();
-    let owned: Vec<usize> = (0..plan.integrators.len())
+    let owned: Vec<usize> = (0..plan.methods.len())
         .filter(|&i| cfg.shard.is_none_or(|s| s.owns(i)))
         .collect();
     // Every candidate step, whatever this shard runs: shards share the reference exactly.
@@ -195,7 +195,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
     };
     let mut pending: Vec<usize> = owned
         .iter()
-        .flat_map(|&i| (plan.base_start(&plan.integrators[i])..p).map(move |j| i * p + j))
+        .flat_map(|&i| (plan.base_start(&plan.methods[i])..p).map(move |j| i * p + j))
         .collect();
     let pb = crate::run::progress_bar(
         pending.len() as u64,
@@ -208,7 +208,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         let round: Vec<Result<CaseResult>> = pending
             .par_iter()
             .map(|&k| {
-                let r = run_case(&sys, &s0, &reference, k % p, &plan.integrators[k / p], &set);
+                let r = run_case(&sys, &s0, &reference, k % p, &plan.methods[k / p], &set);
                 pb.inc(1);
                 r
             })
@@ -226,7 +226,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
                     .filter(|(_, &k)| k / p == i)
                     .map(|(c, &k)| SweepRow::from_case(c).run(k % p))
                     .collect();
-                next_step(&plan, &floors, saturation, &plan.integrators[i], &runs)
+                next_step(&plan, &floors, saturation, &plan.methods[i], &runs)
                     .ok()
                     .map(|j| i * p + j)
             })
@@ -268,7 +268,7 @@ fn apply_budget(
     let j = plan.base_from;
     // A method whose probe fails costs nothing here: its case runs report the failure.
     let per_step: Vec<f64> = plan
-        .integrators
+        .methods
         .iter()
         .map(|name| {
             crate::measure::probe::seconds_per_step(
@@ -283,19 +283,19 @@ fn apply_budget(
             .unwrap_or(0.0)
         })
         .collect();
-    let b = budget::SweepBudget::new(&plan.steps, &plan.integrators, seconds, &per_step);
+    let b = budget::SweepBudget::new(&plan.steps, &plan.methods, seconds, &per_step);
     let none = plan.dts.len();
     let (kept, left): (Vec<_>, Vec<_>) = b.methods.iter().cloned().partition(|m| m.finest < none);
     for m in &left {
         let i = plan
-            .integrators
+            .methods
             .iter()
-            .position(|n| *n == m.integrator)
+            .position(|n| *n == m.method)
             .expect("planned");
-        plan.integrators.remove(i);
+        plan.methods.remove(i);
         plan.orders.remove(i);
         plan.skipped
-            .push((m.integrator.clone(), format!("left out: {}", b.sentence(m))));
+            .push((m.method.clone(), format!("left out: {}", b.sentence(m))));
     }
     // Recorded only where it acted: a budget that cut nothing leaves the documents as they
     // would be without it (measured costs vary from run to run).

@@ -1,5 +1,5 @@
 //! The sweep's plan: the step grid (from the scene's dynamics unless the user fixes it), the
-//! extension candidates below it, the cost cap and the integrators.
+//! extension candidates below it, the cost cap and the methods.
 
 use super::config::SweepConfig;
 use crate::error::{Error, Result};
@@ -74,17 +74,17 @@ pub struct SweepPlan {
     pub particles: usize,
     /// How the grid was chosen, with the extension switch and the cost cap.
     pub rule: GridRule,
-    /// Applicable integrators, in case order.
-    pub integrators: Vec<String>,
+    /// Applicable methods, in case order.
+    pub methods: Vec<String>,
     /// Their theoretical orders from the registry (None: exact, or an engine).
     pub orders: Vec<Option<u32>>,
-    /// Integrators skipped (name, reason).
+    /// Methods skipped (name, reason).
     pub skipped: Vec<(String, String)>,
     /// Blow-up factor.
     pub blowup_factor: f64,
     /// Every method option's value, by flag (`iterations`, `xpbd-substeps`, ...).
     pub options: std::collections::BTreeMap<String, usize>,
-    /// Substeps of external backends.
+    /// Substeps of engine methods.
     pub substeps: usize,
     /// The time budget and what it allowed each method, when one was set.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -103,10 +103,10 @@ impl SweepPlan {
     pub fn base_start(&self, name: &str) -> usize {
         self.base_from.max(self.finest(name))
     }
-    /// Number of possible cases (integrators × candidate steps); case k is integrator
+    /// Number of possible cases (methods × candidate steps); case k is method
     /// k / dts.len() at step k mod dts.len().
     pub fn case_count(&self) -> usize {
-        self.integrators.len() * self.dts.len()
+        self.methods.len() * self.dts.len()
     }
     /// The output grid of step `j`.
     pub fn grid(&self, j: usize) -> TimeGrid {
@@ -215,7 +215,7 @@ fn dynamic_bounds(
 pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     let mut plan = plan_grid(scene, cfg)?;
     plan.orders = plan
-        .integrators
+        .methods
         .iter()
         .map(|n| {
             cfg.registry
@@ -226,13 +226,13 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         })
         .collect();
     let asked: Vec<String> = plan
-        .integrators
+        .methods
         .iter()
         .cloned()
         .chain(plan.skipped.iter().map(|s| s.0.clone()))
         .collect();
     plan.command = crate::measure::command::CommandLine::new("sweep", &scene.source)
-        .list("integrators", &asked)
+        .list("methods", &asked)
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
         .flag_opt("points", cfg.points)
@@ -257,12 +257,12 @@ fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     if cfg.points == Some(0) {
         return Err(Error::option("--points", "must be at least 1"));
     }
-    let (integrators, skipped) = applicable(&cfg.registry, &sys, &cfg.integrators, &cfg.options)?;
+    let (methods, skipped) = applicable(&cfg.registry, &sys, &cfg.methods, &cfg.options)?;
     let fixed_grid = cfg.dt_min.is_some() && cfg.dt_max.is_some() && cfg.points.is_some();
     let (mut hi, mut hi_src, mut lo, mut lo_src, w, widest) = if fixed_grid {
         (0.0, String::new(), 0.0, String::new(), 0.0, None)
     } else {
-        dynamic_bounds(scene, &integrators, cfg, duration)
+        dynamic_bounds(scene, &methods, cfg, duration)
     };
     if fixed_grid {
         let ms = modes(&sys, &scene.initial_state());
@@ -271,7 +271,7 @@ fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
             cfg,
             duration,
             cap,
-            integrators,
+            methods,
             skipped,
             GridRule {
                 omega_max: ms.omega_max,
@@ -306,7 +306,7 @@ fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         extend: cfg.extend.unwrap_or(cfg.dt_min.is_none()),
         cost_cap_particle_steps: cap,
     };
-    finish(scene, cfg, duration, cap, integrators, skipped, rule)
+    finish(scene, cfg, duration, cap, methods, skipped, rule)
 }
 
 fn finish(
@@ -314,7 +314,7 @@ fn finish(
     cfg: &SweepConfig,
     duration: f64,
     cap: f64,
-    integrators: Vec<String>,
+    methods: Vec<String>,
     skipped: Vec<(String, String)>,
     rule: GridRule,
 ) -> Result<SweepPlan> {
@@ -380,7 +380,7 @@ fn finish(
         base_from,
         particles,
         rule,
-        integrators,
+        methods,
         skipped,
         blowup_factor: cfg.blowup_factor,
         options: cfg.options.resolved(&cfg.registry),
@@ -392,6 +392,6 @@ fn finish(
 /// Theoretical order of a method of the plan (None for exact methods and engines), as its
 /// registry entry stated it when the sweep was planned.
 pub fn theoretical_order(plan: &SweepPlan, name: &str) -> Option<u32> {
-    let i = plan.integrators.iter().position(|n| n == name)?;
+    let i = plan.methods.iter().position(|n| n == name)?;
     plan.orders.get(i).copied().flatten()
 }

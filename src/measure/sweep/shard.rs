@@ -97,7 +97,7 @@ fn read_rows(path: &Path) -> Result<Vec<SweepRow>> {
                 .map_err(|_| bad(n, format!("{name}: not a whole number: '{}'", f[k])))
         };
         rows.push(SweepRow {
-            integrator: f[0].to_string(),
+            method: f[0].to_string(),
             dt: num(1, "dt")?,
             steps: int(2, "steps")?,
             force_evals: int(3, "force_evals")?,
@@ -199,9 +199,9 @@ pub fn merge(dirs: &[PathBuf]) -> Result<SweepResult> {
             format!("shard {missing}/{} is missing", f.shard.count),
         ));
     }
-    // Every integrator's base grid must be there; extension cases are there when run.
+    // Every method's base grid must be there; extension cases are there when run.
     let p = f.plan.dts.len();
-    let base = |k: usize| f.plan.base_start(&f.plan.integrators[k / p]);
+    let base = |k: usize| f.plan.base_start(&f.plan.methods[k / p]);
     if let Some(k) = (0..slots.len()).find(|&k| k % p >= base(k) && slots[k].is_none()) {
         return Err(Error::option("merge", format!("case {k} is missing")));
     }

@@ -1,4 +1,4 @@
-//! `summary.json`: per integrator, the observed order at the small-step end (or why there
+//! `summary.json`: per method, the observed order at the small-step end (or why there
 //! is none), computed from the rows only so a merged sweep summarises exactly as the
 //! unsharded one.
 
@@ -10,12 +10,12 @@ use crate::measure::fit::OrderFit;
 use crate::measure::reference::ReferenceInfo;
 use serde::Serialize;
 
-/// Per-integrator summary.
+/// Per-method summary.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct IntegratorSummary {
-    /// Integrator name.
-    pub integrator: String,
-    /// Order the method is designed to have (None for exact or external methods).
+pub struct MethodSummary {
+    /// Method name.
+    pub method: String,
+    /// Order the method is designed to have (None for exact or engine methods).
     pub theoretical_order: Option<u32>,
     /// Points that ran to the end.
     pub stable_points: usize,
@@ -53,9 +53,9 @@ pub struct SweepSummary {
     pub order_metric: String,
     /// Saturation bound (m).
     pub saturation: f64,
-    /// Per integrator.
-    pub integrators: Vec<IntegratorSummary>,
-    /// Integrators that do not apply, with the reason.
+    /// Per method.
+    pub methods: Vec<MethodSummary>,
+    /// Methods that do not apply, with the reason.
     pub skipped: Vec<(String, String)>,
     /// The time budget and what it allowed each method, when one was set.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -66,8 +66,8 @@ pub struct SweepSummary {
 pub fn summarise(res: &SweepResult) -> SweepSummary {
     let plan = &res.plan;
     let p = plan.dts.len();
-    let integrators = plan
-        .integrators
+    let methods = plan
+        .methods
         .iter()
         .enumerate()
         .map(|(i, name)| {
@@ -89,8 +89,8 @@ pub fn summarise(res: &SweepResult) -> SweepSummary {
                     None => why,
                 });
             }
-            IntegratorSummary {
-                integrator: name.clone(),
+            MethodSummary {
+                method: name.clone(),
                 theoretical_order: theoretical_order(&res.plan, name),
                 stable_points: runs.iter().filter(|r| r.ok).count(),
                 unstable_points: runs.iter().filter(|r| !r.ok).count(),
@@ -117,7 +117,7 @@ pub fn summarise(res: &SweepResult) -> SweepSummary {
         grid_rule: plan.rule.clone(),
         order_metric: "error_max".into(),
         saturation: res.saturation,
-        integrators,
+        methods,
         skipped: plan.skipped.clone(),
         budget: plan.budget.clone(),
     }

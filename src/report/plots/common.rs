@@ -1,5 +1,5 @@
 //! Shared drawing for every chart: axes (linear or log) fitted to the data, lines, dashed
-//! guides, blow-up markers, legends, stable colours per backend, SVG to a string.
+//! guides, blow-up markers, legends, stable colours per method, SVG to a string.
 //! Every point passes [`crate::report::finite::plottable`] here, and only here.
 
 use crate::error::{Error, Result};
@@ -61,7 +61,7 @@ pub struct Panel<'a> {
     pub legend: SeriesLabelPosition,
 }
 
-/// A colour per backend that stays the same across every chart of the report.
+/// A colour per method that stays the same across every chart of the report.
 pub fn color_for(label: &str) -> RGBColor {
     const PALETTE: [RGBColor; 12] = [
         RGBColor(214, 39, 40),   // red

@@ -1,4 +1,4 @@
-//! Convergence: error against dt, log-log, one line per integrator with its fitted slope in
+//! Convergence: error against dt, log-log, one line per method with its fitted slope in
 //! the legend, and reference slopes drawn dashed.
 
 use super::common::{svg_single, Axis, Panel};

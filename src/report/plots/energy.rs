@@ -1,10 +1,10 @@
-//! Energy over time per backend: the total account, and the individual terms on demand.
+//! Energy over time per method: the total account, and the individual terms on demand.
 
 use super::common::{svg_grid, Axis, Panel};
 use crate::error::Result;
 use crate::report::data::EnergyData;
 
-/// SVG of the total energy account (J) against time (s) for every backend; when `data.terms`
+/// SVG of the total energy account (J) against time (s) for every method; when `data.terms`
 /// is not empty a second panel shows them.
 pub fn energy(data: &EnergyData) -> Result<String> {
     let mut panels = vec![Panel {

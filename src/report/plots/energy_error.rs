@@ -1,4 +1,4 @@
-//! Relative energy error on a log scale, one line per backend.
+//! Relative energy error on a log scale, one line per method.
 
 use super::common::{svg_single, Axis, Panel};
 use crate::error::Result;

@@ -1,5 +1,5 @@
 //! Restitution per impact: measured against expected e over approach speed, and the deviation
-//! over impact time, one series per backend.
+//! over impact time, one series per method.
 
 use super::common::{svg_grid, Axis, Panel};
 use crate::error::Result;

@@ -1,4 +1,4 @@
-//! Trajectories: particle paths projected on the scene's main plane, one line per backend.
+//! Trajectories: particle paths projected on the scene's main plane, one line per method.
 
 use super::common::{svg_single, Axis, Panel};
 use crate::error::Result;

@@ -1,4 +1,4 @@
-//! Position error against the reference over time (log), one line per backend.
+//! Position error against the reference over time (log), one line per method.
 
 use super::common::{svg_single, Axis, Panel};
 use crate::error::Result;

@@ -1,4 +1,4 @@
-//! Chain and cloth snapshots side by side, one panel per backend, at the same scale.
+//! Chain and cloth snapshots side by side, one panel per method, at the same scale.
 
 use super::common::{tick, FONT};
 use crate::error::{Error, Result};
@@ -27,7 +27,7 @@ fn shade(k: usize, n: usize) -> RGBColor {
     RGBColor(lerp(150.0, 8.0), lerp(190.0, 48.0), lerp(240.0, 107.0))
 }
 
-/// SVG with one panel per backend showing the chain or cloth at a few instants.
+/// SVG with one panel per method showing the chain or cloth at a few instants.
 // Long because the panels share one frame of axes and scale; each panel is a few drawing calls.
 pub fn snapshots(data: &SnapshotData) -> Result<String> {
     // Every polyline through the finite gate; one shared range so panels compare directly.

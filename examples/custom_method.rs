@@ -1,10 +1,10 @@
-//! Bring your own integrator: implement `Integrator` for the scheme in your game, register it
+//! Bring your own method: implement `Stepper` for the scheme in your game, register it
 //! with its facts, and it runs through run, compare, sweep, stability, advise and the report
 //! exactly like the built-in methods.
 //!
-//! Run with `cargo run --release --example custom_integrator` (writes under `out/custom/`).
+//! Run with `cargo run --release --example custom_method` (writes under `out/custom/`).
 
-use springlab::integrate::{Integrator, StepStats};
+use springlab::integrate::{StepStats, Stepper};
 use springlab::measure::advise::{advise, AdviseConfig};
 use springlab::measure::compare::{compare, CompareConfig};
 use springlab::measure::stability::{analyse, StabilityConfig};
@@ -32,7 +32,7 @@ const DAMPING_PPM: OptionSpec = OptionSpec {
     help: "Velocity removed per step by game_euler, in parts per million",
 };
 
-impl Integrator for GameEuler {
+impl Stepper for GameEuler {
     fn name(&self) -> &str {
         "game_euler"
     }
@@ -123,7 +123,7 @@ fn main() -> springlab::Result<()> {
         &scene,
         &CompareConfig {
             registry: registry.clone(),
-            integrators: mine.to_vec(),
+            methods: mine.to_vec(),
             series_points: 0,
             ..Default::default()
         },
@@ -133,11 +133,11 @@ fn main() -> springlab::Result<()> {
         match e.result.as_ref().map(|r| (r, r.metrics.as_ref())) {
             Some((r, Some(m))) => println!(
                 "  {:<18} max position error {:.3e} m, energy error {:+.3e}",
-                r.integrator, m.error_max, m.energy_balance
+                r.method, m.error_max, m.energy_balance
             ),
             Some((r, None)) => println!(
                 "  {:<18} {}: {}",
-                r.integrator,
+                r.method,
                 r.status,
                 r.unstable_reason.as_deref().unwrap_or("")
             ),
@@ -150,14 +150,14 @@ fn main() -> springlab::Result<()> {
         &scene,
         &SweepConfig {
             registry: registry.clone(),
-            integrators: mine.to_vec(),
+            methods: mine.to_vec(),
             ..Default::default()
         },
     )?;
-    for i in &sw.summary.as_ref().expect("full sweep").integrators {
+    for i in &sw.summary.as_ref().expect("full sweep").methods {
         println!(
             "sweep: {:<18} observed order {}",
-            i.integrator,
+            i.method,
             i.observed_order.map_or_else(
                 || format!("none ({})", i.fit.note.clone().unwrap_or_default()),
                 |p| format!("{p:.3}")
@@ -170,14 +170,14 @@ fn main() -> springlab::Result<()> {
         &scene,
         &StabilityConfig {
             registry: registry.clone(),
-            integrators: mine.to_vec(),
+            methods: mine.to_vec(),
             ..Default::default()
         },
     )?;
-    for i in &st.integrators {
+    for i in &st.methods {
         println!(
             "stability: {:<18} {:?} {}",
-            i.integrator,
+            i.method,
             i.verdict,
             i.max_stable_dt
                 .map_or(String::new(), |d| format!("dt ≤ {d:.4} s"))
@@ -189,14 +189,14 @@ fn main() -> springlab::Result<()> {
         &scene,
         &AdviseConfig {
             registry: registry.clone(),
-            integrators: mine.to_vec(),
+            methods: mine.to_vec(),
             tolerance: Some(1e-3),
             ..Default::default()
         },
     )?;
     println!(
         "advise: {} at dt = {}",
-        adv.integrator.as_deref().unwrap_or("nothing"),
+        adv.method.as_deref().unwrap_or("nothing"),
         adv.dt.map_or("-".into(), |d| format!("{d:.4e} s"))
     );
 

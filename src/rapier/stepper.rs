@@ -1,10 +1,10 @@
-//! The Rapier backends as [`Integrator`]s: build lazily, step the pipeline, read back.
+//! The Rapier methods as [`Stepper`]s: build lazily, step the pipeline, read back.
 
 use super::convert::{to_glam, to_na};
 use super::user_forces::{is_user_force, UserForces};
 use super::world::{align_axial, build, set_step, Built, Mode};
 use crate::error::Result;
-use crate::integrate::{Integrator, StepStats};
+use crate::integrate::{StepStats, Stepper};
 use crate::model::{State, System, Vec3};
 
 /// Rapier 0.36 (f64) stepping a scene; `dt` is Rapier's frame step, `substeps` its
@@ -14,7 +14,7 @@ use crate::model::{State, System, Vec3};
 /// reports its modelled seconds ([`super::cost`]) as `engine_seconds`. `dissipated` is the damper, drag and penalty-contact damping power (c·(n·v_rel)², c_d·|v|², the penalty's) of the read-back
 /// states, integrated by the trapezoidal rule over the step: an estimate of the work Rapier's
 /// implicit dampers did, accurate to O(h²) for smooth motion.
-pub struct RapierBackend {
+pub struct RapierStepper {
     mode: Mode,
     substeps: usize,
     built: Option<Built>,
@@ -26,10 +26,10 @@ pub struct RapierBackend {
     frame_seconds: f64,
 }
 
-impl RapierBackend {
-    /// A backend of the given mode with `substeps` solver iterations per frame.
+impl RapierStepper {
+    /// A method of the given mode with `substeps` solver iterations per frame.
     pub fn new(mode: Mode, substeps: usize) -> Self {
-        RapierBackend {
+        RapierStepper {
             mode,
             substeps: substeps.max(1),
             built: None,
@@ -40,7 +40,7 @@ impl RapierBackend {
     }
 
     /// The multibody topology note (trees, fallback edges) for `sys`, `None` for the impulse
-    /// backend. Computed from the scene, so callers can print it before running.
+    /// method. Computed from the scene, so callers can print it before running.
     pub fn topology_note(&self, sys: &System) -> Option<String> {
         match self.mode {
             Mode::Impulse => None,
@@ -101,7 +101,7 @@ fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
     p
 }
 
-impl Integrator for RapierBackend {
+impl Stepper for RapierStepper {
     fn name(&self) -> &str {
         self.mode.name()
     }
@@ -116,7 +116,7 @@ impl Integrator for RapierBackend {
             .find(|n| *n != "gravity" && *n != "drag" && !is_user_force(n))
         {
             return Err(format!(
-                "the Rapier backends map springs, constraints, gravity, drag and penalty contacts; the force term '{t}' has no Rapier equivalent yet"
+                "the Rapier methods map springs, constraints, gravity, drag and penalty contacts; the force term '{t}' has no Rapier equivalent yet"
             ));
         }
         Ok(())

@@ -1,4 +1,4 @@
-//! One or two steps of every integrator on a 1-D oscillator, against values computed by hand
+//! One or two steps of every method on a 1-D oscillator, against values computed by hand
 //! from each method's defining formulas (the oracle is the textbook update rule itself, written
 //! out here independently of the implementation).
 
