@@ -3,7 +3,7 @@
 use super::case::{applicable, asked_or_all, run_case, CaseResult, CaseSettings};
 use super::command::{with_out, CommandLine};
 use super::contacts::ContactReport;
-use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use super::grid::{run_grid, scene_grid};
 use super::metrics::Metrics;
 use super::reference::{Reference, ReferenceInfo};
 use super::trace::{longest_paths, TraceSpec};
@@ -172,18 +172,16 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         Some(b) => within_budget(&sys, &s0, cfg, names, dt, steps, b, &mut skipped)?,
         None => names,
     };
-    let grid = TimeGrid::new(
-        dt,
-        steps,
-        max_samples_for(DEFAULT_BUDGET_BYTES, 1, sys.len()),
-    );
-    let mut reference = Reference::compute(&sys, &s0, &[grid], grid.time(steps))?;
+    let grid = run_grid(dt, steps, sys.len());
+    let horizon = grid.time(steps);
+    let mut reference = Reference::compute(&sys, &s0, &[grid], horizon)?;
     let position_tolerance = crate::measure::tolerance::resolve(
         cfg.tolerance,
         scene.run.tolerance,
         reference.motion_scale(),
     );
-    reference.add_ensemble(&sys, &s0, position_tolerance.value)?;
+    let on = scene_grid(scene, sys.len(), horizon)?;
+    reference.add_ensemble(&sys, &s0, position_tolerance.value, on)?;
     let trace = cfg.trace.then(|| TraceSpec {
         tracked: longest_paths(
             &reference,

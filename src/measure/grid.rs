@@ -58,6 +58,27 @@ pub fn max_samples_for(budget_bytes: usize, runs: usize, particles: usize) -> u6
 /// Default memory budget for reference samples: 256 MiB.
 pub const DEFAULT_BUDGET_BYTES: usize = 256 << 20;
 
+/// The grid one run of `steps` steps of `dt` is compared on (compare's grid): every step a
+/// sample while the samples of `particles` particles fit [`DEFAULT_BUDGET_BYTES`].
+pub fn run_grid(dt: f64, steps: u64, particles: usize) -> TimeGrid {
+    TimeGrid::new(
+        dt,
+        steps,
+        max_samples_for(DEFAULT_BUDGET_BYTES, 1, particles),
+    )
+}
+
+/// The scene's own grid over `horizon` (s): its `[run]` step, as many steps as `--duration
+/// horizon` gives. The scene's ensemble is made on it, whatever steps a command compares.
+pub fn scene_grid(
+    scene: &crate::scenario::Scenario,
+    particles: usize,
+    horizon: f64,
+) -> crate::error::Result<TimeGrid> {
+    let t = crate::scenario::Timing::resolve(scene, None, Some(horizon))?;
+    Ok(run_grid(t.dt, t.steps, particles))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

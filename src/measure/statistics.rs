@@ -131,6 +131,9 @@ pub struct Ensemble {
     pub relative_tolerance: f64,
     /// How the members were made, in one sentence.
     pub made_by: String,
+    /// The scene grid whose reference made it (its window and member solver come from it).
+    #[serde(skip)]
+    pub grid: Option<crate::measure::grid::TimeGrid>,
 }
 
 /// One observable of one run against the ensemble.
@@ -263,6 +266,7 @@ mod tests {
             tolerance: 0.01,
             relative_tolerance: 0.01,
             made_by: String::new(),
+            grid: None,
         }
     }
 

@@ -250,20 +250,21 @@ impl Judge {
     }
 }
 
-/// The judge of a command on `reference` (of `sys` from `s0`), giving the reference the
-/// ensemble the statistics metric needs: `prepared` when the caller has one for this scene,
-/// else computed. With the metric left to its default, a scene whose ensemble cannot be made
+/// The judge of a command on `reference` (of `scene`'s `sys` from `s0`), giving the reference
+/// the scene's ensemble the statistics metric needs: `prepared` when the caller has the one
+/// made on the scene's grid over this horizon, else computed. With the metric left to its default, a scene whose ensemble cannot be made
 /// is judged by position over its predictable range, and the returned note says why; asked
 /// for by name, statistics without an ensemble is an error.
 pub fn decide(
     metric: Option<Metric>,
     asked: Option<f64>,
-    scene_tolerance: Option<f64>,
+    scene: &crate::scenario::Scenario,
     reference: &mut super::reference::Reference,
     sys: &crate::model::System,
     s0: &crate::model::State,
     prepared: Option<&super::statistics::Ensemble>,
 ) -> Result<(Judge, Option<String>)> {
+    let scene_tolerance = scene.run.tolerance;
     let bouncing = super::observables::bouncing(sys);
     let judge = Judge::new(metric, asked, scene_tolerance, &reference.info, bouncing);
     if judge.metric == Metric::Impacts && !bouncing {
@@ -275,9 +276,11 @@ pub fn decide(
     if judge.metric != Metric::Statistics {
         return Ok((judge, None));
     }
-    match prepared {
+    // An ensemble made beforehand serves when it is the scene's on the same grid.
+    let scene_grid = super::grid::scene_grid(scene, sys.len(), reference.info.horizon)?;
+    match prepared.filter(|e| e.grid == Some(scene_grid)) {
         Some(e) => reference.use_ensemble(e, judge.tolerance.value),
-        None => reference.add_ensemble(sys, s0, judge.tolerance.value)?,
+        None => reference.add_ensemble(sys, s0, judge.tolerance.value, scene_grid)?,
     }
     if reference.ensemble.is_some() {
         return Ok((judge, None));

@@ -262,14 +262,22 @@ fn older_method_words_are_read_as_method() {
         ]);
         read(&out.join("compare.csv"))
     };
-    assert_eq!(compare("--integrators", "c_old"), compare("--methods", "c_new"));
+    assert_eq!(
+        compare("--integrators", "c_old"),
+        compare("--methods", "c_new")
+    );
 }
 
 /// The twin: a word that was never a name for a method is refused with a clear error.
 #[test]
 fn an_unknown_method_flag_is_refused() {
     let out = crate::support::bin()
-        .args(["compare", "scenarios/anchored_spring.toml", "--backends", "rk4"])
+        .args([
+            "compare",
+            "scenarios/anchored_spring.toml",
+            "--backends",
+            "rk4",
+        ])
         .output()
         .unwrap();
     assert!(!out.status.success());

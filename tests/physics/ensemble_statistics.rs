@@ -10,6 +10,8 @@
 
 use springlab::measure::advise::{advise, AdviseConfig};
 use springlab::measure::case::{run_case, CaseResult, CaseSettings};
+use springlab::measure::compare::{compare, CompareConfig};
+use springlab::measure::framerate::{framerate, FramerateConfig};
 use springlab::measure::grid::TimeGrid;
 use springlab::measure::reference::Reference;
 use springlab::measure::statistics::ENSEMBLE_SIZE;
@@ -68,7 +70,7 @@ fn a_fine_run_is_consistent_and_a_stretched_or_overdamped_cloth_is_not() {
     let mut r = Reference::compute(&sys, &s0, &[grid], 2.0).unwrap();
     let h = r.info.predictability_horizon.expect("the cloth is chaotic");
     assert!(h < 1.5, "horizon {h}");
-    r.add_ensemble(&sys, &s0, 0.01).unwrap();
+    r.add_ensemble(&sys, &s0, 0.01, grid).unwrap();
     let e = r.ensemble.as_ref().expect("an ensemble past the horizon");
     assert_eq!(e.members.len(), ENSEMBLE_SIZE);
     assert_eq!(e.start, h);
@@ -133,4 +135,141 @@ fn advice_on_a_chaotic_cloth_answers_over_its_whole_duration() {
     let err = adv.verified_error.expect("a pick");
     assert!(err <= 1.0, "{err}");
     assert!(adv.position_tolerance.source.contains("motion scale"));
+}
+
+/// Two masses on stiff springs hung from a fixed point and released sideways: chaotic within
+/// its 10 s (its reference's predictability horizon is near 6 s), and cheap to solve.
+fn double_pendulum() -> Scenario {
+    Scenario::from_toml_str(
+        r#"
+name = "double_pendulum"
+[world]
+gravity = [0.0, -9.81, 0.0]
+[[particle]]
+position = [0.0, 0.0, 0.0]
+mass = 1.0
+fixed = true
+[[particle]]
+position = [1.0, 0.0, 0.0]
+mass = 1.0
+[[particle]]
+position = [1.6, 0.8, 0.0]
+mass = 1.0
+[[spring]]
+between = [0, 1]
+stiffness = 2000.0
+[[spring]]
+between = [1, 2]
+stiffness = 2000.0
+[run]
+dt = 0.002
+duration = 10.0
+"#,
+        "double_pendulum.toml",
+    )
+    .unwrap()
+}
+
+/// A document's value with its wall times taken out (they differ between any two runs).
+fn without_wall(v: serde_json::Value) -> serde_json::Value {
+    match v {
+        serde_json::Value::Object(m) => m
+            .into_iter()
+            .filter(|(k, _)| !k.contains("wall") && k != "timing")
+            .map(|(k, x)| (k, without_wall(x)))
+            .collect(),
+        serde_json::Value::Array(a) => a.into_iter().map(without_wall).collect(),
+        x => x,
+    }
+}
+
+fn advice_with(
+    scene: &Scenario,
+    ensemble: Option<springlab::measure::statistics::Ensemble>,
+) -> serde_json::Value {
+    let adv = advise(
+        scene,
+        &AdviseConfig {
+            methods: vec!["symplectic_euler".into(), "rk4".into()],
+            points: 4,
+            frame_rates: false,
+            ensemble,
+            ..AdviseConfig::default()
+        },
+    )
+    .unwrap();
+    without_wall(serde_json::to_value(&adv).unwrap())
+}
+
+fn frame_rates_with(
+    scene: &Scenario,
+    ensemble: Option<springlab::measure::statistics::Ensemble>,
+) -> serde_json::Value {
+    let fr = framerate(
+        scene,
+        &FramerateConfig {
+            rates: vec![60.0],
+            methods: vec!["rk4".into()],
+            max_substeps: 4,
+            ensemble,
+            ..FramerateConfig::default()
+        },
+    )
+    .unwrap();
+    without_wall(serde_json::to_value(&fr).unwrap())
+}
+
+fn compared_ensemble(scene: &Scenario, dt: f64) -> springlab::measure::statistics::Ensemble {
+    compare(
+        scene,
+        &CompareConfig {
+            methods: vec!["rk4".into()],
+            dt: Some(dt),
+            series_points: 0,
+            ..CompareConfig::default()
+        },
+    )
+    .unwrap()
+    .ensemble
+    .expect("the double pendulum is chaotic within its run")
+}
+
+// Oracle: one truth. A study hands compare's ensemble to advice and frame rates; each command
+// run alone makes the scene's ensemble itself. Both must give the same document, or the
+// command a report prints would not re-create its numbers.
+#[test]
+fn advice_and_frame_rates_judge_against_the_scenes_ensemble_however_they_get_it() {
+    let scene = double_pendulum();
+    let shared = compared_ensemble(&scene, 0.002);
+    let adv = advice_with(&scene, None);
+    assert_eq!(adv["metric"], "statistics", "{adv}");
+    assert_eq!(advice_with(&scene, Some(shared.clone())), adv);
+    let fr = frame_rates_with(&scene, None);
+    assert_eq!(fr["metric"], "statistics");
+    assert_eq!(frame_rates_with(&scene, Some(shared)), fr);
+}
+
+// Twin: an ensemble made by a reference on another grid has another predictability horizon,
+// so another window; handed over, it must be set aside, not used, or the answers would depend
+// on how they were asked for. Compare itself, asked at another step, still judges against the
+// scene's ensemble.
+#[test]
+fn an_ensemble_made_on_another_grid_is_not_the_scenes() {
+    let scene = double_pendulum();
+    let own = compared_ensemble(&scene, 0.002);
+    assert_eq!(compared_ensemble(&scene, 0.001).start, own.start);
+    let (sys, s0) = (scene.build(), scene.initial_state());
+    let grid = TimeGrid::new(1.0 / 60.0, 600, 601);
+    let mut r = Reference::compute(&sys, &s0, &[grid], 10.0).unwrap();
+    r.add_ensemble(&sys, &s0, 0.01, grid).unwrap();
+    let other = r.ensemble.unwrap_or_else(|| panic!("{:?}", r.info));
+    assert_ne!(other.start, own.start, "another reference, another horizon");
+    assert_eq!(
+        advice_with(&scene, Some(other.clone())),
+        advice_with(&scene, None)
+    );
+    assert_eq!(
+        frame_rates_with(&scene, Some(other)),
+        frame_rates_with(&scene, None)
+    );
 }

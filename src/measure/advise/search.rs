@@ -52,7 +52,7 @@ pub(super) fn run_grids(
             let (judge, note) = crate::measure::tolerance::decide(
                 cfg.metric,
                 cfg.tolerance,
-                scene.run.tolerance,
+                scene,
                 &mut reference,
                 &sys,
                 &s0,

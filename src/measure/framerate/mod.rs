@@ -387,7 +387,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let (judge, metric_note) = crate::measure::tolerance::decide(
         cfg.metric,
         cfg.tolerance,
-        scene.run.tolerance,
+        scene,
         &mut reference,
         &sys,
         &s0,

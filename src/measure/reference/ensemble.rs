@@ -131,6 +131,7 @@ pub(super) fn ensemble(
         tolerance,
         relative_tolerance,
         made_by,
+        grid: None,
     }))
 }
 

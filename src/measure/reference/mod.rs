@@ -254,11 +254,54 @@ impl Reference {
         self.ensemble = Some(e);
     }
 
-    /// Adds the ensemble over the window from the predictability horizon to the end
-    /// ([`crate::measure::statistics`]), its floors from the position tolerance `tolerance`
-    /// (m); nothing when the whole horizon is predictable. Where the members cannot finish,
+    /// Adds the scene's ensemble ([`crate::measure::statistics`]) when this reference has a
+    /// predictability horizon before its end, its floors from the position tolerance
+    /// `tolerance` (m). The members are the scene's, made on `scene_grid` (the scene's own step
+    /// over the horizon, [`crate::measure::grid::scene_grid`]): by this reference when it was
+    /// sampled on exactly that grid, else by a reference computed on it. So every command that
+    /// judges a scene by statistics judges against the same members, whatever steps it
+    /// compares, and a document's command re-creates them. Where the members cannot finish,
     /// [`ReferenceInfo::ensemble`] says why and there is no ensemble.
-    pub fn add_ensemble(&mut self, sys: &System, s0: &State, tolerance: f64) -> Result<()> {
+    pub fn add_ensemble(
+        &mut self,
+        sys: &System,
+        s0: &State,
+        tolerance: f64,
+        scene_grid: TimeGrid,
+    ) -> Result<()> {
+        if !self.unpredictable_before_end() {
+            return Ok(());
+        }
+        if self.grids == [scene_grid] {
+            return self.add_own_ensemble(sys, s0, tolerance);
+        }
+        let horizon = scene_grid.time(scene_grid.steps);
+        let mut scene = Reference::compute(sys, s0, &[scene_grid], horizon)?;
+        scene.add_own_ensemble(sys, s0, tolerance)?;
+        match scene.ensemble {
+            Some(e) => self.use_ensemble(&e, tolerance),
+            None => {
+                self.info.ensemble = Some(scene.info.ensemble.unwrap_or_else(|| {
+                    "no ensemble: the reference at the scene's own step is predictable over the whole run".into()
+                }))
+            }
+        }
+        Ok(())
+    }
+
+    /// True when positions are predictable only up to a horizon before the end and the
+    /// reference knows how to make members.
+    fn unpredictable_before_end(&self) -> bool {
+        self.member_solver.is_some()
+            && self
+                .info
+                .predictability_horizon
+                .is_some_and(|h| h < self.info.horizon)
+    }
+
+    /// The ensemble from this reference's own predictability horizon to its end, made with
+    /// its member solver.
+    fn add_own_ensemble(&mut self, sys: &System, s0: &State, tolerance: f64) -> Result<()> {
         let (Some(start), Some(solver)) = (self.info.predictability_horizon, self.member_solver)
         else {
             return Ok(());
@@ -269,7 +312,8 @@ impl Reference {
         }
         let relative = tolerance / self.motion_scale();
         match ensemble::ensemble(sys, s0, start, end, solver, tolerance, relative)? {
-            Ok(e) => {
+            Ok(mut e) => {
+                e.grid = (self.grids.len() == 1).then(|| self.grids[0]);
                 self.info.ensemble = Some(e.made_by.clone());
                 self.ensemble = Some(e);
             }
