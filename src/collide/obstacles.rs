@@ -88,7 +88,8 @@ pub struct SweepHit {
 pub const SHEET_CLEARANCE: f64 = 1e-9;
 
 /// Static obstacles with a broad phase built once: a parry [`Bvh`] over the bounded
-/// obstacles' AABBs; unbounded ones (planes) are always tested.
+/// obstacles' AABBs (a plain scan of the AABBs below [`BVH_MIN_OBSTACLES`]); unbounded ones
+/// (planes) are always tested.
 #[derive(Debug)]
 pub struct ObstacleSet {
     obstacles: Vec<Obstacle>,
@@ -96,8 +97,20 @@ pub struct ObstacleSet {
     unbounded: Vec<usize>,
     /// BVH over bounded obstacles; leaf data = index into `bounded`.
     bvh: Bvh,
+    /// Indices of bounded obstacles, increasing.
     bounded: Vec<usize>,
+    /// The bounded obstacles' AABBs, the BVH's leaves, in the order of `bounded`.
+    aabbs: Vec<Aabb>,
 }
+
+/// Bounded obstacles from which the broad phase walks the BVH; fewer are scanned in order,
+/// which finds the same candidates (the leaves' AABBs, the same inclusive test) without
+/// the tree walk a per-particle query would otherwise pay for one sphere or box.
+pub const BVH_MIN_OBSTACLES: usize = 8;
+
+/// Most broad-phase candidates a query keeps on the stack; more fall back to an ordered scan
+/// of every bounded obstacle.
+const MAX_CANDIDATES: usize = 16;
 
 /// Relative size below which a projection's offset is treated as zero (the point is on the
 /// surface) and the normal is taken from the surface feature instead.
@@ -186,7 +199,39 @@ impl ObstacleSet {
             unbounded,
             bvh,
             bounded,
+            aabbs,
         }
+    }
+
+    /// The bounded obstacles whose AABB meets `aabb` (touching counts), in obstacle order,
+    /// written to `out`: their number, or None when there are more than `out` holds.
+    fn candidates(&self, aabb: &Aabb, out: &mut [usize; MAX_CANDIDATES]) -> Option<usize> {
+        let mut n = 0;
+        if self.bounded.len() < BVH_MIN_OBSTACLES {
+            for (b, &k) in self.aabbs.iter().zip(&self.bounded) {
+                let meets = b.mins.x <= aabb.maxs.x
+                    && b.mins.y <= aabb.maxs.y
+                    && b.mins.z <= aabb.maxs.z
+                    && b.maxs.x >= aabb.mins.x
+                    && b.maxs.y >= aabb.mins.y
+                    && b.maxs.z >= aabb.mins.z;
+                if meets {
+                    out[n] = k;
+                    n += 1;
+                }
+            }
+            return Some(n);
+        }
+        // Candidate order from the BVH is fixed for a given tree; sort for obstacle order.
+        for leaf in self.bvh.intersect_aabb(aabb) {
+            if n == out.len() {
+                return None;
+            }
+            out[n] = self.bounded[leaf as usize];
+            n += 1;
+        }
+        out[..n].sort_unstable();
+        Some(n)
     }
 
     /// The obstacles, in file order.
@@ -276,31 +321,13 @@ impl ObstacleSet {
         let pg = to_g(p);
         let r = Vector::splat(reach);
         let aabb = Aabb::new(pg - r, pg + r);
-        // Candidate order from the BVH is fixed for a given tree; sort for obstacle order.
-        let mut hits = [usize::MAX; 16];
-        let mut n = 0;
-        let mut overflow = false;
-        for leaf in self.bvh.intersect_aabb(&aabb) {
-            if n < hits.len() {
-                hits[n] = self.bounded[leaf as usize];
-                n += 1;
-            } else {
-                overflow = true;
-                break;
-            }
-        }
-        if overflow {
-            // Many candidates: fall back to a plain ordered scan of the bounded ones.
-            for &k in &self.bounded {
-                let c = self.query(k, p, radius);
-                if c.gap < margin {
-                    f(c);
-                }
-            }
-            return;
-        }
-        hits[..n].sort_unstable();
-        for &k in &hits[..n] {
+        let mut hits = [usize::MAX; MAX_CANDIDATES];
+        let near = match self.candidates(&aabb, &mut hits) {
+            Some(n) => &hits[..n],
+            // Many candidates: a plain ordered scan of the bounded ones.
+            None => &self.bounded[..],
+        };
+        for &k in near {
             let c = self.query(k, p, radius);
             if c.gap < margin {
                 f(c);
@@ -376,28 +403,15 @@ impl ObstacleSet {
             let a = to_g(p0);
             let b = to_g(p1);
             let aabb = Aabb::new(a.min(b), a.max(b));
-            // No allocation in the common case: up to 16 candidates on the stack, in obstacle
+            // No allocation in the common case: the candidates on the stack, in obstacle
             // order; more fall back to an ordered scan of every bounded obstacle.
-            let mut cand = [usize::MAX; 16];
-            let mut n = 0;
-            let mut overflow = false;
-            for leaf in self.bvh.intersect_aabb(&aabb) {
-                if n == cand.len() {
-                    overflow = true;
-                    break;
-                }
-                cand[n] = self.bounded[leaf as usize];
-                n += 1;
-            }
-            if overflow {
-                for &k in &self.bounded {
-                    test(k, &mut best);
-                }
-            } else {
-                cand[..n].sort_unstable();
-                for &k in &cand[..n] {
-                    test(k, &mut best);
-                }
+            let mut cand = [usize::MAX; MAX_CANDIDATES];
+            let near = match self.candidates(&aabb, &mut cand) {
+                Some(n) => &cand[..n],
+                None => &self.bounded[..],
+            };
+            for &k in near {
+                test(k, &mut best);
             }
         }
         best
