@@ -153,9 +153,7 @@ pub fn run(a: Args) -> Result<()> {
                 .join(", ")
         );
     }
-    for f in &f {
-        println!("wrote {}", f.display());
-    }
+    super::common::print_written(&f);
     if a.write_expect {
         let Some(spec) = springlab::measure::advise::expect_table(&adv) else {
             anyhow::bail!(

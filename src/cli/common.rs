@@ -151,3 +151,15 @@ pub fn check_out(out: &Path) -> Result<()> {
 pub fn load(path: &PathBuf) -> Result<Scenario> {
     Ok(Scenario::from_file(path)?)
 }
+
+/// Prints `wrote PATH` once per file written, in the order first written (a folder's
+/// `timing.json` is rewritten with each document that has wall times).
+pub fn print_written(files: &[PathBuf]) {
+    let mut seen: Vec<&PathBuf> = Vec::new();
+    for f in files {
+        if !seen.contains(&f) {
+            println!("wrote {}", f.display());
+            seen.push(f);
+        }
+    }
+}

@@ -142,8 +142,6 @@ pub fn run(a: Args) -> Result<()> {
             }
         }
     }
-    for f in files {
-        println!("wrote {}", f.display());
-    }
+    super::common::print_written(&files);
     Ok(())
 }

@@ -150,8 +150,6 @@ pub fn run(a: Args) -> Result<()> {
     for (n, why) in &fr.skipped {
         println!("skipped {n}: {why}");
     }
-    for f in files {
-        println!("wrote {}", f.display());
-    }
+    super::common::print_written(&files);
     Ok(())
 }

@@ -27,8 +27,6 @@ pub fn run(a: Args) -> Result<()> {
         res.rows.len(),
         res.plan.scenario
     );
-    for f in files {
-        println!("wrote {}", f.display());
-    }
+    super::common::print_written(&files);
     Ok(())
 }

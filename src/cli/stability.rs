@@ -144,8 +144,6 @@ pub fn run(a: Args) -> Result<()> {
         }
         files.push(write_atomic(dir.join("stability_map.csv"), csv.as_bytes())?);
     }
-    for f in files {
-        println!("wrote {}", f.display());
-    }
+    super::common::print_written(&files);
     Ok(())
 }
