@@ -105,11 +105,12 @@ impl Accumulator {
     }
 }
 
-/// The window's sample times: [`WINDOW_SAMPLES`] evenly spaced from `start` to `end`.
+/// The window's sample times: [`WINDOW_SAMPLES`] evenly spaced from `start` to `end`, none
+/// past `end` (start + (end − start) can round one ulp above it, a time no solve reaches).
 pub fn window_times(start: f64, end: f64) -> Vec<f64> {
     let n = WINDOW_SAMPLES;
     (0..n)
-        .map(|i| start + (end - start) * i as f64 / (n - 1) as f64)
+        .map(|i| (start + (end - start) * i as f64 / (n - 1) as f64).min(end))
         .collect()
 }
 
@@ -268,6 +269,19 @@ mod tests {
             made_by: String::new(),
             grid: None,
         }
+    }
+
+    // Oracle: IEEE arithmetic. 5.831 + (20 − 5.831) rounds to 20.000000000000004, a time past
+    // the run's end that no member's solve reaches; the window must end at the end itself.
+    // Twin: a start whose sum lands exactly keeps its evenly spaced times unchanged.
+    #[test]
+    fn the_window_never_passes_the_end() {
+        let t = window_times(5.831, 20.0);
+        assert_eq!((t[0], *t.last().unwrap()), (5.831, 20.0));
+        assert!(t.windows(2).all(|w| w[0] < w[1]));
+        let u = window_times(5.832, 20.0);
+        assert_eq!(u[100], 5.832 + (20.0 - 5.832) * 100.0 / 199.0);
+        assert_eq!(*u.last().unwrap(), 20.0);
     }
 
     // Oracle: the sample mean and the n − 1 standard deviation worked by hand for members
