@@ -139,12 +139,21 @@ pub(super) fn fine_step(
 ) -> Result<Fine> {
     let h0 = h0.min(horizon / 1000.0);
     let sp = perturbed(sys, s0);
-    let (first, pert) = rayon::join(
-        || run_at(sys, s0, times, horizon, h0),
-        || run_at(sys, &sp, times, horizon, h0),
+    // Level 2 always runs, so it runs beside level 1 and the perturbed run: three
+    // independent runs, each sequential, so the bits do not depend on the thread count; an
+    // error is reported in the order the levels would have met it.
+    let ((first, pert), second) = rayon::join(
+        || {
+            rayon::join(
+                || run_at(sys, s0, times, horizon, h0),
+                || run_at(sys, &sp, times, horizon, h0),
+            )
+        },
+        || run_at(sys, s0, times, horizon, 0.5 * h0),
     );
     let ((mut prev, mut evals), (pert, pe)) = (first?, pert?);
     evals += pe;
+    let mut ready = Some(second?);
     let motion = prev
         .iter()
         .flat_map(|x| x.iter().zip(&s0.x).map(|(a, b)| (a - b).norm()))
@@ -164,7 +173,10 @@ pub(super) fn fine_step(
         if levels >= 2 && (levels >= FINE_LEVELS_MAX || horizon / next_h > FINE_STEP_BUDGET) {
             break;
         }
-        let (cur, e) = run_at(sys, s0, times, horizon, next_h)?;
+        let (cur, e) = match ready.take() {
+            Some(level_two) => level_two,
+            None => run_at(sys, s0, times, horizon, next_h)?,
+        };
         evals += e;
         unc = cur
             .iter()
