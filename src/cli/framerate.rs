@@ -48,6 +48,7 @@ pub struct Args {
 }
 
 /// Runs the command.
+// Long because it prints the frame-rate table (one line per method and rate) and its notes after writing the files.
 pub fn run(a: Args) -> Result<()> {
     if let Some(out) = &a.out {
         super::common::check_out(out)?;
