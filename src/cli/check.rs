@@ -126,7 +126,10 @@ pub fn run(a: Args) -> Result<()> {
             Err(why) => refused.push((m.info.name, why)),
         }
     }
-    println!("methods and engines that apply: {}", applicable.join(", "));
+    println!(
+        "methods that apply (native and Rapier): {}",
+        applicable.join(", ")
+    );
     for (name, why) in refused {
         println!("  not {name}: {why}");
     }

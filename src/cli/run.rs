@@ -111,7 +111,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     write_run(&dir, &summary)?;
     println!(
-        "{} with {name}: dt = {} s per frame, {substeps} substep(s) per frame, {} frames, {} force evaluations, {:.3} ms modelled, {:.3} ms in the method ({:.3e} s per frame)",
+        "{} with {name}: dt = {} s per frame, {substeps} substep(s) per frame, {} frames, {} force evaluations, {:.3} ms modelled, {:.3} ms stepping ({:.3e} s per frame)",
         scene.name,
         plan.dt,
         out.steps_done,

@@ -1,5 +1,5 @@
 //! The post-step contact stage for the `impulse` and `projection` responses: after each
-//! accepted method step, the runner calls [`Contacts::apply`], which resolves every
+//! accepted step, the runner calls [`Contacts::apply`], which resolves every
 //! particle's contacts (including crossings between steps found by a swept test) and reports
 //! the mechanical energy the response removed and, apart, the energy it created, so the run's
 //! energy account stays a balance that cannot hide a gain behind a loss.
@@ -33,7 +33,7 @@ use std::sync::Arc;
 /// What the contact stage did in one step.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ContactStep {
-    /// True when some position or velocity changed (the method must then be reset).
+    /// True when some position or velocity changed (the stepper must then be reset).
     pub changed: bool,
     /// Mechanical energy the responses removed (J, ≥ 0): the sum of the particles' drops, each
     /// its kinetic plus gravitational energy plus the elastic energy at it (module docs).

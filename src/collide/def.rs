@@ -1,5 +1,5 @@
 //! Validated obstacle and collision settings: what the scene file asked for, in model units,
-//! before any parry shape is built (the Rapier method reads the same definitions).
+//! before any parry shape is built (the Rapier engines read the same definitions).
 
 use crate::model::Vec3;
 

@@ -1,4 +1,4 @@
-//! Time methods: one trait, one file per method. Their names and facts are registered in
+//! Native time-stepping schemes: one trait ([`Stepper`]), one file per method. Their names and facts are registered in
 //! [`crate::method`].
 //!
 //! Write your own scheme by implementing [`Stepper`] and registering it

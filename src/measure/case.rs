@@ -20,8 +20,8 @@ pub const SHORT_RUN_REPEATS: usize = 5;
 /// When to stop repeating a timed run: once it has `min_repetitions` runs and
 /// `min_total_seconds` of elapsed time, or once its elapsed time reaches `cap_seconds` with
 /// at least `cap_repetitions` runs, or at `max_repetitions` runs, whichever comes first.
-/// Elapsed time counts each repetition whole (method set-up included), so the rule bounds
-/// what the timing costs; the sample kept is the method's own wall time.
+/// Elapsed time counts each repetition whole (stepper set-up included), so the rule bounds
+/// what the timing costs; the sample kept is the stepping wall time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TimingRule {
     /// Repetitions wanted (≥ 1).
@@ -139,7 +139,7 @@ pub fn frame_setup(
 
 /// Times every run in `runs` on this thread, interleaved round-robin (A, B, C, A, B, C, …)
 /// so that a drift of the machine's speed touches all of them alike; a run leaves the rotation
-/// once `rule` is satisfied. Each repetition uses a fresh method and no observer; the time
+/// once `rule` is satisfied. Each repetition uses a fresh stepper and no observer; the time
 /// is the runner's stepping wall time. Returns one [`WallTimes`] per run, in input order.
 pub fn time_interleaved(
     sys: &System,

@@ -1,5 +1,5 @@
 //! springlab's built-in methods and their facts: the registry's one entry per method (a new
-//! method adds its method file and one entry here). Orders and limits are the textbook ones (Hairer, Nørsett & Wanner, *Solving
+//! method adds its stepper file in `src/integrate/` and one entry here). Orders and limits are the textbook ones (Hairer, Nørsett & Wanner, *Solving
 //! ODEs I*; Hairer, Lubich & Wanner, *Geometric Numerical Integration*).
 
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
@@ -190,7 +190,7 @@ pub fn methods() -> Vec<Method> {
 }
 
 impl Registry {
-    /// springlab's own methods and the Rapier methods.
+    /// springlab's native schemes and the two Rapier engines.
     pub fn builtin() -> Self {
         static BUILTIN: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
         BUILTIN

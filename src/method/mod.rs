@@ -1,4 +1,4 @@
-//! Methods as data: every method and engine springlab can run, registered once with its
+//! Methods as data: every native scheme and engine springlab can run, registered once with its
 //! facts (name, aliases, order, summary, stability theory, cost unit, how it meets the runner,
 //! the options it reads) and its constructor.
 //!
@@ -19,7 +19,7 @@ pub use registry::{Constructor, Method, Registry};
 use crate::error::Result;
 use crate::integrate::Stepper;
 
-/// A fresh built-in method by name (aliases accepted): shorthand for
+/// A fresh stepper of a built-in method, by name (aliases accepted): shorthand for
 /// `Registry::builtin().create(name, opts)`.
 pub fn create(name: &str, opts: &MethodOptions) -> Result<Box<dyn Stepper>> {
     Registry::builtin().create(name, opts)

@@ -148,7 +148,7 @@ impl Registry {
         let made = m.create(&MethodOptions::default());
         if made.name() != info.name {
             return Err(refuse(format!(
-                "its constructor makes a method named '{}'",
+                "its constructor makes a stepper named '{}'",
                 made.name()
             )));
         }

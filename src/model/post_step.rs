@@ -8,7 +8,7 @@ use std::any::Any;
 /// What a post-step stage did in one step.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct StageStep {
-    /// True when some position or velocity changed (the method's history must then be reset).
+    /// True when some position or velocity changed (the stepper's history must then be reset).
     pub changed: bool,
     /// Mechanical energy the stage removed (J, ≥ 0): work against friction and inelastic
     /// contact, never netted against a gain.
@@ -18,7 +18,7 @@ pub struct StageStep {
     pub created: f64,
 }
 
-/// A stage run after every accepted method step (today: contact response with obstacles).
+/// A stage run after every step the stepper accepts (today: contact response with obstacles).
 pub trait PostStep: Send + Sync + std::fmt::Debug {
     /// Name listed by [`System::active_terms`]; `None` when the stage does no post-step work
     /// (its effect lives in a force term, which is listed instead).

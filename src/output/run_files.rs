@@ -121,9 +121,9 @@ pub struct RunSummary {
     pub work: crate::run::Work,
     /// Modelled seconds of that work ([`crate::run::cost`]).
     pub modelled_seconds: f64,
-    /// Wall time inside the method (s; kept in `timing.json`).
+    /// Stepping wall time (s; kept in `timing.json`).
     pub wall_seconds: f64,
-    /// Wall time inside the method per completed frame (s; kept in `timing.json`).
+    /// Stepping wall time per completed frame (s; kept in `timing.json`).
     pub wall_seconds_per_frame: f64,
     /// `ok` or `unstable`.
     pub status: &'static str,

@@ -129,7 +129,7 @@ pub fn on_threads<'a>(threads: usize, mut inner: Contender<'a>) -> Result<Conten
     Ok(Box::new(move || pool.install(&mut inner)))
 }
 
-/// A fresh method by name with default options.
+/// A fresh stepper of the method `name`, with default options.
 pub fn fresh_stepper(name: &str) -> Result<Box<dyn Stepper>> {
     crate::method::create(name, &MethodOptions::default())
 }

@@ -31,7 +31,7 @@ pub const TREE_CUBE_PER_SUBSTEP: f64 = 0.18e-6;
 /// Seconds per link of the trees an impulse joint attaches to, per substep.
 pub const ATTACHED_LINK_PER_SUBSTEP: f64 = 0.49e-6;
 
-/// What a Rapier method builds for a scene: the counts the model prices.
+/// What a Rapier stepper builds for a scene: the counts the model prices.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct EngineShape {
     /// Rigid bodies (one per particle).
@@ -49,7 +49,7 @@ pub struct EngineShape {
 }
 
 impl EngineShape {
-    /// What `mode` builds for `sys` (the same topology the method builds).
+    /// What `mode` builds for `sys` (the same topology the stepper builds).
     pub fn of(sys: &System, mode: Mode) -> Self {
         let bodies = sys.len();
         match mode {

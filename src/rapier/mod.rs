@@ -1,4 +1,4 @@
-//! Rapier 0.36 (f64) methods: the only module that imports Rapier.
+//! Rapier 0.36 (f64) engines: the only module that imports Rapier.
 //!
 //! `rapier_impulse` maps every particle to a rigid body and every spring/constraint to an
 //! impulse joint; `rapier_multibody` puts tree edges into multibody joints (reduced

@@ -27,7 +27,7 @@ pub struct RapierStepper {
 }
 
 impl RapierStepper {
-    /// A method of the given mode with `substeps` solver iterations per frame.
+    /// A stepper of the given mode with `substeps` solver iterations per frame.
     pub fn new(mode: Mode, substeps: usize) -> Self {
         RapierStepper {
             mode,

@@ -66,7 +66,7 @@ pub struct MethodRow {
     /// back from before it was recorded.
     #[serde(default)]
     pub modelled_seconds: f64,
-    /// Wall time in the method (s); varies from run to run, so documents keep it in
+    /// Stepping wall time (s); varies from run to run, so documents keep it in
     /// `timing.json` (0 when that file is gone).
     #[serde(default)]
     pub wall_seconds: f64,

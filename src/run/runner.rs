@@ -1,4 +1,4 @@
-//! The run loop (argmin's Executor pattern): methods only step; this owns everything else.
+//! The run loop (argmin's Executor pattern): steppers only step; this owns everything else.
 
 use super::cost::{CostModel, Work};
 use super::energy::EnergyRecord;
@@ -146,7 +146,7 @@ pub struct RunOutcome {
     pub steps_done: u64,
     /// Force evaluations made.
     pub force_evals: u64,
-    /// Wall time spent inside the method's steps (s): measured, reported, never decides.
+    /// Wall time spent inside the stepper's steps (s): measured, reported, never decides.
     pub wall_seconds: f64,
     /// The work the run counted.
     pub work: Work,
@@ -194,7 +194,7 @@ impl Loop<'_> {
         w.engine_seconds += stats.engine_seconds;
         // Contact stage (obstacles only): resolve contacts after the accepted step, before the
         // energy account; what it removes joins `dissipated`, and a changed state resets the
-        // method's history. The stage books losses and gains apart: energy it created stays
+        // stepper's history. The stage books losses and gains apart: energy it created stays
         // in the mechanical terms, where the verdict sees it as a gain, and is listed in `created`.
         if let Some(c) = self
             .sys
@@ -229,7 +229,7 @@ impl Loop<'_> {
 ///
 /// Impulses take effect when the scene's [`crate::model::Events`] says, relative to the
 /// frames of `plan.dt`; `steps_done` counts frames, and the cost counts every substep.
-// One function because the frame loop owns the method, the contact stage, impulses, energy accounts and the verdict together; each is a call, the loop is their order.
+// One function because the frame loop owns the stepper, the contact stage, impulses, energy accounts and the verdict together; each is a call, the loop is their order.
 pub fn run(
     sys: &System,
     stepper: &mut dyn Stepper,

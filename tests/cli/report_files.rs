@@ -194,7 +194,7 @@ fn every_svg_is_well_formed_with_axes_and_legend() {
         let csv = read(&f.with_extension("csv"));
         let mut rdr = csv::Reader::from_reader(csv.as_bytes());
         let headers = rdr.headers().unwrap().clone();
-        let col = ["series", "method", "method"]
+        let col = ["series", "method"]
             .iter()
             .find_map(|c| headers.iter().position(|h| h == *c))
             .unwrap();

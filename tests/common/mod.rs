@@ -19,7 +19,7 @@ pub fn oscillator(k: f64, c: f64, u0: f64, v0: f64) -> Scenario {
     Scenario::from_toml_str(&toml, "oscillator.toml").expect("valid oscillator")
 }
 
-/// A fresh method by name with default options.
+/// A fresh stepper of the method `name`, with default options.
 pub fn stepper(name: &str) -> Box<dyn Stepper> {
     springlab::method::create(name, &MethodOptions::default()).expect("known method")
 }

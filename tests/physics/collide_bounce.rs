@@ -36,23 +36,19 @@ fn apex_ratios(scene: &Scenario, method: &str, dt: f64) -> (Vec<f64>, f64) {
 fn impulse_apex_ratios_match_e_squared() {
     let s = scene("bounce.toml");
     let e: f64 = 0.5;
-    for stepper in [
+    for name in [
         "symplectic_euler",
         "velocity_verlet",
         "rk4",
         "implicit_euler",
     ] {
-        let (ratios, _) = apex_ratios(&s, stepper, 1e-4);
-        assert!(
-            ratios.len() >= 3,
-            "{stepper}: only {} bounces",
-            ratios.len()
-        );
+        let (ratios, _) = apex_ratios(&s, name, 1e-4);
+        assert!(ratios.len() >= 3, "{name}: only {} bounces", ratios.len());
         for (n, r) in ratios.iter().take(3).enumerate() {
             let rel = (r / (e * e) - 1.0).abs();
             assert!(
                 rel < 0.02,
-                "{stepper}: apex ratio {} = {r}, e² = {}, off by {rel:.3}",
+                "{name}: apex ratio {} = {r}, e² = {}, off by {rel:.3}",
                 n + 1,
                 e * e
             );

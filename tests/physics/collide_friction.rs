@@ -56,11 +56,11 @@ fn every_response_stops_a_slide_at_v0_squared_over_two_mu_g() {
             "rk4",
         ),
     ];
-    for (collision, stepper) in cases {
-        let d = slide(collision, stepper, 1e-4);
+    for (collision, name) in cases {
+        let d = slide(collision, name, 1e-4);
         assert!(
             (d / expected - 1.0).abs() < 0.02,
-            "{collision} / {stepper}: stopped at {d}, expected {expected}"
+            "{collision} / {name}: stopped at {d}, expected {expected}"
         );
     }
 }

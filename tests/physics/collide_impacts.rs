@@ -4,7 +4,7 @@
 //! from falling to rising is an impact the metrics must list; (2) Newton's law of impact: each
 //! listed impact returns e·|v_in| for the obstacle's e; (3) for a penalty contact, the contact
 //! ODE m z'' = −k z − c z' + m g (gravity along the normal) integrated independently here with
-//! `ode_solvers`' Dopri5, not with springlab's method.
+//! `ode_solvers`' Dopri5, not with any of springlab's methods.
 
 use springlab::collide::damping_ratio_for_restitution;
 use springlab::measure::contacts::{ContactMetrics, ContactReport};

@@ -21,13 +21,13 @@ fn no_obstacles_no_queries() {
     let (q0, b0) = (query_count(), build_count());
     let sys = scene.build();
     assert!(sys.post_step.is_none());
-    for stepper in [
+    for name in [
         "symplectic_euler",
         "implicit_euler",
         "rk4",
         "verlet_constraints",
     ] {
-        let mut m = by_name(stepper, &MethodOptions::default()).unwrap();
+        let mut m = by_name(name, &MethodOptions::default()).unwrap();
         run(
             &sys,
             m.as_mut(),

@@ -63,23 +63,23 @@ fn formulas_are_inverse() {
 fn restitution_derived_from_obstacle_matches_formula() {
     // k = 1e4 N/m, m = 1 kg: ω = 100 rad/s, contact ≈ 31 ms; dt = 1e-5 s.
     let s = wall("response = \"penalty\"\nstiffness = 1e4", 0.5);
-    for stepper in [
+    for name in [
         "rk4",
         "velocity_verlet",
         "symplectic_euler",
         "implicit_euler",
     ] {
-        let ev = measure(&s, stepper, 1e-5);
+        let ev = measure(&s, name, 1e-5);
         let e = ev.restitution.unwrap();
         assert!((ev.expected_restitution - 0.5).abs() < 1e-12);
         assert!(
             (e / 0.5 - 1.0).abs() < 0.02,
-            "{stepper}: measured e = {e}, formula 0.5"
+            "{name}: measured e = {e}, formula 0.5"
         );
         let d = ev.expected_duration.unwrap();
         assert!(
             (ev.duration / d - 1.0).abs() < 0.02,
-            "{stepper}: duration {} vs π/ω_d = {d}",
+            "{name}: duration {} vs π/ω_d = {d}",
             ev.duration
         );
         assert!(

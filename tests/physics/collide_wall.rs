@@ -31,18 +31,18 @@ fn tunnels(scene: &Scenario, method: &str) -> (u64, f64) {
 #[test]
 fn shipped_fast_particle_does_not_tunnel() {
     let s = Scenario::from_file(path()).unwrap();
-    for stepper in [
+    for name in [
         "symplectic_euler",
         "velocity_verlet",
         "rk4",
         "implicit_euler",
         "explicit_euler",
     ] {
-        let (count, x) = tunnels(&s, stepper);
-        assert_eq!(count, 0, "{stepper}: tunnelled");
+        let (count, x) = tunnels(&s, name);
+        assert_eq!(count, 0, "{name}: tunnelled");
         assert!(
             x < 0.99,
-            "{stepper}: ended at x = {x}, beyond the wall's front face"
+            "{name}: ended at x = {x}, beyond the wall's front face"
         );
     }
 }

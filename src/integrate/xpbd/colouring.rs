@@ -8,7 +8,7 @@
 //! colours in order, a Gauss–Seidel sweep in colour order.
 //!
 //! Built once per scene (at the first step) and checked against the scene's topology at every
-//! step by a fingerprint, so a method moved to another scene rebuilds it.
+//! step by a fingerprint, so a stepper moved to another scene rebuilds it.
 
 use super::link::{link, solve};
 use crate::model::{System, Vec3};

@@ -79,7 +79,7 @@ impl CostMeasure {
                 wall_time: "median over repetitions, shown beside the ranking measure; it decides nothing",
                 repetitions: rule.min_repetitions,
                 rule: *rule,
-                schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh method, no observer, the runner's stepping wall time",
+                schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh stepper, no observer, the runner's stepping wall time",
             },
             tie_band: TIE_BAND,
             tie_rule: format!(

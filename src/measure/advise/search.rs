@@ -194,7 +194,7 @@ pub(super) fn candidates(
 ) -> Result<(Vec<String>, Vec<Unable>)> {
     let (mut names, mut unable) = applicable(&cfg.registry, sys, &cfg.methods, &cfg.options)?;
     if cfg.methods.is_empty() {
-        // Exact methods are closed forms for special scenes, not general methods.
+        // Exact methods are closed forms for special scenes, not general-purpose schemes.
         let exact: Vec<String> = names
             .iter()
             .filter(|n| cfg.registry.info(n).is_ok_and(|m| m.order == Order::Exact))

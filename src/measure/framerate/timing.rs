@@ -1,5 +1,5 @@
 //! Timing the frame-rate table's runs, like advice's candidates: on one thread after every
-//! accuracy run, interleaved round-robin, each repetition a fresh method.
+//! accuracy run, interleaved round-robin, each repetition a fresh stepper.
 
 use super::rows::{FrameRun, RateEntry};
 use crate::error::Result;

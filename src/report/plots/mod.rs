@@ -1,5 +1,5 @@
 //! One function per chart, each taking plain data from [`super::data`] and returning an SVG
-//! document as a string (plotters' SVG method: text as `<text>` elements, no font files).
+//! document as a string (plotters' SVG backend: text as `<text>` elements, no font files).
 
 pub mod collision;
 pub mod common;
