@@ -9,7 +9,7 @@
 use super::counter::{count_build, count_query};
 use super::def::{ObstacleDef, ShapeDef};
 use crate::model::Vec3;
-use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query::Ray;
@@ -209,13 +209,7 @@ impl ObstacleSet {
         let mut n = 0;
         if self.bounded.len() < BVH_MIN_OBSTACLES {
             for (b, &k) in self.aabbs.iter().zip(&self.bounded) {
-                let meets = b.mins.x <= aabb.maxs.x
-                    && b.mins.y <= aabb.maxs.y
-                    && b.mins.z <= aabb.maxs.z
-                    && b.maxs.x >= aabb.mins.x
-                    && b.maxs.y >= aabb.mins.y
-                    && b.maxs.z >= aabb.mins.z;
-                if meets {
+                if b.intersects(aabb) {
                     out[n] = k;
                     n += 1;
                 }
@@ -415,5 +409,67 @@ impl ObstacleSet {
             }
         }
         best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Oracle: parry's BVH over the same leaves. The ordered scan below BVH_MIN_OBSTACLES must
+    // find exactly the obstacles the tree finds, touching boxes included, for queries that
+    // miss, graze and cover them. Twin: a query box far from every sphere finds only the
+    // half-space.
+    #[test]
+    fn the_scan_finds_what_the_tree_finds() {
+        let sphere = |c: [f64; 3], r: f64| ObstacleDef {
+            shape: ShapeDef::Sphere {
+                center: Vec3::new(c[0], c[1], c[2]),
+                radius: r,
+            },
+            restitution: 0.0,
+            friction: 0.0,
+        };
+        let set = ObstacleSet::build(&[
+            sphere([0.0, 0.0, 0.0], 1.0),
+            ObstacleDef {
+                shape: ShapeDef::Plane {
+                    point: Vec3::zeros(),
+                    normal: Vec3::new(0.0, 1.0, 0.0),
+                },
+                restitution: 0.0,
+                friction: 0.0,
+            },
+            sphere([3.0, 0.0, 0.0], 0.5),
+            sphere([0.0, 4.0, 1.0], 2.0),
+        ]);
+        assert!(set.bounded.len() < BVH_MIN_OBSTACLES);
+        let mut checked = 0;
+        for i in -12..=12 {
+            for j in -12..=12 {
+                for half in [0.0, 0.25, 1.0, 3.0] {
+                    let c = Vector::new(0.5 * i as f64, 0.5 * j as f64, 0.5);
+                    let q = Aabb::new(c - Vector::splat(half), c + Vector::splat(half));
+                    let mut tree: Vec<usize> = set
+                        .bvh
+                        .intersect_aabb(&q)
+                        .map(|l| set.bounded[l as usize])
+                        .collect();
+                    tree.sort_unstable();
+                    let mut out = [usize::MAX; MAX_CANDIDATES];
+                    let n = set.candidates(&q, &mut out).expect("few obstacles");
+                    assert_eq!(&out[..n], &tree[..], "query {q:?}");
+                    checked += usize::from(n > 0);
+                }
+            }
+        }
+        assert!(checked > 100, "only {checked} queries met an obstacle");
+        let far = Aabb::new(Vector::splat(50.0), Vector::splat(51.0));
+        let mut out = [usize::MAX; MAX_CANDIDATES];
+        assert_eq!(set.candidates(&far, &mut out), Some(1));
+        assert_eq!(
+            out[0], 1,
+            "only the half-space, whose box parry makes all of space"
+        );
     }
 }

@@ -269,15 +269,15 @@ impl Reference {
         tolerance: f64,
         scene_grid: TimeGrid,
     ) -> Result<()> {
-        if !self.unpredictable_before_end() {
+        if self.ensemble_window().is_none() {
             return Ok(());
         }
         if self.grids == [scene_grid] {
-            return self.add_own_ensemble(sys, s0, tolerance);
+            return self.add_own_ensemble(sys, s0, tolerance, scene_grid);
         }
         let horizon = scene_grid.time(scene_grid.steps);
         let mut scene = Reference::compute(sys, s0, &[scene_grid], horizon)?;
-        scene.add_own_ensemble(sys, s0, tolerance)?;
+        scene.add_own_ensemble(sys, s0, tolerance, scene_grid)?;
         match scene.ensemble {
             Some(e) => self.use_ensemble(&e, tolerance),
             None => {
@@ -289,31 +289,33 @@ impl Reference {
         Ok(())
     }
 
-    /// True when positions are predictable only up to a horizon before the end and the
-    /// reference knows how to make members.
-    fn unpredictable_before_end(&self) -> bool {
-        self.member_solver.is_some()
-            && self
-                .info
-                .predictability_horizon
-                .is_some_and(|h| h < self.info.horizon)
+    /// The ensemble's window start and member solver, when positions are predictable only up
+    /// to a horizon before the end and the reference knows how to make members.
+    fn ensemble_window(&self) -> Option<(f64, ensemble::MemberSolver)> {
+        let (Some(start), Some(solver)) = (self.info.predictability_horizon, self.member_solver)
+        else {
+            return None;
+        };
+        (start < self.info.horizon).then_some((start, solver))
     }
 
     /// The ensemble from this reference's own predictability horizon to its end, made with
-    /// its member solver.
-    fn add_own_ensemble(&mut self, sys: &System, s0: &State, tolerance: f64) -> Result<()> {
-        let (Some(start), Some(solver)) = (self.info.predictability_horizon, self.member_solver)
-        else {
+    /// its member solver; `grid` is the scene grid this reference was sampled on.
+    fn add_own_ensemble(
+        &mut self,
+        sys: &System,
+        s0: &State,
+        tolerance: f64,
+        grid: TimeGrid,
+    ) -> Result<()> {
+        let Some((start, solver)) = self.ensemble_window() else {
             return Ok(());
         };
         let end = self.info.horizon;
-        if start >= end {
-            return Ok(());
-        }
         let relative = tolerance / self.motion_scale();
         match ensemble::ensemble(sys, s0, start, end, solver, tolerance, relative)? {
             Ok(mut e) => {
-                e.grid = (self.grids.len() == 1).then(|| self.grids[0]);
+                e.grid = Some(grid);
                 self.info.ensemble = Some(e.made_by.clone());
                 self.ensemble = Some(e);
             }
