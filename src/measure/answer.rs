@@ -27,6 +27,7 @@ pub const GAME_HZ: f64 = 60.0;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FreeStep {
     /// Method (null when nothing ran stably).
+    #[serde(alias = "integrator")]
     pub method: Option<String>,
     /// Step (s).
     pub dt: Option<f64>,
@@ -54,6 +55,7 @@ pub struct GameRate {
     /// Frame rate (Hz).
     pub hz: f64,
     /// Method (null when none ran stably at this rate).
+    #[serde(alias = "integrator")]
     pub method: Option<String>,
     /// Substeps per frame.
     pub substeps: Option<u64>,

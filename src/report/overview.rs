@@ -64,3 +64,4 @@ pub fn assemble(
     }
     sum
 }
+

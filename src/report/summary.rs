@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct MethodRow {
     /// Method name.
+    #[serde(alias = "backend")]
     pub method: String,
     /// Theoretical order: a number, or `"exact"`.
     pub order: Order,
@@ -43,6 +44,7 @@ pub struct MethodRow {
     /// The same as h·ω_max.
     pub stable_h_omega: Option<f64>,
     /// How the stability limit was decided (`spectral_radius`, `empirical_bisection`, ...).
+    #[serde(alias = "stability_method")]
     pub stability_decided_by: Option<String>,
     /// For an empirical "stable at every step", the largest step the search tried (s): the
     /// claim holds up to there, not beyond.
@@ -101,6 +103,7 @@ pub struct SceneSummary {
     #[serde(default)]
     pub answer: Option<crate::measure::answer::Answer>,
     /// One row per method that ran.
+    #[serde(alias = "backends")]
     pub methods: Vec<MethodRow>,
     /// Methods that refused the scene, with the reason.
     pub skipped: Vec<(String, String)>,
@@ -114,7 +117,7 @@ pub struct SceneSummary {
     pub notes: Vec<String>,
     /// Wall time of each part of the study (s): where the report's time went (documents keep
     /// it in `timing.json`).
-    #[serde(default, rename = "wall_seconds")]
+    #[serde(default, rename = "wall_seconds", alias = "seconds")]
     pub seconds: crate::measure::study::StudySeconds,
     /// The scenario file's name, by which a later report recognises the scene if it cannot
     /// load it.

@@ -155,3 +155,30 @@ fn shards_merged_give_the_unsharded_report() {
         .collect();
     assert!(differ.is_empty(), "merged differs from whole: {differ:?}");
 }
+
+/// The overview an earlier report wrote is still read, so a scene that fails in the next
+/// report keeps its row. Oracle: `tests/data/earlier_summary.json`, one scene cut from a
+/// report written before rows named their method `method` (`backends`/`backend`,
+/// `stability_method`, `seconds`, answers' `integrator`): every value reads as written there.
+#[test]
+fn an_earlier_overview_is_read_with_its_own_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/earlier_summary.json");
+    std::fs::copy(&fixture, dir.path().join("summary.json")).unwrap();
+    let sum = springlab::report::overview::previous_summary(dir.path()).expect("readable");
+    let scene = &sum.scenes[0];
+    assert_eq!(scene.scene, "anchored_spring");
+    let row = &scene.methods[0];
+    assert_eq!(row.method, "explicit_euler");
+    assert_eq!(row.stability_decided_by.as_deref(), Some("spectral_radius"));
+    assert_eq!(scene.seconds.compare, 0.210808237);
+    let answer = scene.answer.as_ref().expect("an answer");
+    assert_eq!(answer.free_step.method.as_deref(), Some("position_verlet"));
+    assert_eq!(answer.game_rate.method.as_deref(), Some("symplectic_euler"));
+    // Twin: a row that names no method at all is not a row; the overview is unreadable.
+    let text = std::fs::read_to_string(&fixture).unwrap();
+    let broken = text.replacen("\"backend\":", "\"nothing\":", 1);
+    assert_ne!(broken, text);
+    std::fs::write(dir.path().join("summary.json"), broken).unwrap();
+    assert!(springlab::report::overview::previous_summary(dir.path()).is_none());
+}
