@@ -56,7 +56,8 @@ fn split_json(v: &mut Value, at: &str, ids: &Map<String, Value>, out: &mut Vec<V
                 rec.insert("at".into(), Value::String(at.to_string()));
                 rec.extend(ids.clone());
                 for k in walls {
-                    if let Some(x) = map.remove(&k) {
+                    // shift_remove: the fields left keep the order they were written in.
+                    if let Some(x) = map.shift_remove(&k) {
                         rec.insert(k, x);
                     }
                 }
@@ -250,7 +251,8 @@ pub fn write_document(path: impl AsRef<Path>, bytes: &[u8]) -> Result<Vec<PathBu
 }
 
 /// Reads document `path` with its wall times put back from the folder's `timing.json` (a
-/// document written by [`write_document`] reads as it was before the split).
+/// document written by [`write_document`] reads with the values it had before the split; in
+/// JSON the restored fields come last in their object).
 pub fn read_document(path: impl AsRef<Path>) -> Result<String> {
     let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|source| Error::Read {
@@ -405,6 +407,14 @@ mod tests {
         assert_eq!(
             kept,
             serde_json::json!({"command":"x","entries":[{"method":"rk4","dt":0.001,"error":1.0}]})
+        );
+        // Values compare without order: the text must keep the fields in their written order.
+        let json = br#"{"method":"rk4","wall_seconds":0.5,"error":1.0,"note":"n","status":"ok"}"#;
+        write_document(dir.path().join("c.json"), json).unwrap();
+        let text = std::fs::read_to_string(dir.path().join("c.json")).unwrap();
+        let at = |k: &str| text.find(&format!("\"{k}\"")).unwrap();
+        assert!(
+            at("method") < at("error") && at("error") < at("note") && at("note") < at("status")
         );
         let t: Value =
             serde_json::from_slice(&std::fs::read(dir.path().join(TIMING_FILE)).unwrap()).unwrap();

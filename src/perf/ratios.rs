@@ -12,15 +12,6 @@ use std::time::Instant;
 /// One contender: runs a batch of steps and returns the wall time per step (s).
 pub type Contender<'a> = Box<dyn FnMut() -> Result<f64> + Send + 'a>;
 
-/// Runs every contender once per round, `rounds` times, in turn; the minimum time per step of
-/// each.
-pub fn interleaved(rounds: usize, contenders: &mut [Contender<'_>]) -> Result<Vec<f64>> {
-    Ok(interleaved_stats(rounds, contenders)?
-        .into_iter()
-        .map(|t| t.min)
-        .collect())
-}
-
 /// A contender's times per step over the rounds of one interleaved run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RoundTimes {

@@ -181,7 +181,9 @@ impl Loop<'_> {
             self.x0.clone_from(&s.x);
             self.v0.clone_from(&s.v);
         }
-        // A step that fails still did its work: it is counted before the error goes up.
+        // A step that fails still did its work: the step and its Newton and linear iterations
+        // (the implicit core's counters) are counted before the error goes up; its force
+        // evaluations are in the stats it never returns, so the count leaves them out.
         let stepped = self.stepper.step(self.sys, s, h);
         let (newton, linear) = self.newton_counts();
         let w = &mut self.work;

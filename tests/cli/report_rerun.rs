@@ -75,6 +75,20 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
     report(&scenes, &out);
     let first = files(&out);
     assert!(first.keys().any(|k| is_timing(k)), "no timing.json written");
+    // The wall times are kept, not dropped: read back, compare's CSV has them on every line.
+    let back =
+        springlab::output::read_document(out.join("anchored_spring/compare/compare.csv")).unwrap();
+    let mut rdr = csv::Reader::from_reader(back.as_bytes());
+    let col = rdr
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|h| h == "wall_seconds")
+        .expect("wall_seconds read back");
+    for r in rdr.records() {
+        let t: f64 = r.unwrap()[col].parse().expect("a wall time on every line");
+        assert!(t > 0.0);
+    }
     report(&scenes, &out);
     let second = files(&out);
     let moved = changed(&first, &second);
