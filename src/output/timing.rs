@@ -187,6 +187,16 @@ fn read_timing(dir: &Path) -> Result<Map<String, Value>> {
     }
 }
 
+/// The folder's timing records, none when its `timing.json` does not parse: that file is this
+/// module's own, damaged, so its documents read without wall times and the next write
+/// replaces it. Any other failure to read it is an error, for writing and reading alike.
+fn read_timing_kept(dir: &Path) -> Result<Map<String, Value>> {
+    match read_timing(dir) {
+        Err(Error::Parse { .. }) => Ok(Map::new()),
+        other => other,
+    }
+}
+
 /// Document `name`'s bytes without their wall times, and the record of those (`None` when it
 /// held none: the bytes are then returned as given).
 pub fn split(name: &str, bytes: &[u8]) -> (Vec<u8>, Option<Value>) {
@@ -236,9 +246,8 @@ pub fn write_document(path: impl AsRef<Path>, bytes: &[u8]) -> Result<Vec<PathBu
     let (doc, rec) = split(&name, bytes);
     let mut written = vec![write_atomic(path, &doc)?];
     let dir = path.parent().unwrap_or(Path::new("."));
-    // One writer per folder (the commands lock it); a timing.json that does not parse is this
-    // module's own file damaged, and is written anew.
-    let mut docs = read_timing(dir).unwrap_or_default();
+    // One writer per folder (the commands lock it).
+    let mut docs = read_timing_kept(dir)?;
     let had = docs.shift_remove(&name).is_some();
     let has = rec.is_some();
     if let Some(r) = rec {
@@ -265,11 +274,11 @@ pub fn read_document(path: impl AsRef<Path>) -> Result<String> {
         .unwrap_or_default();
     // The folder's own timing.json, else the one a folder above gathered it into.
     let dir = path.parent().unwrap_or(Path::new("."));
-    let mut rec = read_timing(dir)?.get(&name).cloned();
+    let mut rec = read_timing_kept(dir)?.get(&name).cloned();
     if rec.is_none() {
         if let (Some(up), Some(sub)) = (dir.parent(), dir.file_name()) {
             let key = format!("{}/{name}", sub.to_string_lossy());
-            rec = read_timing(up)?.get(&key).cloned();
+            rec = read_timing_kept(up)?.get(&key).cloned();
         }
     }
     Ok(match &rec {
@@ -283,7 +292,7 @@ pub fn read_document(path: impl AsRef<Path>) -> Result<String> {
 /// documents named by their path from `dir` (`compare/summary.json`): one timing document for
 /// a folder of folders, such as a report's scene. Returns whether `dir` now has one.
 pub fn gather(dir: &Path) -> Result<bool> {
-    let mut docs = read_timing(dir)?;
+    let mut docs = read_timing_kept(dir)?;
     let mut subs: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(|source| Error::Read {
             file: dir.to_path_buf(),
@@ -299,7 +308,7 @@ pub fn gather(dir: &Path) -> Result<bool> {
             .unwrap_or_default()
             .to_string_lossy()
             .into_owned();
-        for (doc, rec) in read_timing(sub)? {
+        for (doc, rec) in read_timing_kept(sub)? {
             docs.insert(format!("{name}/{doc}"), rec);
         }
     }
@@ -385,6 +394,26 @@ mod tests {
     use super::*;
 
     // Oracle: the documents before the split, written by hand.
+    // A damaged timing.json (not JSON) loses only the wall times: the documents beside it
+    // still read, as written without them, and the next write replaces the file. Twin: a
+    // timing.json that cannot be read at all (here a folder in its place) is an error, never
+    // overwritten.
+    #[test]
+    fn a_damaged_timing_document_loses_only_the_wall_times() {
+        let dir = tempfile::tempdir().unwrap();
+        let doc = dir.path().join("a.csv");
+        write_document(&doc, b"method,wall_seconds\nrk4,1\n").unwrap();
+        std::fs::write(dir.path().join(TIMING_FILE), "not json").unwrap();
+        assert_eq!(read_document(&doc).unwrap(), "method\nrk4\n");
+        write_document(&doc, b"method,wall_seconds\nrk4,2\n").unwrap();
+        assert_eq!(read_document(&doc).unwrap(), "method,wall_seconds\nrk4,2\n");
+        let other = tempfile::tempdir().unwrap();
+        std::fs::create_dir(other.path().join(TIMING_FILE)).unwrap();
+        assert!(
+            write_document(other.path().join("a.csv"), b"method,wall_seconds\nrk4,1\n").is_err()
+        );
+    }
+
     #[test]
     fn wall_times_leave_the_document_and_come_back() {
         let dir = tempfile::tempdir().unwrap();
