@@ -147,4 +147,27 @@ mod tests {
         assert!(imp.frame_seconds(4) > imp.frame_seconds(1));
         assert!(imp.frame_seconds(1) > FRAME);
     }
+
+    // Oracle: the spanning forest by hand. A fixed bead and 40 free ones in a line: the tree
+    // from the fixed bead stops at the cap (itself and 31 free beads, 31 links), the edge
+    // 31–32 falls back to an impulse joint, and bead 32 roots a second tree of the last 9
+    // beads (8 links). That joint joins two trees, so it touches the links of both; and since
+    // it sits between trees, every substep is a whole frame, fixed part and all.
+    #[test]
+    fn a_joint_between_two_trees_touches_the_links_of_both() {
+        use crate::rapier::topology::MAX_TREE_PARTICLES;
+        let sys = chain(41, false);
+        assert_eq!(tree_cap(&sys), MAX_TREE_PARTICLES);
+        let shape = EngineShape::of(&sys, Mode::Multibody);
+        assert_eq!((shape.bodies, shape.impulse_joints), (41, 1));
+        assert_eq!(shape.trees, vec![31, 8]);
+        assert_eq!(shape.attached_links, 31 + 8);
+        assert!(shape.frame_per_substep);
+        assert_eq!(shape.frame_seconds(4), 4.0 * shape.frame_seconds(1));
+        // Twin: within the cap, one tree and no joint; substeps then repeat only the solver.
+        let short = EngineShape::of(&chain(32, false), Mode::Multibody);
+        assert_eq!((short.trees.clone(), short.impulse_joints), (vec![31], 0));
+        assert!(!short.frame_per_substep);
+        assert!(short.frame_seconds(4) < 4.0 * short.frame_seconds(1));
+    }
 }

@@ -77,12 +77,20 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
         ]
     );
     for r in &rows {
-        // The ratio of the minima and of the medians over the rounds.
-        for k in [6, 9] {
-            let ratio: f64 = r[k].parse().unwrap();
-            assert!(ratio.is_finite() && ratio > 0.0, "{r:?}");
+        // The ratio of the minima and of the medians over the rounds, each the quotient of its
+        // own two columns (numbers are written in full, so the quotient is exact), and the
+        // target judged on the ratio of the minima.
+        let col = |k: usize| -> f64 { r[k].parse().unwrap() };
+        for (ratio, num, den) in [(6, 3, 5), (9, 7, 8)] {
+            assert!(col(ratio).is_finite() && col(ratio) > 0.0, "{r:?}");
+            assert_eq!(col(ratio), col(num) / col(den), "{r:?}");
         }
-        assert!(r[11] == "true" || r[11] == "false", "{r:?}");
+        let met = match r[10].split_once(' ') {
+            Some(("<=", t)) => col(6) <= t.parse::<f64>().unwrap(),
+            Some((">=", t)) => col(6) >= t.parse::<f64>().unwrap(),
+            _ => panic!("target {:?}", r[10]),
+        };
+        assert_eq!(r[11], met.to_string(), "{r:?}");
     }
     let imp = csv_rows(&d.path().join("implicit.csv"));
     // Every implicit method at each size, in a `method` column, with its solver.
@@ -102,9 +110,12 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
     for r in &imp {
         assert_eq!(r[1], "block_jacobi_cg", "{r:?}");
         assert_eq!(r[21], "ok", "{r:?}");
-        // The ratio to a symplectic step, from the minimum and from the median round.
-        for k in [16, 19] {
-            assert!(r[k].parse::<f64>().is_ok_and(|x| x > 0.0), "{r:?}");
+        // The ratio to a symplectic step, from the minimum and from the median round, each
+        // the quotient of its own two columns.
+        let col = |k: usize| -> f64 { r[k].parse().unwrap() };
+        for (ratio, num, den) in [(16, 6, 15), (19, 17, 18)] {
+            assert!(col(ratio) > 0.0, "{r:?}");
+            assert_eq!(col(ratio), col(num) / col(den), "{r:?}");
         }
         let newton: f64 = r[8].parse().unwrap();
         let linear: f64 = r[9].parse().unwrap();
