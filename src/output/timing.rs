@@ -366,12 +366,17 @@ fn restore_csv(text: &str, rec: &Value) -> String {
     if head_has_wall || rows.len() != lines_rec.len() + 1 {
         return text.to_string();
     }
+    // Each data line's first record by its line number (1 is the header).
+    let mut by_line = std::collections::HashMap::new();
+    for r in &lines_rec {
+        if let Some(n) = r.get("line").and_then(Value::as_u64) {
+            by_line.entry(n).or_insert(r);
+        }
+    }
     let mut out = String::new();
     for (n, line) in rows.iter().enumerate() {
         let mut f = fields(line);
-        let data = lines_rec
-            .iter()
-            .find(|r| r.get("line").and_then(Value::as_u64) == Some(n as u64 + 1));
+        let data = by_line.get(&(n as u64 + 1)).copied();
         for &(at, w) in &cols {
             let v = if n == 0 {
                 w.clone()
