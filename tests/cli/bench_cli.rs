@@ -51,7 +51,7 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
     let stdout = springlab(&[
         "bench-ratios",
         "--rounds",
-        "1",
+        "3",
         "--size",
         "6",
         "--thread-size",
@@ -85,6 +85,8 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
             assert!(col(ratio).is_finite() && col(ratio) > 0.0, "{r:?}");
             assert_eq!(col(ratio), col(num) / col(den), "{r:?}");
         }
+        // Over three rounds the minimum is at most the median, for each contender.
+        assert!(col(3) <= col(7) && col(5) <= col(8), "{r:?}");
         let met = match r[10].split_once(' ') {
             Some(("<=", t)) => col(6) <= t.parse::<f64>().unwrap(),
             Some((">=", t)) => col(6) >= t.parse::<f64>().unwrap(),
@@ -117,6 +119,7 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
             assert!(col(ratio) > 0.0, "{r:?}");
             assert_eq!(col(ratio), col(num) / col(den), "{r:?}");
         }
+        assert!(col(6) <= col(17) && col(15) <= col(18), "{r:?}");
         let newton: f64 = r[8].parse().unwrap();
         let linear: f64 = r[9].parse().unwrap();
         let newton_max: f64 = r[11].parse().unwrap();
