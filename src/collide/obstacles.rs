@@ -88,8 +88,8 @@ pub struct SweepHit {
 pub const SHEET_CLEARANCE: f64 = 1e-9;
 
 /// Static obstacles with a broad phase built once: a parry [`Bvh`] over the bounded
-/// obstacles' AABBs (a plain scan of the AABBs below [`BVH_MIN_OBSTACLES`]); unbounded ones
-/// (planes) are always tested.
+/// obstacles' AABBs (a plain scan of the AABBs when there are fewer than
+/// `BVH_MIN_OBSTACLES`, 8); unbounded ones (planes) are always tested.
 #[derive(Debug)]
 pub struct ObstacleSet {
     obstacles: Vec<Obstacle>,

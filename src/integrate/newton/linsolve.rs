@@ -17,30 +17,31 @@
 //!
 //! The choice. The cloth's Newton matrix is well conditioned whatever its size (the mass
 //! term bounds the smallest eigenvalue, and h²k/m does not change with n), so block-Jacobi CG
-//! needs ≈ 23-27 iterations per Newton iteration on 32², 100² and 316² alike; IC(0) cuts that
-//! about fourfold, to 5.5-6.1, at the price of two sequential triangular solves per iteration
+//! needs ≈ 32-46 iterations per Newton iteration on 32², 100² and 316² alike; IC(0) cuts that
+//! about fourfold, to 8-11, at the price of two sequential triangular solves per iteration
 //! and a factorisation per Newton iteration. Over the first 10 frames from rest
-//! (`springlab bench-ratios --no-rapier --rounds 3 --implicit-solver S`, quiet 2-core
-//! machine, two runs per solver alternated), milliseconds per step, IC(0) against block
-//! Jacobi:
+//! (`springlab bench-ratios --no-rapier --rounds 3 --implicit-sizes 32,100,316
+//! --implicit-solver S`, 2-core machine, two runs per solver alternated), milliseconds per
+//! step, IC(0) against block Jacobi:
 //!
 //! | method | 32² | 100² | 316² |
 //! |---|---|---|---|
-//! | implicit_euler | 1.80, 1.86 / 1.86, 2.63 | 23.9, 26.6 / 26.4, 25.4 | 415, 457 / 508, 540 |
-//! | implicit_midpoint | 3.36, 3.27 / 3.47, 4.32 | 34.6, 36.6 / 39.3, 39.8 | 547, 596 / 575, 577 |
-//! | bdf2 | 4.03, 3.45 / 4.44, 4.39 | 43.7, 44.1 / 51.8, 53.6 | 769, 780 / 773, 778 |
-//! | linear_implicit_euler | 2.14, 1.74 / 2.63, 2.66 | 21.9, 22.5 / 37.2, 34.9 | 433, 405 / 568, 517 |
+//! | implicit_euler | 3.80, 3.94 / 5.83, 5.85 | 50.2, 47.8 / 51.3, 53.1 | 963, 973 / 864, 877 |
+//! | implicit_midpoint | 3.32, 4.09 / 5.00, 5.09 | 45.6, 40.0 / 44.6, 50.0 | 596, 557 / 598, 710 |
+//! | bdf2 | 3.59, 3.82 / 5.12, 5.33 | 49.5, 49.9 / 53.4, 73.1 | 758, 883 / 827, 786 |
+//! | linear_implicit_euler | 1.84, 1.80 / 2.76, 3.08 | 24.9, 23.3 / 34.9, 45.0 | 420, 437 / 560, 568 |
 //!
-//! IC(0) wins where one solve needs many iterations (linearly implicit Euler: 145
-//! block-Jacobi iterations in its one solve per step, 1.6× at 100²). But over the 316² cloth's
-//! 3 s at 1/60, past its folds, the hard frames take many Newton iterations of only 2-5 CG
-//! iterations each, and there a factorisation per Newton iteration costs more than the CG it
-//! saves: IC(0) took 2.77 s per frame (17.3 Newton, 106 CG per frame; 71 Newton iterations at
-//! frame 24, over the default cap of 50: it completes only with `--implicit-max-newton 100`)
-//! against block Jacobi's 1.64 s (17.9 Newton, 275 CG; at most 43 Newton iterations), from
-//! `springlab bench-ratios --no-rapier --implicit-methods implicit_euler --implicit-sizes 316
-//! --implicit-steps 180 --rounds 1 --implicit-solver S`. Block Jacobi
-//! is the default for that robustness and cost on the hard frames. The sparse Cholesky lost
+//! IC(0) wins on the 32² cloth (1.2-1.6×) and where one solve needs many iterations
+//! (linearly implicit Euler: 145 block-Jacobi iterations in its one solve per step, 1.4-1.9×
+//! at 100²); for the Newton methods at 100² and 316², where the cost lies, neither wins:
+//! each is ahead by up to a tenth somewhere (block Jacobi on implicit Euler at 316², IC(0) on
+//! bdf2 at 100²). Block Jacobi is the default: as fast there, with no factor to build per
+//! Newton iteration. Neither runs the 316² cloth's 3 s at 1/60 (`springlab bench-ratios
+//! --no-rapier --implicit-methods implicit_euler --implicit-sizes 316 --implicit-steps 180
+//! --rounds 1 --implicit-solver S`): past its fold the stage stalls above the root
+//! tolerance, with block Jacobi at frame 20 under the default cap of 50 Newton iterations (and
+//! at frame 67 with `--implicit-max-newton 200`), with IC(0) at frame 21; the step is then
+//! reported as failed, never accepted off its root. The sparse Cholesky lost
 //! everywhere: on 100² (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took
 //! ≈ 35 ms and one triangular solve pair ≈ 7 ms, 277 ms per step against block Jacobi's
 //! 41 ms in the same run; on 32², 9.5 against 6.0 ms. Algebraic multigrid was not built: its

@@ -62,8 +62,8 @@ impl Default for ImplicitSettings {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LinearSolver {
     /// Matrix-free CG preconditioned by the inverse 3×3 diagonal blocks, clamping compressed
-    /// springs in steps on non-positive curvature: the measured fastest over a long run of
-    /// hard (folding) frames, and the one that runs the 316² cloth 3 s (module docs).
+    /// springs in steps on non-positive curvature: as fast as IC(0) on the large cloths, with
+    /// no factor to build (module docs of `linsolve.rs` give the measured choice).
     #[default]
     BlockJacobiCg,
     /// CG preconditioned by a block incomplete Cholesky factor IC(0) of the clamped Newton
