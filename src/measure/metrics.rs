@@ -208,7 +208,7 @@ pub struct Quality {
     pub rest_jitter: f64,
 }
 
-/// The observer computing [`Quality`]: what [`MetricsObserver`] reports of it, and what
+/// The observer computing [`Quality`]: what `MetricsObserver` reports of it, and what
 /// `run` reports without a reference. O(springs + constraints) per observed state.
 pub struct QualityObserver<'a> {
     sys: &'a System,

@@ -4,7 +4,7 @@
 //! correct solvers part by macroscopic amounts, so position error measures the chaos, not the
 //! method. What stays meaningful is the *statistics* of the motion: an ensemble of
 //! [`ENSEMBLE_SIZE`] references, each started from the initial positions moved at the
-//! reference's own uncertainty (see [`super::reference::ensemble`]), spans what a correct
+//! reference's own uncertainty (see `reference/ensemble.rs`), spans what a correct
 //! solution may do; a method is consistent when each observable of its run lies within that
 //! span.
 //!
@@ -25,8 +25,9 @@
 //! such as the centre of mass of a falling cloth): the position tolerance for lengths; for
 //! kinetic energy, which goes as speed squared, twice the tolerance relative to the motion
 //! scale times |ensemble mean|; for strain, that relative tolerance times the larger of
-//! |ensemble mean| and 1 (strain is dimensionless: never a floor below the tolerance itself). The score of
-//! an observable is |method − mean| / (SPREADS × spread + floor): at most 1 is consistent.
+//! |ensemble mean| and 1 (strain is dimensionless: never a floor below the tolerance itself).
+//! The score of an observable is |method − mean| / (SPREADS × spread + floor): at most 1 is
+//! consistent.
 
 use super::observables::strain_max;
 use crate::model::{State, System, Vec3};

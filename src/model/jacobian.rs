@@ -11,7 +11,7 @@ use std::sync::Arc;
 /// ∂f/∂x and ∂f/∂v in block form.
 ///
 /// For pair `s` joining particles `a = pairs[s][0]`, `b = pairs[s][1]`, `kx[s]` is
-/// ∂f_a/∂x_b (= ∂f_b/∂x_a), and ∂f_a/∂x_a = ∂f_b/∂x_b = -kx[s]; likewise `kv` for velocities.
+/// ∂f_a/∂x_b (= ∂f_b/∂x_a), and ∂f_a/∂x_a = ∂f_b/∂x_b = `-kx[s]`; likewise `kv` for velocities.
 /// `diag_x`/`diag_v` hold extra per-particle blocks (drag, penalty contacts).
 #[derive(Debug, Clone)]
 pub struct Jacobian {

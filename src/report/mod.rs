@@ -3,9 +3,9 @@
 //! with the command that re-creates it) and renders plots (SVG + the CSV behind each), HTML
 //! pages, a Markdown overview and `summary.json`. It runs no method and measures nothing.
 //!
-//! Data flows one way: study → [`charts`] (plain [`data`]) → [`plots`] (SVG) and [`summary`]
-//! → [`verdict`], [`html`], [`markdown`]; [`generate`] writes a scene and the overview;
-//! [`build`] runs the whole report.
+//! Data flows one way: study → `charts` (plain [`data`]) → [`plots`] (SVG) and [`summary`]
+//! → `verdict`, `html`, `markdown`; [`generate`] writes a scene and the overview;
+//! [`build()`] runs the whole report.
 
 pub mod build;
 mod charts;

@@ -42,7 +42,7 @@ fn read_json<T: for<'de> Deserialize<'de>>(p: &Path) -> Result<T> {
 }
 
 /// Joins the shards recorded under `out/shards/` into the report's summary (scenes in file
-/// order; a failed scene keeps the earlier overview's row, as in [`super::build::assemble`]);
+/// order; a failed scene keeps the earlier overview's row, as in [`super::overview::assemble`]);
 /// errors name the shard file and what is missing or repeated.
 pub fn merge_shards(out: &Path, generator: &str, quick: bool) -> Result<Summary> {
     let dir = out.join("shards");

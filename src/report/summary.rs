@@ -151,7 +151,7 @@ pub fn reference_words(s: &SceneStudy) -> String {
     format!("{} ({})", r.kind, r.description)
 }
 
-/// The summary of one scene's study (the verdict is filled in by [`super::verdict`]).
+/// The summary of one scene's study (the verdict is filled in by `report::verdict`).
 pub fn scene_summary(
     s: &SceneStudy,
     registry: &Registry,

@@ -179,7 +179,7 @@ impl Scenario {
     }
 
     /// Rest length of spring `s` (m): as given, else the initial distance of its particles
-    /// (the one rule, [`initial_distance`]).
+    /// (the one rule, `initial_distance`).
     pub fn rest_length(&self, s: &SpringDef) -> f64 {
         s.rest_length
             .unwrap_or_else(|| initial_distance(&self.particles, s.i, s.j))

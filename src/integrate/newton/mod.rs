@@ -8,27 +8,25 @@
 //! implicit midpoint is the stage at β = h/2 followed by a linear extrapolation; BDF2 is the
 //! stage from the extrapolated base (4yₙ − yₙ₋₁)/3 at β = 2h/3.
 //!
-//! The rule: a stage is accepted only at a root of its equation, the mass-weighted RMS of
-//! M⁻¹G at most [`ImplicitSettings::root_tol`] (10⁻⁶) times the stage's velocity scale (the
-//! largest component of v̂, v', β f/m or β g), or with max |M⁻¹G| at [`ImplicitSettings::newton_tol`]
+//! The rule: a stage is accepted only at a root of its equation, the mass-weighted RMS of M⁻¹G at
+//! most [`ImplicitSettings::root_tol`] (10⁻⁶) times the stage's velocity scale (the largest
+//! component of v̂, v', β f/m or β g), or with max |M⁻¹G| at [`ImplicitSettings::newton_tol`]
 //! (10⁻¹⁰) of it; otherwise the step fails ("did not converge", which the runner reports as
-//! unstable). Newton stops at `newton_tol`, or, once at the root tolerance, when an update is
-//! below the tolerance or the round-off floor, when the residual is a fraction of the stage's
-//! own error estimate (1 % for first-order methods, 0.01 % for second-order ones, see
-//! [`ImplicitSettings::kappa`]), or at the iteration cap. The error estimate alone is no stop:
-//! at hω ≫ 1 it exceeds the error by about hω and would accept iterates far from the root
-//! (two free particles of 1 and 2 kg at hω = 12 gained 45 % momentum). On a free system
-//! (`momentum.rs`) every iterate's momentum balance is zeroed, and CG deflates the
-//! translations, so linear momentum is kept to round-off at any tolerance. Newton backtracks
-//! when an update would raise the residual (or, for a clamped direction, the stage's
-//! incremental potential). Where the clamped iteration stalls (the residual has not halved
-//! in six iterations: near a root where the exact Jacobian is indefinite, as past the 316²
-//! cloth's fold), the stage takes Steihaug–Toint trust-region steps on the exact Jacobian
-//! (see `trust.rs`), which follow negative curvature instead of clamping it, and goes back
-//! to clamped Newton where those stall in turn. The linear solves are
-//! inexact (Eisenstat–Walker forcing, never tighter than half the error-based stop needs);
-//! the solver is chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured
-//! choice).
+//! unstable). Newton stops at `newton_tol`, or, once at the root tolerance, when an update is below
+//! the tolerance or the round-off floor, when the residual is a fraction of the stage's own error
+//! estimate (1 % for first-order methods, 0.01 % for second-order ones, see
+//! [`ImplicitSettings::kappa`]), or at the iteration cap. The error estimate alone is no stop: at
+//! hω ≫ 1 it exceeds the error by about hω and would accept iterates far from the root (two free
+//! particles of 1 and 2 kg at hω = 12 gained 45 % momentum). On a free system (`momentum.rs`) every
+//! iterate's momentum balance is zeroed, and CG deflates the translations, so linear momentum is
+//! kept to round-off at any tolerance. Newton backtracks when an update would raise the residual
+//! (or, for a clamped direction, the stage's incremental potential). Where the clamped iteration
+//! stalls (the residual has not halved in six iterations: near a root where the exact Jacobian is
+//! indefinite, as past the 316² cloth's fold), the stage takes Steihaug–Toint trust-region steps on
+//! the exact Jacobian (see `trust.rs`), which follow negative curvature instead of clamping it, and
+//! goes back to clamped Newton where those stall in turn. The linear solves are inexact
+//! (Eisenstat–Walker forcing, never tighter than half the error-based stop needs); the solver is
+//! chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured choice).
 
 mod cg;
 #[cfg(feature = "direct-solver")]
@@ -131,7 +129,8 @@ impl Newton {
     pub(crate) fn v(&self) -> &[Vec3] {
         &self.vn
     }
-    /// Numeric factorisations of the Newton matrix so far ([`LinearSolver::Cholesky`]).
+    /// Numeric factorisations of the Newton matrix so far (`LinearSolver::Cholesky`, a
+    /// `direct-solver` build).
     pub fn factorizations(&self) -> u64 {
         self.lin.factorizations
     }

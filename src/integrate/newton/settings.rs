@@ -36,8 +36,8 @@ pub struct ImplicitSettings {
     pub forcing: f64,
     /// The linear solver of each Newton iteration.
     pub solver: LinearSolver,
-    /// [`LinearSolver::Cholesky`]: CG iterations a reused (stale) factor may take before it
-    /// is refactored at the current iterate.
+    /// `LinearSolver::Cholesky` (the `direct-solver` feature): CG iterations a reused (stale)
+    /// factor may take before it is refactored at the current iterate.
     pub refactor_after: usize,
 }
 

@@ -7,7 +7,7 @@ use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::Metric;
 use crate::method::{MethodOptions, Registry};
 
-/// Options of [`advise`].
+/// Options of [`advise`](super::advise).
 #[derive(Debug, Clone)]
 pub struct AdviseConfig {
     /// Position tolerance (m); None: the scene's `[run] tolerance`, else 1 % of its motion
@@ -38,8 +38,9 @@ pub struct AdviseConfig {
     pub blowup_factor: f64,
     /// How often each candidate's run is repeated to time it (default [`ADVICE_TIMING`]).
     pub timing: TimingRule,
-    /// Add the game view (`frame_rates` at [`FRAME_RATES`]); `--no-frame-rates` leaves it out
-    /// (the report's frame-rate section answers that question with `springlab framerate`).
+    /// Add the game view (`frame_rates` at [`FRAME_RATES`](super::frames::FRAME_RATES));
+    /// `--no-frame-rates` leaves it out (the report's frame-rate section answers that question
+    /// with `springlab framerate`).
     pub frame_rates: bool,
     /// Time budget (s of runs, summed): each method's time per step is probed at the grid's
     /// smallest step and its grid runs projected (doubled for verification and frame rates);

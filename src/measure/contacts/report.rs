@@ -26,7 +26,8 @@ pub struct ContactEvent {
     /// Normal velocity when leaving (m/s, positive: separating).
     pub v_out: f64,
     /// Measured restitution v_out / |v_in| (absent for a resting or grazing contact, see
-    /// [`ContactMetrics::grazing_speed`], and for a pass-through).
+    /// [`ContactMetrics::grazing_speed`](super::ContactMetrics::grazing_speed), and for a
+    /// pass-through).
     pub restitution: Option<f64>,
     /// What the response should give (see the module docs).
     pub expected_restitution: f64,
@@ -153,10 +154,11 @@ pub struct ContactReport {
     pub events_total: u64,
     /// Contacts still open at the end of the run (resting contacts).
     pub open_contacts: u64,
-    /// The first [`MAX_LISTED_EVENTS`] completed events.
+    /// The first [`MAX_LISTED_EVENTS`](super::MAX_LISTED_EVENTS) completed events.
     pub events: Vec<ContactEvent>,
     /// Approach speed (m/s) above which impacts enter the restitution summary:
-    /// [`IMPACT_SPEED_SHARE`] of the fastest approach, at least the grazing speed.
+    /// [`IMPACT_SPEED_SHARE`](super::IMPACT_SPEED_SHARE) of the fastest approach, at least the
+    /// grazing speed.
     pub impact_speed_floor: f64,
     /// Measured restitution over the impacts above `impact_speed_floor`.
     pub restitution: Stats,

@@ -8,7 +8,7 @@
 //! `max_substeps`, and in a budgeted study up to a cost cap in particle-steps). A substep
 //! means the same for every method ([`crate::run::RunPlan`]): native methods take n equal
 //! steps per frame, Rapier methods n solver substeps. Position error and energy drift are
-//! compare's metrics ([`super::metrics`]); the runs of the table are then timed like advice's
+//! compare's metrics (`measure::metrics`); the runs of the table are then timed like advice's
 //! candidates ([`super::case::time_interleaved`], on one thread after every accuracy run).
 //!
 //! Every number in [`Framerate`] is reproducible bit for bit, regardless of thread count,

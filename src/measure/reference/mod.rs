@@ -5,7 +5,7 @@
 //!   oscillators, no obstacles): exact to round-off, uncertainty at the round-off level, no
 //!   predictability horizon;
 //! - **DOP853** (`dop853`, `dop853_constrained`) at rtol = atol = 1e-12 with dense output
-//!   otherwise: rigid constraints by index reduction and projection ([`rhs`]); impulses restart
+//!   otherwise: rigid constraints by index reduction and projection (`rhs.rs`); impulses restart
 //!   the solver at their times; obstacles as the scene defines them ([`contacts`]): `impulse`
 //!   contacts as impacts located on the dense output and resolved by the scene's own impulse
 //!   law, Zeno sequences and resting or sliding contact as a unilateral constraint with

@@ -10,7 +10,7 @@ use crate::scenario::Scenario;
 use rayon::prelude::*;
 
 /// Analyses every applicable method on `scene`: the linear theory per method, then the
-/// empirical searches the budget allows, in parallel, each method judged by [`analyse_one`].
+/// empirical searches the budget allows, in parallel, each method judged by `analyse_one`.
 pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityReport> {
     let sys = scene.build();
     let s0 = scene.initial_state();

@@ -53,7 +53,7 @@ pub struct MapConfig {
     pub options: MethodOptions,
     /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
     pub stiffness_scales: Vec<f64>,
-    /// Multipliers of every damper and of drag (default [1]).
+    /// Multipliers of every damper and of drag (default `[1]`).
     pub damping_scales: Vec<f64>,
     /// Steps as multiples of 1/ω_max of the unscaled scene (default 16 points in [0.02, 20]).
     pub h_omega: Vec<f64>,

@@ -2,14 +2,15 @@
 //! one-step map on the scene's linearised modes, and empirically by bisection on the real
 //! scene.
 //!
-//! Theory: for every mode q'' + c q' + ω² q = 0 (see [`super::modes`]) the method itself
+//! Theory: for every mode q'' + c q' + ω² q = 0 (see `measure::modes`) the method itself
 //! is stepped on a one-particle system with exactly that linear force, and its one-step map
 //! M(h) on (x, v) is identified from two consecutive steps of two independent trajectories
 //! (M = Y₂ Y₁⁻¹, which also covers methods whose memory is a function of (x, v), such as
 //! two-step Störmer); a genuinely multistep method (BDF2) has its k-step recurrence identified
 //! instead, and its companion matrix decides (see [`step_radius`]). The method
 //! is stable at h when the spectral radius ρ(M(h)) ≤ 1 + [`RHO_TOL`] for every mode. The
-//! boundary is bracketed on a log grid hω ∈ [[`SCAN_MIN`], [`SCAN_MAX`]] (1e-2 to 1e3) and bisected to machine precision.
+//! boundary is bracketed on a log grid hω ∈ [[`SCAN_MIN`], [`SCAN_MAX`]] (1e-2 to 1e3) and
+//! bisected to machine precision.
 //!
 //! Empirical: a run is stable when the runner's one verdict ([`crate::run::verdict`]) calls
 //! it ok over the horizon: finite states, and an energy balance that never rose by more than

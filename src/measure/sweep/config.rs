@@ -55,7 +55,8 @@ pub struct SweepConfig {
     /// Refine each method toward smaller steps until asymptotic, at the floor or capped
     /// (default: yes unless `dt_min` is given).
     pub extend: Option<bool>,
-    /// Cost cap per method in particle-steps (default [`plan::DEFAULT_COST_CAP`]).
+    /// Cost cap per method in particle-steps (default
+    /// [`DEFAULT_COST_CAP`](super::DEFAULT_COST_CAP)).
     pub cost_cap: Option<f64>,
     /// Simulated time (default: the scene's duration).
     pub duration: Option<f64>,
@@ -73,8 +74,8 @@ pub struct SweepConfig {
     pub progress: bool,
     /// Repeat short runs for the wall time.
     pub repeat_short: bool,
-    /// Time budget (s of runs, summed; see [`budget`]); `None`: no budget (the report's
-    /// sweeps, whose engines the study already chose by cost). Not applied to a shard.
+    /// Time budget (s of runs, summed; see [`budget`](super::budget)); `None`: no budget (the
+    /// report's sweeps, whose engines the study already chose by cost). Not applied to a shard.
     pub budget_seconds: Option<f64>,
 }
 

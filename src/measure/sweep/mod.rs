@@ -3,7 +3,7 @@
 //! observed order per method; deterministic sharding.
 //!
 //! # The default grid
-//! - ω_max is the highest natural frequency of the linearised scene ([`super::modes`]).
+//! - ω_max is the highest natural frequency of the linearised scene (`measure::modes`).
 //! - The largest step is [`plan::BEYOND_LIMIT`] × the widest theoretical stability limit
 //!   among the swept methods ([`super::stability::theory_limit`]), so the sweep shows where
 //!   each explicit method blows up; with no finite limit, hω_max = [`plan::H_OMEGA_MAX`]; never

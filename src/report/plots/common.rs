@@ -1,6 +1,6 @@
 //! Shared drawing for every chart: axes (linear or log) fitted to the data, lines, dashed
 //! guides, blow-up markers, legends, stable colours per method, SVG to a string.
-//! Every point passes [`crate::report::finite::plottable`] here, and only here.
+//! Every point passes `report::finite::plottable` here, and only here.
 
 use crate::error::{Error, Result};
 use crate::report::data::{Guide, Series};
