@@ -358,7 +358,7 @@ fn restore_csv(text: &str, rec: &Value) -> String {
         })
         .unwrap_or_default();
     cols.sort();
-    let lines_rec = rec["lines"].as_array().cloned().unwrap_or_default();
+    let lines_rec = rec["lines"].as_array().map_or(&[][..], Vec::as_slice);
     let rows = records(text);
     let head_has_wall = rows
         .first()
@@ -368,7 +368,7 @@ fn restore_csv(text: &str, rec: &Value) -> String {
     }
     // Each data line's first record by its line number (1 is the header).
     let mut by_line = std::collections::HashMap::new();
-    for r in &lines_rec {
+    for r in lines_rec {
         if let Some(n) = r.get("line").and_then(Value::as_u64) {
             by_line.entry(n).or_insert(r);
         }

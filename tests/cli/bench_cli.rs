@@ -6,6 +6,17 @@
 use crate::support::ok as springlab;
 use std::path::Path;
 
+/// Each `(ratio, numerator, denominator)` column triple of CSV row `r`: the ratio is positive
+/// and finite and is the quotient of its own two columns (numbers are written in full, so the
+/// quotient is exact).
+fn assert_quotients(r: &[String], triples: &[(usize, usize, usize)]) {
+    let col = |k: usize| -> f64 { r[k].parse().unwrap() };
+    for &(ratio, num, den) in triples {
+        assert!(col(ratio).is_finite() && col(ratio) > 0.0, "{r:?}");
+        assert_eq!(col(ratio), col(num) / col(den), "{r:?}");
+    }
+}
+
 fn csv_rows(p: &Path) -> Vec<Vec<String>> {
     let mut r = csv::Reader::from_path(p).unwrap();
     r.records()
@@ -77,14 +88,10 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
         ]
     );
     for r in &rows {
-        // The ratio of the minima and of the medians over the rounds, each the quotient of its
-        // own two columns (numbers are written in full, so the quotient is exact), and the
-        // target judged on the ratio of the minima.
+        // The ratio of the minima and of the medians over the rounds, and the target judged on
+        // the ratio of the minima.
+        assert_quotients(r, &[(6, 3, 5), (9, 7, 8)]);
         let col = |k: usize| -> f64 { r[k].parse().unwrap() };
-        for (ratio, num, den) in [(6, 3, 5), (9, 7, 8)] {
-            assert!(col(ratio).is_finite() && col(ratio) > 0.0, "{r:?}");
-            assert_eq!(col(ratio), col(num) / col(den), "{r:?}");
-        }
         // Over three rounds the minimum is at most the median, for each contender.
         assert!(col(3) <= col(7) && col(5) <= col(8), "{r:?}");
         let met = match r[10].split_once(' ') {
@@ -112,13 +119,9 @@ fn bench_ratios_writes_every_targeted_ratio_and_the_implicit_costs() {
     for r in &imp {
         assert_eq!(r[1], "block_jacobi_cg", "{r:?}");
         assert_eq!(r[21], "ok", "{r:?}");
-        // The ratio to a symplectic step, from the minimum and from the median round, each
-        // the quotient of its own two columns.
+        // The ratio to a symplectic step, from the minimum and from the median round.
+        assert_quotients(r, &[(16, 6, 15), (19, 17, 18)]);
         let col = |k: usize| -> f64 { r[k].parse().unwrap() };
-        for (ratio, num, den) in [(16, 6, 15), (19, 17, 18)] {
-            assert!(col(ratio) > 0.0, "{r:?}");
-            assert_eq!(col(ratio), col(num) / col(den), "{r:?}");
-        }
         assert!(col(6) <= col(17) && col(15) <= col(18), "{r:?}");
         let newton: f64 = r[8].parse().unwrap();
         let linear: f64 = r[9].parse().unwrap();

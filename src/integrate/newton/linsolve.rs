@@ -31,12 +31,12 @@
 //! | bdf2 | 3.59, 3.82 / 5.12, 5.33 | 49.5, 49.9 / 53.4, 73.1 | 758, 883 / 827, 786 |
 //! | linear_implicit_euler | 1.84, 1.80 / 2.76, 3.08 | 24.9, 23.3 / 34.9, 45.0 | 420, 437 / 560, 568 |
 //!
-//! IC(0) wins on the 32² cloth (1.2-1.6×) and where one solve needs many iterations
+//! IC(0) wins on the 32² cloth (1.2-1.7×) and where one solve needs many iterations
 //! (linearly implicit Euler: 145 block-Jacobi iterations in its one solve per step, 1.4-1.9×
-//! at 100²); for the Newton methods at 100² and 316², where the cost lies, neither wins:
-//! each is ahead by up to a tenth somewhere (block Jacobi on implicit Euler at 316², IC(0) on
-//! bdf2 at 100²). Block Jacobi is the default: as fast there, with no factor to build per
-//! Newton iteration. Neither runs the 316² cloth's 3 s at 1/60 (`springlab bench-ratios
+//! at 100²); for the Newton methods at 100² and 316², where the cost lies, neither wins
+//! throughout: block Jacobi is a tenth ahead on implicit Euler at 316², IC(0) ahead on bdf2 at
+//! 100², and elsewhere the two runs of one solver differ as much as the solvers do. Block
+//! Jacobi is the default: no slower there, with no factor to build per Newton iteration. Neither runs the 316² cloth's 3 s at 1/60 (`springlab bench-ratios
 //! --no-rapier --implicit-methods implicit_euler --implicit-sizes 316 --implicit-steps 180
 //! --rounds 1 --implicit-solver S`): past its fold the stage stalls above the root
 //! tolerance, with block Jacobi at frame 20 under the default cap of 50 Newton iterations (and
@@ -46,8 +46,8 @@
 //! ≈ 35 ms and one triangular solve pair ≈ 7 ms, 277 ms per step against block Jacobi's
 //! 41 ms in the same run; on 32², 9.5 against 6.0 ms. Algebraic multigrid was not built: its
 //! gain is an iteration count independent of the mesh size, which block-Jacobi CG already has
-//! here, so AMG could only lower the constant, as IC(0) does, and a lower constant did not pay
-//! on the hard frames, where the CG iterations per Newton iteration are already few.
+//! here, so AMG could only lower the constant, as IC(0) does, and the table shows a fourfold
+//! lower constant buying nothing on the large cloths.
 
 use super::cg::{solve_clamped, Cg, Indefinite};
 #[cfg(feature = "direct-solver")]
