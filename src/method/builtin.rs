@@ -10,7 +10,9 @@ use crate::integrate::{
     PositionVerlet, Rattle, RungeKutta, SymplecticEuler, Tableau, VelocityVerlet,
     VerletConstraints, Xpbd,
 };
-use crate::rapier::{Mode, RapierStepper, IMPULSE, MULTIBODY};
+use crate::rapier::{
+    Mode, RapierStepper, SoftSolver, SoftStepper, IMPULSE, MULTIBODY, SOFT, SOFT_FEM,
+};
 
 /// A native method that solves a system each step ([`MethodInfo::implicit`]).
 const fn implicit(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
@@ -186,11 +188,25 @@ pub fn methods() -> Vec<Method> {
             ),
             |o| Box::new(RapierStepper::new(Mode::Multibody, o.substeps)),
         ),
+        Method::new(
+            engine(
+                SOFT,
+                "Rapier 0.36 (f64) soft bodies: springs as soft-body edges, coloured Gauss-Seidel once per substep",
+            ),
+            |o| Box::new(SoftStepper::new(SoftSolver::Constraints, o.substeps)),
+        ),
+        Method::new(
+            engine(
+                SOFT_FEM,
+                "Rapier 0.36 (f64) soft bodies, FEM solver: springs as elastic edges, implicit Euler over the body each substep",
+            ),
+            |o| Box::new(SoftStepper::new(SoftSolver::Fem, o.substeps)),
+        ),
     ]
 }
 
 impl Registry {
-    /// springlab's native schemes and the two Rapier engines.
+    /// springlab's native schemes and the Rapier engines.
     pub fn builtin() -> Self {
         static BUILTIN: std::sync::OnceLock<Registry> = std::sync::OnceLock::new();
         BUILTIN

@@ -105,6 +105,60 @@ impl EngineShape {
     }
 }
 
+/// Seconds per soft-body particle per frame (proxies, read-back, the body's bookkeeping).
+/// The soft-body prices are fitted to Rapier 0.36's frames on the shipped cloth (1024
+/// particles, 5826 edges), hanging chain (20, 19) and cloth on a sphere (256, 1378) at 1, 4
+/// and 16 substeps (2-core x86-64, one thread).
+pub const SOFT_PARTICLE_PER_FRAME: f64 = 1.2e-6;
+/// Seconds per soft-body edge per substep of the constraint solver (a Gauss-Seidel visit with
+/// warm start and the extra PGS iterations Rapier gives soft bodies).
+pub const SOFT_EDGE_PER_SUBSTEP: f64 = 0.16e-6;
+/// Seconds per soft-body edge per substep of the FEM solver (assembly and the capped
+/// conjugate gradient's products over the element).
+pub const SOFT_FEM_EDGE_PER_SUBSTEP: f64 = 0.17e-6;
+/// Seconds per soft-body edge per frame when the scene has obstacles: the edges are the
+/// body's collision wire (broad and narrow phase of every segment).
+pub const SOFT_WIRE_EDGE_PER_FRAME: f64 = 2.0e-6;
+/// Seconds per soft-body edge per frame for the FEM solver when the scene has obstacles:
+/// every contact constraint on a FEM body is solved against the body's whole system.
+pub const SOFT_FEM_CONTACT_EDGE_PER_FRAME: f64 = 80e-6;
+
+/// What a soft-body stepper builds for a scene: the counts its price reads.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SoftShape {
+    /// Soft-body particles.
+    pub particles: usize,
+    /// Soft-body edges (springs and compliant rods).
+    pub edges: usize,
+    /// True when the scene has obstacles (the edges then collide).
+    pub collides: bool,
+}
+
+impl SoftShape {
+    /// The particles and edges a soft-body method builds for `sys`.
+    pub fn of(sys: &System) -> Self {
+        SoftShape {
+            particles: sys.len(),
+            edges: sys.springs.len() + sys.constraints.len(),
+            collides: sys.post_step.is_some(),
+        }
+    }
+
+    /// Modelled seconds of one frame with `substeps` solver substeps under `solver`.
+    pub fn frame_seconds(&self, solver: super::SoftSolver, substeps: usize) -> f64 {
+        let (edge, contact) = match solver {
+            super::SoftSolver::Constraints => (SOFT_EDGE_PER_SUBSTEP, SOFT_WIRE_EDGE_PER_FRAME),
+            super::SoftSolver::Fem => (
+                SOFT_FEM_EDGE_PER_SUBSTEP,
+                SOFT_WIRE_EDGE_PER_FRAME + SOFT_FEM_CONTACT_EDGE_PER_FRAME,
+            ),
+        };
+        let (p, e) = (self.particles as f64, self.edges as f64);
+        let contacts = if self.collides { contact * e } else { 0.0 };
+        FRAME + SOFT_PARTICLE_PER_FRAME * p + contacts + substeps.max(1) as f64 * edge * e
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,23 +7,25 @@
 //! behaviour matches, as data to plot next to the measured curve.
 
 mod bodies;
-mod convert;
+pub(crate) mod convert;
 pub mod cost;
 mod joints;
 mod mode;
 mod multibody;
-mod obstacles;
+pub(crate) mod obstacles;
 mod scheme;
-mod stepper;
+mod soft;
+pub(crate) mod stepper;
 mod topology;
-mod user_forces;
-mod world;
+pub(crate) mod user_forces;
+pub(crate) mod world;
 
 pub use bodies::RESTITUTION_RULE;
-pub use cost::EngineShape;
+pub use cost::{EngineShape, SoftShape};
 pub use mode::{Mode, IMPULSE, MULTIBODY};
 pub use obstacles::{Difference, DifferenceKind, DIFFERENCES};
 pub use scheme::{scheme_prediction, Prediction};
+pub use soft::{soft_plan, SoftPlan, SoftSolver, SoftStepper, SOFT, SOFT_FEM};
 pub use stepper::RapierStepper;
 pub use topology::{
     tree_cap, Edge, EdgeKind, FallbackReason, Topology, MAX_TREE_PARTICLES,

@@ -76,7 +76,7 @@ impl RapierStepper {
 }
 
 /// Damper and drag power (W) at (x, v): the same terms `System::forces` reports.
-fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
+pub(crate) fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
     let sp = &sys.springs;
     let mut p = 0.0;
     if sp.any_damping {
@@ -99,6 +99,16 @@ fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
             .sum::<f64>();
     }
     p
+}
+
+/// Energy a step's contacts took: in a step where some contact was active (`e0`, the
+/// mechanical energy at the step's start, is `Some`), the mechanical energy lost beyond the
+/// dampers' work `damper`; never negative (contacts give nothing back, so a gain stays a gain
+/// for the verdict). 0 in a step without contact.
+pub(crate) fn contact_loss(sys: &System, s: &State, e0: Option<f64>, damper: f64) -> f64 {
+    e0.map_or(0.0, |e0| {
+        (e0 - sys.energy(&s.x, &s.v).mechanical() - damper).max(0.0)
+    })
 }
 
 impl Stepper for RapierStepper {
@@ -168,13 +178,9 @@ impl Stepper for RapierStepper {
         s.t += h;
         let p1 = damping_power(sys, &s.x, &s.v) + self.user.power(sys, &s.x, &s.v);
         let damper = 0.5 * (p0 + p1) * h;
-        let contact = match e0 {
-            Some(e0) if touching => (e0 - sys.energy(&s.x, &s.v).mechanical() - damper).max(0.0),
-            _ => 0.0,
-        };
         Ok(StepStats {
             force_evals: 0,
-            dissipated: damper + contact,
+            dissipated: damper + contact_loss(sys, s, e0.filter(|_| touching), damper),
             engine_seconds: self.frame_seconds,
             ..StepStats::default()
         })

@@ -49,6 +49,7 @@ mod rapier_obstacles;
 mod rapier_penalty;
 mod rapier_pendulum;
 mod rapier_scheme;
+mod rapier_soft;
 mod rapier_topology;
 mod rapier_traps;
 mod rapier_two_body;
