@@ -84,6 +84,10 @@ pub struct Answer {
     pub free_step: FreeStep,
     /// At the game's frame rate.
     pub game_rate: GameRate,
+    /// The best engine (Rapier) at the game's frame rate beside the answer; `None` where no
+    /// engine ran at that rate.
+    #[serde(default)]
+    pub engine: Option<super::engine_fare::EngineFare>,
 }
 
 impl FreeStep {
@@ -312,8 +316,15 @@ pub fn answer(
                 .into(),
         ),
     };
+    let engine = framerate.and_then(|f| {
+        super::engine_fare::engine_fare(
+            &super::engine_fare::game_points(f, hz, registry),
+            &game_rate,
+        )
+    });
     Ok(Answer {
         free_step,
         game_rate,
+        engine,
     })
 }

@@ -8,6 +8,7 @@ pub mod command;
 pub mod compare;
 pub mod contacts;
 mod dop853;
+pub mod engine_fare;
 pub mod expect;
 mod fit;
 pub mod framerate;

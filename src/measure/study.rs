@@ -4,9 +4,10 @@
 //!
 //! Which methods take part where (stated in [`SceneStudy::notes`]):
 //! - compare: the scene's `[run].methods` (else every registered method) next to every
-//!   engine, as `springlab compare` does by default; an engine only when its cost model
-//!   ([`crate::rapier::cost`]) projects its run at [`ENGINE_COMPARE_SECONDS`] or less (the
-//!   note gives its modelled time per step otherwise);
+//!   engine, as `springlab compare` does by default; an engine unless its cost model
+//!   ([`crate::rapier::cost`]) projects its run above [`engine_compare_limit`]:
+//!   [`ENGINE_NATIVE_FACTOR`] times the native methods' modelled total, at least
+//!   [`ENGINE_COMPARE_SECONDS`] (the note gives its modelled time per step otherwise);
 //! - sweep: the non-engine, finite-order methods of that list (an engine's cost per run is far
 //!   higher, and its order is not ours to fit);
 //! - stability and advice: the compared methods that ran; an engine joins stability when its
@@ -21,8 +22,7 @@
 //!   its compare run's modelled seconds per (sub)step project the worst-case search at
 //!   [`FRAMERATE_METHOD_SECONDS`] or less. Engines (Rapier) are the comparison a game
 //!   programmer makes at these rates, so they take part even when compare left them out (their
-//!   modelled frame then prices it), and the cheapest engine gets
-//!   [`FRAMERATE_ENGINE_SECONDS`]; the section lists the modelled time of any method left out
+//!   modelled frame then prices it), and every engine gets [`FRAMERATE_ENGINE_SECONDS`]; the section lists the modelled time of any method left out
 //!   (`springlab framerate` runs it). Each table run and each advice candidate is timed once ([`ONE_TIMED_RUN`]).
 //!
 //! Every such choice is made on modelled seconds ([`crate::run::cost`]: counted work, priced),
@@ -43,8 +43,12 @@ use serde::Serialize;
 /// scene without one).
 pub const ENGINE_PROBE_STEPS: u64 = super::probe::PROBE_STEPS;
 
-/// Largest projected modelled seconds of an engine's compare run for it to take part.
+/// Modelled seconds of an engine's compare run below which it always takes part.
 pub const ENGINE_COMPARE_SECONDS: f64 = 2.0;
+
+/// How many times the native methods' modelled compare total an engine's compare run may cost
+/// and still take part ([`engine_compare_limit`]).
+pub const ENGINE_NATIVE_FACTOR: f64 = 20.0;
 
 /// Largest modelled seconds of an engine's compare run for it to join stability.
 pub const ENGINE_BUDGET_SECONDS: f64 = 1.0;
@@ -60,10 +64,9 @@ pub const FRAMERATE_MAX_SUBSTEPS: u64 = 32;
 /// doubling to [`FRAMERATE_MAX_SUBSTEPS`] and bisecting) for it to take part.
 pub const FRAMERATE_METHOD_SECONDS: f64 = 4.0;
 
-/// Largest projected modelled seconds of the worst-case frame-rate search of a scene's cheapest
-/// engine (its Rapier row; other engines get [`FRAMERATE_METHOD_SECONDS`] like every method):
-/// Rapier at game rates is what the frame-rate section exists to compare against, so one
-/// engine gets far more than a native method (the 32×32 cloth's rapier_impulse projects
+/// Largest projected modelled seconds of the worst-case frame-rate search of an engine (a
+/// Rapier row): Rapier at game rates is what the frame-rate section exists to compare against,
+/// so an engine gets far more than a native method (the 32×32 cloth's rapier_impulse projects
 /// about 12 s; rapier_multibody there about 350 s, and is left out with its time per frame).
 pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 
@@ -274,8 +277,8 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
 }
 
 /// The methods compare runs: the scene's `[run] methods` (else every method) plus the
-/// engines, less each engine whose probe projects a compare run over
-/// [`ENGINE_COMPARE_SECONDS`] (returned apart with its modelled seconds per step, and noted).
+/// engines, less each engine whose probe projects a compare run over its
+/// [`engine_compare_limit`] (returned apart with its modelled seconds per step, and noted).
 fn compared_methods(
     scene: &Scenario,
     cfg: &StudyConfig,
@@ -290,6 +293,13 @@ fn compared_methods(
         v.extend(cfg.registry.engine_names().into_iter().map(String::from));
         v
     };
+    let native_total: f64 = asked
+        .iter()
+        .filter(|n| !is_engine(n))
+        .filter_map(|n| method_probe(scene, cfg, n, timing).transpose())
+        .sum::<Result<f64>>()?
+        * timing.steps as f64;
+    let limit = engine_compare_limit(native_total);
     let mut kept = Vec::new();
     let mut probed_out = Vec::new();
     for n in asked {
@@ -297,13 +307,14 @@ fn compared_methods(
             kept.push(n);
             continue;
         }
-        match engine_probe(scene, cfg, &n, timing)? {
-            Some(per_step) if per_step * timing.steps as f64 > ENGINE_COMPARE_SECONDS => {
+        match method_probe(scene, cfg, &n, timing)? {
+            Some(per_step) if per_step * timing.steps as f64 > limit => {
                 notes.push(format!(
-                    "Left out {n}: {:.3} ms per step by the cost model, so {} steps would take about {:.1} s (> {ENGINE_COMPARE_SECONDS} s); `springlab compare --methods {n}` runs it.",
+                    "Left out {n}: {:.3} ms per step by the cost model, so {} steps would take about {:.1} s, over {ENGINE_NATIVE_FACTOR}× the native methods' {:.2} s (and over {ENGINE_COMPARE_SECONDS} s); `springlab compare --methods {n}` runs it.",
                     per_step * 1e3,
                     timing.steps,
-                    per_step * timing.steps as f64
+                    per_step * timing.steps as f64,
+                    native_total
                 ));
                 probed_out.push((n, per_step));
             }
@@ -311,6 +322,14 @@ fn compared_methods(
         }
     }
     Ok((kept, probed_out))
+}
+
+/// Largest modelled seconds of an engine's compare run for it to take part, given the native
+/// methods' modelled total on the scene: [`ENGINE_NATIVE_FACTOR`] times that total, and never
+/// less than [`ENGINE_COMPARE_SECONDS`]. Rapier beside the native methods is the comparison the
+/// study exists for, so an engine is left out only when it would cost far more than they do.
+pub fn engine_compare_limit(native_total_seconds: f64) -> f64 {
+    (ENGINE_NATIVE_FACTOR * native_total_seconds).max(ENGINE_COMPARE_SECONDS)
 }
 
 /// An engine compare leaves out, with its modelled seconds per step.
@@ -470,10 +489,11 @@ fn study_advice(
     Ok((Some(advice), None))
 }
 
-/// Modelled seconds per step of engine `name` on `scene` at the scene's step
-/// ([`super::probe::seconds_per_step`]); `None` when it does not apply (the
-/// comparison then reports it as it does every method).
-fn engine_probe(
+/// Modelled seconds per step of method `name` on `scene` at the scene's step
+/// ([`super::probe::seconds_per_step`]: an engine priced from the scene, a native method
+/// counted over a short run); `None` when it does not apply (the comparison then reports it
+/// as it does every method).
+fn method_probe(
     scene: &Scenario,
     cfg: &StudyConfig,
     name: &str,
@@ -528,13 +548,6 @@ fn study_framerate(
         .map(|r| (&r.method, r.modelled_seconds / r.steps_done.max(1) as f64));
     let probed = probed_out.iter().map(|(n, s)| (n, *s));
     let measured: Vec<(&String, f64)> = ran.chain(probed).collect();
-    // The scene's cheapest engine is its Rapier row: it gets the engine budget.
-    let is_engine = |n: &str| cfg.registry.info(n).is_ok_and(|m| m.engine);
-    let cheapest_engine = measured
-        .iter()
-        .filter(|(n, _)| is_engine(n))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(n, _)| (*n).clone());
     let (mut chosen, mut left_out) = (Vec::new(), Vec::new());
     for (name, per_step) in measured {
         let Ok(info) = cfg.registry.info(name) else {
@@ -549,7 +562,8 @@ fn study_framerate(
             per_step
         };
         let projected = per_substep * worst;
-        let budget = if cheapest_engine.as_ref() == Some(name) {
+        // Every engine is a Rapier row: each gets the engine budget.
+        let budget = if info.engine {
             FRAMERATE_ENGINE_SECONDS
         } else {
             FRAMERATE_METHOD_SECONDS

@@ -15,6 +15,19 @@ pub struct BlowUp {
     pub y: f64,
 }
 
+/// How a scatter (a panel without lines) draws a series' points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Marker {
+    /// A filled dot (a native method).
+    #[default]
+    Dot,
+    /// A filled triangle (an engine, set apart at a glance).
+    Triangle,
+    /// An open ring around the point (the answer, drawn over its method's marker).
+    Ring,
+}
+
 /// One labelled line of (x, y) points, optionally ending at a blow-up marker.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Series {
@@ -24,6 +37,9 @@ pub struct Series {
     pub points: Vec<[f64; 2]>,
     /// Where the run blew up, if it did; the line is drawn up to here and marked.
     pub blowup: Option<BlowUp>,
+    /// How a scatter draws the points.
+    #[serde(default)]
+    pub marker: Marker,
 }
 
 impl Series {
@@ -33,6 +49,7 @@ impl Series {
             label: label.into(),
             points,
             blowup: None,
+            marker: Marker::Dot,
         }
     }
 }

@@ -38,6 +38,7 @@ fn lines(
                 label: n.to_string(),
                 points,
                 blowup: None::<BlowUp>,
+                marker: crate::report::data::Marker::Dot,
             }
         })
         .filter(|s| !s.points.is_empty())

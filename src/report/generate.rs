@@ -191,6 +191,17 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     sections.extend(super::collision_table::section(s));
     match &s.framerate {
         Some(fr) => {
+            let game = &s.answer.game_rate;
+            let points = crate::measure::engine_fare::game_points(fr, game.hz, &opts.registry);
+            write_atomic(
+                dir.join(super::summary::GAME_RATE_CHART)
+                    .with_extension("csv"),
+                super::game_rate::chart_csv(&points, game).as_bytes(),
+            )?;
+            write_atomic(
+                dir.join(super::summary::GAME_RATE_CHART),
+                super::game_rate::chart(&points, game)?.as_bytes(),
+            )?;
             write_atomic(
                 dir.join("framerate.csv"),
                 super::framerate::chart_csv(fr).as_bytes(),

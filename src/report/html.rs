@@ -31,7 +31,7 @@ h1{font-size:1.6em;margin-bottom:.2em}h2{margin-top:1.6em;border-bottom:1px soli
 table{border-collapse:collapse;margin:.8em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right}
 th{background:#f2f2f2}td.l,th.l{text-align:left}tr.unstable td{background:#fde8e6}
 p.verdict{background:#f5f8ff;border-left:4px solid #4a7bd0;padding:.7em 1em}
-figure{margin:1.2em 0}figure img{max-width:100%;border:1px solid #e3e3e3}figcaption{font-size:.9em;color:#444;margin-top:.3em}
+img.fare{width:300px;border:1px solid #e3e3e3;margin-top:.3em}figure{margin:1.2em 0}figure img{max-width:100%;border:1px solid #e3e3e3}figcaption{font-size:.9em;color:#444;margin-top:.3em}
 figure.pb{display:inline-block;margin:.3em;vertical-align:top;width:242px}figure.pb canvas{border:1px solid #e3e3e3}
 .note{color:#555;font-size:.9em}code{background:#f3f3f3;padding:0 .2em}";
 
@@ -235,12 +235,20 @@ fn front_tr(s: &SceneSummary) -> String {
             v.iter().map(|x| esc(x)).collect::<Vec<_>>().join("<br>")
         }
     };
+    let chart = s.game_rate_chart.as_ref().map_or(String::new(), |c| {
+        format!(
+            "<br><a href=\"{0}\"><img class=\"fare\" src=\"{0}\" alt=\"{1}: error against cost per frame at the game rate, Rapier as triangles, the answer ringed\"></a>",
+            esc(c),
+            esc(&s.scene)
+        )
+    });
     format!(
-        "<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
+        "<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}{chart}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
         esc(&s.page),
         esc(&s.scene),
         esc(&r.free),
         esc(&r.game),
+        esc(&r.rapier),
         lines(&r.limits),
         lines(&r.blew)
     )
@@ -253,7 +261,7 @@ pub fn index_page(sum: &Summary) -> String {
     if sum.quick {
         body += "<p class=\"note\"><strong>Quick pass</strong> (<code>--quick</code>): coarse sweeps, theory-only stability; numbers are indicative only.</p>\n";
     }
-    body += "<h2>What to use</h2>\n<table>\n<tr><th class=\"l\">scene</th><th class=\"l\">free step: method and step (what verified it)</th><th class=\"l\">game rate: method and substeps per frame</th><th class=\"l\">stable steps</th><th class=\"l\">blew up at the scene's step</th></tr>\n";
+    body += "<h2>What to use</h2>\n<table>\n<tr><th class=\"l\">scene</th><th class=\"l\">free step: method and step (what verified it)</th><th class=\"l\">game rate: method and substeps per frame</th><th class=\"l\">Rapier at the game rate (chart: every method, ▲ Rapier, ○ the answer)</th><th class=\"l\">stable steps</th><th class=\"l\">blew up at the scene's step</th></tr>\n";
     for s in &sum.scenes {
         body += &front_tr(s);
     }

@@ -15,7 +15,7 @@ pub fn readme(sum: &Summary) -> String {
     if sum.quick {
         out += "_Quick pass (`--quick`): coarse sweeps, theory-only stability; numbers are indicative only._\n\n";
     }
-    out += "## What to use\n\n| scene | free step: method and step (what verified it) | game rate: method and substeps per frame | stable steps | blew up at the scene's step |\n|---|---|---|---|---|\n";
+    out += "## What to use\n\n| scene | free step: method and step (what verified it) | game rate: method and substeps per frame | Rapier at the game rate | stable steps | blew up at the scene's step |\n|---|---|---|---|---|---|\n";
     for s in &sum.scenes {
         let r = front_row(s);
         let lines = |v: &[String]| {
@@ -25,12 +25,17 @@ pub fn readme(sum: &Summary) -> String {
                 v.iter().map(|x| md(x)).collect::<Vec<_>>().join("<br>")
             }
         };
+        let chart = s
+            .game_rate_chart
+            .as_ref()
+            .map_or(String::new(), |c| format!("<br>[chart]({c})"));
         out += &format!(
-            "| [{}]({}) | {} | {} | {} | {} |\n",
+            "| [{}]({}) | {} | {} | {}{chart} | {} | {} |\n",
             md(&s.scene),
             s.page,
             md(&r.free),
             md(&r.game),
+            md(&r.rapier),
             lines(&r.limits),
             lines(&r.blew)
         );

@@ -13,6 +13,7 @@ mod collision_table;
 pub mod data;
 mod finite;
 mod framerate;
+mod game_rate;
 pub mod generate;
 mod html;
 mod markdown;

@@ -83,6 +83,10 @@ pub struct Document {
     pub command: String,
 }
 
+/// File name of a scene's game-rate chart (beside its page; its data in the `.csv` of the
+/// same stem).
+pub const GAME_RATE_CHART: &str = "game_rate.svg";
+
 /// One scene's summary.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SceneSummary {
@@ -127,6 +131,10 @@ pub struct SceneSummary {
     /// folder: why it failed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed_this_time: Option<String>,
+    /// The chart of every method at the game rate (error against cost, Rapier marked, the
+    /// answer ringed), relative to the report root; `None` without a frame-rate table.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub game_rate_chart: Option<String>,
 }
 
 /// The whole report's summary (`summary.json`).
@@ -235,6 +243,10 @@ pub fn scene_summary(
         seconds: s.seconds,
         file: String::new(),
         failed_this_time: None,
+        game_rate_chart: s
+            .framerate
+            .as_ref()
+            .map(|_| format!("{}/{GAME_RATE_CHART}", s.scenario)),
     })
 }
 

@@ -153,6 +153,8 @@ pub struct FrontRow {
     pub limits: Vec<String>,
     /// `method at t = … s` per run that blew up.
     pub blew: Vec<String>,
+    /// How the best Rapier method fares at the game rate beside the answer.
+    pub rapier: String,
 }
 
 /// The front-page row of a scene.
@@ -165,9 +167,17 @@ pub fn front_row(s: &SceneSummary) -> FrontRow {
         Some(_) => format!("(from the previous report; this one failed on the scene) {t}"),
         None => t,
     };
+    let rapier = match &s.answer {
+        Some(a) => match &a.engine {
+            Some(f) => super::game_rate::words(f, &a.game_rate),
+            None => "no Rapier method ran at this rate".into(),
+        },
+        None => "not measured".into(),
+    };
     FrontRow {
         free: stale(free),
         game: stale(game),
+        rapier: stale(rapier),
         limits: s
             .methods
             .iter()

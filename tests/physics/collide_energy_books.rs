@@ -58,12 +58,21 @@ fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_method() {
             if stepper.check(&sys).is_err() {
                 continue;
             }
+            // An engine whose modelled run would take minutes (the FEM soft body on the cloth
+            // on a sphere) is left to the report; every other method runs the whole scene.
+            let plan = RunPlan::for_duration(dt, duration);
+            if stepper
+                .modelled_frame_seconds(&sys)
+                .is_some_and(|f| f * plan.steps as f64 > 5.0)
+            {
+                continue;
+            }
             let mut books = Books::default();
             let out = run(
                 &sys,
                 stepper.as_mut(),
                 scene.initial_state(),
-                &RunPlan::for_duration(dt, duration),
+                &plan,
                 &mut books,
             )
             .unwrap();

@@ -3,7 +3,7 @@
 //! Every point passes `report::finite::plottable` here, and only here.
 
 use crate::error::{Error, Result};
-use crate::report::data::{Guide, Series};
+use crate::report::data::{Guide, Marker, Series};
 use crate::report::finite::{drawable, plottable};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
@@ -136,6 +136,48 @@ fn range(vals: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
         };
         (lo - pad, hi + pad)
     }
+}
+
+/// Draws a scatter series' points with its marker ([`Marker`]), labelled in the legend.
+fn draw_markers<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    s: &Series,
+    sp: &[(f64, f64)],
+    c: RGBColor,
+) -> Result<()>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let label = s.label.clone();
+    match s.marker {
+        Marker::Dot => {
+            chart
+                .draw_series(sp.iter().map(|&q| Circle::new(q, 4, c.filled())))
+                .map_err(draw_err)?
+                .label(label)
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+        }
+        Marker::Triangle => {
+            chart
+                .draw_series(sp.iter().map(|&q| TriangleMarker::new(q, 7, c.filled())))
+                .map_err(draw_err)?
+                .label(label)
+                .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 6, c.filled()));
+        }
+        Marker::Ring => {
+            chart
+                .draw_series(
+                    sp.iter()
+                        .map(|&q| Circle::new(q, 11, BLACK.stroke_width(2))),
+                )
+                .map_err(draw_err)?
+                .label(label)
+                .legend(move |(x, y)| Circle::new((x + 10, y), 6, BLACK.stroke_width(2)));
+        }
+    }
+    Ok(())
 }
 
 /// Renders panels side by side (`cols` per row) into one SVG document.
@@ -302,11 +344,7 @@ where
                     PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(3))
                 });
         } else {
-            chart
-                .draw_series(sp.iter().map(|&q| Circle::new(q, 3, c.filled())))
-                .map_err(draw_err)?
-                .label(s.label.clone())
-                .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+            draw_markers(&mut chart, s, sp, c)?;
         }
         if p.dots && p.lines {
             chart
