@@ -21,6 +21,10 @@ pub struct Args {
         default_value = "30,60,120,144,240"
     )]
     pub hz: Vec<f64>,
+    /// The rates engines (Rapier) are searched at, comma-separated, each one of --hz
+    /// (default: every rate).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub engine_hz: Vec<f64>,
     #[command(flatten)]
     pub judge: super::common::JudgeArgs,
     /// Methods, comma-separated (default: every one that applies, except
@@ -62,6 +66,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     let cfg = FramerateConfig {
         rates: a.hz.clone(),
+        engine_rates: (!a.engine_hz.is_empty()).then(|| a.engine_hz.clone()),
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
         methods: a.methods.clone(),

@@ -541,6 +541,11 @@ fn study_framerate(
         .map(|&hz| super::framerate::frames_at(duration, hz) as f64)
         .sum();
     let worst = super::framerate::worst_case_substeps(frames, max_substeps);
+    // Engines are searched at the game rate only: the row a game programmer compares.
+    let worst_engine = super::framerate::worst_case_substeps(
+        super::framerate::frames_at(duration, game) as f64,
+        max_substeps,
+    );
     let ran = compared
         .entries
         .iter()
@@ -561,7 +566,7 @@ fn study_framerate(
         } else {
             per_step
         };
-        let projected = per_substep * worst;
+        let projected = per_substep * if info.engine { worst_engine } else { worst };
         // Every engine is a Rapier row: each gets the engine budget.
         let budget = if info.engine {
             FRAMERATE_ENGINE_SECONDS
@@ -571,7 +576,7 @@ fn study_framerate(
         if projected > budget {
             left_out.push(name.clone());
             notes.push(format!(
-                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {} rates) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
+                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {}) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
                 per_substep * 1e3,
                 if info.engine {
                     format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))
@@ -579,7 +584,7 @@ fn study_framerate(
                     "step".into()
                 },
                 if probed_out.iter().any(|(n, _)| n == name) { "from the scene" } else { "from its compare run" },
-                rates.len(),
+                if info.engine { format!("{} Hz", crate::error::significant(game, 3)) } else { format!("{} rates", rates.len()) },
             ));
         } else {
             chosen.push(name.clone());
@@ -604,6 +609,7 @@ fn study_framerate(
         scene,
         &FramerateConfig {
             rates,
+            engine_rates: Some(vec![game]),
             methods: chosen,
             registry: cfg.registry.clone(),
             options: cfg.options.clone(),

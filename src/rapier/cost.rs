@@ -107,8 +107,8 @@ impl EngineShape {
 
 /// Seconds per soft-body particle per frame (proxies, read-back, the body's bookkeeping).
 /// The soft-body prices are fitted to Rapier 0.36's frames on the shipped cloth (1024
-/// particles, 5826 edges), hanging chain (20, 19) and cloth on a sphere (256, 1378) at 1, 4
-/// and 16 substeps (2-core x86-64, one thread).
+/// particles, 5826 edges), hanging chain (20, 19), chain on a box (20, 19, two obstacles) and
+/// cloth on a sphere (256, 1378) at 1, 4 and 16 substeps (2-core x86-64, one thread).
 pub const SOFT_PARTICLE_PER_FRAME: f64 = 1.2e-6;
 /// Seconds per soft-body edge per substep of the constraint solver (a Gauss-Seidel visit with
 /// warm start and the extra PGS iterations Rapier gives soft bodies).
@@ -116,12 +116,16 @@ pub const SOFT_EDGE_PER_SUBSTEP: f64 = 0.16e-6;
 /// Seconds per soft-body edge per substep of the FEM solver (assembly and the capped
 /// conjugate gradient's products over the element).
 pub const SOFT_FEM_EDGE_PER_SUBSTEP: f64 = 0.17e-6;
+/// Seconds per frame of a soft body's contact stage when the scene has obstacles, whatever
+/// its size (the soft contact pipeline's fixed passes; 20-particle chain on a box and a plane).
+pub const SOFT_CONTACT_PER_FRAME: f64 = 0.25e-3;
 /// Seconds per soft-body edge per frame when the scene has obstacles: the edges are the
 /// body's collision wire (broad and narrow phase of every segment).
 pub const SOFT_WIRE_EDGE_PER_FRAME: f64 = 2.0e-6;
-/// Seconds per soft-body edge per frame for the FEM solver when the scene has obstacles:
-/// every contact constraint on a FEM body is solved against the body's whole system.
-pub const SOFT_FEM_CONTACT_EDGE_PER_FRAME: f64 = 80e-6;
+/// Seconds per edge and particle per frame for the FEM solver when the scene has obstacles:
+/// every contact constraint on a FEM body is solved against the whole body's system, so the
+/// contact stage grows as the wire's edges times the body's particles.
+pub const SOFT_FEM_CONTACT_PER_EDGE_PARTICLE: f64 = 0.35e-6;
 
 /// What a soft-body stepper builds for a scene: the counts its price reads.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -146,15 +150,19 @@ impl SoftShape {
 
     /// Modelled seconds of one frame with `substeps` solver substeps under `solver`.
     pub fn frame_seconds(&self, solver: super::SoftSolver, substeps: usize) -> f64 {
-        let (edge, contact) = match solver {
-            super::SoftSolver::Constraints => (SOFT_EDGE_PER_SUBSTEP, SOFT_WIRE_EDGE_PER_FRAME),
+        let (p, e) = (self.particles as f64, self.edges as f64);
+        let (edge, fem_contacts) = match solver {
+            super::SoftSolver::Constraints => (SOFT_EDGE_PER_SUBSTEP, 0.0),
             super::SoftSolver::Fem => (
                 SOFT_FEM_EDGE_PER_SUBSTEP,
-                SOFT_WIRE_EDGE_PER_FRAME + SOFT_FEM_CONTACT_EDGE_PER_FRAME,
+                SOFT_FEM_CONTACT_PER_EDGE_PARTICLE * e * p,
             ),
         };
-        let (p, e) = (self.particles as f64, self.edges as f64);
-        let contacts = if self.collides { contact * e } else { 0.0 };
+        let contacts = if self.collides {
+            SOFT_CONTACT_PER_FRAME + SOFT_WIRE_EDGE_PER_FRAME * e + fem_contacts
+        } else {
+            0.0
+        };
         FRAME + SOFT_PARTICLE_PER_FRAME * p + contacts + substeps.max(1) as f64 * edge * e
     }
 }

@@ -156,9 +156,30 @@ pub fn convergence(s: &SceneStudy) -> Option<ConvergenceData> {
     })
 }
 
-/// Work-precision lines from the sweep's stable rows; `None` when no sweep run was stable.
+/// Work-precision lines from the sweep's stable rows, and each engine's compare run at the
+/// scene's step as one point beside them (same duration, same error measure; an engine is
+/// not swept); `None` when no sweep run was stable.
 pub fn work_precision(s: &SceneStudy) -> Option<WorkPrecisionData> {
     let sweep = s.sweep.as_ref()?;
+    let registry = crate::method::Registry::builtin();
+    let engines = runs(s)
+        .filter(|r| registry.info(&r.method).is_ok_and(|m| m.engine))
+        .map(|r| WorkLine {
+            label: r.method.clone(),
+            points: r
+                .metrics
+                .as_ref()
+                .map(|m| m.error_max)
+                .filter(|e| e.is_finite() && *e > 0.0 && r.status.is_ok())
+                .map(|e| WorkPoint {
+                    dt: r.dt,
+                    error: e,
+                    modelled_seconds: r.modelled_seconds,
+                    force_evals: r.force_evals,
+                })
+                .into_iter()
+                .collect(),
+        });
     let lines: Vec<WorkLine> = sweep
         .plan
         .methods
@@ -181,6 +202,7 @@ pub fn work_precision(s: &SceneStudy) -> Option<WorkPrecisionData> {
                 })
                 .collect(),
         })
+        .chain(engines)
         .collect();
     lines
         .iter()

@@ -164,7 +164,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     }
     if let Some(w) = charts::work_precision(s) {
         write_chart(&dir, "work_precision", plots::work_precision(&w), &w)?;
-        fig("work_precision", "Work against precision", format!("The same sweep as cost: lower-left is better. Modelled time is the runs' counted work priced per item, the same on every run (the measured wall times are in timing.json); force evaluations count one kind of that work. {}", link("sweep/sweep.csv")));
+        fig("work_precision", "Work against precision", format!("The same sweep as cost: lower-left is better. Each engine (Rapier, not swept) is one point: its comparison run at the scene's step, same duration and error. Modelled time is the runs' counted work priced per item, the same on every run (the measured wall times are in timing.json); force evaluations count one kind of that work (an engine has none, so it is absent from that panel). {}", link("sweep/sweep.csv")));
     } else if s.sweep.is_some() {
         notes.push("Work against precision: no run of the step-size sweep stayed stable, so there is nothing to plot.".to_string());
     }

@@ -228,3 +228,40 @@ compliance = 0.001
         assert!(m.check(&scene(PAIR).build()).is_ok(), "{name}");
     }
 }
+
+// Oracle: the one-step scheme Rapier's impulse-joint springs were measured to follow
+// (substepped symplectic Euler with the spring implicit per substep, `scheme_prediction`):
+// a soft-body edge is the same soft constraint, so on one spring between two free masses the
+// soft methods' energy follows the same predicted curve.
+#[test]
+fn soft_energy_follows_the_engines_predicted_scheme() {
+    let scene = Scenario::from_file("scenarios/two_body.toml").unwrap();
+    let sys = scene.build();
+    let impulse = springlab::rapier::Mode::of("rapier_impulse").unwrap();
+    for name in SOFT {
+        for (h, n) in [(1.0 / 60.0, 4), (1.0 / 600.0, 1), (0.01, 2)] {
+            let steps = 120;
+            let (rec, _) = record(&scene, name, h, n, steps);
+            let p = springlab::rapier::scheme_prediction(
+                impulse,
+                &sys,
+                &scene.initial_state(),
+                h,
+                n,
+                steps,
+            )
+            .unwrap();
+            let e0 = p.curve[0].1;
+            let worst = rec
+                .energy
+                .iter()
+                .zip(&p.curve)
+                .map(|(m, q)| (m.1 - q.1).abs() / e0)
+                .fold(0.0, f64::max);
+            eprintln!("{name} h {h} n {n}: energy off the predicted scheme by {worst:.1e} of E0");
+            // The FEM solver's conjugate gradient stops at a relative residual of 1e-5.
+            let bound = if name == "rapier_soft" { 1e-9 } else { 1e-4 };
+            assert!(worst < bound, "{name} h {h} n {n}: {worst}");
+        }
+    }
+}

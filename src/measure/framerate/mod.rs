@@ -51,6 +51,10 @@ pub const DEFAULT_MAX_SUBSTEPS: u64 = 64;
 pub struct FramerateConfig {
     /// Frame rates (Hz).
     pub rates: Vec<f64>,
+    /// The rates engines (Rapier) are searched at, each one of `rates`: an engine's frame
+    /// costs far more than a native step, so a study searches it at the game rate only;
+    /// `None`: every rate.
+    pub engine_rates: Option<Vec<f64>>,
     /// Position tolerance (m); None: the scene's `[run] tolerance`, else 1 % of its motion
     /// scale ([`crate::measure::tolerance`]).
     pub tolerance: Option<f64>,
@@ -87,6 +91,7 @@ impl Default for FramerateConfig {
     fn default() -> Self {
         FramerateConfig {
             rates: DEFAULT_RATES.to_vec(),
+            engine_rates: None,
             tolerance: None,
             metric: None,
             ensemble: None,
@@ -189,6 +194,20 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
             ),
         ));
     }
+    if let Some(f) = cfg
+        .engine_rates
+        .iter()
+        .flatten()
+        .find(|f| !cfg.rates.contains(f))
+    {
+        return Err(Error::option(
+            "--engine-hz",
+            format!(
+                "{} Hz is not one of the rates asked with --hz",
+                crate::error::num(*f)
+            ),
+        ));
+    }
     crate::measure::tolerance::check(cfg.tolerance)?;
     if cfg.max_substeps == 0 {
         return Err(Error::option("--max-substeps", "must be at least 1"));
@@ -229,6 +248,24 @@ fn frame_run(
     })
 }
 
+/// Whether method `name` is searched at `hz` ([`FramerateConfig::engine_rates`]).
+fn searched_at(cfg: &FramerateConfig, name: &str, hz: f64) -> bool {
+    match &cfg.engine_rates {
+        Some(r) if cfg.registry.info(name).is_ok_and(|m| m.engine) => r.contains(&hz),
+        _ => true,
+    }
+}
+
+/// Frames a method's search runs over, summed over the rates it is searched at.
+fn frames_searched(cfg: &FramerateConfig, name: &str, frames: &[u64]) -> f64 {
+    cfg.rates
+        .iter()
+        .zip(frames)
+        .filter(|(&hz, _)| searched_at(cfg, name, hz))
+        .map(|(_, &n)| n as f64)
+        .sum()
+}
+
 /// Substeps a worst-case search runs over `frames` frames (summed over the rates): doubling to
 /// `max_substeps` (2·max − 1 substeps per frame in all) and bisecting below it (fewer than max
 /// more). Budgets project a search's cost from it.
@@ -244,7 +281,7 @@ fn within_budget(
     s0: &crate::model::State,
     cfg: &FramerateConfig,
     names: Vec<String>,
-    frames: f64,
+    frames: &[u64],
     budget: f64,
     skipped: &mut Vec<(String, String)>,
 ) -> Result<Vec<String>> {
@@ -254,7 +291,6 @@ fn within_budget(
     // Engines are priced per solver substep from their modelled frame.
     check_budget(budget)?;
     let hz = cfg.rates.iter().cloned().fold(0.0, f64::max);
-    let worst = worst_case_substeps(frames, cfg.max_substeps);
     let costs: Vec<Cost> = names
         .iter()
         .map(|n| {
@@ -274,6 +310,7 @@ fn within_budget(
             } else {
                 per
             };
+            let worst = worst_case_substeps(frames_searched(cfg, n, frames), cfg.max_substeps);
             Cost {
                 per_unit,
                 projected: per_unit * worst,
@@ -372,8 +409,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         names.retain(|n| cfg.registry.info(n).is_ok_and(|m| m.order != Order::Exact));
     }
     if let Some(b) = cfg.budget_seconds {
-        let frames_sum: f64 = frames.iter().map(|&n| n as f64).sum();
-        names = within_budget(&sys, &s0, cfg, names, frames_sum, b, &mut skipped)?;
+        names = within_budget(&sys, &s0, cfg, names, &frames, b, &mut skipped)?;
     }
     let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, cfg.rates.len(), sys.len());
     let grids: Vec<TimeGrid> = cfg
@@ -408,6 +444,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .collect::<Result<_>>()?;
     let jobs: Vec<(usize, usize)> = (0..names.len())
         .flat_map(|b| (0..cfg.rates.len()).map(move |r| (b, r)))
+        .filter(|&(b, r)| searched_at(cfg, &names[b], cfg.rates[r]))
         .collect();
     let pb = crate::run::progress_bar(
         jobs.len() as u64,
@@ -470,6 +507,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
     let command = CommandLine::new("framerate", &scene.source)
         .list("hz", &cfg.rates)
+        .list("engine-hz", cfg.engine_rates.as_deref().unwrap_or(&[]))
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
         .list(
