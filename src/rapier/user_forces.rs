@@ -76,6 +76,7 @@ impl UserForces {
         h: f64,
     ) {
         let drag = sys.drag.filter(|_| linked.iter().any(|&l| l));
+        self.drag.clear();
         if !any(sys) && drag.is_none() {
             return;
         }
@@ -91,7 +92,6 @@ impl UserForces {
         for t in Self::terms(sys) {
             t.add_forces(&self.x, &self.v, &mut self.f);
         }
-        self.drag.clear();
         if let Some(c) = drag {
             self.drag.resize(self.x.len(), Vec3::zeros());
             for (p, _) in linked.iter().enumerate().filter(|(_, &l)| l) {
