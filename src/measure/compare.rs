@@ -114,8 +114,9 @@ pub struct CompareResult {
 }
 
 /// The methods of `names` whose runs fit `budget` (s, summed), cheapest first by their probed
-/// time per step (a frame of `frame_substeps` steps costs that many); the rest go to `skipped`
-/// with the figures. Order is kept.
+/// price per frame ([`super::probe::seconds_per_frame`]: a frame's `frame_substeps` are inside
+/// it, so `steps` frames cost `steps` times it); the rest go to `skipped` with the figures.
+/// Order is kept.
 #[allow(clippy::too_many_arguments)]
 fn within_budget(
     sys: &crate::model::System,
@@ -127,31 +128,48 @@ fn within_budget(
     budget: f64,
     skipped: &mut Vec<(String, String)>,
 ) -> Result<Vec<String>> {
-    use super::probe::{check_budget, seconds_per_step, split_by_budget, Cost};
+    use super::probe::{check_budget, split_by_budget};
     check_budget(budget)?;
-    let n = cfg.frame_substeps.unwrap_or(1);
-    let costs: Vec<Cost> = names
+    let costs: Vec<_> = names
         .iter()
-        .map(|m| {
-            let per = seconds_per_step(
-                sys,
-                s0,
-                &cfg.registry,
-                &cfg.options,
-                m,
-                dt / n as f64,
-                steps,
-            )
-            .unwrap_or(0.0);
-            Cost {
-                per_unit: per,
-                projected: per * (steps * n) as f64,
-            }
-        })
+        .map(|m| projected_cost(sys, s0, cfg, m, dt, steps))
         .collect();
-    let (kept, left) = split_by_budget(names, &costs, budget, "its run", "step");
+    let unit = if cfg.frame_substeps.is_some() {
+        "frame"
+    } else {
+        "step"
+    };
+    let (kept, left) = split_by_budget(names, &costs, budget, "its run", unit);
     skipped.extend(left);
     Ok(kept)
+}
+
+/// The modelled cost the budget projects for method `name`'s run of `steps` frames of `dt`
+/// under `cfg` (its frame substeps included once): the price per frame and `steps` times it.
+/// A method that cannot be probed costs nothing here; its run reports why.
+pub fn projected_cost(
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    cfg: &CompareConfig,
+    name: &str,
+    dt: f64,
+    steps: u64,
+) -> super::probe::Cost {
+    let per = super::probe::seconds_per_frame(
+        sys,
+        s0,
+        &cfg.registry,
+        &cfg.options,
+        name,
+        dt,
+        steps,
+        cfg.frame_substeps,
+    )
+    .unwrap_or(0.0);
+    super::probe::Cost {
+        per_unit: per,
+        projected: per * steps as f64,
+    }
 }
 
 /// Runs the comparison.

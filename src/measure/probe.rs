@@ -17,9 +17,10 @@ pub const PROBE_STEPS: u64 = 40;
 
 /// Modelled seconds per step of method `name` at step `dt`: its
 /// [`Stepper::modelled_frame_seconds`](crate::integrate::Stepper::modelled_frame_seconds)
-/// where it has one, else the work counted over at most `steps` (capped at [`PROBE_STEPS`])
-/// steps from `s0`; `None` when the method cannot be made or run on the scene (the command's
-/// own run then reports why).
+/// where it has one (an engine's frame, its `options.substeps` solver substeps included), else
+/// the work counted over at most `steps` (capped at [`PROBE_STEPS`]) steps from `s0`; `None`
+/// when the method cannot be made or run on the scene (the command's own run then reports
+/// why). The price of one frame of one step: [`seconds_per_frame`] without substeps.
 pub fn seconds_per_step(
     sys: &System,
     s0: &State,
@@ -29,12 +30,45 @@ pub fn seconds_per_step(
     dt: f64,
     steps: u64,
 ) -> Option<f64> {
-    let mut stepper = registry.create(name, options).ok()?;
+    seconds_per_frame(sys, s0, registry, options, name, dt, steps, None)
+}
+
+/// Modelled seconds per frame of method `name` in a run of `frames` frames of `dt`, each split
+/// into `substeps` the way the run splits it ([`crate::measure::case::frame_setup`]): a native
+/// method's `substeps` steps of `dt / substeps`, counted over about [`PROBE_STEPS`] of them; an
+/// engine's one frame with that many solver substeps, priced by its cost model (and the
+/// runner's step, [`crate::run::cost::CostModel`], as the run books it). Either way the
+/// frame's substeps are inside the price, so a run of F frames projects to F times it: the
+/// figure the run then books. `None` as for [`seconds_per_step`].
+#[allow(clippy::too_many_arguments)]
+pub fn seconds_per_frame(
+    sys: &System,
+    s0: &State,
+    registry: &Registry,
+    options: &MethodOptions,
+    name: &str,
+    dt: f64,
+    frames: u64,
+    substeps: Option<u64>,
+) -> Option<f64> {
+    let n = substeps.unwrap_or(1).max(1);
+    let mut options = options.clone();
+    if substeps.is_some() {
+        options.substeps = n as usize;
+    }
+    let mut stepper = registry.create(name, &options).ok()?;
     stepper.check(sys).ok()?;
     if let Some(frame) = stepper.modelled_frame_seconds(sys) {
-        return Some(frame);
+        // The runner books its own step on top of the engine's frame (one per frame).
+        let step = crate::run::cost::Work {
+            steps: 1,
+            ..Default::default()
+        };
+        return Some(frame + crate::run::cost::CostModel::of(sys).seconds(&step));
     }
-    let plan = crate::run::RunPlan::new(dt, PROBE_STEPS.min(steps).max(1));
+    let probe_frames = (PROBE_STEPS / n).max(1).min(frames.max(1));
+    let mut plan = crate::run::RunPlan::new(dt, probe_frames);
+    plan.substeps = n;
     let out = crate::run::run(
         sys,
         stepper.as_mut(),

@@ -6,7 +6,9 @@
 //! its parent, or a spring pivot): it adds I·ω²/2 to the kinetic energy Rapier conserves, a
 //! relative effect of 2/5·(r/L)² on the period of a link of length L (4·10⁻⁵ for r = 0.01 m,
 //! L = 1 m). Sleeping is off: a sleeping body freezes a stretched spring. Linear drag (force
-//! −c·v) becomes Rapier's linear damping c/m (applied implicitly, v ← v/(1 + h·c/m)).
+//! −c·v) becomes Rapier's linear damping c/m (applied implicitly, v ← v/(1 + h·c/m), once per
+//! Rapier step h after its substeps); Rapier skips it on multibody links, whose drag is the same
+//! law held as a user force (`super::user_forces`).
 
 use super::convert::to_glam;
 use crate::model::{State, System};

@@ -13,7 +13,8 @@ use crate::model::{State, System, Vec3};
 /// Cost: `force_evals` is reported as 0 (Rapier never evaluates our force model); each frame
 /// reports its modelled seconds ([`super::cost`]) as `engine_seconds`. `dissipated` is the damper, drag and penalty-contact damping power (c·(n·v_rel)², c_d·|v|², the penalty's) of the read-back
 /// states, integrated by the trapezoidal rule over the step: an estimate of the work Rapier's
-/// implicit dampers did, accurate to O(h²) for smooth motion.
+/// implicit dampers did, accurate to O(h²) for smooth motion. The drag held as a user force on
+/// multibody links is booked by its own work instead (`UserForces::drag_dissipated`).
 pub struct RapierStepper {
     mode: Mode,
     substeps: usize,
@@ -75,8 +76,10 @@ impl RapierStepper {
     }
 }
 
-/// Damper and drag power (W) at (x, v): the same terms `System::forces` reports.
-pub(crate) fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
+/// Damper and drag power (W) at (x, v): the same terms `System::forces` reports, without the
+/// drag of the particles `held` marks (multibody links, whose drag is a held user force booked
+/// by its own work).
+pub(crate) fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3], held: &[bool]) -> f64 {
     let sp = &sys.springs;
     let mut p = 0.0;
     if sp.any_damping {
@@ -94,8 +97,9 @@ pub(crate) fn damping_power(sys: &System, x: &[Vec3], v: &[Vec3]) -> f64 {
         p += v
             .iter()
             .zip(&sys.free)
-            .filter(|(_, &f)| f)
-            .map(|(vi, _)| c * vi.norm_squared())
+            .enumerate()
+            .filter(|(p, (_, &f))| f && !held.get(*p).copied().unwrap_or(false))
+            .map(|(_, (vi, _))| c * vi.norm_squared())
             .sum::<f64>();
     }
     p
@@ -142,24 +146,30 @@ impl Stepper for RapierStepper {
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         self.prepare(sys, s, h);
-        let p0 = damping_power(sys, &s.x, &s.v) + self.user.power(sys, &s.x, &s.v);
+        let b = self.built.as_mut().expect("built in prepare");
+        let p0 = damping_power(sys, &s.x, &s.v, &b.linked) + self.user.power(sys, &s.x, &s.v);
         let e0 = sys
             .post_step
             .as_ref()
             .map(|_| sys.energy(&s.x, &s.v).mechanical());
-        let b = self.built.as_mut().expect("built in prepare");
+        let mut held_drag = 0.0;
         if b.axial.is_empty() {
-            self.user.apply(sys, &b.bodies, &mut b.world.bodies);
+            self.user
+                .apply(sys, &b.bodies, &b.linked, &mut b.world.bodies, h);
             b.world.step();
+            held_drag += self.user.drag_dissipated(&b.bodies, &b.world.bodies);
         } else {
             // Loop-closing joints between multibody links must follow the particle axis, which
             // Rapier only lets us set between frames: run `substeps` frames of h/N with one
             // solver iteration each (for impulse joints this is the same scheme as N substeps).
-            set_step(&mut b.world, 1, h / self.substeps as f64);
+            let hs = h / self.substeps as f64;
+            set_step(&mut b.world, 1, hs);
             for _ in 0..self.substeps {
                 align_axial(b);
-                self.user.apply(sys, &b.bodies, &mut b.world.bodies);
+                self.user
+                    .apply(sys, &b.bodies, &b.linked, &mut b.world.bodies, hs);
                 b.world.step();
+                held_drag += self.user.drag_dissipated(&b.bodies, &b.world.bodies);
             }
         }
         for (p, &hnd) in b.bodies.iter().enumerate() {
@@ -176,8 +186,8 @@ impl Stepper for RapierStepper {
         // verdict sees it.
         let touching = e0.is_some() && b.world.contact_pairs().any(|c| c.has_any_active_contact());
         s.t += h;
-        let p1 = damping_power(sys, &s.x, &s.v) + self.user.power(sys, &s.x, &s.v);
-        let damper = 0.5 * (p0 + p1) * h;
+        let p1 = damping_power(sys, &s.x, &s.v, &b.linked) + self.user.power(sys, &s.x, &s.v);
+        let damper = 0.5 * (p0 + p1) * h + held_drag;
         Ok(StepStats {
             force_evals: 0,
             dissipated: damper + contact_loss(sys, s, e0.filter(|_| touching), damper),

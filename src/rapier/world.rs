@@ -20,6 +20,9 @@ pub struct Built {
     pub topology: Option<Topology>,
     /// Fallback joints between multibody links whose frames follow the particle axis.
     pub axial: Vec<(ImpulseJointHandle, Edge)>,
+    /// Whether particle p's body is a multibody link (Rapier's linear damping skips those, so
+    /// their drag is a held user force, see `super::user_forces`).
+    pub linked: Vec<bool>,
 }
 
 /// A Rapier world for `sys` at state `s`. Gravity is the scene's or zero (Rapier's
@@ -81,11 +84,16 @@ pub fn build(sys: &System, s: &State, mode: Mode, substeps: usize, h: f64) -> Bu
             Some(topo)
         }
     };
+    let linked = bodies
+        .iter()
+        .map(|&b| world.multibody_joints.rigid_body_link(b).is_some())
+        .collect();
     Built {
         world,
         bodies,
         topology,
         axial,
+        linked,
     }
 }
 

@@ -212,3 +212,52 @@ fn twin_framerate_within_its_budget_searches() {
     let doc = measure(&FRAMERATE, "120", "framerate.json");
     assert!(doc["skipped"].as_array().unwrap().is_empty(), "{doc}");
 }
+
+/// `compare` of the hanging chain at 1/60 s × 1024 substeps with rapier_impulse, under `budget`
+/// (none: the default), its compare.csv row of the method.
+fn substepped_engine_row(budget: Option<&str>) -> String {
+    let out = tempfile::tempdir().unwrap();
+    let mut c = bin();
+    c.args([
+        "compare",
+        "scenarios/hanging_chain.toml",
+        "--dt",
+        "1/60",
+        "--substeps",
+        "1024",
+        "--methods",
+        "rapier_impulse",
+        "--out",
+    ])
+    .arg(out.path());
+    if let Some(b) = budget {
+        c.args(["--budget", b]);
+    }
+    let o = c.output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.path().join("compare.csv")).unwrap();
+    csv.lines()
+        .find(|l| l.starts_with("rapier_impulse"))
+        .unwrap()
+        .to_string()
+}
+
+// Oracle: the engine's cost model prices a frame of 1024 substeps at 6.14 ms, so the run's 120
+// frames cost about 0.74 s: far inside the default budget of 120 s when the substeps are
+// counted once, far outside it (about 755 s) when counted twice.
+#[test]
+fn a_substepped_engine_compare_runs_under_the_default_budget() {
+    let row = substepped_engine_row(None);
+    assert!(!row.contains("skipped"), "{row}");
+}
+
+#[test]
+fn twin_a_substepped_engine_compare_past_its_budget_is_left_out_with_the_figure() {
+    let row = substepped_engine_row(Some("0.5"));
+    assert!(
+        row.contains("skipped")
+            && row.contains("about 0.737 s")
+            && row.contains("6.14 ms per frame"),
+        "{row}"
+    );
+}

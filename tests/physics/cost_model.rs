@@ -60,14 +60,20 @@ fn more_work_costs_more_and_a_native_step_costs_less_than_an_engine_frame() {
     let sym = outcome("symplectic_euler", &MethodOptions::default(), 50);
     let imp = outcome("implicit_euler", &MethodOptions::default(), 50);
     assert!(imp.modelled_seconds > 5.0 * sym.modelled_seconds);
-    // The engine is priced from the scene without running: the probe returns its frame.
+    // The engine is priced from the scene without running: the probe returns its frame and
+    // the runner's step on it, what a run books per frame.
     let scene = chain();
     let (sys, s0) = (scene.build(), scene.initial_state());
     let reg = Registry::builtin();
     let opts = MethodOptions::default();
     let frame = seconds_per_step(&sys, &s0, &reg, &opts, "rapier_impulse", 1e-3, 40).unwrap();
     let shape = EngineShape::of(&sys, Mode::Impulse);
-    assert_eq!(frame, shape.frame_seconds(opts.substeps));
+    let step = springlab::run::cost::Work {
+        steps: 1,
+        ..Default::default()
+    };
+    let runner = springlab::run::cost::CostModel::of(&sys).seconds(&step);
+    assert_eq!(frame, shape.frame_seconds(opts.substeps) + runner);
     assert_eq!(shape.impulse_joints, sys.springs.len());
     // The chain as one multibody tree (a cubic dense solve) is dearer than impulse joints.
     let multi = seconds_per_step(&sys, &s0, &reg, &opts, "rapier_multibody", 1e-3, 40).unwrap();

@@ -193,7 +193,7 @@ impl Stepper for SoftStepper {
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         self.prepare(sys, s, h)?;
-        let p0 = damping_power(sys, &s.x, &s.v);
+        let p0 = damping_power(sys, &s.x, &s.v, &[]);
         let e0 = sys
             .post_step
             .as_ref()
@@ -212,7 +212,7 @@ impl Stepper for SoftStepper {
         }
         let touching = e0.is_some() && b.world.contact_pairs().any(|c| c.has_any_active_contact());
         s.t += h;
-        let damper = 0.5 * (p0 + damping_power(sys, &s.x, &s.v)) * h;
+        let damper = 0.5 * (p0 + damping_power(sys, &s.x, &s.v, &[])) * h;
         Ok(StepStats {
             force_evals: 0,
             dissipated: damper + contact_loss(sys, s, e0.filter(|_| touching), damper),
