@@ -26,6 +26,11 @@ pub enum Marker {
     Triangle,
     /// An open ring around the point (the answer, drawn over its method's marker).
     Ring,
+    /// A filled dot with the series' label written beside it instead of in the legend (a
+    /// small chart whose every point is a method).
+    TaggedDot,
+    /// A filled triangle with its label beside it (an engine on such a chart).
+    TaggedTriangle,
 }
 
 /// One labelled line of (x, y) points, optionally ending at a blow-up marker.

@@ -21,13 +21,23 @@ fn series(points: &[GamePoint], game: &GameRate) -> Vec<Series> {
         .iter()
         .map(|p| Series {
             marker: if p.engine {
-                Marker::Triangle
+                Marker::TaggedTriangle
             } else {
-                Marker::Dot
+                Marker::TaggedDot
             },
             ..Series::new(format!("{} × {}", p.method, p.substeps), at(p))
         })
         .collect();
+    // The legend says what the shapes mean; each point carries its own label.
+    for (label, marker) in [
+        ("springlab method × substeps", Marker::Dot),
+        ("Rapier method × substeps", Marker::Triangle),
+    ] {
+        out.push(Series {
+            marker,
+            ..Series::new(label, Vec::new())
+        });
+    }
     if let Some(p) = points.iter().find(|p| {
         game.meets && Some(&p.method) == game.method.as_ref() && Some(p.substeps) == game.substeps
     }) {
@@ -76,11 +86,15 @@ pub fn chart(points: &[GamePoint], game: &GameRate) -> Result<String> {
         Vec::new()
     };
     svg_single(
-        (620, 430),
+        (640, 460),
         &Panel {
             title: format!(
                 "At {} Hz: error against cost (▲ Rapier)",
-                significant(game.hz, 3)
+                if game.hz.fract() == 0.0 && game.hz < 1e6 {
+                    format!("{:.0}", game.hz)
+                } else {
+                    significant(game.hz, 3)
+                }
             ),
             x: Axis::log("modelled time per frame (s)"),
             y: Axis::log(format!("error ({})", game.metric.unit())),
@@ -89,7 +103,7 @@ pub fn chart(points: &[GamePoint], game: &GameRate) -> Result<String> {
             dots: true,
             lines: false,
             equal_aspect: false,
-            legend: plotters::prelude::SeriesLabelPosition::UpperRight,
+            legend: plotters::prelude::SeriesLabelPosition::LowerLeft,
         },
     )
 }

@@ -8,6 +8,7 @@ use crate::report::finite::{drawable, plottable};
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Font family for every label: the viewer's own sans-serif (SVG `<text>`, no font files).
 pub const FONT: &str = "sans-serif";
@@ -151,6 +152,12 @@ where
     Y: Ranged<ValueType = f64>,
 {
     let label = s.label.clone();
+    // A series without points is a legend entry only (what a shape means): neutral grey.
+    let c = if s.points.is_empty() {
+        RGBColor(90, 90, 90)
+    } else {
+        c
+    };
     match s.marker {
         Marker::Dot => {
             chart
@@ -165,6 +172,37 @@ where
                 .map_err(draw_err)?
                 .label(label)
                 .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 6, c.filled()));
+        }
+        Marker::TaggedDot | Marker::TaggedTriangle => {
+            // Labels in dark grey (readable whatever the method's colour), to the left of a
+            // point in the right half of the plot so they stay inside it.
+            let ink = RGBColor(50, 50, 50);
+            let (x_px, _) = chart.plotting_area().get_pixel_range();
+            let mid = (x_px.start + x_px.end) / 2;
+            for &q in sp {
+                let right = chart.backend_coord(&q).0 > mid;
+                let (anchor, dx) = if right {
+                    (HPos::Right, -8)
+                } else {
+                    (HPos::Left, 8)
+                };
+                let style = (FONT, 11)
+                    .into_font()
+                    .color(&ink)
+                    .pos(Pos::new(anchor, VPos::Bottom));
+                if s.marker == Marker::TaggedDot {
+                    chart
+                        .draw_series([Circle::new(q, 4, c.filled())])
+                        .map_err(draw_err)?;
+                } else {
+                    chart
+                        .draw_series([TriangleMarker::new(q, 7, c.filled())])
+                        .map_err(draw_err)?;
+                }
+                chart
+                    .draw_series([EmptyElement::at(q) + Text::new(label.clone(), (dx, -4), style)])
+                    .map_err(draw_err)?;
+            }
         }
         Marker::Ring => {
             chart
