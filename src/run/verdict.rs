@@ -46,6 +46,7 @@
 //! measuring command stops there, `run` computes on until the state diverges or passes the cap.
 
 use super::energy::EnergyRecord;
+use super::runaway::{Runaway, OCTAVES, OCTAVE_RATIO, RUNAWAY_LEVEL};
 use crate::model::State;
 
 /// Default `--blowup-factor`: the hard cap, in scene energy scales, on the rise of the energy
@@ -86,6 +87,8 @@ pub enum Rule {
     Growing,
     /// Rule 4: the balance stayed far above its start for a whole window.
     Producing,
+    /// Rule 5: the balance's peak grew tenfold over each of the last octaves of the run.
+    Runaway,
 }
 
 /// A verdict that fired: which rule, and the reason in words.
@@ -157,6 +160,7 @@ pub struct Verdict {
     cap: f64,
     steps: u64,
     windows: Vec<Windows>,
+    runaway: Runaway,
 }
 
 impl Verdict {
@@ -177,6 +181,7 @@ impl Verdict {
                     low: f64::INFINITY,
                 })
                 .collect(),
+            runaway: Runaway::default(),
         }
     }
 
@@ -220,7 +225,23 @@ impl Verdict {
                 fired = fired.or(Some((rule, w.len, w.done.first().copied().unwrap_or(0.0))));
             }
         }
-        let (rule, len, first) = fired?;
+        let octaves = self.runaway.push(n, rise, self.scale);
+        let Some((rule, len, first)) = fired else {
+            let o = octaves?;
+            let [a, b, c, d] = o.peaks;
+            return Some(Fired {
+                rule: Rule::Runaway,
+                reason: format!(
+                    "energy balance growing without bound over the whole run: its peak rise grew at least {OCTAVE_RATIO}-fold over each of the run's last {OCTAVES} octaves (steps {}, {}, {}, {}: {a:.3e}, {b:.3e}, {c:.3e}, {d:.3e} J), now {rise:.3e} J ({}), past {RUNAWAY_LEVEL} × the scene's energy scale of {:.3e} J",
+                    o.steps[0],
+                    o.steps[1],
+                    o.steps[2],
+                    o.steps[3],
+                    self.books(e),
+                    self.scale
+                ),
+            });
+        };
         let reason = match rule {
             Rule::Growing => format!(
                 "energy balance growing without bound: its peak rise doubled in each of {GROWTH_RUN} windows of {len} steps, from {first:.3e} to {rise:.3e} J ({}), above the scene's energy scale of {:.3e} J",
