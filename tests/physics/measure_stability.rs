@@ -284,16 +284,17 @@ fn one_statement_per_method_never_two_that_contradict() {
     let r = analyse(&damped_oscillator(0.0), &cfg).unwrap();
     let euler = find(&r, "explicit_euler");
     assert_eq!(euler.verdict, Verdict::UnstableForAllDt);
+    // Over the default horizon T (100 periods) the energy grows by exp(T h ω²), below the
+    // verdict's thresholds for h below about 1e-4 s: the search finds a bounded step there.
     let e = euler.empirical.as_ref().unwrap();
-    if e.max_stable_dt.is_some() {
-        assert!(
-            euler
-                .statement
-                .contains("only because the growth there did not pass"),
-            "{}",
-            euler.statement
-        );
-    }
+    assert!(e.max_stable_dt.is_some(), "{e:?}");
+    assert!(
+        euler
+            .statement
+            .contains("only because the growth there did not show"),
+        "{}",
+        euler.statement
+    );
     assert!(!euler.statement.contains("agrees"), "{}", euler.statement);
     // Twin: symplectic Euler's limit hω = 2 (GNI §I.1): theory and runs agree.
     let se = find(&r, "symplectic_euler");

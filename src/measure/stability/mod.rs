@@ -14,8 +14,9 @@
 //! bisected to machine precision.
 //!
 //! Empirical: a run is stable when the runner's one verdict ([`crate::run::verdict`]) calls
-//! it ok over the horizon: finite states, and an energy balance that never rose by more than
-//! `blowup_factor` × the scene's energy scale. The step is doubled or halved to a bracket,
+//! it ok over the horizon (and at least [`MIN_TRIAL_STEPS`] steps, so growth at a radius of
+//! [`RHO_SHOWN`] shows however few steps of a large h the horizon holds): finite states, and an
+//! energy balance that never rose by more than `blowup_factor` × the scene's energy scale. The step is doubled or halved to a bracket,
 //! then bisected to 0.1 %. Bisection assumes that stability is monotone in dt. A method just
 //! inside its linear limit can swing its energy by more than the threshold without growing
 //! (symplectic Euler from rest reaches 1/(1 − hω/2) times its energy): the empirical limit is

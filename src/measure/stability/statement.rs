@@ -60,7 +60,7 @@ pub fn statement(
         {
             let (r, g) = growth(x);
             format!(
-                "{head}; the empirical runs read bounded up to {} only because the growth there did not pass the verdict's thresholds within a trial (ρ = 1 + {:.2e}: ×{g:.3e} in a mode's energy over its {} steps, from a start where that mode holds little)",
+                "{head}; the empirical runs read bounded up to {} only because the growth there did not show within a trial (ρ = 1 + {:.2e} at t = 0: ×{g:.3e} in a mode's energy over its {} steps, from a start where that mode holds little, or on a mode the scene leaves as it moves)",
                 e(x),
                 r - 1.0,
                 steps_at(x)
