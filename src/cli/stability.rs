@@ -98,22 +98,24 @@ pub fn run(a: Args) -> Result<()> {
         scene.name, rep.omega_max, rep.modes.found_by
     );
     println!(
-        "{:<22} {:<24} {:>12} {:>9} {:<22} {:>12}",
-        "method", "verdict", "max dt", "hω", "decided by", "empirical dt"
+        "{:<22} {:<24} {:>12} {:>9} {:<22}",
+        "method", "verdict", "max dt", "hω", "decided by"
     );
     for i in &rep.methods {
         println!(
-            "{:<22} {:<24} {:>12} {:>9} {:<22} {:>12}",
+            "{:<22} {:<24} {:>12} {:>9} {:<22}",
             i.method,
             serde_json::to_value(i.verdict)?.as_str().unwrap_or(""),
             fmt_opt(i.max_stable_dt),
             i.h_omega.map_or("-".into(), |h| format!("{h:.6}")),
             i.decided_by,
-            fmt_opt(i.empirical.as_ref().and_then(|e| e.max_stable_dt))
         );
     }
     for (n, why) in &rep.skipped {
         println!("{n:<22} skipped: {why}");
+    }
+    for i in &rep.methods {
+        println!("{:<22} {}", i.method, i.statement);
     }
     for i in &rep.methods {
         if let Some(note) = &i.note {

@@ -118,7 +118,7 @@ fn documents(s: &SceneSummary) -> String {
 }
 
 fn stability_table(st: &StabilityReport) -> String {
-    let mut out = format!("<h2>Stability</h2>\n<p class=\"note\">From <a href=\"stability/stability.json\">stability/stability.json</a>: ω_max = {} rad/s. Theory: {}. Empirical: a run of {} s is stable when its energy balance stays bounded: unstable once it diverges, rises past {}× the scene's energy scale, keeps doubling window after window, or stays ten scales above its start.</p>\n<table>\n<tr><th class=\"l\">method</th><th class=\"l\">verdict</th><th>largest stable step (s)</th><th>h·ω_max</th><th class=\"l\">decided by</th><th>theory limit (s)</th><th>empirical limit (s)</th><th class=\"l\">note</th></tr>\n",
+    let mut out = format!("<h2>Stability</h2>\n<p class=\"note\">From <a href=\"stability/stability.json\">stability/stability.json</a>: ω_max = {} rad/s. Theory: {}. Empirical: a run of {} s is stable when its energy balance stays bounded: unstable once it diverges, rises past {}× the scene's energy scale, keeps doubling window after window, stays ten scales above its start, or passes ten scales after growing tenfold over each of the run's last three octaves.</p>\n<table>\n<tr><th class=\"l\">method</th><th class=\"l\">verdict</th><th>largest stable step (s)</th><th>h·ω_max</th><th class=\"l\">decided by</th><th>theory limit (s)</th><th>empirical limit (s)</th><th class=\"l\">statement</th></tr>\n",
         cell(Some(st.omega_max), 4), esc(&st.theory_criterion), cell(Some(st.empirical_criterion.horizon), 3), cell(Some(st.empirical_criterion.blowup_factor), 2));
     for i in &st.methods {
         out += &format!(
@@ -130,7 +130,10 @@ fn stability_table(st: &StabilityReport) -> String {
             esc(&i.decided_by),
             cell(i.theory_max_stable_dt, 4),
             cell(i.empirical.as_ref().and_then(|e| e.max_stable_dt), 4),
-            esc(i.note.as_deref().unwrap_or(""))
+            esc(&match &i.note {
+                Some(n) => format!("{} ({n})", i.statement),
+                None => i.statement.clone(),
+            })
         );
     }
     out + "</table>\n"

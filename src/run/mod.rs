@@ -4,6 +4,7 @@ pub mod cost;
 mod energy;
 mod observer;
 pub mod progress;
+pub mod runaway;
 mod runner;
 mod scale;
 pub mod verdict;

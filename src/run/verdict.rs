@@ -37,6 +37,16 @@
 //!    that pumps energy into a damper every step keeps climbing; a transverse mode that grew
 //!    until its tension relaxed leaves its gain booked for good), or explicit Euler's steady
 //!    gain on an undamped mode passed ten scales.
+//! 5. **Runaway** ([`super::runaway`]): the balance's peak rise grew at least tenfold over each
+//!    of the run's last three octaves (steps n/8 → n/4 → n/2 → n) and is above ten scales. Rules
+//!    3 and 4 need windows of 16 to 4096 steps; a run of 40 frames has none to spare. A bounded
+//!    swing rises at most like sin² from wherever it starts, which never gives three tenfold
+//!    octaves in a row; a mode that grows like ρ²ⁿ gives them as soon as ρ^(n/8) ≥ 10.
+//!
+//! There is no separate rule on how far springs stretch: a spring's elastic energy is a term of
+//! the balance, so a stretch past what the scene's energy allows (½ k Δl² above E) is a rise
+//! these rules already judge, while a fixed strain threshold would call a soft spring that a
+//! heavy load legitimately stretches several times its rest length unstable.
 //!
 //! On a linear scene this agrees with the spectral radius of each method's one-step map
 //! ([`crate::measure::stability`]): below the limit every mode's energy stays within a bounded
@@ -46,6 +56,7 @@
 //! measuring command stops there, `run` computes on until the state diverges or passes the cap.
 
 use super::energy::EnergyRecord;
+use super::runaway::{Runaway, OCTAVES, OCTAVE_RATIO, RUNAWAY_LEVEL};
 use crate::model::State;
 
 /// Default `--blowup-factor`: the hard cap, in scene energy scales, on the rise of the energy
@@ -54,7 +65,7 @@ use crate::model::State;
 pub const DEFAULT_BLOWUP_FACTOR: f64 = 1e3;
 
 /// The `--help` text of `--blowup-factor`, repeated word for word in docs/energy-and-stability.md (a test checks).
-pub const BLOWUP_FACTOR_HELP: &str = "Hard cap: call a run unstable (and stop it) once its energy balance (kinetic + potential + dissipated - injected) has risen by more than this multiple of the scene's energy scale; below the cap a run is unstable only when that rise keeps doubling window after window or stays ten scales high for a whole window";
+pub const BLOWUP_FACTOR_HELP: &str = "Hard cap: call a run unstable (and stop it) once its energy balance (kinetic + potential + dissipated - injected) has risen by more than this multiple of the scene's energy scale; below the cap a run is unstable only when that rise keeps doubling window after window, stays ten scales high for a whole window, or passes ten scales after growing tenfold over each of the run's last three octaves";
 
 /// Window lengths (steps) of the growth rule: short windows see fast growth early, long ones
 /// see growth at a spectral radius close to 1 (a window of W steps doubles once ρ^2W ≥ 2:
@@ -86,6 +97,8 @@ pub enum Rule {
     Growing,
     /// Rule 4: the balance stayed far above its start for a whole window.
     Producing,
+    /// Rule 5: the balance's peak grew tenfold over each of the last octaves of the run.
+    Runaway,
 }
 
 /// A verdict that fired: which rule, and the reason in words.
@@ -157,6 +170,7 @@ pub struct Verdict {
     cap: f64,
     steps: u64,
     windows: Vec<Windows>,
+    runaway: Runaway,
 }
 
 impl Verdict {
@@ -177,6 +191,7 @@ impl Verdict {
                     low: f64::INFINITY,
                 })
                 .collect(),
+            runaway: Runaway::default(),
         }
     }
 
@@ -220,7 +235,23 @@ impl Verdict {
                 fired = fired.or(Some((rule, w.len, w.done.first().copied().unwrap_or(0.0))));
             }
         }
-        let (rule, len, first) = fired?;
+        let octaves = self.runaway.push(n, rise, self.scale);
+        let Some((rule, len, first)) = fired else {
+            let o = octaves?;
+            let [a, b, c, d] = o.peaks;
+            return Some(Fired {
+                rule: Rule::Runaway,
+                reason: format!(
+                    "energy balance growing without bound over the whole run: its peak rise grew at least {OCTAVE_RATIO}-fold over each of the run's last {OCTAVES} octaves (steps {}, {}, {}, {}: {a:.3e}, {b:.3e}, {c:.3e}, {d:.3e} J), now {rise:.3e} J ({}), past {RUNAWAY_LEVEL} × the scene's energy scale of {:.3e} J",
+                    o.steps[0],
+                    o.steps[1],
+                    o.steps[2],
+                    o.steps[3],
+                    self.books(e),
+                    self.scale
+                ),
+            });
+        };
         let reason = match rule {
             Rule::Growing => format!(
                 "energy balance growing without bound: its peak rise doubled in each of {GROWTH_RUN} windows of {len} steps, from {first:.3e} to {rise:.3e} J ({}), above the scene's energy scale of {:.3e} J",
@@ -378,6 +409,21 @@ mod tests {
                 * ((0.2 * std::f64::consts::PI * n + 0.7).sin().powi(2) - 0.7f64.sin().powi(2))
         };
         assert_eq!(first_fire(swing, 100_000, 1e3), None);
+    }
+
+    #[test]
+    fn a_slow_geometric_growth_below_the_cap_is_unstable() {
+        // Oracle: ρ²ⁿ growth. A balance rising ×1500 over 2000 steps (×2.5 per 256 steps)
+        // from 0.65 of a 0.065 J scale, to 980 scales, just under the cap: growing.
+        let mut v = Verdict::new(0.0425, 0.065, DEFAULT_BLOWUP_FACTOR);
+        let fired = (1..=2000u64).find_map(|n| {
+            let k = 0.0425 * 1500f64.powf(n as f64 / 2000.0);
+            v.step(&state(1.0), &record(k, 0.0)).map(|f| (n, f.rule))
+        });
+        assert!(
+            matches!(fired, Some((_, Rule::Growing | Rule::Producing))),
+            "{fired:?}"
+        );
     }
 
     #[test]

@@ -211,3 +211,93 @@ fn damped_explicit_euler_limit_is_two_zeta_over_omega() {
     let h = s.max_stable_dt.unwrap();
     assert!((h * w - 2.0 * zeta).abs() < 1e-9, "hω = {}", h * w);
 }
+
+/// The linear damped oscillator of damping ratio `zeta` (1 kg, ω = 10 rad/s): a zero-rest-length
+/// spring and linear drag, so every direction is the same mode.
+fn damped_oscillator(zeta: f64) -> Scenario {
+    let toml = format!(
+        "[world]\ndrag = {}\n[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\nfixed = true\n\
+         [[particle]]\nposition = [0.1, 0.0, 0.0]\nmass = 1.0\n\
+         [[spring]]\nbetween = [0, 1]\nstiffness = 100.0\nrest_length = 0.0\n\
+         [run]\ndt = 0.001\nduration = 5.0\n",
+        2.0 * zeta * 10.0
+    );
+    Scenario::from_toml_str(&toml, "damped_oscillator.toml").unwrap()
+}
+
+#[test]
+fn lightly_damped_explicit_methods_have_their_textbook_limits() {
+    // Oracle: |R(hλ)| ≤ 1 for λ = ω(−ζ ± i√(1 − ζ²)) (Hairer & Wanner, §IV.2): explicit Euler
+    // (R = 1 + z) is stable iff h < 2ζ/ω; RK2 (R = 1 + z + z²/2) below the root found here by
+    // bisection on |R| itself. At ζ = 0.001 explicit Euler's limit, hω = 0.002, lies below the
+    // hω = 0.01 where an undamped scan starts.
+    let (zeta, w) = (0.001, 10.0);
+    let cfg = StabilityConfig {
+        methods: vec!["explicit_euler".into(), "rk2".into()],
+        theory_only: true,
+        ..Default::default()
+    };
+    let r = analyse(&damped_oscillator(zeta), &cfg).unwrap();
+    let euler = find(&r, "explicit_euler");
+    assert_eq!(euler.verdict, Verdict::StableBelow, "{euler:?}");
+    let hw = euler.max_stable_dt.unwrap() * w;
+    // To the theory's tolerance: ρ − 1 ≈ hω(hω − 2ζ)/2 passes 1e-12 at hω − 2ζ = 1e-9.
+    assert!((hw - 2.0 * zeta).abs() < 2e-9, "hω = {hw}");
+    let lam = nalgebra::Complex::new(-zeta, (1.0 - zeta * zeta).sqrt());
+    let rk2 = |y: f64| {
+        let z = lam * y;
+        (1.0 + z + z * z / 2.0).norm()
+    };
+    let (mut lo, mut hi) = (1e-3, 2.0);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if rk2(mid) <= 1.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    let got = find(&r, "rk2").max_stable_dt.unwrap() * w;
+    assert!((got - lo).abs() < 1e-6 * lo, "rk2 hω = {got}, oracle {lo}");
+    // Twin: without damping both are unstable at every step (ρ² = 1 + (hω)² and
+    // 1 + (hω)⁴/4), and the statement says the spectral radius decides.
+    let r = analyse(&damped_oscillator(0.0), &cfg).unwrap();
+    for m in ["explicit_euler", "rk2"] {
+        let s = find(&r, m);
+        assert_eq!(s.verdict, Verdict::UnstableForAllDt, "{s:?}");
+        assert!(s
+            .statement
+            .starts_with("the spectral radius decides: unstable at every step"));
+    }
+}
+
+#[test]
+fn one_statement_per_method_never_two_that_contradict() {
+    // Oracle: explicit Euler on an undamped oscillator is unstable at every step (ρ² =
+    // 1 + (hω)²), yet at small steps its growth is too slow for a trial to see: the empirical
+    // search finds a "limit". The statement must say the spectral radius decides and why the
+    // runs read bounded, never that the two agree.
+    let cfg = StabilityConfig {
+        methods: vec!["explicit_euler".into(), "symplectic_euler".into()],
+        ..Default::default()
+    };
+    let r = analyse(&damped_oscillator(0.0), &cfg).unwrap();
+    let euler = find(&r, "explicit_euler");
+    assert_eq!(euler.verdict, Verdict::UnstableForAllDt);
+    // Over the default horizon T (100 periods) the energy grows by exp(T h ω²), below the
+    // verdict's thresholds for h below about 1e-4 s: the search finds a bounded step there.
+    let e = euler.empirical.as_ref().unwrap();
+    assert!(e.max_stable_dt.is_some(), "{e:?}");
+    assert!(
+        euler
+            .statement
+            .contains("only because the growth there did not show"),
+        "{}",
+        euler.statement
+    );
+    assert!(!euler.statement.contains("agrees"), "{}", euler.statement);
+    // Twin: symplectic Euler's limit hω = 2 (GNI §I.1): theory and runs agree.
+    let se = find(&r, "symplectic_euler");
+    assert!((se.max_stable_dt.unwrap() * 10.0 - 2.0).abs() < 1e-9);
+    assert!(se.statement.contains("agrees"), "{}", se.statement);
+}

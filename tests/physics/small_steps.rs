@@ -35,15 +35,27 @@ fn substeps_beat_iterations_at_equal_sweeps_on_the_chain_and_the_cloth() {
                 "{} n = {}",
                 sc.scene, b.n
             );
-            assert_eq!(b.substeps.sweeps, 60 * b.n as u64);
             eprintln!(
-                "  n = {:>2}: substeps error {:.3e} stretch error {:.3e}; iterations error {:.3e} stretch error {:.3e}",
+                "  n = {:>2}: substeps error {:?} stretch error {:?}; iterations error {:?} stretch error {:?}",
                 b.n,
-                b.substeps.error_max.unwrap(),
-                b.substeps.stretch_error.unwrap(),
-                b.iterations.error_max.unwrap(),
-                b.iterations.stretch_error.unwrap()
+                b.substeps.error_max,
+                b.substeps.stretch_error,
+                b.iterations.error_max,
+                b.iterations.stretch_error
             );
+            // One sweep a frame at 60 Hz (n = 1) is unstable on both scenes: its energy balance
+            // grows tenfold an octave to hundreds of scene scales within the 1 s run, and the
+            // run stops there. Every larger budget runs the whole second.
+            if b.n == 1 {
+                assert!(
+                    b.substeps.status.starts_with("unstable"),
+                    "{}",
+                    b.substeps.status
+                );
+                continue;
+            }
+            assert_eq!(b.substeps.sweeps, 60 * b.n as u64);
+            assert!(b.substeps.error_max.is_some() && b.iterations.error_max.is_some());
         }
         // 1 × 1 is the same run either way.
         let one = &sc.budgets[0];
@@ -53,8 +65,9 @@ fn substeps_beat_iterations_at_equal_sweeps_on_the_chain_and_the_cloth() {
         let e: Vec<f64> = sc
             .budgets
             .iter()
-            .map(|b| b.substeps.error_max.unwrap())
+            .filter_map(|b| b.substeps.error_max)
             .collect();
+        assert_eq!(e.len(), 2, "{e:?}");
         assert!(e.windows(2).all(|w| w[1] < w[0]), "{e:?}");
     }
 }

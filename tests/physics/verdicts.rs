@@ -12,9 +12,13 @@
 //!   ≥ 1389 steps (1.01^2778 > 1e12) from a seed holding ~1e-8 of the energy. Exact on a
 //!   linear scene; on the nonlinear hanging spring only for the modes that keep
 //!   their stiffness (see the test).
+//! - Short runs: an exact solution keeps its energy balance constant, so a balance that
+//!   multiplies tenfold over each octave of a run's length is growing (ρ²ⁿ), while a bounded
+//!   swing rises at most like sin² from its start (×4 an octave): symplectic Euler and
+//!   velocity Verlet at 0.9 of hω = 2 (GNI §I.1) stay bounded over 40 steps and 20 000.
 
 use springlab::measure::stability::{
-    stability_map, MapConfig, GROWTH_SHOWN, MAP_MIN_STEPS, RHO_SHOWN,
+    decide, stability_map, MapConfig, GROWTH_SHOWN, MAP_MIN_STEPS, RHO_SHOWN,
 };
 use springlab::run::{run, NoObserver, RunPlan, Status};
 use springlab::scenario::Scenario;
@@ -179,4 +183,114 @@ fn the_issues_hanging_spring_map_calls_no_growing_cell_stable() {
     let (above, stable) = map_cells_above(&scene, 1.05);
     assert!(above > 50, "the map must reach unstable cells: {above}");
     assert_eq!(stable, 0, "cells with ρ > 1.05 called stable");
+}
+
+/// A soft cloth of `n`×`n` particles of 0.1 g (1 m², k = 100 N/m, c = 0.01 N·s/m) pinned at
+/// two corners, falling flat under gravity.
+fn soft_cloth(n: usize) -> Scenario {
+    let toml = format!(
+        "name = \"soft_cloth\"\n[world]\ngravity = [0.0, -9.81, 0.0]\n[[cloth]]\n\
+         origin = [0.0, 0.0, 0.0]\nsize = [1.0, 1.0]\ncount = [{n}, {n}]\nmass = 0.0001\n\
+         stiffness = 100.0\ndamping = 0.01\nplane = \"xz\"\nfix = [\"top_left\", \"top_right\"]\n\
+         [run]\ndt = 0.016666666666666666\nsteps = 40\n"
+    );
+    Scenario::from_toml_str(&toml, "soft_cloth.toml").unwrap()
+}
+
+#[test]
+fn a_cloth_whose_balance_grows_over_forty_frames_is_unstable() {
+    // Rapier's impulse joints at 60 Hz with its own 4 substeps on the soft cloth: the balance
+    // (constant for the exact solution) rises from 0 to tens of scene scales within 40 frames,
+    // tenfold and more over each octave of the run (measured: 1.2e-3, 3.3e-2, 1.3, 15.8 J at
+    // frames 4, 7, 14, 27 on a scale of 1.4 J), springs stretched to strain 4. Too short for
+    // the windows of rule 3 or 4, too low for the cap: only the run-length rule sees it.
+    let scene = soft_cloth(32);
+    let sys = scene.build();
+    let out = |substeps| {
+        let mut opts = springlab::method::MethodOptions::default();
+        opts.substeps = substeps;
+        let mut stepper = springlab::method::create("rapier_impulse", &opts).unwrap();
+        run(
+            &sys,
+            stepper.as_mut(),
+            scene.initial_state(),
+            &RunPlan::new(1.0 / 60.0, 40),
+            &mut NoObserver,
+        )
+        .unwrap()
+    };
+    let coarse = out(4);
+    match &coarse.status {
+        Status::Unstable { reason, .. } => {
+            assert!(reason.contains("over the whole run"), "{reason}")
+        }
+        Status::Ok => panic!(
+            "growing cloth called ok: balance {} J",
+            coarse.final_energy.total
+        ),
+    }
+    // Twin: the same 40 frames at 16 substeps stay within the scene's energy scale: ok.
+    let fine = out(16);
+    assert!(fine.status.is_ok(), "{:?}", fine.status);
+}
+
+#[test]
+fn bounded_swings_near_the_limit_read_ok_short_and_long() {
+    // Oracle: hω < 2 for symplectic Euler and velocity Verlet (GNI §I.1). A spring pair of
+    // 1 kg and 3 kg (ω² = k(1/m₁ + 1/m₂)), stretched by 0.1 m, at 0.9 of the limit: bounded,
+    // over a run shorter than any window and over a long one; at 1.1 unstable within 40 steps.
+    let scene = Scenario::from_toml_str(
+        "[[particle]]\nposition = [0.0, 0.0, 0.0]\nmass = 1.0\n\
+         [[particle]]\nposition = [1.1, 0.0, 0.0]\nmass = 3.0\n\
+         [[spring]]\nbetween = [0, 1]\nstiffness = 50.0\nrest_length = 1.0\n",
+        "pair.toml",
+    )
+    .unwrap();
+    let w = (50.0f64 * (1.0 + 1.0 / 3.0)).sqrt();
+    for m in ["symplectic_euler", "velocity_verlet"] {
+        for steps in [8, 40, 20_000] {
+            let out = common::run_steps(&scene, m, 0.9 * 2.0 / w, steps);
+            assert!(out.status.is_ok(), "{m}, {steps} steps: {:?}", out.status);
+        }
+        let out = common::run_steps(&scene, m, 1.1 * 2.0 / w, 40);
+        assert!(!out.status.is_ok(), "{m} at 1.1 × its limit read ok");
+    }
+}
+
+#[test]
+fn no_map_cell_contradicts_its_spectral_radius_without_saying_so() {
+    // Oracle: the spectral radius ρ of the one-step map. Where a cell's verdict differs from
+    // ρ ≤ 1, or from its run's, it names the measure that decided and why.
+    let scene = Scenario::from_toml_str(SPRING, "damped_spring_stiff.toml").unwrap();
+    let cfg = MapConfig {
+        methods: vec!["explicit_euler".into(), "rk4".into()],
+        ..Default::default()
+    };
+    for r in stability_map(&scene, &cfg).unwrap() {
+        let Some(rho) = r.spectral_radius else {
+            continue;
+        };
+        if r.stable != r.run_stable {
+            assert!(!r.note.is_empty(), "{r:?}");
+        }
+        // Away from round-off in the identified radius, a verdict against it is the run's.
+        if (rho - 1.0).abs() > 1e-9 && r.stable != (rho < 1.0) {
+            assert_eq!(r.decided_by, "run", "{r:?}");
+            assert!(!r.note.is_empty(), "{r:?}");
+        }
+    }
+    // The decision itself: ρ = 1.0113 with a bounded run that still has ρ > 1 at its end is
+    // unstable by the radius; ρ = 0.9976 with a run that grew is unstable by the run; a
+    // radius that is gone at the run's end leaves the bounded run stable, saying so.
+    let (stable, by, note) = decide(Some((false, 1.0113)), true, 2000, || 1.0113);
+    assert!(!stable && by == "spectral_radius" && !note.is_empty());
+    let (stable, by, note) = decide(Some((true, 0.9976)), false, 2000, || unreachable!());
+    assert!(!stable && by == "run" && note.contains("grew"));
+    let (stable, by, note) = decide(Some((false, 1.04)), true, 2000, || 0.999);
+    assert!(stable && by == "run" && note.contains("moved away"));
+    // Twin: agreement needs no note.
+    assert_eq!(
+        decide(Some((true, 0.99)), true, 2000, || unreachable!()),
+        (true, "spectral_radius", String::new())
+    );
 }

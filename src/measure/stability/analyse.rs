@@ -75,7 +75,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         command,
         scenario: scene.name.clone(),
         omega_max: ms.omega_max,
-        theory_criterion: format!("spectral radius of the one-step map on every linearised mode ≤ 1 + {RHO_TOL:e}, scanned over hω ∈ [{SCAN_MIN:e}, {SCAN_MAX:e}] and bisected"),
+        theory_criterion: format!("spectral radius of the one-step map on every linearised mode ≤ 1 + {RHO_TOL:e}, scanned over hω ∈ [{SCAN_MIN:e}, {SCAN_MAX:e}] (down to 1e-2 ζ on a damped mode of damping ratio ζ) and bisected"),
         empirical_criterion: crit,
         methods: results.into_iter().collect::<Result<_>>()?,
         skipped,
@@ -195,6 +195,7 @@ fn analyse_one(
             theory_max_stable_dt: None,
             empirical: None,
             note,
+            statement: "a closed form: stable at every step".into(),
         });
     }
     let empirical = match (search.start, search.left_out) {
@@ -231,8 +232,12 @@ fn analyse_one(
             ms.damping_coupling.unwrap_or(0.0)
         ));
     }
+    let statement = super::statement(method, &cfg.options, ms, theory, empirical.as_ref(), |h| {
+        super::trial_steps(search.crit, h)
+    });
     Ok(MethodStability {
         method: name.to_string(),
+        statement,
         verdict,
         max_stable_dt: dt,
         h_omega: dt.map(|d| d * ms.omega_max),

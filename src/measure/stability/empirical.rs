@@ -13,7 +13,7 @@ use serde::Serialize;
 /// The empirical criterion and search bounds.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct EmpiricalCriterion {
-    /// Simulated time of each trial run (s).
+    /// Simulated time of each trial run (s); a trial runs at least [`MIN_TRIAL_STEPS`] steps.
     pub horizon: f64,
     /// A run is unstable once its energy balance rises by more than this multiple of the
     /// scene's energy scale, or a state is non-finite (the runner's verdict).
@@ -22,6 +22,16 @@ pub struct EmpiricalCriterion {
     pub dt_min: f64,
     /// Largest step tried (s).
     pub dt_max: f64,
+}
+
+/// Fewest steps of a trial run: as many as the map's cells ([`super::MAP_MIN_STEPS`]), so a
+/// spectral radius of [`super::RHO_SHOWN`] multiplies a mode's energy by
+/// [`super::GROWTH_SHOWN`] within any trial, however few steps of a large h the horizon holds.
+pub const MIN_TRIAL_STEPS: u64 = super::MAP_MIN_STEPS;
+
+/// Steps of a trial run at step `h`: the horizon's, at least [`MIN_TRIAL_STEPS`].
+pub fn trial_steps(crit: &EmpiricalCriterion, h: f64) -> u64 {
+    crate::model::covering_steps(crit.horizon, h).max(MIN_TRIAL_STEPS)
 }
 
 /// Result of the empirical search.
@@ -50,7 +60,7 @@ pub fn empirical_limit(
         let mut stepper = method.create(opts);
         let plan = RunPlan {
             dt: h,
-            steps: crate::model::covering_steps(crit.horizon, h),
+            steps: trial_steps(crit, h),
             substeps: 1,
             blowup_factor: crit.blowup_factor,
             stop_at_verdict: true,
@@ -132,7 +142,7 @@ pub(super) fn searches_over_budget(
         .zip(starts)
         .map(|(name, start)| match start {
             Some(h) => {
-                let steps = (horizon / h).ceil().max(1.0);
+                let steps = (horizon / h).ceil().max(MIN_TRIAL_STEPS as f64);
                 let per =
                     seconds_per_step(sys, s0, &cfg.registry, &cfg.options, name, *h, steps as u64)
                         .unwrap_or(0.0);

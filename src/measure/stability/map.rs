@@ -1,7 +1,7 @@
 //! The stability map: every method over a grid of stiffness scales, damping scales and steps,
 //! each cell a seeded run long enough that a spectral radius of [`RHO_SHOWN`] shows.
 
-use super::theory::{rho, theory_limit, Limit};
+use super::theory::{rho, theory_limit, Limit, RHO_TOL};
 use super::Verdict;
 use crate::error::Result;
 use crate::measure::modes::{modes, Modes};
@@ -113,12 +113,19 @@ pub struct MapRow {
     pub theory_max_dt: Option<f64>,
     /// Theory verdict for the scaled scene.
     pub theory_verdict: Option<Verdict>,
-    /// Did the empirical run stay stable?
+    /// The cell's verdict: the theory's at this step (its limit from the spectral radius)
+    /// where linear theory applies and holds along the run, else the run's (see [`decide`]).
     pub stable: bool,
+    /// Did the seeded run read ok?
+    pub run_stable: bool,
+    /// Which measure decided `stable`: `spectral_radius` or `run`.
+    pub decided_by: &'static str,
+    /// Where the spectral radius and the run differ: why, and which one `stable` follows.
+    pub note: String,
 }
 
 /// The header of `stability_map.csv`.
-pub const MAP_HEADER: &str = "method,stiffness_scale,damping_scale,dt,omega_max,h_omega,spectral_radius,theory_max_dt,theory_verdict,stable";
+pub const MAP_HEADER: &str = "method,stiffness_scale,damping_scale,dt,omega_max,h_omega,spectral_radius,theory_max_dt,theory_verdict,stable,run_stable,decided_by,note";
 
 impl MapRow {
     /// The CSV line.
@@ -131,7 +138,7 @@ impl MapRow {
             Some(Verdict::NotAnalysed) | None => "",
         };
         format!(
-            "{},{:e},{:e},{:e},{:e},{:e},{},{},{},{}",
+            "{},{:e},{:e},{:e},{:e},{:e},{},{},{},{},{},{},\"{}\"",
             self.method,
             self.stiffness_scale,
             self.damping_scale,
@@ -141,7 +148,10 @@ impl MapRow {
             o(self.spectral_radius),
             o(self.theory_max_dt),
             v,
-            self.stable
+            self.stable,
+            self.run_stable,
+            self.decided_by,
+            self.note.replace('"', "'")
         )
     }
 }
@@ -240,21 +250,29 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 blowup_factor: cfg.blowup_factor,
                 stop_at_verdict: true,
             };
-            let stable = run(
+            let out = run(
                 &sys,
                 stepper.as_mut(),
                 seeded(&sys, &s0),
                 &plan,
                 &mut NoObserver,
-            )?
-            .status
-            .is_ok();
-            let rho_max = th.map(|_| {
+            )?;
+            let run_stable = out.status.is_ok();
+            let radius = |ms: &Modes| {
                 ms.modes
                     .iter()
                     .map(|&m| rho(method, &cfg.options, m, *dt))
                     .fold(0.0, f64::max)
+            };
+            let rho_max = th.map(|_| radius(ms));
+            let theory_stable = th.map(|t| match t {
+                (Verdict::UnconditionallyStable, _) => true,
+                (Verdict::StableBelow, Some(limit)) => *dt <= limit,
+                _ => false,
             });
+            let rho_end = || radius(&modes(&sys, &out.final_state));
+            let (stable, decided_by, note) =
+                decide(theory_stable.zip(rho_max), run_stable, steps, rho_end);
             pb.inc(1);
             Ok(MapRow {
                 method: name.clone(),
@@ -267,9 +285,60 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 theory_max_dt: th.and_then(|t| t.1),
                 theory_verdict: th.map(|t| t.0),
                 stable,
+                run_stable,
+                decided_by,
+                note,
             })
         })
         .collect();
     pb.finish_and_clear();
     rows.into_iter().collect()
+}
+
+/// A cell's verdict from its theory at t = 0 (`theory`: whether the step is within the theory
+/// limit, and the spectral radius there; `None` without linear theory),
+/// its seeded run's verdict over `steps` steps, and the radius on the linearisation at the
+/// run's last state (`rho_end`, computed only where needed): (stable, decided by, note).
+///
+/// Where they agree, or without theory, there is nothing to say. Where the radius says growth
+/// and the run stayed bounded, the radius decides if the scene still has it at the run's end
+/// (the growth was too slow, or seeded too small, to show in the run: the mode grows without
+/// bound all the same), and the run decides if it does not (the scene moved to where its
+/// linearisation is stable: the radius at t = 0 did not hold along the run). Where the radius
+/// says bounded and the run grew, the run decides: growth was seen, so the linearisation at
+/// t = 0 did not hold along the run (a nonlinear scene).
+pub fn decide(
+    theory: Option<(bool, f64)>,
+    run_stable: bool,
+    steps: u64,
+    rho_end: impl FnOnce() -> f64,
+) -> (bool, &'static str, String) {
+    let Some((theory_stable, r0)) = theory else {
+        return (run_stable, "run", String::new());
+    };
+    if theory_stable == run_stable {
+        return (theory_stable, "spectral_radius", String::new());
+    }
+    if theory_stable {
+        return (
+            false,
+            "run",
+            format!("the run grew although ρ = {r0:.6} ≤ 1 at t = 0: the linearisation at t = 0 does not hold along the run"),
+        );
+    }
+    let r1 = rho_end();
+    if r1 > 1.0 + RHO_TOL {
+        let growth = r0.powf(2.0 * steps as f64);
+        (
+            false,
+            "spectral_radius",
+            format!("the run stayed bounded over {steps} steps but ρ = {r0:.6} at t = 0 and {r1:.6} at its end: a mode grows without bound (×{growth:.3e} in energy over the run at ρ(t = 0), from a seed too small or a growth too slow to pass the verdict's thresholds)"),
+        )
+    } else {
+        (
+            true,
+            "run",
+            format!("ρ = {r0:.6} at t = 0 but {r1:.6} at the run's end, which stayed bounded: the scene moved away from the linearisation at t = 0"),
+        )
+    }
 }

@@ -9,12 +9,14 @@
 //! two-step Störmer); a genuinely multistep method (BDF2) has its k-step recurrence identified
 //! instead, and its companion matrix decides (see [`step_radius`]). The method
 //! is stable at h when the spectral radius ρ(M(h)) ≤ 1 + [`RHO_TOL`] for every mode. The
-//! boundary is bracketed on a log grid hω ∈ [[`SCAN_MIN`], [`SCAN_MAX`]] (1e-2 to 1e3) and
+//! boundary is bracketed on a log grid hω ∈ [[`SCAN_MIN`], [`SCAN_MAX`]] (1e-2 to 1e3; down to
+//! 1e-2 ζ on a lightly damped mode, see [`theory::scan_min`]) and
 //! bisected to machine precision.
 //!
 //! Empirical: a run is stable when the runner's one verdict ([`crate::run::verdict`]) calls
-//! it ok over the horizon: finite states, and an energy balance that never rose by more than
-//! `blowup_factor` × the scene's energy scale. The step is doubled or halved to a bracket,
+//! it ok over the horizon (and at least [`MIN_TRIAL_STEPS`] steps, so growth at a radius of
+//! [`RHO_SHOWN`] shows however few steps of a large h the horizon holds): finite states, and an
+//! energy balance that never rose by more than `blowup_factor` × the scene's energy scale. The step is doubled or halved to a bracket,
 //! then bisected to 0.1 %. Bisection assumes that stability is monotone in dt. A method just
 //! inside its linear limit can swing its energy by more than the threshold without growing
 //! (symplectic Euler from rest reaches 1/(1 − hω/2) times its energy): the empirical limit is
@@ -30,18 +32,22 @@
 mod analyse;
 mod empirical;
 mod map;
+mod statement;
 mod theory;
 
 pub use super::modes::Mode;
 pub use analyse::{analyse, write_stability};
-pub use empirical::{empirical_limit, Empirical, EmpiricalCriterion, SEARCH_TRIALS};
+pub use empirical::{
+    empirical_limit, trial_steps, Empirical, EmpiricalCriterion, MIN_TRIAL_STEPS, SEARCH_TRIALS,
+};
 pub use map::{
-    seeded, stability_map, MapConfig, MapRow, GROWTH_SHOWN, MAP_HEADER, MAP_MAX_STEPS,
+    decide, seeded, stability_map, MapConfig, MapRow, GROWTH_SHOWN, MAP_HEADER, MAP_MAX_STEPS,
     MAP_MIN_STEPS, MAP_SEED, RHO_SHOWN,
 };
+pub use statement::{statement, AGREE};
 pub use theory::{
-    mode_limit, one_step_map, spectral_radius, step_radius, theory_limit, Limit, Verdict, RHO_TOL,
-    SCAN_MAX, SCAN_MIN,
+    mode_limit, one_step_map, scan_min, spectral_radius, step_radius, theory_limit, Limit, Verdict,
+    RHO_TOL, SCAN_MAX, SCAN_MIN,
 };
 
 use super::modes::Modes;
@@ -69,6 +75,9 @@ pub struct MethodStability {
     pub empirical: Option<Empirical>,
     /// Anything to know (skipped, approximations).
     pub note: Option<String>,
+    /// The one statement on this method: the theory's verdict, the empirical search's, which
+    /// decides, and why they differ where they do.
+    pub statement: String,
 }
 
 /// `stability.json`.

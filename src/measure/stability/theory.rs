@@ -11,7 +11,7 @@ use serde::Serialize;
 
 /// Tolerance on the spectral radius: ρ ≤ 1 + RHO_TOL counts as stable.
 pub const RHO_TOL: f64 = 1e-12;
-/// Smallest hω tried by the theory scan.
+/// Smallest hω tried by the theory scan on an undamped mode (see [`scan_min`]).
 pub const SCAN_MIN: f64 = 1e-2;
 /// Largest hω tried by the theory scan: stable up to here means unconditionally stable.
 pub const SCAN_MAX: f64 = 1e3;
@@ -205,9 +205,10 @@ pub fn mode_limit(method: &Method, opts: &MethodOptions, m: Mode) -> (Verdict, O
     if w <= 0.0 {
         return (Verdict::UnconditionallyStable, None);
     }
-    let n = 121;
+    let lo = scan_min(m);
+    let n = (24.0 * (SCAN_MAX / lo).log10()).ceil() as usize + 1;
     let hs: Vec<f64> = (0..n)
-        .map(|i| SCAN_MIN * (SCAN_MAX / SCAN_MIN).powf(i as f64 / (n - 1) as f64) / w)
+        .map(|i| lo * (SCAN_MAX / lo).powf(i as f64 / (n - 1) as f64) / w)
         .collect();
     // A step the method cannot take (say, Newton fails at enormous hω) ends the scan: it
     // says nothing about stability, so the verdict rests on the steps that ran.
@@ -244,6 +245,22 @@ pub fn mode_limit(method: &Method, opts: &MethodOptions, m: Mode) -> (Verdict, O
         }
     }
     (Verdict::StableBelow, Some(lo))
+}
+
+/// The smallest hω the scan of mode `m` tries: [`SCAN_MIN`], or for a damped mode two decades
+/// below its damping ratio ζ = c/(2ω) when that is smaller. A damped mode's explicit limits
+/// scale with ζ (explicit Euler is stable iff |1 + hλ| < 1 for λ = ω(−ζ ± i√(1 − ζ²)), that
+/// is hω < 2ζ), so a lightly damped mode has a limit below [`SCAN_MIN`] that a scan starting
+/// there would miss and call unstable at every step. An undamped mode keeps [`SCAN_MIN`]: its
+/// explicit methods are unstable at every step, by ρ − 1 ≈ (hω)²/2 (explicit Euler) or
+/// (hω)⁴/8 (RK2), which a smaller hω would push below [`RHO_TOL`].
+pub fn scan_min(m: Mode) -> f64 {
+    let w = m.omega2.sqrt();
+    if m.damping > 0.0 && w > 0.0 {
+        SCAN_MIN.min(1e-2 * m.damping / (2.0 * w))
+    } else {
+        SCAN_MIN
+    }
 }
 
 /// Theory for a method over all modes: the tightest mode decides.
