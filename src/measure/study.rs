@@ -44,7 +44,7 @@ use serde::Serialize;
 pub const ENGINE_PROBE_STEPS: u64 = super::probe::PROBE_STEPS;
 
 /// Modelled seconds of an engine's compare run below which it always takes part.
-pub const ENGINE_COMPARE_SECONDS: f64 = 2.0;
+pub const ENGINE_COMPARE_SECONDS: f64 = 5.0;
 
 /// How many times the native methods' modelled compare total an engine's compare run may cost
 /// and still take part ([`engine_compare_limit`]).

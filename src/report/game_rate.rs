@@ -19,13 +19,19 @@ fn series(points: &[GamePoint], game: &GameRate) -> Vec<Series> {
     };
     let mut out: Vec<Series> = points
         .iter()
-        .map(|p| Series {
-            marker: if p.engine {
-                Marker::TaggedTriangle
-            } else {
-                Marker::TaggedDot
-            },
-            ..Series::new(format!("{} × {}", p.method, p.substeps), at(p))
+        .map(|p| {
+            let points = at(p);
+            // A run that stopped has no error to plot: the legend names it instead.
+            let (marker, label) = match (points.is_empty(), p.engine) {
+                (false, true) => (Marker::TaggedTriangle, String::new()),
+                (false, false) => (Marker::TaggedDot, String::new()),
+                (true, true) => (Marker::Triangle, ": run stopped, no error".to_string()),
+                (true, false) => (Marker::Dot, ": run stopped, no error".to_string()),
+            };
+            Series {
+                marker,
+                ..Series::new(format!("{} × {}{label}", p.method, p.substeps), points)
+            }
         })
         .collect();
     // The legend says what the shapes mean; each point carries its own label.

@@ -159,6 +159,7 @@ fn axis_labels(stem: &str) -> &'static [&'static str] {
         "paths" | "snapshots" => &["(m)"],
         "collision" => &["time t (s)", "height (m)", "bounce n"],
         "impacts" => &["approach speed |v_in| (m/s)", "impact time t (s)"],
+        "game_rate" => &["modelled time per frame (s)", "error ("],
         "framerate" => &[
             "frame rate (Hz)",
             "max position error (m)",
@@ -226,6 +227,7 @@ fn expected_header(stem: &str) -> &'static str {
         "convergence" => "group,series,dt,error,kind,order,fitted_slope",
         "work_precision" => "method,dt,error,modelled_seconds,force_evals",
         "snapshots" => "method,t,line,index,u,v",
+        "game_rate" => "method,engine,substeps,modelled_seconds_per_frame,error,meets,answer",
         other => panic!("unexpected csv {other}"),
     }
 }

@@ -186,8 +186,7 @@ fn a_pinned_particle_stays_where_it_was() {
 
 #[test]
 fn what_a_soft_body_cannot_express_is_refused_with_the_reason_and_its_twin_runs() {
-    let rod = scene(
-        r#"
+    const ROD: &str = r#"
 [[particle]]
 position = [0.0, 0.0, 0.0]
 mass = 1.0
@@ -197,22 +196,9 @@ position = [1.0, 0.0, 0.0]
 mass = 1.0
 [[constraint]]
 between = [0, 1]
-"#,
-    );
-    let compliant_rod = scene(
-        r#"
-[[particle]]
-position = [0.0, 0.0, 0.0]
-mass = 1.0
-fixed = true
-[[particle]]
-position = [1.0, 0.0, 0.0]
-mass = 1.0
-[[constraint]]
-between = [0, 1]
-compliance = 0.001
-"#,
-    );
+"#;
+    let rod = scene(ROD);
+    let compliant_rod = scene(&format!("{ROD}compliance = 0.001\n"));
     let unequal_drag = scene(&format!("[world]\ndrag = 0.1\n{PAIR}"));
     let opts = springlab::method::MethodOptions::default();
     for name in SOFT {
