@@ -69,6 +69,7 @@ fn member(
                     let (x, v) = (unpack_x(y, n), unpack_x(&y[3 * n..], n));
                     acc.push(&instant(sys, &x, &v));
                 },
+                None,
             )?;
             if done.is_none() {
                 return Ok(None);
