@@ -21,7 +21,7 @@
 //! tell it from zero.
 //!
 //! The adaptive solve is made once per scene and horizon and kept with its dense output
-//! ([`solution`], within a memory budget); a [`Reference`] samples it at the times of its
+//! (`solution`, within a memory budget); a [`Reference`] samples it at the times of its
 //! grids (a whole sweep at once) and stores only positions there, so a new grid costs no new
 //! solve.
 
@@ -359,7 +359,7 @@ impl Reference {
     }
 
     /// Which kept adaptive solve this reference was sampled from: references of one scene and
-    /// horizon on any grids share one ([`solution`]); None when it solved on its own grids
+    /// horizon on any grids share one (the kept solve); None when it solved on its own grids
     /// (closed form, fine steps, or a solve too big to keep).
     pub fn solve_id(&self) -> Option<u64> {
         self.solve_id
@@ -550,7 +550,7 @@ impl Reference {
                     floor,
                     self.motion_scale(),
                 );
-                // A sample inside a step carries the interpolant's error estimate ([`dense`]).
+                // A sample inside a step carries the interpolant's error estimate (`dense`).
                 for (u, e) in comp.uncertainty.iter_mut().zip(&interp) {
                     *u += e;
                 }
