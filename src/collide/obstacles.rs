@@ -43,8 +43,25 @@ pub struct Obstacle {
 
 impl std::fmt::Debug for Obstacle {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = &self.shape;
+        // The shape's own dimensions (and a mesh's vertices and triangles), so two obstacles
+        // that differ print differently.
+        let dims = if let Some(b) = s.as_ball() {
+            format!("{b:?}")
+        } else if let Some(c) = s.as_cuboid() {
+            format!("{c:?}")
+        } else if let Some(c) = s.as_capsule() {
+            format!("{c:?}")
+        } else if let Some(h) = s.as_halfspace() {
+            format!("{h:?}")
+        } else if let Some(m) = s.as_trimesh() {
+            format!("{:?} {:?}", m.vertices(), m.indices())
+        } else {
+            format!("{:?}", s.compute_local_aabb())
+        };
         f.debug_struct("Obstacle")
             .field("kind", &self.kind)
+            .field("shape", &dims)
             .field("pose", &self.pose)
             .field("restitution", &self.restitution)
             .field("friction", &self.friction)

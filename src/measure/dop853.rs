@@ -230,7 +230,7 @@ impl Dop853 {
             k: vec![vec![0.0; n]; N_EXT],
             tmp: vec![0.0; n],
             y_new: vec![0.0; n],
-            dense: vec![vec![0.0; n]; 7],
+            dense: vec![vec![0.0; n]; DENSE_ROWS],
             dense_ready: false,
             stats: Dop853Stats::default(),
         }
@@ -452,22 +452,39 @@ impl Dop853 {
             out.copy_from_slice(&self.y);
             return;
         }
-        let h = self.t - self.t_old;
-        let x = (t - self.t_old) / h;
+        let x = (t - self.t_old) / (self.t - self.t_old);
         for (i, o) in out.iter_mut().enumerate() {
-            let mut y = 0.0;
-            for (r, row) in self.dense.iter().enumerate().rev() {
-                y += row[i];
-                // Horner in the alternating basis x, (1 - x): even counts from the top use x.
-                if (6 - r) % 2 == 0 {
-                    y *= x;
-                } else {
-                    y *= 1.0 - x;
-                }
-            }
-            *o = y + self.y_old[i];
+            *o = interpolate(|r| self.dense[r][i], x, DENSE_ROWS) + self.y_old[i];
         }
     }
+
+    /// The last accepted step's dense-output rows (valid after [`Dop853::prepare_dense`]):
+    /// with `y_old`, they give the interpolant through [`interpolate`].
+    pub fn dense_rows(&self) -> &[Vec<f64>] {
+        assert!(self.dense_ready, "prepare_dense before dense_rows");
+        &self.dense
+    }
+}
+
+/// Number of dense-output rows (the interpolant's degree).
+pub const DENSE_ROWS: usize = 7;
+
+/// The dense-output increment y(t) − y_old at fraction `x` of a step from its rows
+/// (`row(r)`, r < `terms`): Hairer's contd8 in the alternating basis x, (1 − x). With
+/// `terms` = [`DENSE_ROWS`] it is the 7th-order interpolant; with fewer, its truncation
+/// (3 rows: the cubic Hermite interpolant of the step's end values and derivatives).
+pub fn interpolate(row: impl Fn(usize) -> f64, x: f64, terms: usize) -> f64 {
+    let mut y = 0.0;
+    for r in (0..terms).rev() {
+        y += row(r);
+        // Horner in the alternating basis x, (1 - x): even counts from the top use x.
+        if (6 - r) % 2 == 0 {
+            y *= x;
+        } else {
+            y *= 1.0 - x;
+        }
+    }
+    y
 }
 
 #[cfg(test)]

@@ -59,6 +59,7 @@ mod rapier_two_body;
 mod rattle_pendulum;
 mod reference_contacts;
 mod reference_crosscheck;
+mod reference_dense;
 mod reference_uncertainty;
 mod report_plots;
 mod shipped_scenarios;

@@ -94,7 +94,9 @@ fn linear_damped_spring_is_predictable_with_tiny_uncertainty() {
     let r = Reference::compute_with(&sys, &s0, &[grid], 5.0, ReferenceSolver::Adaptive).unwrap();
     assert_eq!(r.info.kind, "dop853");
     assert_eq!(r.info.predictability_horizon, None);
-    assert!(r.info.uncertainty < 1e-9, "{:e}", r.info.uncertainty);
+    // Tiny: the companions' distances (~1e-10 m) plus the dense output's own error estimate,
+    // which is one order lower in the step than the interpolant's error and so overstates it.
+    assert!(r.info.uncertainty < 1e-8, "{:e}", r.info.uncertainty);
     assert!(r.info.uncertainty > 0.0);
     // The closed form: round-off, no horizon.
     let exact = Reference::compute(&sys, &s0, &[grid], 5.0).unwrap();

@@ -5,6 +5,7 @@
 
 use super::contact_events::{apply_event, find_event};
 use super::contacts::ContactModel;
+use super::dense::DenseTrack;
 use super::rhs::{pack, project, unpack_x, RhsState};
 use super::tracked::Tracked;
 use crate::collide::Response;
@@ -61,6 +62,7 @@ pub(super) fn solve(
     tracked: Option<Tracked>,
     max_steps: Option<u64>,
     sink: &mut dyn FnMut(usize, &[f64]),
+    mut track: Option<&mut DenseTrack>,
 ) -> Result<Option<SolveOut>> {
     let n = sys.len();
     let rigid: Vec<usize> = (0..sys.constraints.len())
@@ -125,8 +127,14 @@ pub(super) fn solve(
                     let i = vel_index(tr);
                     (solver.y_old[i] < 0.0) != (solver.y[i] < 0.0)
                 });
-            if need_dense {
+            if need_dense || track.is_some() {
                 solver.prepare_dense(&mut |t, y, dy| st.eval(t, y, dy));
+            }
+            if let Some(tr) = track.as_deref_mut() {
+                tr.record(&solver, t_stop);
+                if !tr.complete() {
+                    return Ok(None);
+                }
             }
             while next < times.len() && times[next] <= t_stop {
                 solver.dense(times[next], &mut dense);

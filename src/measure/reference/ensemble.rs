@@ -69,6 +69,7 @@ fn member(
                     let (x, v) = (unpack_x(y, n), unpack_x(&y[3 * n..], n));
                     acc.push(&instant(sys, &x, &v));
                 },
+                None,
             )?;
             if done.is_none() {
                 return Ok(None);
@@ -83,9 +84,22 @@ fn member(
     Ok((acc.count() == times.len()).then(|| acc.observed()))
 }
 
+/// A made ensemble (or why none could be), kept per scene, window and member solver.
+type Made = std::result::Result<Ensemble, String>;
+
+/// Ensembles made in this process, keyed like the kept solves ([`super::solution`]): every
+/// command that judges a scene by statistics over the same window reads the same members, made
+/// once. At most [`KEPT_ENSEMBLES`] are kept, the oldest dropped first (made again, to the
+/// same bits, when asked for).
+static KEPT: std::sync::Mutex<Vec<(String, Made)>> = std::sync::Mutex::new(Vec::new());
+
+/// Most ensembles kept.
+const KEPT_ENSEMBLES: usize = 32;
+
 /// The ensemble over the window from `start` (the predictability horizon) to `end`, judged
 /// with position tolerance `tolerance` (m) and `relative_tolerance`; None when fewer than three
-/// members finished (a spread needs them), with the reason.
+/// members finished (a spread needs them), with the reason. Made once per scene, window and
+/// member solver in a process ([`KEPT`]).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn ensemble(
     sys: &System,
@@ -95,7 +109,38 @@ pub(super) fn ensemble(
     solver: MemberSolver,
     tolerance: f64,
     relative_tolerance: f64,
-) -> Result<std::result::Result<Ensemble, String>> {
+) -> Result<Made> {
+    let key = format!("{sys:?}|{s0:?}|{start:?}|{end:?}|{solver:?}");
+    let lock = || KEPT.lock().unwrap_or_else(|e| e.into_inner());
+    let kept = lock()
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map(|(_, m)| m.clone());
+    let made = match kept {
+        Some(m) => m,
+        None => {
+            let m = make(sys, s0, start, end, solver)?;
+            let mut all = lock();
+            if !all.iter().any(|(k, _)| *k == key) {
+                if all.len() >= KEPT_ENSEMBLES {
+                    drop(all.remove(0));
+                }
+                all.push((key, m.clone()));
+            }
+            m
+        }
+    };
+    Ok(made.map(|mut e| {
+        e.tolerance = tolerance;
+        e.relative_tolerance = relative_tolerance;
+        e
+    }))
+}
+
+/// Makes the ensemble over the window from `start` to `end` (tolerances left at 0 for the
+/// caller to set).
+fn make(sys: &System, s0: &State, start: f64, end: f64, solver: MemberSolver) -> Result<Made> {
+    let (tolerance, relative_tolerance) = (0.0, 0.0);
     let times = window_times(start, end);
     let members: Vec<Result<Option<_>>> = (0..ENSEMBLE_SIZE)
         .into_par_iter()

@@ -20,16 +20,20 @@
 //! error at or below [`Reference::floor_at`] is at the reference floor: the reference cannot
 //! tell it from zero.
 //!
-//! A [`Reference`] is computed once per scene and set of output grids (a whole sweep at once)
-//! and stores only positions at the requested times, so memory stays bounded.
+//! The adaptive solve is made once per scene and horizon and kept with its dense output
+//! (`solution`, within a memory budget); a [`Reference`] samples it at the times of its
+//! grids (a whole sweep at once) and stores only positions there, so a new grid costs no new
+//! solve.
 
 mod adaptive;
 mod contact_events;
 pub mod contacts;
+mod dense;
 mod ensemble;
 pub mod finestep;
 pub mod period;
 mod rhs;
+mod solution;
 mod tracked;
 pub mod uncertainty;
 
@@ -37,6 +41,7 @@ use super::grid::TimeGrid;
 use crate::collide::Response;
 use crate::error::Result;
 use crate::integrate::{Analytic, Stepper};
+use crate::measure::observables::position_error;
 use crate::model::{State, System, Vec3};
 use adaptive::{length_scale, solve};
 use rhs::unpack_x;
@@ -140,6 +145,8 @@ pub struct Reference {
     /// Per grid, per sample: the largest strain of the reference's states up to that sample,
     /// computed once for every run compared on the grid ([`Reference::strain_max_until`]).
     strain_until: Vec<std::sync::OnceLock<Vec<f64>>>,
+    /// The kept adaptive solve this reference was sampled from ([`Reference::solve_id`]).
+    solve_id: Option<u64>,
 }
 
 /// True when the scene has a closed form (the `analytic` method accepts it).
@@ -221,6 +228,7 @@ impl Reference {
             unc: grids.iter().map(|g| vec![0.0; g.sample_count()]).collect(),
             ensemble: None,
             member_solver: None,
+            solve_id: None,
         };
         if solver == ReferenceSolver::Auto
             && has_closed_form(sys)
@@ -348,6 +356,13 @@ impl Reference {
     /// True when `error` (m) at step `n` of grid `g` is at the reference floor.
     pub fn at_floor(&self, g: usize, n: u64, error: f64) -> bool {
         error <= self.floor_at(g, n)
+    }
+
+    /// Which kept adaptive solve this reference was sampled from: references of one scene and
+    /// horizon on any grids share one (the kept solve); None when it solved on its own grids
+    /// (closed form, fine steps, or a solve too big to keep).
+    pub fn solve_id(&self) -> Option<u64> {
+        self.solve_id
     }
 
     /// True when time `t` (s) lies within the predictable range.
@@ -507,41 +522,47 @@ impl Reference {
     }
 
     fn fill_dop853(&mut self, sys: &System, s0: &State) -> Result<()> {
-        let n = sys.len();
         let ents = entries(&self.grids);
         let times: Vec<f64> = ents.iter().map(|e| e.t).collect();
         let horizon = self.info.horizon;
-        let mut main: Vec<Vec<Vec3>> = vec![Vec::new(); times.len()];
-        let out = solve(
-            sys,
-            s0,
-            &times,
-            horizon,
-            REFERENCE_TOL,
-            self.tracked,
-            None,
-            &mut |i, y| main[i] = unpack_x(y, n),
-        )?
-        .expect("no step limit");
+        // Never below the tolerance the solver was asked for.
+        let floor = REFERENCE_TOL * length_scale(s0);
+        let kept = solution::shared(sys, s0, horizon, REFERENCE_TOL, self.tracked)?;
+        let (main, out, comp) = match &kept {
+            Some(sol) => {
+                self.solve_id = Some(sol.id);
+                self.motion = sol.out.motion;
+                let (main, interp): (Vec<Vec<Vec3>>, Vec<f64>) =
+                    times.iter().map(|&t| sol.main.sample(t)).unzip();
+                let distances = |track: &Option<dense::DenseTrack>| {
+                    track.as_ref().map(|tr| {
+                        times
+                            .iter()
+                            .zip(&main)
+                            .map(|(&t, x)| position_error(&tr.sample(t).0, x))
+                            .collect::<Vec<f64>>()
+                    })
+                };
+                let mut comp = uncertainty::judge(
+                    &times,
+                    distances(&sol.loose),
+                    distances(&sol.perturbed),
+                    floor,
+                    self.motion_scale(),
+                );
+                // A sample inside a step carries the interpolant's error estimate (`dense`).
+                for (u, e) in comp.uncertainty.iter_mut().zip(&interp) {
+                    *u += e;
+                }
+                (main, sol.out.clone(), comp)
+            }
+            None => self.solve_on_grids(sys, s0, &times, floor)?,
+        };
         self.crossings = out.crossings;
         self.down_crossings = out.down_crossings;
-        self.motion = out.motion;
         self.member_solver = Some(ensemble::dop853_members(
             out.stats.steps + out.stats.rejected,
         ));
-        // Never below the tolerance the solver was asked for.
-        let floor = REFERENCE_TOL * length_scale(s0);
-        let comp = uncertainty::companions(
-            sys,
-            s0,
-            &times,
-            horizon,
-            REFERENCE_TOL,
-            &main,
-            floor,
-            self.motion_scale(),
-            uncertainty::COMPANION_WORK_FACTOR * (out.stats.steps + out.stats.rejected).max(100),
-        )?;
         for (e, x) in ents.iter().zip(main) {
             self.samples[e.grid][e.idx] = x;
         }
@@ -549,9 +570,10 @@ impl Reference {
         self.info.predictability_horizon = comp.horizon;
         self.info.predictability_threshold = comp.threshold;
         self.info.uncertainty_measured_by = format!(
-            "larger of the distances to a solve at {:e} x the tolerance and to a solve from initial positions moved by {:e} x the length scale{}",
+            "larger of the distances to a solve at {:e} x the tolerance and to a solve from initial positions moved by {:e} x the length scale{}{}",
             uncertainty::LOOSE_FACTOR,
             uncertainty::PERTURBATION,
+            if kept.is_some() { ", plus the dense output's own error estimate at samples inside a solver step" } else { "" },
             comp.note
         );
         self.info.solver_steps = out.stats.steps;
@@ -580,6 +602,45 @@ impl Reference {
             self.info.description = format!("DOP853 at rtol = atol = 1e-12 on the index-reduced equations of motion ({rigid} rigid constraint(s) enforced at acceleration level by Lagrange multipliers), positions and velocities projected onto the constraint manifold after every step{contacts}");
         }
         Ok(())
+    }
+
+    /// The main solve and its companions run on the sample `times` (a scene whose kept solve
+    /// would not fit in memory): positions, what the solve did, the companions' verdict.
+    fn solve_on_grids(
+        &mut self,
+        sys: &System,
+        s0: &State,
+        times: &[f64],
+        floor: f64,
+    ) -> Result<(Vec<Vec<Vec3>>, adaptive::SolveOut, uncertainty::Companions)> {
+        let n = sys.len();
+        let horizon = self.info.horizon;
+        let mut main: Vec<Vec<Vec3>> = vec![Vec::new(); times.len()];
+        let out = solve(
+            sys,
+            s0,
+            times,
+            horizon,
+            REFERENCE_TOL,
+            self.tracked,
+            None,
+            &mut |i, y| main[i] = unpack_x(y, n),
+            None,
+        )?
+        .expect("no step limit");
+        self.motion = out.motion;
+        let comp = uncertainty::companions(
+            sys,
+            s0,
+            times,
+            horizon,
+            REFERENCE_TOL,
+            &main,
+            floor,
+            self.motion_scale(),
+            uncertainty::COMPANION_WORK_FACTOR * (out.stats.steps + out.stats.rejected).max(100),
+        )?;
+        Ok((main, out, comp))
     }
 
     fn fill_fine_step(&mut self, sys: &System, s0: &State) -> Result<()> {

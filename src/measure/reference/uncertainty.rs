@@ -102,6 +102,7 @@ fn distances(
         &mut |i, y| {
             d[i] = position_error(&positions(y, n), &main[i]);
         },
+        None,
     )?;
     Ok(done.map(|_| d))
 }
@@ -135,7 +136,19 @@ pub(super) fn companions(
         },
         || distances(sys, &sp, times, horizon, rtol, main, max_steps),
     );
-    let (loose, pert) = (loose?, pert?);
+    Ok(judge(times, loose?, pert?, floor, motion))
+}
+
+/// The companions' verdict from their distances to the main solve at `times` (None: that
+/// companion was abandoned); `floor` is the round-off floor (m) and `motion` the motion scale
+/// (m).
+pub(super) fn judge(
+    times: &[f64],
+    loose: Option<Vec<f64>>,
+    pert: Option<Vec<f64>>,
+    floor: f64,
+    motion: f64,
+) -> Companions {
     let threshold = PREDICTABILITY_THRESHOLD * motion;
     let horizon = pert.as_ref().and_then(|pert| {
         times
@@ -163,10 +176,10 @@ pub(super) fn companions(
             }
         })
         .collect();
-    Ok(Companions {
+    Companions {
         uncertainty,
         horizon,
         threshold,
         note,
-    })
+    }
 }
