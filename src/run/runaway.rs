@@ -19,7 +19,7 @@
 //! - Before the balance rises at all, a rise from 0 to round-off is not growth: P is floored at
 //!   [`NOISE_FLOOR`] × E.
 //!
-//! The peaks are kept at log-spaced checkpoints (every [`CHECKPOINT_GROWTH`] in steps), and the
+//! The peaks are kept at log-spaced checkpoints (every `CHECKPOINT_GROWTH` in steps), and the
 //! octave ends are read at the first checkpoint at or after m: a checkpoint's peak is at least
 //! P(m), so the ratios read are at most the true ones (the rule errs towards "bounded").
 
