@@ -3,6 +3,7 @@
 //! row with the cost ratio to the answer at equal error. Read off the frame-rate document, so
 //! the front page's sentence, its chart and `framerate.json` are one set of numbers.
 
+use super::advise::cost::{rank, CostKey};
 use super::answer::GameRate;
 use super::framerate::Framerate;
 use crate::method::Registry;
@@ -63,11 +64,24 @@ pub struct EngineFare {
 /// ran at the rate.
 pub fn engine_fare(points: &[GamePoint], game: &GameRate) -> Option<EngineFare> {
     let engines = points.iter().filter(|p| p.engine);
-    let cost = |p: &GamePoint| p.modelled_seconds_per_frame.unwrap_or(f64::INFINITY);
-    let best = engines
+    // The cheapest meeting engine by the answer's own cost rule (ties within its band broken
+    // the same way), so an answer that is an engine is also the best engine.
+    let meeting: Vec<&GamePoint> = engines
         .clone()
-        .filter(|p| p.meets)
-        .min_by(|a, b| cost(a).total_cmp(&cost(b)).then(a.method.cmp(&b.method)))
+        .filter(|p| p.meets && p.modelled_seconds_per_frame.is_some())
+        .collect();
+    let keys: Vec<CostKey> = meeting
+        .iter()
+        .map(|p| CostKey {
+            method: p.method.clone(),
+            modelled_per_second: p.modelled_seconds_per_frame.unwrap_or(f64::NAN) * game.hz,
+            force_evals_per_second: None,
+        })
+        .collect();
+    let cheapest = rank(&keys, "")
+        .ok()
+        .and_then(|(order, _)| order.first().map(|&i| meeting[i]));
+    let best = cheapest
         .or_else(|| {
             engines.filter(|p| p.error.is_some()).min_by(|a, b| {
                 a.error
@@ -89,4 +103,77 @@ pub fn engine_fare(points: &[GamePoint], game: &GameRate) -> Option<EngineFare> 
         _ => None,
     };
     Some(EngineFare { best, cost_ratio })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::measure::tolerance::Metric;
+
+    fn point(
+        method: &str,
+        engine: bool,
+        substeps: u64,
+        error: f64,
+        cost: f64,
+        meets: bool,
+    ) -> GamePoint {
+        GamePoint {
+            method: method.into(),
+            engine,
+            substeps,
+            error: Some(error),
+            modelled_seconds_per_frame: Some(cost),
+            meets,
+        }
+    }
+
+    fn answer(method: &str, substeps: u64, cost: f64, meets: bool) -> GameRate {
+        GameRate {
+            hz: 60.0,
+            method: Some(method.into()),
+            substeps: Some(substeps),
+            metric: Metric::Position,
+            tolerance: 0.01,
+            position_tolerance: 0.01,
+            error: Some(0.005),
+            modelled_seconds_per_frame: Some(cost),
+            wall_seconds_per_frame: None,
+            meets,
+            verified: String::new(),
+        }
+    }
+
+    // Oracle: the rule in the docs. The best engine is the one the answer's own cost rule
+    // picks among those that meet the bound (so an engine answer is the best engine), else the
+    // most accurate; the ratio is given only at equal standing (both meet, the answer native).
+    #[test]
+    fn the_best_engine_is_picked_by_the_answers_rule_and_priced_only_at_equal_standing() {
+        let pts = [
+            point("velocity_verlet", false, 2, 0.004, 1e-6, true),
+            point("rapier_impulse", true, 8, 0.006, 4e-6, true),
+            point("rapier_soft", true, 4, 0.008, 3e-6, true),
+            point("rapier_multibody", true, 1, 0.5, 1e-6, false),
+        ];
+        let fare = engine_fare(&pts, &answer("velocity_verlet", 2, 1e-6, true)).unwrap();
+        assert_eq!(fare.best.method, "rapier_soft");
+        assert!((fare.cost_ratio.unwrap() - 3.0).abs() < 1e-12);
+        // The twin: when no engine meets, the most accurate engine, and no ratio.
+        let missing = [
+            point("velocity_verlet", false, 2, 0.004, 1e-6, true),
+            point("rapier_impulse", true, 1, 0.2, 4e-6, false),
+            point("rapier_soft", true, 1, 0.1, 3e-6, false),
+        ];
+        let fare = engine_fare(&missing, &answer("velocity_verlet", 2, 1e-6, true)).unwrap();
+        assert_eq!(fare.best.method, "rapier_soft");
+        assert_eq!(fare.cost_ratio, None);
+        // An engine answer has no ratio to itself.
+        let fare = engine_fare(&pts, &answer("rapier_soft", 4, 3e-6, true)).unwrap();
+        assert_eq!(
+            (fare.best.method.as_str(), fare.cost_ratio),
+            ("rapier_soft", None)
+        );
+        // No engine at the rate: nothing to say.
+        assert!(engine_fare(&pts[..1], &answer("velocity_verlet", 2, 1e-6, true)).is_none());
+    }
 }
