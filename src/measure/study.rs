@@ -536,6 +536,33 @@ fn study_framerate(
     }
     let max_substeps = if cfg.quick { 4 } else { FRAMERATE_MAX_SUBSTEPS };
     let duration = crate::scenario::Timing::duration(scene, None)?;
+    // A frame longer than the run cannot be a frame of it.
+    let too_long: Vec<f64> = rates
+        .iter()
+        .copied()
+        .filter(|&hz| 1.0 / hz > duration)
+        .collect();
+    if !too_long.is_empty() {
+        rates.retain(|hz| !too_long.contains(hz));
+        notes.push(format!(
+            "{FRAMERATE_NOTE_PREFIX} leave out {} Hz: a frame is longer than the run's {} s.",
+            too_long
+                .iter()
+                .map(|hz| crate::error::significant(*hz, 3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            crate::error::significant(duration, 3)
+        ));
+        if !rates.contains(&game) {
+            return Ok((
+                None,
+                Some(format!(
+                    "the game rate's frame is longer than the run's {duration} s"
+                )),
+                Vec::new(),
+            ));
+        }
+    }
     let frames: f64 = rates
         .iter()
         .map(|&hz| super::framerate::frames_at(duration, hz) as f64)

@@ -204,6 +204,9 @@ fn bad_frame_input_is_refused_clearly() {
             "--hz",
         ),
         (vec!["framerate", s, "--hz", "0"], "--hz"),
+        // A frame longer than the run, refused at once as `run` refuses it.
+        (vec!["framerate", s, "--hz", "1e-300"], "--hz"),
+        (vec!["framerate", s, "--duration", "1e-300"], "--duration"),
         (vec!["framerate", s, "--hz", "30,,60"], "--hz"),
         (vec!["framerate", s, "--hz", "30,sixty"], "--hz"),
         (vec!["framerate", s, "--hz", "30;60"], "--hz"),

@@ -339,6 +339,9 @@ fn frames_per_rate(scene: &Scenario, cfg: &FramerateConfig, duration: f64) -> Re
         "--hz"
     };
     for &hz in &cfg.rates {
+        // A frame longer than the run is refused as `run` refuses it (the run would end one
+        // frame after its duration), before any reference is solved over that frame.
+        crate::scenario::Timing::step_fits(scene, 1.0 / hz, Some(length_flag), duration)?;
         crate::scenario::Timing::steps_within(length_flag, 1.0 / hz, duration)?;
     }
     let frames: Vec<u64> = cfg
