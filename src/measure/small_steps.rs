@@ -296,6 +296,8 @@ pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<Sce
     } else {
         "--dt"
     };
+    // A frame longer than the run is refused as `run` refuses it, before any reference solve.
+    crate::scenario::Timing::step_fits(scene, cfg.frame_dt, Some(flag), duration)?;
     let frames = crate::scenario::Timing::steps_within(flag, cfg.frame_dt, duration)?;
     let sys = scene.build();
     let s0 = scene.initial_state();

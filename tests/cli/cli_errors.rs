@@ -367,6 +367,21 @@ fn small_steps_refuses_a_duration_past_the_step_limit_at_once() {
     );
     assert!(line.contains("6e13 steps"), "{line}");
     assert!(t0.elapsed() < Duration::from_secs(10));
+    // A frame longer than the whole run is refused at once too, naming --dt.
+    let t0 = Instant::now();
+    let line = one_line_error(
+        &run(&[
+            "small-steps",
+            s(&sc),
+            "--dt",
+            "1.8e19",
+            "--out",
+            s(dir.path()),
+        ]),
+        "--dt",
+    );
+    assert!(line.contains("longer than the duration"), "{line}");
+    assert!(t0.elapsed() < Duration::from_secs(10));
     // Twin: a short run is measured.
     succeeds(&run(&[
         "small-steps",
