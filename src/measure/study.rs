@@ -11,8 +11,8 @@
 //! - sweep: the non-engine, finite-order methods of that list (an engine's cost per run is far
 //!   higher, and its order is not ours to fit);
 //! - stability and advice: the compared methods that ran; an engine joins stability when its
-//!   compare run cost at most [`ENGINE_BUDGET_SECONDS`] (its empirical bisection costs dozens
-//!   of such runs) and advice when its runs over the advice grid project at most
+//!   empirical search (about `SEARCH_TRIALS` trials of at least `MIN_TRIAL_STEPS` steps, priced
+//!   per step from its compare run) projects at most [`ENGINE_BUDGET_SECONDS`] and advice when its runs over the advice grid project at most
 //!   [`ENGINE_ADVICE_SECONDS`] (`springlab stability` and `advise` run any engine on request). The documents' commands name exactly the methods that took part.
 //!   Stability runs the empirical bisection only where linear theory does not apply (the
 //!   spectral radius decides where it does); a quick study runs theory only.
@@ -50,8 +50,9 @@ pub const ENGINE_COMPARE_SECONDS: f64 = 5.0;
 /// and still take part ([`engine_compare_limit`]).
 pub const ENGINE_NATIVE_FACTOR: f64 = 20.0;
 
-/// Largest modelled seconds of an engine's compare run for it to join stability.
-pub const ENGINE_BUDGET_SECONDS: f64 = 1.0;
+/// Largest projected modelled seconds of an engine's empirical stability search (its
+/// compare run's cost per step over the search's trials) for it to join stability.
+pub const ENGINE_BUDGET_SECONDS: f64 = 2.0;
 
 /// Largest projected modelled seconds of an engine's runs over the advice grid for it to join
 /// the advice.
@@ -339,7 +340,7 @@ type ProbedOut = (String, f64);
 struct Kept {
     /// Native methods of finite order.
     sweepable: Vec<String>,
-    /// All but engines whose compare run took over [`ENGINE_BUDGET_SECONDS`].
+    /// All but engines whose empirical search projects over [`ENGINE_BUDGET_SECONDS`].
     measured: Vec<String>,
     /// All but engines whose runs over the advice grid would take over
     /// [`ENGINE_ADVICE_SECONDS`].
@@ -378,9 +379,16 @@ fn kept_after_compare(
     let mut advisable = Vec::new();
     for (n, cost) in &ran {
         let engine = info(n).is_some_and(|m| m.engine);
-        if engine && *cost > ENGINE_BUDGET_SECONDS {
+        // The empirical search runs about SEARCH_TRIALS trials of at least MIN_TRIAL_STEPS
+        // steps each (more where the horizon needs them), priced per step from compare.
+        let search = cost / timing.steps.max(1) as f64
+            * timing.steps.max(super::stability::MIN_TRIAL_STEPS) as f64
+            * super::stability::SEARCH_TRIALS;
+        if engine && search > ENGINE_BUDGET_SECONDS {
             notes.push(format!(
-                "Stability leaves out {n}: its compare run costs {cost:.2} s by the cost model (> {ENGINE_BUDGET_SECONDS} s), and the empirical search costs dozens of such runs."
+                "Stability leaves out {n}: its empirical search (about {} trials of at least {} steps) would cost about {search:.1} s by the cost model (> {ENGINE_BUDGET_SECONDS} s); `springlab stability --methods {n}` runs it.",
+                super::stability::SEARCH_TRIALS,
+                super::stability::MIN_TRIAL_STEPS
             ));
         } else {
             measured.push(n.clone());
