@@ -294,27 +294,42 @@ fn compared_methods(
         v.extend(cfg.registry.engine_names().into_iter().map(String::from));
         v
     };
-    let native_total: f64 = asked
+    // Engines are priced from the scene; the native methods' total (a short probe run each)
+    // is counted only when some engine costs more than the floor it is judged against.
+    let engine_cost: Vec<(String, Option<f64>)> = asked
         .iter()
-        .filter(|n| !is_engine(n))
-        .filter_map(|n| method_probe(scene, cfg, n, timing).transpose())
-        .sum::<Result<f64>>()?
-        * timing.steps as f64;
+        .filter(|n| is_engine(n))
+        .map(|n| Ok((n.clone(), method_probe(scene, cfg, n, timing)?)))
+        .collect::<Result<_>>()?;
+    let steps = timing.steps as f64;
+    let native_total = if engine_cost
+        .iter()
+        .any(|(_, c)| c.is_some_and(|c| c * steps > ENGINE_COMPARE_SECONDS))
+    {
+        asked
+            .iter()
+            .filter(|n| !is_engine(n))
+            .filter_map(|n| method_probe(scene, cfg, n, timing).transpose())
+            .sum::<Result<f64>>()?
+            * steps
+    } else {
+        0.0
+    };
     let limit = engine_compare_limit(native_total);
     let mut kept = Vec::new();
     let mut probed_out = Vec::new();
     for n in asked {
-        if !is_engine(&n) {
+        let Some((_, cost)) = engine_cost.iter().find(|(e, _)| *e == n) else {
             kept.push(n);
             continue;
-        }
-        match method_probe(scene, cfg, &n, timing)? {
-            Some(per_step) if per_step * timing.steps as f64 > limit => {
+        };
+        match *cost {
+            Some(per_step) if per_step * steps > limit => {
                 notes.push(format!(
                     "Left out {n}: {:.3} ms per step by the cost model, so {} steps would take about {:.1} s, over {ENGINE_NATIVE_FACTOR}× the native methods' {:.2} s (and over {ENGINE_COMPARE_SECONDS} s); `springlab compare --methods {n}` runs it.",
                     per_step * 1e3,
                     timing.steps,
-                    per_step * timing.steps as f64,
+                    per_step * steps,
                     native_total
                 ));
                 probed_out.push((n, per_step));

@@ -33,13 +33,11 @@ pub struct SoftBodyPlan {
     pub radius: f64,
 }
 
-/// The soft bodies of a scene, and where each particle went.
+/// The soft bodies of a scene (each lists the scene particles it holds).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SoftPlan {
     /// The bodies.
     pub bodies: Vec<SoftBodyPlan>,
-    /// `(body, local index)` of each particle; `None` for a fixed particle no spring touches.
-    pub place: Vec<Option<(usize, usize)>>,
     /// True when the scene has obstacles (the bodies then collide through their edges).
     pub collides: bool,
 }
@@ -190,7 +188,6 @@ fn rest_pose(
 pub fn soft_plan(sys: &System, x: Option<&[Vec3]>) -> Result<SoftPlan, String> {
     let springs = springs(sys)?;
     let collides = crate::collide::of(sys).is_some();
-    let mut place = vec![None; sys.len()];
     let mut bodies = Vec::new();
     let mut local = vec![0usize; sys.len()];
     let sets = components(sys.len(), &springs);
@@ -218,7 +215,6 @@ pub fn soft_plan(sys: &System, x: Option<&[Vec3]>) -> Result<SoftPlan, String> {
         for (l, &p) in particles.iter().enumerate() {
             local[p] = l;
         }
-        let body = bodies.len();
         let rest = match x {
             None => Vec::new(),
             Some(x) => rest_pose(x, &particles, &local, &mine).ok_or_else(|| {
@@ -244,9 +240,6 @@ pub fn soft_plan(sys: &System, x: Option<&[Vec3]>) -> Result<SoftPlan, String> {
             .map(|s| edge(sys, s, [local[s.a] as u32, local[s.b] as u32]))
             .collect();
         let radius = particles.iter().map(|&p| sys.radius[p]).fold(0.0, f64::max);
-        for (l, &p) in particles.iter().enumerate() {
-            place[p] = Some((body, l));
-        }
         bodies.push(SoftBodyPlan {
             particles,
             rest,
@@ -255,9 +248,5 @@ pub fn soft_plan(sys: &System, x: Option<&[Vec3]>) -> Result<SoftPlan, String> {
             radius,
         });
     }
-    Ok(SoftPlan {
-        bodies,
-        place,
-        collides,
-    })
+    Ok(SoftPlan { bodies, collides })
 }

@@ -4,7 +4,7 @@
 use super::mapping::{soft_plan, SoftPlan};
 use crate::error::{Error, Result};
 use crate::integrate::{StepStats, Stepper};
-use crate::model::{State, System};
+use crate::model::{State, System, Vec3};
 use crate::rapier::convert::{to_glam, to_na};
 use crate::rapier::stepper::{contact_loss, damping_power};
 use crate::rapier::user_forces::is_user_force;
@@ -150,11 +150,13 @@ impl SoftStepper {
 /// Moves every particle of the built bodies to the state's position and velocity (the bodies
 /// were built in their rest pose; an impulse changed a velocity).
 fn push_state(b: &mut Built, sys: &System, s: &State) {
-    for (p, place) in b.plan.place.iter().enumerate() {
-        let Some((body, l)) = *place else { continue };
-        if let Some(sb) = b.world.soft_bodies.get_mut(b.bodies[body]) {
+    for (plan, &h) in b.plan.bodies.iter().zip(&b.bodies) {
+        let Some(sb) = b.world.soft_bodies.get_mut(h) else {
+            continue;
+        };
+        for (l, &p) in plan.particles.iter().enumerate() {
             sb.set_particle_position(l, to_glam(&s.x[p]));
-            let v = if sys.free[p] { s.v[p] } else { s.v[p] * 0.0 };
+            let v = if sys.free[p] { s.v[p] } else { Vec3::zeros() };
             sb.set_particle_velocity(l, to_glam(&v));
         }
     }
@@ -200,14 +202,15 @@ impl Stepper for SoftStepper {
             .map(|_| sys.energy(&s.x, &s.v).mechanical());
         let b = self.built.as_mut().expect("built in prepare");
         b.world.step();
-        for (p, place) in b.plan.place.iter().enumerate() {
-            let Some((body, l)) = *place else { continue };
-            if !sys.free[p] {
+        for (plan, &h) in b.plan.bodies.iter().zip(&b.bodies) {
+            let Some(sb) = b.world.soft_bodies.get(h) else {
                 continue;
-            }
-            if let Some(sb) = b.world.soft_bodies.get(b.bodies[body]) {
-                s.x[p] = to_na(sb.particle_position(l));
-                s.v[p] = to_na(sb.particle_velocity(l));
+            };
+            for (l, &p) in plan.particles.iter().enumerate() {
+                if sys.free[p] {
+                    s.x[p] = to_na(sb.particle_position(l));
+                    s.v[p] = to_na(sb.particle_velocity(l));
+                }
             }
         }
         let touching = e0.is_some() && b.world.contact_pairs().any(|c| c.has_any_active_contact());
