@@ -83,9 +83,14 @@ pub fn build(cfg: &BuildConfig, say: &(dyn Fn(&str) + Sync)) -> Result<Built> {
                     let t0 = Instant::now();
                     let res = Scenario::from_file(f).and_then(|s| report_scene(&s, &cfg.opts));
                     match &res {
-                        Ok(s) => line(&scene_line(s, t0.elapsed().as_secs_f64())),
+                        Ok((s, false)) => line(&scene_line(s, t0.elapsed().as_secs_f64())),
+                        Ok((s, true)) => line(&format!(
+                            "report: {} kept: its scene, the flags and the program are unchanged (--no-cache studies it again)",
+                            s.scene
+                        )),
                         Err(e) => line(&format!("report: {}: {e}", f.display())),
                     }
+                    let res = res.map(|(s, _)| s);
                     bar.inc(1);
                     (*k, f.display().to_string(), res.map_err(|e| e.to_string()))
                 })
@@ -93,7 +98,7 @@ pub fn build(cfg: &BuildConfig, say: &(dyn Fn(&str) + Sync)) -> Result<Built> {
         },
         || {
             small_steps_here
-                .then(|| super::small_steps::write_page(&cfg.scenarios, out))
+                .then(|| super::small_steps::write_page(&cfg.scenarios, out, cfg.opts.no_cache))
                 .transpose()
         },
     );

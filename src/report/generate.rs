@@ -28,6 +28,9 @@ pub struct ReportOptions {
     pub registry: Registry,
     /// Blow-up factor of every run (see [`crate::run::verdict`]).
     pub blowup_factor: f64,
+    /// Study every scene again even where its folder's inputs are unchanged
+    /// ([`super::reuse`]).
+    pub no_cache: bool,
 }
 
 /// The scenario files of a directory (`*.toml`), sorted by name.
@@ -252,12 +255,21 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     )?;
     // One timing document for the scene: its folders' wall times gathered beside the page.
     crate::output::timing::gather(&dir)?;
+    super::reuse::write_inputs(&dir, &super::reuse::scene_inputs(scene, opts))?;
     tx.commit()?;
     Ok(sum)
 }
 
-/// Studies and writes one scene.
-pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<SceneSummary> {
+/// Studies and writes one scene; a scene whose folder already holds what these inputs produce
+/// is kept as it is ([`super::reuse`]), unless `opts.no_cache`. The flag is true when the
+/// folder was kept.
+pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<(SceneSummary, bool)> {
+    if !opts.no_cache {
+        let inputs = super::reuse::scene_inputs(scene, opts);
+        if let Some(sum) = super::reuse::reusable_scene(&opts.out.join(&scene.name), &inputs) {
+            return Ok((sum, true));
+        }
+    }
     let cfg = StudyConfig {
         registry: opts.registry.clone(),
         quick: opts.quick,
@@ -265,7 +277,7 @@ pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<SceneSumma
         ..Default::default()
     };
     let s = study(scene, &cfg)?;
-    write_scene(scene, &s, opts)
+    Ok((write_scene(scene, &s, opts)?, false))
 }
 
 /// Writes `index.html`, `README.md` and `summary.json` (last, after every scene page), as one

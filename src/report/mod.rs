@@ -20,6 +20,7 @@ mod markdown;
 pub mod overview;
 mod playback;
 pub mod plots;
+pub mod reuse;
 pub mod shard;
 pub mod small_steps;
 pub mod summary;

@@ -16,8 +16,9 @@ use std::path::Path;
 pub const SCENES: [&str; 2] = ["stiff_chain.toml", "cloth.toml"];
 
 /// Measures and writes `out/small_steps/` (documents, chart, page) when both scenes are in
-/// `scenarios`; `None` otherwise (a report of other scenes has no such page).
-pub fn write_page(scenarios: &Path, out: &Path) -> Result<Option<SmallStepsLink>> {
+/// `scenarios`; `None` otherwise (a report of other scenes has no such page). A folder that
+/// already holds what these scenes produce is kept ([`super::reuse`]), unless `no_cache`.
+pub fn write_page(scenarios: &Path, out: &Path, no_cache: bool) -> Result<Option<SmallStepsLink>> {
     let paths: Vec<_> = SCENES.iter().map(|s| scenarios.join(s)).collect();
     if !paths.iter().all(|p| p.is_file()) {
         return Ok(None);
@@ -26,13 +27,21 @@ pub fn write_page(scenarios: &Path, out: &Path) -> Result<Option<SmallStepsLink>
         .iter()
         .map(Scenario::from_file)
         .collect::<Result<Vec<_>>>()?;
-    let doc = small_steps(&scenes, &SmallStepsConfig::default())?;
+    let cfg = SmallStepsConfig::default();
+    let inputs = super::reuse::small_steps_inputs(&scenes, &cfg);
+    if !no_cache && super::reuse::unchanged(&out.join("small_steps"), &inputs) {
+        if let Some(link) = read_link(out) {
+            return Ok(Some(link));
+        }
+    }
+    let doc = small_steps(&scenes, &cfg)?;
     // The page and its documents are replaced together (see [`Transaction`]).
     let mut tx = Transaction::new(out)?;
     let dir = tx.stage_dir("small_steps")?;
     write_small_steps(&dir, &doc)?;
     write_atomic(dir.join("small_steps.svg"), chart(&doc)?.as_bytes())?;
     write_atomic(dir.join("index.html"), html(&doc).as_bytes())?;
+    super::reuse::write_inputs(&dir, &inputs)?;
     tx.commit()?;
     Ok(Some(SmallStepsLink {
         page: "small_steps/index.html".into(),

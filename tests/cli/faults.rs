@@ -26,9 +26,11 @@ fn scenarios(dir: &Path) -> PathBuf {
     s
 }
 
+/// A report that studies and writes every scene again (`--no-cache`: an unchanged scene's
+/// folder would otherwise be kept, and nothing written to be cut short).
 fn report(scen: &Path, out: &Path) -> Command {
     let mut c = bin();
-    c.args(["report", "--quick", "--scenarios"])
+    c.args(["report", "--quick", "--no-cache", "--scenarios"])
         .arg(scen)
         .arg("--out")
         .arg(out);
@@ -359,7 +361,7 @@ fn a_report_onto_a_full_disk_keeps_every_earlier_scene_and_the_overview() {
         c.arg("-c")
             .arg("trap '' XFSZ; ulimit -f 16; exec \"$0\" \"$@\"")
             .arg(env!("CARGO_BIN_EXE_springlab"))
-            .args(["report", "--quick", "--scenarios"])
+            .args(["report", "--quick", "--no-cache", "--scenarios"])
             .arg(&scen)
             .arg("--out")
             .arg(&out);

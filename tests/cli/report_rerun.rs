@@ -1,21 +1,35 @@
 //! Re-running the report leaves every file whose numbers did not change byte-identical: the
 //! measured wall times live in each scene's `timing.json`, nothing else moves. Oracle: the
 //! files themselves, byte for byte; the twin changes one scene (its length) and sees exactly
-//! that scene's files change while the other scene's stay as they were.
+//! that scene's files change while the other scene's stay as they were. An unchanged scene is
+//! not studied again at all (its folder is kept, timing included) unless `--no-cache` asks.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn report(scenes: &Path, out: &Path) {
+/// Runs a quick report with `extra` flags; its stderr.
+fn report_with(scenes: &Path, out: &Path, extra: &[&str]) -> String {
     let o = Command::new(env!("CARGO_BIN_EXE_springlab"))
         .args(["report", "--quick", "--scenarios"])
         .arg(scenes)
         .arg("--out")
         .arg(out)
+        .args(extra)
         .output()
         .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{err}");
+    err
+}
+
+fn report(scenes: &Path, out: &Path) {
+    report_with(scenes, out, &[]);
+}
+
+/// True when the report's stderr says it kept `scene`'s folder without studying it.
+fn kept(stderr: &str, scene: &str) -> bool {
+    stderr.contains(&format!("report: {scene} kept:"))
 }
 
 /// Every file under `dir` by its path from `dir`.
@@ -89,7 +103,13 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
         let t: f64 = r.unwrap()[col].parse().expect("a wall time on every line");
         assert!(t > 0.0);
     }
-    report(&scenes, &out);
+    // Unchanged: every scene kept, not one byte written differently, timing included.
+    let err = report_with(&scenes, &out, &[]);
+    assert!(kept(&err, "anchored_spring") && kept(&err, "recoil_spring"), "{err}");
+    assert_eq!(changed(&first, &files(&out)), Vec::<PathBuf>::new());
+    // Studied again: the same documents, only the measured wall times move.
+    let err = report_with(&scenes, &out, &["--no-cache"]);
+    assert!(!kept(&err, "anchored_spring") && !kept(&err, "recoil_spring"), "{err}");
     let second = files(&out);
     let moved = changed(&first, &second);
     assert!(
@@ -108,7 +128,8 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
     let path = scenes.join("anchored_spring.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(&path, text.replace("duration = 10.0", "duration = 12.0")).unwrap();
-    report(&scenes, &out);
+    let err = report_with(&scenes, &out, &[]);
+    assert!(!kept(&err, "anchored_spring") && kept(&err, "recoil_spring"), "{err}");
     let third = files(&out);
     let moved = changed(&second, &third);
     assert!(moved
@@ -121,6 +142,9 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
             .all(|p| is_timing(p)),
         "the unchanged scene changed: {moved:?}"
     );
+    // A changed flag is a changed input: every scene is studied again.
+    let err = report_with(&scenes, &out, &["--energy-terms"]);
+    assert!(!kept(&err, "anchored_spring") && !kept(&err, "recoil_spring"), "{err}");
 }
 
 /// Sharded, then merged: every file but the timing documents is the unsharded report's, byte
