@@ -207,8 +207,10 @@ fn main() -> springlab::Result<()> {
         energy_terms: false,
         registry,
         blowup_factor: springlab::run::DEFAULT_BLOWUP_FACTOR,
+        no_cache: false,
     };
-    let page = springlab::report::report_scene(&scene, &opts)?;
+    // The flag says whether an unchanged earlier page was kept rather than studied again.
+    let (page, _kept) = springlab::report::report_scene(&scene, &opts)?;
     println!("report: out/custom/{}", page.page);
     Ok(())
 }

@@ -71,10 +71,18 @@ pub enum Error {
         source: std::io::Error,
     },
     /// Another springlab command holds the lock on the output folder (one writer per folder).
-    #[error("{dir}: another springlab command is writing this folder; wait for it to finish or write elsewhere with --out")]
+    #[error("{dir}: another springlab command is writing this folder or a folder inside it; wait for it to finish or write elsewhere with --out")]
     Busy {
         /// The output folder.
         dir: PathBuf,
+    },
+    /// Another springlab command writes a folder that holds this output folder.
+    #[error("{dir}: another springlab command is writing {above}, which holds this folder; wait for it to finish or write elsewhere with --out")]
+    BusyAbove {
+        /// The output folder.
+        dir: PathBuf,
+        /// The folder above it that is being written.
+        above: PathBuf,
     },
     /// A method could not be registered: its facts are inconsistent (order 0, a name taken).
     #[error("cannot register method '{name}': {message}")]

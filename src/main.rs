@@ -12,5 +12,7 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // Ctrl-C and SIGTERM remove what was being written and say what was kept.
+    springlab::output::interrupt::install();
     cli::main()
 }

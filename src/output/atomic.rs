@@ -51,7 +51,11 @@ impl AtomicFile {
             .file_name()
             .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
         let tmp = target.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-        let f = File::create(&tmp).map_err(werr)?;
+        super::interrupt::track(&tmp);
+        let f = File::create(&tmp).map_err(|e| {
+            super::interrupt::untrack(&tmp);
+            werr(e)
+        })?;
         Ok(AtomicFile {
             target,
             tmp,
@@ -73,13 +77,31 @@ impl AtomicFile {
             source,
         };
         let out = self.out.take().expect("commit once");
-        let f = out.into_inner().map_err(|e| werr(e.into_error()))?;
         if self.tmp == self.target {
             // Written directly into a device or FIFO: nothing to sync or rename.
+            out.into_inner().map_err(|e| werr(e.into_error()))?;
             return Ok(self.target.clone());
         }
-        f.sync_all().map_err(werr)?;
-        std::fs::rename(&self.tmp, &self.target).map_err(werr)?;
+        // A failed flush, sync or rename (a full disk, a file-size limit) removes the
+        // temporary file before the error goes up: nothing hidden is left behind.
+        let published = out
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|f| f.sync_all())
+            .and_then(|()| {
+                super::interrupt::publishing(|| {
+                    let r = std::fs::rename(&self.tmp, &self.target);
+                    if r.is_ok() {
+                        super::interrupt::untrack(&self.tmp);
+                    }
+                    r
+                })
+            });
+        if let Err(e) = published {
+            let _ = std::fs::remove_file(&self.tmp);
+            super::interrupt::untrack(&self.tmp);
+            return Err(werr(e));
+        }
         Ok(self.target.clone())
     }
 }
@@ -88,6 +110,7 @@ impl Drop for AtomicFile {
     fn drop(&mut self) {
         if self.out.take().is_some() && self.tmp != self.target {
             let _ = std::fs::remove_file(&self.tmp);
+            super::interrupt::untrack(&self.tmp);
         }
     }
 }

@@ -9,17 +9,32 @@
 //!
 //! Whoever takes a folder's lock alone first finishes or undoes what a killed command left in
 //! it ([`super::recover`]), so no hidden staging folder or temporary file outlives the next
-//! start. A shared holder recovers only when no one else holds the folder.
+//! start. A shared holder recovers only when no one else holds the folder; shared holders
+//! started at the same instant wait out each other's brief recovery ([`SHARED_WAIT`]) instead
+//! of reading it as a conflicting writer.
+//!
+//! A writer also holds a shared lock on every folder above its own (on Unix), so a writer of a
+//! folder and a writer of a folder inside it exclude each other: `report --out OUT` is refused
+//! while `compare --out OUT/scene/compare` runs, and the other way round. (Shards of one report
+//! share their folder, so a shard does not exclude a writer inside it.)
 
 use crate::error::{Error, Result};
 use std::fs::File;
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// How long a shared holder retries while the folder is held alone: long enough for a peer
+/// started at the same instant to recover the folder and share it, short enough that a
+/// whole-folder writer is still refused promptly.
+pub const SHARED_WAIT: Duration = Duration::from_secs(5);
 
 /// The lock on an output folder; dropping it releases the folder.
 #[derive(Debug)]
 pub struct DirLock {
     dir: PathBuf,
     _handle: Option<File>,
+    /// Shared locks on the folders above it.
+    _above: Vec<File>,
 }
 
 impl DirLock {
@@ -48,24 +63,37 @@ fn lock(dir: &Path, shared: bool) -> Result<DirLock> {
         source,
     };
     std::fs::create_dir_all(dir).map_err(werr)?;
+    let above = lock_above(dir)?;
     let handle = open_handle(dir).map_err(werr)?;
-    let got = match fs4::FileExt::try_lock(&handle) {
-        Ok(()) => {
-            say_recovered(dir, &super::recover(dir)?);
-            // flock converts the held lock in place.
-            if shared {
-                fs4::FileExt::try_lock_shared(&handle)
-            } else {
-                Ok(())
+    let start = Instant::now();
+    let got = loop {
+        let got = match fs4::FileExt::try_lock(&handle) {
+            Ok(()) => {
+                say_recovered(dir, &super::recover(dir)?);
+                // flock converts the held lock in place.
+                if shared {
+                    fs4::FileExt::try_lock_shared(&handle)
+                } else {
+                    Ok(())
+                }
             }
+            Err(fs4::TryLockError::WouldBlock) if shared => fs4::FileExt::try_lock_shared(&handle),
+            Err(e) => Err(e),
+        };
+        // Held alone: by a peer shard recovering the folder (for milliseconds), or by a
+        // whole-folder writer (for its run): wait out the first, refuse the second.
+        match got {
+            Err(fs4::TryLockError::WouldBlock) if shared && start.elapsed() < SHARED_WAIT => {
+                std::thread::sleep(Duration::from_millis(2));
+            }
+            got => break got,
         }
-        Err(fs4::TryLockError::WouldBlock) if shared => fs4::FileExt::try_lock_shared(&handle),
-        Err(e) => Err(e),
     };
     match got {
         Ok(()) => Ok(DirLock {
             dir: dir.to_path_buf(),
             _handle: Some(handle),
+            _above: above,
         }),
         Err(fs4::TryLockError::WouldBlock) => Err(Error::Busy {
             dir: dir.to_path_buf(),
@@ -78,9 +106,41 @@ fn lock(dir: &Path, shared: bool) -> Result<DirLock> {
             Ok(DirLock {
                 dir: dir.to_path_buf(),
                 _handle: None,
+                _above: above,
             })
         }
     }
+}
+
+/// Shared locks on every folder above `dir` (Unix; elsewhere none, as a lock there would
+/// leave a file in each): refused with [`Error::BusyAbove`] when a command writes one of them.
+/// A folder that cannot be opened (no permission) is passed over: no writer can hold it.
+#[cfg(unix)]
+fn lock_above(dir: &Path) -> Result<Vec<File>> {
+    let Ok(full) = dir.canonicalize() else {
+        return Ok(Vec::new());
+    };
+    let mut held = Vec::new();
+    for up in full.ancestors().skip(1) {
+        let Ok(h) = File::open(up) else { continue };
+        match fs4::FileExt::try_lock_shared(&h) {
+            Ok(()) => held.push(h),
+            Err(fs4::TryLockError::WouldBlock) => {
+                return Err(Error::BusyAbove {
+                    dir: dir.to_path_buf(),
+                    above: up.to_path_buf(),
+                })
+            }
+            // A file system without locks: nothing to exclude there.
+            Err(fs4::TryLockError::Error(_)) => {}
+        }
+    }
+    Ok(held)
+}
+
+#[cfg(not(unix))]
+fn lock_above(_dir: &Path) -> Result<Vec<File>> {
+    Ok(Vec::new())
 }
 
 /// One line on stderr when recovery changed the folder, so the user knows why files moved.
@@ -146,6 +206,68 @@ mod tests {
         drop(_s2);
         let _x = lock_dir(d).unwrap();
         assert!(matches!(lock_dir_shared(d), Err(Error::Busy { .. })));
+    }
+
+    // Oracle: the rule that a writer of a folder and a writer of a folder inside it exclude
+    // each other, both ways; the twin: sibling folders lock side by side.
+    #[cfg(unix)]
+    #[test]
+    fn a_folder_and_a_folder_inside_it_exclude_each_other() {
+        let tmp = tempfile::tempdir().unwrap();
+        let out = tmp.path().join("out");
+        let inner = out.join("scene").join("compare");
+        let held = lock_dir(&inner).unwrap();
+        match lock_dir(&out) {
+            Err(Error::Busy { dir }) => assert_eq!(dir, out),
+            other => panic!("the parent's writer was not refused: {other:?}"),
+        }
+        drop(held);
+        let parent = lock_dir(&out).unwrap();
+        match lock_dir(&inner) {
+            Err(e @ Error::BusyAbove { .. }) => {
+                let msg = e.to_string();
+                assert!(
+                    msg.contains("out/scene/compare") && msg.contains("writing"),
+                    "{msg}"
+                );
+            }
+            other => panic!("the nested writer was not refused: {other:?}"),
+        }
+        drop(parent);
+        let _a = lock_dir(out.join("a")).unwrap();
+        let _b = lock_dir(out.join("b")).expect("siblings are independent");
+    }
+
+    // Oracle: shared holders starting at the same instant all get the folder (one of them
+    // recovers it alone first, the others wait that out); the twin: a folder held alone for
+    // longer than the wait still refuses a shared holder.
+    #[test]
+    fn shared_holders_started_together_all_get_the_folder() {
+        for _ in 0..20 {
+            let tmp = tempfile::tempdir().unwrap();
+            let d = tmp.path().join("out");
+            let barrier = std::sync::Barrier::new(4);
+            let got: Vec<bool> = std::thread::scope(|s| {
+                let hs: Vec<_> = (0..4)
+                    .map(|_| {
+                        s.spawn(|| {
+                            barrier.wait();
+                            let l = lock_dir_shared(&d);
+                            barrier.wait();
+                            l.is_ok()
+                        })
+                    })
+                    .collect();
+                hs.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            assert!(got.iter().all(|&g| g), "{got:?}");
+        }
+        let tmp = tempfile::tempdir().unwrap();
+        let _alone = lock_dir(tmp.path()).unwrap();
+        assert!(matches!(
+            lock_dir_shared(tmp.path()),
+            Err(Error::Busy { .. })
+        ));
     }
 
     // Oracle: the lock leaves nothing in the folder on Unix (it is taken on the folder itself).

@@ -95,6 +95,7 @@ impl Transaction {
         }
         let staged = self.parent.join(staged_name(name, &self.id));
         remove_any(&staged).map_err(werr(&staged))?;
+        super::interrupt::track(&staged);
         self.names.push(name.to_string());
         Ok(staged)
     }
@@ -122,8 +123,15 @@ impl Transaction {
         write_atomic(&journal, list.as_bytes())?;
         sync_dir(&self.parent);
         self.committed = true;
-        roll_forward(&self.parent, &self.id, &self.names)?;
-        remove_any(&journal).map_err(werr(&journal))?;
+        // From the journal on, the transaction is finished, here or by the next command in
+        // the folder: an interruption waits for the renames and leaves the staged names be.
+        super::interrupt::publishing(|| {
+            for n in &self.names {
+                super::interrupt::untrack(&self.parent.join(staged_name(n, &self.id)));
+            }
+            roll_forward(&self.parent, &self.id, &self.names)?;
+            remove_any(&journal).map_err(werr(&journal))
+        })?;
         Ok(())
     }
 }
@@ -132,7 +140,9 @@ impl Drop for Transaction {
     fn drop(&mut self) {
         if !self.committed {
             for n in &self.names {
-                let _ = remove_any(&self.parent.join(staged_name(n, &self.id)));
+                let staged = self.parent.join(staged_name(n, &self.id));
+                let _ = remove_any(&staged);
+                super::interrupt::untrack(&staged);
             }
         }
     }

@@ -112,3 +112,137 @@ fn killed_run_leaves_the_previous_outputs_intact() {
         );
     }
 }
+
+/// Every hidden name (a temporary file or staging folder) anywhere under `dir`.
+fn hidden_under(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if name.starts_with('.') {
+                out.push(e.path().display().to_string());
+            }
+            if e.path().is_dir() {
+                stack.push(e.path());
+            }
+        }
+    }
+    out
+}
+
+/// Sends `sig` to a running command after `after`; its exit code and stderr.
+#[cfg(unix)]
+fn signalled(args: &[&str], out: &Path, sig: i32, after: Duration) -> (Option<i32>, String) {
+    let child = springlab()
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(after);
+    // SAFETY: signalling a child this test started and has not yet reaped.
+    unsafe {
+        libc::kill(child.id() as i32, sig);
+    }
+    let o = child.wait_with_output().unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+// Oracle: the shell's convention for a command ended by a signal (exit 128 + signal: 130 for
+// SIGINT, 143 for SIGTERM), and the rule that nothing unfinished stays behind: after Ctrl-C on
+// run, compare, sweep and report, one line says what was kept and no hidden name is left.
+// The twin: the same command left to finish exits 0 without that line.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_command_with_one_line_and_no_temporary_left() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("cloth.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let s = scene.to_str().unwrap();
+    let scenes = tmp.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    std::fs::copy(&scene, scenes.join("cloth.toml")).unwrap();
+    let long_run = ["run", s, "-i", "rk4", "--steps", "10000000"];
+    let cases: [(&[&str], i32, i32); 4] = [
+        (&long_run, libc::SIGINT, 130),
+        (&["compare", s, "--duration", "100"], libc::SIGINT, 130),
+        (
+            &["sweep", s, "--duration", "100", "--points", "12"],
+            libc::SIGTERM,
+            143,
+        ),
+        (
+            &[
+                "report",
+                "--scenarios",
+                scenes.to_str().unwrap(),
+                "--no-cache",
+            ],
+            libc::SIGINT,
+            130,
+        ),
+    ];
+    for (k, (args, sig, code)) in cases.into_iter().enumerate() {
+        let out = tmp.path().join(format!("out{k}"));
+        let (got, err) = signalled(args, &out, sig, Duration::from_millis(1500));
+        assert_eq!(got, Some(code), "{args:?}: {err}");
+        let lines: Vec<_> = err.lines().filter(|l| l.contains("stopped by")).collect();
+        assert_eq!(lines.len(), 1, "{args:?}: {err}");
+        assert!(lines[0].contains("kept"), "{}", lines[0]);
+        assert_eq!(hidden_under(&out), Vec::<String>::new(), "{args:?}");
+    }
+    // The twin: a short run ends by itself, with no such line.
+    let o = springlab()
+        .args(["run", s, "-i", "symplectic_euler", "--out"])
+        .arg(tmp.path().join("short"))
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("stopped by"));
+}
+
+// Oracle: a write that fails (a file-size limit, as on a full disk) removes its own temporary
+// file before the command exits with the error; the twin without the limit writes the files.
+#[cfg(unix)]
+#[test]
+fn a_failed_write_leaves_no_temporary_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = tmp.path().join("cloth.toml");
+    std::fs::write(&scene, SCENE).unwrap();
+    let out = tmp.path().join("out");
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 16; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_springlab"))
+        .args([
+            "run",
+            scene.to_str().unwrap(),
+            "-i",
+            "symplectic_euler",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success(), "the limit did not bite");
+    assert_eq!(hidden_under(&out), Vec::<String>::new());
+    let ok = springlab()
+        .args([
+            "run",
+            scene.to_str().unwrap(),
+            "-i",
+            "symplectic_euler",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(ok.status.success());
+    assert!(out.join("trajectory.csv").is_file());
+}

@@ -10,6 +10,7 @@
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
+use std::time::Duration;
 
 /// The shipped cloth at 30×30 particles.
 const SCENE: &str = "\
@@ -215,4 +216,71 @@ fn a_small_run_prints_its_projection_without_a_warning() {
             "{name}: projected {p} B, wrote {actual} B"
         );
     }
+}
+
+/// A folder holding copies of two small shipped scenes.
+fn two_small_scenes(dir: &Path) -> PathBuf {
+    let s = dir.join("scenes");
+    std::fs::create_dir_all(&s).unwrap();
+    for f in ["anchored_spring.toml", "recoil_spring.toml"] {
+        std::fs::copy(Path::new("scenarios").join(f), s.join(f)).unwrap();
+    }
+    s
+}
+
+fn report_cmd(scenes: &Path, out: &Path, extra: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_springlab"));
+    c.args(["report", "--quick", "--scenarios"])
+        .arg(scenes)
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    c
+}
+
+// Oracle: the sharing rule of a report's shards (any number of `--shard I/N` processes may
+// write one folder side by side, whenever they start): two shards spawned at the same instant
+// both succeed, into a fresh folder and into an existing one; the twin near the same edge: a
+// whole (unsharded) report writing the folder refuses a shard started beside it.
+#[test]
+fn shards_started_together_all_run_and_a_whole_report_still_excludes_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenes = two_small_scenes(tmp.path());
+    for trial in 0..8 {
+        // Fresh folders on even trials, the previous trial's folder on odd ones.
+        let out = tmp.path().join(format!("out{}", trial / 2));
+        let kids: Vec<Child> = (0..2)
+            .map(|i| {
+                report_cmd(&scenes, &out, &["--no-cache", "--shard", &format!("{i}/2")])
+                    .spawn()
+                    .unwrap()
+            })
+            .collect();
+        for k in kids {
+            let o = k.wait_with_output().unwrap();
+            assert!(
+                o.status.success(),
+                "trial {trial}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
+    }
+    // The twin: a whole-folder writer (a long run) holds the folder alone past the shards'
+    // wait; a shard started beside it is refused.
+    let out = tmp.path().join("whole");
+    let mut run = start(&scene(tmp.path()), &out, 100_000_000, 1000);
+    let t0 = std::time::Instant::now();
+    while !out.exists() && t0.elapsed() < Duration::from_secs(5) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    std::thread::sleep(Duration::from_millis(100));
+    let shard = report_cmd(&scenes, &out, &["--shard", "0/2"])
+        .output()
+        .unwrap();
+    run.kill().unwrap();
+    run.wait().unwrap();
+    let err = String::from_utf8_lossy(&shard.stderr);
+    assert!(!shard.status.success() && err.contains(BUSY), "{err}");
 }

@@ -105,11 +105,17 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
     }
     // Unchanged: every scene kept, not one byte written differently, timing included.
     let err = report_with(&scenes, &out, &[]);
-    assert!(kept(&err, "anchored_spring") && kept(&err, "recoil_spring"), "{err}");
+    assert!(
+        kept(&err, "anchored_spring") && kept(&err, "recoil_spring"),
+        "{err}"
+    );
     assert_eq!(changed(&first, &files(&out)), Vec::<PathBuf>::new());
     // Studied again: the same documents, only the measured wall times move.
     let err = report_with(&scenes, &out, &["--no-cache"]);
-    assert!(!kept(&err, "anchored_spring") && !kept(&err, "recoil_spring"), "{err}");
+    assert!(
+        !kept(&err, "anchored_spring") && !kept(&err, "recoil_spring"),
+        "{err}"
+    );
     let second = files(&out);
     let moved = changed(&first, &second);
     assert!(
@@ -129,7 +135,10 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(&path, text.replace("duration = 10.0", "duration = 12.0")).unwrap();
     let err = report_with(&scenes, &out, &[]);
-    assert!(!kept(&err, "anchored_spring") && kept(&err, "recoil_spring"), "{err}");
+    assert!(
+        !kept(&err, "anchored_spring") && kept(&err, "recoil_spring"),
+        "{err}"
+    );
     let third = files(&out);
     let moved = changed(&second, &third);
     assert!(moved
@@ -144,7 +153,10 @@ fn a_rerun_changes_only_the_timing_files_and_a_changed_scene_only_its_own() {
     );
     // A changed flag is a changed input: every scene is studied again.
     let err = report_with(&scenes, &out, &["--energy-terms"]);
-    assert!(!kept(&err, "anchored_spring") && !kept(&err, "recoil_spring"), "{err}");
+    assert!(
+        !kept(&err, "anchored_spring") && !kept(&err, "recoil_spring"),
+        "{err}"
+    );
 }
 
 /// Sharded, then merged: every file but the timing documents is the unsharded report's, byte
