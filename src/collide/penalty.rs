@@ -80,6 +80,9 @@ impl ForceTerm for Penalty {
     fn name(&self) -> &'static str {
         "penalty_contacts"
     }
+    fn field(&self) -> &'static str {
+        "collision.stiffness"
+    }
     fn energy_kind(&self) -> EnergyKind {
         EnergyKind::Elastic
     }

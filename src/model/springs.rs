@@ -261,6 +261,9 @@ impl Springs {
 }
 
 impl ForceTerm for Springs {
+    fn field(&self) -> &'static str {
+        "stiffness and damping of [[spring]], [[chain]] or [[cloth]]"
+    }
     fn name(&self) -> &'static str {
         if self.any_damping {
             "springs+dampers"

@@ -121,6 +121,32 @@ impl System {
         names
     }
 
+    /// The force term with the largest acceleration on a free particle at (`x`, `v`): its name,
+    /// the scene field that sets it and that acceleration (m/s²). For messages when a solve
+    /// fails: it names what the user would change. None without free particles or terms.
+    pub fn dominant_term(
+        &self,
+        x: &[Vec3],
+        v: &[Vec3],
+    ) -> Option<(&'static str, &'static str, f64)> {
+        let springs: Option<&dyn ForceTerm> =
+            (!self.springs.is_empty()).then_some(&self.springs as &dyn ForceTerm);
+        let mut f = vec![Vec3::zeros(); self.len()];
+        springs
+            .into_iter()
+            .chain(self.terms.iter().map(|t| t.as_ref()))
+            .map(|t| {
+                f.iter_mut().for_each(|fi| *fi = Vec3::zeros());
+                t.add_forces(x, v, &mut f);
+                let a = (0..self.len())
+                    .filter(|&p| self.free[p])
+                    .map(|p| f[p].amax() * self.inv_mass[p])
+                    .fold(0.0, f64::max);
+                (t.name(), t.field(), a)
+            })
+            .max_by(|a, b| a.2.total_cmp(&b.2))
+    }
+
     /// Writes the total force on every particle into `f`; returns the dissipated power (W).
     pub fn forces(&self, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) -> f64 {
         super::parallel::each_particle(f, |_, fi| *fi = Vec3::zeros());

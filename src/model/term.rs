@@ -22,6 +22,8 @@ pub enum EnergyKind {
 pub trait ForceTerm: Send + Sync + std::fmt::Debug {
     /// Short name shown by `springlab check`.
     fn name(&self) -> &'static str;
+    /// The scene field that sets the term, named when the term makes a solve fail.
+    fn field(&self) -> &'static str;
     /// Where the term's potential energy is accounted.
     fn energy_kind(&self) -> EnergyKind;
     /// Adds the term's forces (N) to `f`; returns the power it dissipates (W, ≥ 0).
@@ -48,6 +50,9 @@ impl ForceTerm for Gravity {
     fn name(&self) -> &'static str {
         "gravity"
     }
+    fn field(&self) -> &'static str {
+        "world.gravity"
+    }
     fn energy_kind(&self) -> EnergyKind {
         EnergyKind::Gravity
     }
@@ -73,6 +78,9 @@ pub struct Drag {
 impl ForceTerm for Drag {
     fn name(&self) -> &'static str {
         "drag"
+    }
+    fn field(&self) -> &'static str {
+        "world.drag"
     }
     fn energy_kind(&self) -> EnergyKind {
         EnergyKind::None

@@ -34,6 +34,7 @@ pub mod obstacle_file;
 mod obstacle_validate;
 mod parse;
 mod run_table;
+mod time_scales;
 mod timing;
 mod validate;
 pub use checker::{MAX_PARTICLES, MAX_STEPS};

@@ -68,6 +68,12 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
     let collision = scene.collision.take();
     check_finite(&ck, &scene)?;
     scene.collision = collision;
+    let end = scene
+        .run
+        .duration
+        .or_else(|| Some(scene.run.dt? * scene.run.steps? as f64))
+        .unwrap_or(1.0);
+    super::time_scales::check_resolvable(&ck, &scene, end)?;
     Ok(scene)
 }
 

@@ -407,3 +407,55 @@ fn endless_input_files_are_refused_at_their_size_limit() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+// Oracle: gravity's time scale √(L/|g|): 1e300 m/s² across 1 m is 1e-150 s, far below the
+// 1e3 f64 spacings (2.2e-13 s) a run of 0.1 s can resolve, so `check` refuses it naming
+// world.gravity; drag of 1e300 N·s/m on 1 kg likewise names world.drag.
+#[test]
+fn unresolvable_gravity_or_drag_is_refused_by_check() {
+    rejects(
+        &good_with(
+            "[[particle]]",
+            "[world]\ngravity = [0.0, -1e300, 0.0]\n[[particle]]",
+        ),
+        &["world.gravity", "time scale"],
+    );
+    rejects(
+        &good_with("[[particle]]", "[world]\ndrag = 1e300\n[[particle]]"),
+        &["world.drag", "time scale"],
+    );
+}
+
+// Oracle: a gravity the run can resolve but the reference's first step cannot (1e22 m/s² on
+// a 20-bead rope: the solver's step underflows at t = 0): the failure names the time and the
+// term that dominates there, with the field that sets it. The twin: the same rope under
+// Earth's gravity compares.
+#[test]
+fn a_failing_reference_names_the_term_and_field_that_drive_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let rope = std::fs::read_to_string("scenarios/hanging_chain.toml").unwrap();
+    let strong = rope.replace("gravity = [0.0, -9.81, 0.0]", "gravity = [0.0, -1e22, 0.0]");
+    let short = |t: &str| t.replace("duration = 2.0", "duration = 0.05");
+    for (text, fails) in [(short(&strong), true), (short(&rope), false)] {
+        let f = write(dir.path(), "rope.toml", text.as_bytes());
+        let out = bin()
+            .args([
+                "compare",
+                f.to_str().unwrap(),
+                "--methods",
+                "symplectic_euler",
+                "--out",
+            ])
+            .arg(dir.path().join("out"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(!out.status.success(), fails, "{err}");
+        if fails {
+            assert!(
+                err.contains("t = 0") && err.contains("gravity's") && err.contains("world.gravity"),
+                "{err}"
+            );
+        }
+    }
+}

@@ -114,7 +114,12 @@ pub(super) fn solve(
             }
             solver
                 .step(&mut |t, y, dy| st.eval(t, y, dy), bound)
-                .map_err(|e| Error::Step(format!("reference (DOP853): {e}")))?;
+                .map_err(|e| {
+                    Error::Step(format!(
+                        "reference (DOP853): {e}{}",
+                        dominant(sys, &solver.y)
+                    ))
+                })?;
             if max_steps.is_some_and(|m| solver.stats.steps + solver.stats.rejected > m) {
                 return Ok(None);
             }
@@ -226,4 +231,19 @@ pub(super) fn solve(
 /// Positions of the state vector `y`.
 pub(super) fn positions(y: &[f64], n: usize) -> Vec<Vec3> {
     unpack_x(y, n)
+}
+
+/// What drives the motion at state `y` (packed positions, velocities), for a failed solve's
+/// message: the force term with the largest acceleration and the scene field that sets it.
+fn dominant(sys: &System, y: &[f64]) -> String {
+    let n = sys.len();
+    let x = super::rhs::unpack_x(y, n);
+    let v = super::rhs::unpack_x(&y[3 * n..], n);
+    match sys.dominant_term(&x, &v) {
+        Some((name, field, a)) => format!(
+            "; there the largest acceleration is {name}'s, {} m/s² (set by {field})",
+            crate::error::significant(a, 3)
+        ),
+        None => String::new(),
+    }
 }

@@ -27,6 +27,9 @@ impl ForceTerm for LinearMode {
     fn name(&self) -> &'static str {
         "linear_mode"
     }
+    fn field(&self) -> &'static str {
+        "the linearised mode"
+    }
     fn energy_kind(&self) -> EnergyKind {
         EnergyKind::Elastic
     }
