@@ -238,11 +238,29 @@ mod tests {
         let _b = lock_dir(out.join("b")).expect("siblings are independent");
     }
 
-    // Oracle: shared holders starting at the same instant all get the folder (one of them
-    // recovers it alone first, the others wait that out); the twin: a folder held alone for
-    // longer than the wait still refuses a shared holder.
+    // Oracle: the sharing rule of shards: a folder held alone for a moment (a peer shard
+    // recovering it before it shares) is shared once that moment ends; the twin: a folder
+    // held alone past the wait (a whole-folder writer) refuses a shared holder. And shared
+    // holders started at the same instant all get the folder.
     #[test]
-    fn shared_holders_started_together_all_get_the_folder() {
+    fn a_shared_holder_waits_out_a_brief_exclusive_hold() {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path().join("out");
+        let peer = lock_dir(&d).unwrap();
+        let t = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(100));
+            drop(peer);
+        });
+        lock_dir_shared(&d).expect("shared once the peer's brief hold ends");
+        t.join().unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let _alone = lock_dir(tmp.path()).unwrap();
+        let t0 = Instant::now();
+        assert!(matches!(
+            lock_dir_shared(tmp.path()),
+            Err(Error::Busy { .. })
+        ));
+        assert!(t0.elapsed() >= SHARED_WAIT);
         for _ in 0..20 {
             let tmp = tempfile::tempdir().unwrap();
             let d = tmp.path().join("out");
@@ -262,12 +280,6 @@ mod tests {
             });
             assert!(got.iter().all(|&g| g), "{got:?}");
         }
-        let tmp = tempfile::tempdir().unwrap();
-        let _alone = lock_dir(tmp.path()).unwrap();
-        assert!(matches!(
-            lock_dir_shared(tmp.path()),
-            Err(Error::Busy { .. })
-        ));
     }
 
     // Oracle: the lock leaves nothing in the folder on Unix (it is taken on the folder itself).
