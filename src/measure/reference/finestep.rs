@@ -2,15 +2,21 @@
 //! `projection` response: positions are pushed out and velocities re-derived after each step,
 //! a rule defined only for a discrete step).
 //!
-//! The scene is run with [`FINE_METHOD`] and the scene's own contact stage at steps
-//! h₀, h₀/2, h₀/4, … (h₀ = half the finest requested grid step, at most the horizon / 1000),
-//! landing exactly on every sample time and impulse. Refinement stops when two successive
-//! levels agree to [`FINE_AGREEMENT`] × the motion scale, after [`FINE_LEVELS_MAX`] levels, or
-//! before a level would pass [`FINE_STEP_BUDGET`] steps. The finest level is the reference; the
-//! per-sample distance between the last two levels is its uncertainty (the first-order contact
-//! rule makes the error roughly halve per level, so that distance is about the finest level's
-//! own error). The predictability horizon comes from a perturbed run (initial positions moved
-//! as in [`super::uncertainty`]) at h₀ against the unperturbed one at h₀.
+//! The scene is run with [`FINE_METHOD`] and the scene's own contact stage at steps h₀, h₀/2,
+//! h₀/4, … Refinement stops when two successive levels agree to [`FINE_AGREEMENT`] × the motion
+//! scale, after [`FINE_LEVELS_MAX`] levels, or before a level would pass [`FINE_STEP_BUDGET`]
+//! steps. The finest level is the reference; the per-sample distance between the last two
+//! levels is its uncertainty (the first-order contact rule makes the error roughly halve per
+//! level, so that distance is about the finest level's own error). The predictability horizon
+//! comes from a perturbed run (initial positions moved as in [`super::uncertainty`]) at h₀
+//! against the unperturbed one at h₀.
+//!
+//! Two ways to run it:
+//! - **kept** (every scene whose last two levels fit in memory): h₀ from the scene, the
+//!   hierarchy made once per scene and horizon and sampled by every grid between its steps
+//!   ([`super::fine_kept`], [`super::fine_level`]);
+//! - **per grid** ([`fine_step`], the others): h₀ = half the finest requested grid step, at
+//!   most the horizon / 1000, every level landing exactly on every sample time and impulse.
 
 use super::uncertainty::{perturbed, PREDICTABILITY_THRESHOLD};
 use crate::error::{Error, Result};
@@ -128,7 +134,8 @@ pub(super) fn run_with(
     Ok(evals)
 }
 
-/// The converged fine-step reference of `sys` from `s0` at `times`, starting at step `h0`.
+/// The converged fine-step reference of `sys` from `s0` at `times`, starting at step `h0`, run
+/// on the request's own sample times (a scene whose hierarchy is too big to keep).
 pub(super) fn fine_step(
     sys: &System,
     s0: &State,
