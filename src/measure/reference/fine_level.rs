@@ -299,3 +299,155 @@ impl Level {
         Vec3::new(c(3 * p), c(3 * p + 1), c(3 * p + 2))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::Scenario;
+
+    /// A particle of 1 kg on a spring of stiffness `k` from a fixed anchor, started at rest at
+    /// x = 1 + `u0` (displacement u(t) = u₀ cos ωt, ω = √k), with a projection plane at y = −1
+    /// it never touches.
+    fn oscillator(k: f64, u0: f64) -> Scenario {
+        let toml = format!(
+            "[[particle]]\nposition=[0.0,0.0,0.0]\nmass=1.0\nfixed=true\n\
+             [[particle]]\nposition=[{x},0.0,0.0]\nmass=1.0\n\
+             [[spring]]\nbetween=[0,1]\nstiffness={k}\nrest_length=1.0\n\
+             [[obstacle]]\nshape=\"plane\"\npoint=[0.0,-1.0,0.0]\nnormal=[0.0,1.0,0.0]\n\
+             [collision]\nresponse=\"projection\"\n",
+            x = 1.0 + u0
+        );
+        Scenario::from_toml_str(&toml, "plane_oscillator.toml").unwrap()
+    }
+
+    /// A ball (r = 0.1 m) released at rest with its centre at `y0` above a projection plane
+    /// at y = 0, under g = 9.81 m/s².
+    fn ball(y0: f64) -> Scenario {
+        let toml = format!(
+            "[world]\ngravity=[0.0,-9.81,0.0]\n\
+             [[particle]]\nposition=[0.0,{y0},0.0]\nmass=1.0\nradius=0.1\n\
+             [[obstacle]]\nshape=\"plane\"\npoint=[0.0,0.0,0.0]\nnormal=[0.0,1.0,0.0]\nrestitution=0.5\n\
+             [collision]\nresponse=\"projection\"\n"
+        );
+        Scenario::from_toml_str(&toml, "ball.toml").unwrap()
+    }
+
+    fn rk4() -> Box<dyn Stepper> {
+        by_name(FINE_METHOD, &MethodOptions::default()).unwrap()
+    }
+
+    /// A level holding the closed form x = cos ωt, v = −ω sin ωt of one particle exactly at
+    /// the knots k·h, k = 0..=steps, every step smooth.
+    fn exact_level(w: f64, h: f64, steps: usize) -> Level {
+        let mut level = Level {
+            n3: 3,
+            h,
+            times: Vec::new(),
+            kinds: Vec::new(),
+            data: Vec::new(),
+        };
+        for k in 0..=steps {
+            let t = k as f64 * h;
+            let s = State {
+                t,
+                x: vec![Vec3::new((w * t).cos(), 0.0, 0.0)],
+                v: vec![Vec3::new(-w * (w * t).sin(), 0.0, 0.0)],
+            };
+            level.push(&s, if k == 0 { Kind::Start } else { Kind::Smooth });
+        }
+        level
+    }
+
+    #[test]
+    fn hermite_on_exact_knots_has_order_four_within_its_estimate() {
+        // Oracle: cos ωt at the knots and between them. The cubic Hermite remainder is
+        // θ²(1−θ)²h⁴/24 · x⁗(ξ): halving h divides the error by 2⁴, and the error stays within
+        // the estimate read from the neighbouring steps.
+        let w = 2.0;
+        let worst = |h: f64| {
+            let level = exact_level(w, h, (1.5 / h) as usize);
+            let (mut err, mut ratio) = (0.0_f64, 0.0_f64);
+            for end in 2..level.knots() - 1 {
+                for q in [0.25, 0.5, 0.7] {
+                    let t = level.time(end - 1) + q * h;
+                    let s = level.hermite(end, t).expect("smooth neighbours");
+                    let e = (s.x[0].x - (w * t).cos()).abs();
+                    err = err.max(e);
+                    ratio = ratio.max(e / s.estimate);
+                }
+            }
+            (err, ratio)
+        };
+        let ((a, ra), (b, rb)) = (worst(0.04), worst(0.02));
+        let p = (a / b).log2();
+        eprintln!("exact knots: errors {a:e}, {b:e}, order {p:.3}, error / estimate {ra:.3}, {rb:.3}");
+        assert!((3.5..4.5).contains(&p), "observed order {p} ({a:e}, {b:e})");
+        assert!(ra <= 1.0 && rb <= 1.0, "error past its estimate: {ra}, {rb}");
+    }
+
+    #[test]
+    fn sampled_rk4_levels_meet_cos_with_order_four() {
+        // Oracle: u₀ cos ωt. Both the rk4 knots and the interpolant between them are fourth
+        // order, so the error at samples inside the steps falls by 2⁴ per halving.
+        let (k, u0) = (400.0_f64, 0.1);
+        let scene = oscillator(k, u0);
+        let (sys, s0) = (scene.build(), scene.initial_state());
+        let w = k.sqrt();
+        let mut st = rk4();
+        let worst = |h: f64, st: &mut dyn Stepper| {
+            let (level, _) = record(&sys, &s0, 1.0, h).unwrap();
+            let mut err = 0.0_f64;
+            for i in 1..200 {
+                // 4.93 ms apart: a knot of neither level (2.465 i and 1.2325 i are not whole).
+                let t = 0.00493 * i as f64;
+                let s = level.sample(&sys, t, st).unwrap();
+                assert_eq!(s.via, Via::Hermite, "t = {t}");
+                err = err.max((s.x[1].x - 1.0 - u0 * (w * t).cos()).abs());
+            }
+            err
+        };
+        let (a, b) = (worst(0.004, st.as_mut()), worst(0.002, st.as_mut()));
+        let p = (a / b).log2();
+        eprintln!("rk4 levels: errors {a:e}, {b:e}, order {p:.3}");
+        assert!((3.5..4.5).contains(&p), "observed order {p} ({a:e}, {b:e})");
+    }
+
+    #[test]
+    fn a_sample_inside_a_contact_step_lands_there_and_one_in_free_fall_is_interpolated() {
+        // Oracle for the contact step: today's landing run (`finestep::run_with` asked for the
+        // one time t) on the same lattice (h a power of two, so its summed times are exactly
+        // k·h): its last step is the partial step from the knot before t, then the contact
+        // stage. Oracle for the twin, a step in free fall before the first contact: the closed
+        // form y₀ − g t²/2, which rk4 and the cubic interpolant both reproduce to round-off.
+        let y0 = 1.1;
+        let scene = ball(y0);
+        let (sys, s0) = (scene.build(), scene.initial_state());
+        let h = 1.0 / 1024.0;
+        let (level, _) = record(&sys, &s0, 1.0, h).unwrap();
+        let first = (0..level.knots())
+            .find(|&i| level.kinds[i] == Kind::Contact)
+            .expect("the ball reaches the plane");
+        let mut st = rk4();
+        let t = level.time(first - 1) + 0.3 * h;
+        let inside = level.sample(&sys, t, st.as_mut()).unwrap();
+        assert_eq!(inside.via, Via::Landed);
+        let mut landed = Vec::new();
+        super::super::finestep::run_with(&sys, &s0, &[t], t, h, &mut |_, s| {
+            landed = s.x.clone()
+        })
+        .unwrap();
+        assert_eq!(inside.x, landed, "the contact step was not landed on");
+        assert!(inside.x[0].y >= 0.1, "the sample is out of the plane");
+        // The twin: a step well before the contact.
+        let t = level.time(first / 2) + 0.3 * h;
+        let free = level.sample(&sys, t, st.as_mut()).unwrap();
+        assert_eq!(free.via, Via::Hermite);
+        let exact = y0 - 0.5 * 9.81 * t * t;
+        assert!(
+            (free.x[0].y - exact).abs() < 1e-12,
+            "free fall off by {:e}",
+            free.x[0].y - exact
+        );
+        assert!(free.estimate < 1e-12, "estimate {:e}", free.estimate);
+    }
+}
