@@ -56,7 +56,10 @@ fn samples_between_fine_steps_meet_the_closed_form_within_their_uncertainty() {
         "plane oscillator: worst error {err:e} m, worst error / stated uncertainty {ratio:.3}, uncertainty {:e} m ({})",
         r.info.uncertainty, r.info.description
     );
-    assert!(ratio <= 1.0, "an error past the stated uncertainty: {ratio}");
+    assert!(
+        ratio <= 1.0,
+        "an error past the stated uncertainty: {ratio}"
+    );
     // Not absurdly loose: refinement stopped when two levels agreed to FINE_AGREEMENT x the
     // motion scale at the coarser level's steps, so the stated uncertainty stays near that.
     assert!(
@@ -102,8 +105,14 @@ fn one_hierarchy_serves_every_grid_of_a_scene_and_horizon() {
     let fine = TimeGrid::new(0.0037, 500, 500);
     let a = reference(&scene, &[coarse], 2.0);
     let b = reference(&scene, &[fine], 2.0);
-    let id = a.solve_id().expect("a fine-step reference keeps its hierarchy");
-    assert_eq!(b.solve_id(), Some(id), "the second grid ran its levels again");
+    let id = a
+        .solve_id()
+        .expect("a fine-step reference keeps its hierarchy");
+    assert_eq!(
+        b.solve_id(),
+        Some(id),
+        "the second grid ran its levels again"
+    );
     assert_eq!(a.info.solver_evals, b.info.solver_evals);
     // The same time on both grids is the same bits: the fine grid alone and with the coarse.
     let both = reference(&scene, &[coarse, fine], 2.0);

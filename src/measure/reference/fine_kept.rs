@@ -7,7 +7,8 @@
 //! initial state); each level steps on its own lattice and lands only on impulse times and the
 //! horizon ([`super::fine_level`]). So the hierarchy is the same bits whichever request (or
 //! thread) made it, and a study's compare, sweep, advice and frame-rate grids, and the scene
-//! grid its ensemble is made on, pay for one. Only the last two levels are kept, whole
+//! grid its ensemble is made on, pay for one (a horizon is read to 10 significant digits, so a
+//! grid whose last time n·dt rounds past the run's duration shares it). Only the last two levels are kept, whole
 //! (positions and velocities at every knot); a grid samples both the same way and their
 //! distance there is the uncertainty, plus the finest level's interpolant error estimate at a
 //! sample interpolated inside a step.
@@ -25,7 +26,7 @@
 //! at most [`CACHE_BYTES`], dropping the oldest hierarchies first (a dropped one is made again,
 //! to the same bits).
 
-use super::fine_level::{knot_bytes, most_knots, record, Level};
+use super::fine_level::{knot_bytes, most_knots, record, Level, Via};
 use super::finestep::{Fine, FINE_AGREEMENT, FINE_LEVELS_MAX, FINE_METHOD, FINE_STEP_BUDGET};
 use super::uncertainty::{perturbed, PREDICTABILITY_THRESHOLD};
 use crate::error::Result;
@@ -87,14 +88,17 @@ impl Hierarchy {
                 let a = self.fine.sample(sys, t, st.as_mut())?;
                 let b = self.coarse.sample(sys, t, st.as_mut())?;
                 let u = position_error(&a.x, &b.x).max(floor) + a.estimate;
-                Ok((a.x, u))
+                Ok((a.x, u, a.via))
             })
             .collect();
         let (mut samples, mut uncertainty) = (Vec::new(), Vec::new());
+        let (mut interpolated, mut landed) = (0, 0);
         for r in both {
-            let (x, u) = r?;
+            let (x, u, via) = r?;
             samples.push(x);
             uncertainty.push(u);
+            interpolated += usize::from(via == Via::Hermite);
+            landed += usize::from(via == Via::Landed);
         }
         let threshold = PREDICTABILITY_THRESHOLD * self.scale();
         let horizon = times
@@ -109,6 +113,7 @@ impl Hierarchy {
             levels: self.levels,
             evals: self.evals,
             motion: self.motion,
+            between: Some((interpolated, landed)),
         })
     }
 
@@ -144,6 +149,7 @@ static CACHE: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
 /// its last two levels would not fit [`HIERARCHY_BYTES`] or one of its first three runs failed
 /// (the caller runs on its grids instead, and meets the failure there if it is one).
 pub(super) fn shared(sys: &System, s0: &State, horizon: f64) -> Result<Option<Arc<Hierarchy>>> {
+    let horizon = kept_horizon(horizon);
     let key = format!("{sys:?}|{s0:?}|{horizon:?}");
     if let Some((_, kept)) = lock().iter().find(|(k, _)| *k == key) {
         return Ok(kept.clone());
@@ -176,9 +182,22 @@ fn lock() -> std::sync::MutexGuard<'static, Vec<Entry>> {
 /// (for the tests of the sharing).
 #[cfg(test)]
 pub(super) fn forget(sys: &System, s0: &State, horizon: f64) {
+    let horizon = kept_horizon(horizon);
     let key = format!("{sys:?}|{s0:?}|{horizon:?}");
     lock().retain(|(k, _)| *k != key);
 }
+
+/// The horizon a hierarchy is keyed by and its steps are chosen from, for a request to
+/// `horizon`: rounded to 10 significant digits, so requests that differ by round-off (a grid's
+/// last time n·dt against the run's duration) share one hierarchy. Its levels run
+/// [`OVERRUN`] × it further, so every sample time of such a request lies inside them.
+fn kept_horizon(horizon: f64) -> f64 {
+    format!("{horizon:.9e}").parse().unwrap_or(horizon)
+}
+
+/// How far past its horizon (relative) a hierarchy's levels run: beyond any round-off of a
+/// request's horizon that rounds to the same 10 digits.
+const OVERRUN: f64 = 1e-9;
 
 /// The first level's step of `sys` over `horizon` ([module docs](self)).
 pub(super) fn first_step(sys: &System, s0: &State, horizon: f64) -> f64 {
@@ -226,7 +245,8 @@ fn fastest_rate(sys: &System, s0: &State) -> f64 {
 /// The most levels a hierarchy from step `h0` over `horizon` may run.
 fn most_levels(horizon: f64, h0: f64) -> usize {
     let mut levels = 2;
-    while levels < FINE_LEVELS_MAX && horizon / (h0 / f64::powi(2.0, levels as i32)) <= FINE_STEP_BUDGET
+    while levels < FINE_LEVELS_MAX
+        && horizon / (h0 / f64::powi(2.0, levels as i32)) <= FINE_STEP_BUDGET
     {
         levels += 1;
     }
@@ -237,8 +257,9 @@ fn most_levels(horizon: f64, h0: f64) -> usize {
 fn make(sys: &System, s0: &State, horizon: f64) -> Result<Option<Hierarchy>> {
     let h0 = first_step(sys, s0, horizon);
     let top = most_levels(horizon, h0);
+    let end = horizon * (1.0 + OVERRUN);
     let finest = h0 / f64::powi(2.0, top as i32 - 1);
-    let pair = most_knots(sys, horizon, finest) + most_knots(sys, horizon, 2.0 * finest);
+    let pair = most_knots(sys, end, finest) + most_knots(sys, end, 2.0 * finest);
     if pair.saturating_mul(knot_bytes(sys.len())) > HIERARCHY_BYTES {
         return Ok(None);
     }
@@ -247,13 +268,8 @@ fn make(sys: &System, s0: &State, horizon: f64) -> Result<Option<Hierarchy>> {
     // independent runs, each sequential, so the bits do not depend on the thread count; an
     // error is reported in the order the levels would have met it.
     let ((first, pert), second) = rayon::join(
-        || {
-            rayon::join(
-                || record(sys, s0, horizon, h0),
-                || record(sys, &sp, horizon, h0),
-            )
-        },
-        || record(sys, s0, horizon, 0.5 * h0),
+        || rayon::join(|| record(sys, s0, end, h0), || record(sys, &sp, end, h0)),
+        || record(sys, s0, end, 0.5 * h0),
     );
     let (Ok((first, e1)), Ok((pert, e2)), Ok((mut fine, e3))) = (first, pert, second) else {
         return Ok(None);
@@ -283,7 +299,7 @@ fn make(sys: &System, s0: &State, horizon: f64) -> Result<Option<Hierarchy>> {
             break;
         }
         drop(coarse);
-        let (next, e) = record(sys, s0, horizon, 0.5 * fine.h)?;
+        let (next, e) = record(sys, s0, end, 0.5 * fine.h)?;
         evals += e;
         coarse = std::mem::replace(&mut fine, next);
         levels += 1;

@@ -207,12 +207,7 @@ impl Level {
 
     /// The level at time `t` ([module docs](self)); `stepper` is a fine-method stepper for the
     /// partial steps.
-    pub(super) fn sample(
-        &self,
-        sys: &System,
-        t: f64,
-        stepper: &mut dyn Stepper,
-    ) -> Result<Sample> {
+    pub(super) fn sample(&self, sys: &System, t: f64, stepper: &mut dyn Stepper) -> Result<Sample> {
         let k = self.times.partition_point(|&u| u < t);
         let knot = |i: usize| Sample {
             x: to_vec3(self.x(i)),
@@ -380,9 +375,14 @@ mod tests {
         };
         let ((a, ra), (b, rb)) = (worst(0.04), worst(0.02));
         let p = (a / b).log2();
-        eprintln!("exact knots: errors {a:e}, {b:e}, order {p:.3}, error / estimate {ra:.3}, {rb:.3}");
+        eprintln!(
+            "exact knots: errors {a:e}, {b:e}, order {p:.3}, error / estimate {ra:.3}, {rb:.3}"
+        );
         assert!((3.5..4.5).contains(&p), "observed order {p} ({a:e}, {b:e})");
-        assert!(ra <= 1.0 && rb <= 1.0, "error past its estimate: {ra}, {rb}");
+        assert!(
+            ra <= 1.0 && rb <= 1.0,
+            "error past its estimate: {ra}, {rb}"
+        );
     }
 
     #[test]
@@ -432,10 +432,8 @@ mod tests {
         let inside = level.sample(&sys, t, st.as_mut()).unwrap();
         assert_eq!(inside.via, Via::Landed);
         let mut landed = Vec::new();
-        super::super::finestep::run_with(&sys, &s0, &[t], t, h, &mut |_, s| {
-            landed = s.x.clone()
-        })
-        .unwrap();
+        super::super::finestep::run_with(&sys, &s0, &[t], t, h, &mut |_, s| landed = s.x.clone())
+            .unwrap();
         assert_eq!(inside.x, landed, "the contact step was not landed on");
         assert!(inside.x[0].y >= 0.1, "the sample is out of the plane");
         // The twin: a step well before the contact.

@@ -51,6 +51,9 @@ pub(super) struct Fine {
     pub evals: u64,
     /// Largest displacement from the initial positions at the samples (m).
     pub motion: f64,
+    /// Samples interpolated inside a fine step and samples landed on by a partial fine step
+    /// (a kept hierarchy; None when every level landed on the sample times).
+    pub between: Option<(usize, usize)>,
 }
 
 /// One run at step `h`, positions at `times`.
@@ -206,5 +209,6 @@ pub(super) fn fine_step(
         levels,
         evals,
         motion,
+        between: None,
     })
 }

@@ -674,13 +674,12 @@ impl Reference {
         self.info.predictability_horizon = fine.horizon;
         self.info.predictability_threshold =
             uncertainty::PREDICTABILITY_THRESHOLD * self.motion_scale();
-        let (sampled, how) = if kept.is_some() {
-            (
-                ", both sampled the same way, plus the cubic Hermite interpolant's error estimate at samples interpolated inside a fine step",
+        let (sampled, how) = match fine.between {
+            Some((interpolated, landed)) => (
+                format!(", both sampled the same way, plus the cubic Hermite interpolant's error estimate at samples interpolated inside a fine step ({interpolated} of {} samples interpolated, {landed} landed on by a partial fine step)", times.len()),
                 "; one run of levels per scene, sampled between its steps by cubic Hermite interpolation of positions and velocities, or by a partial fine step from the step's start where the step holds a contact",
-            )
-        } else {
-            ("", "; every level landing on the sample times")
+            ),
+            None => (String::new(), "; every level landing on the sample times"),
         };
         self.info.uncertainty_measured_by = format!(
             "distance between the last two of {} halvings of the step (finest {:e} s){sampled}",
