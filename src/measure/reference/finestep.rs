@@ -14,8 +14,8 @@
 //! Two ways to run it:
 //! - **kept** (every scene whose last two levels fit in memory): h₀ from the scene, the
 //!   hierarchy made once per scene and horizon and sampled by every grid between its steps
-//!   ([`super::fine_kept`], [`super::fine_level`]);
-//! - **per grid** ([`fine_step`], the others): h₀ = half the finest requested grid step, at
+//!   (`fine_kept`, `fine_level`);
+//! - **per grid** (`fine_step`, the others): h₀ = half the finest requested grid step, at
 //!   most the horizon / 1000, every level landing exactly on every sample time and impulse.
 
 use super::uncertainty::{perturbed, PREDICTABILITY_THRESHOLD};
@@ -71,9 +71,10 @@ fn run_at(
 
 /// One run of the fine-step method with its contact stage at step `h` from `s0` to
 /// `horizon`, calling `sink(i, state)` at each of the sorted `times` (steps shortened to land
-/// on them); returns the force evaluations. The fine-step reference and its ensemble members
-/// ([`super::ensemble`]) are both this loop: a reference run is not a [`crate::run::run`] (its
-/// steps land on sample times and impulse times, which the runner's fixed grid does not).
+/// on them); returns the force evaluations. The per-grid fine-step reference and the ensemble
+/// members ([`super::ensemble`]) are both this loop (the kept levels step on their own lattice,
+/// [`super::fine_level`]): a reference run is not a [`crate::run::run`] (its steps land on
+/// sample times and impulse times, which the runner's fixed grid does not).
 pub(super) fn run_with(
     sys: &System,
     s0: &State,
