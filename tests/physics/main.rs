@@ -60,6 +60,7 @@ mod rattle_pendulum;
 mod reference_contacts;
 mod reference_crosscheck;
 mod reference_dense;
+mod reference_fine_step;
 mod reference_uncertainty;
 mod report_plots;
 mod shipped_scenarios;

@@ -141,7 +141,8 @@ impl DenseTrack {
     }
 }
 
-fn to_vec3(y: &[f64]) -> Vec<Vec3> {
+/// Positions from 3n numbers.
+pub(super) fn to_vec3(y: &[f64]) -> Vec<Vec3> {
     y.chunks_exact(3)
         .map(|c| Vec3::new(c[0], c[1], c[2]))
         .collect()

@@ -2,15 +2,21 @@
 //! `projection` response: positions are pushed out and velocities re-derived after each step,
 //! a rule defined only for a discrete step).
 //!
-//! The scene is run with [`FINE_METHOD`] and the scene's own contact stage at steps
-//! h₀, h₀/2, h₀/4, … (h₀ = half the finest requested grid step, at most the horizon / 1000),
-//! landing exactly on every sample time and impulse. Refinement stops when two successive
-//! levels agree to [`FINE_AGREEMENT`] × the motion scale, after [`FINE_LEVELS_MAX`] levels, or
-//! before a level would pass [`FINE_STEP_BUDGET`] steps. The finest level is the reference; the
-//! per-sample distance between the last two levels is its uncertainty (the first-order contact
-//! rule makes the error roughly halve per level, so that distance is about the finest level's
-//! own error). The predictability horizon comes from a perturbed run (initial positions moved
-//! as in [`super::uncertainty`]) at h₀ against the unperturbed one at h₀.
+//! The scene is run with [`FINE_METHOD`] and the scene's own contact stage at steps h₀, h₀/2,
+//! h₀/4, … Refinement stops when two successive levels agree to [`FINE_AGREEMENT`] × the motion
+//! scale, after [`FINE_LEVELS_MAX`] levels, or before a level would pass [`FINE_STEP_BUDGET`]
+//! steps. The finest level is the reference; the per-sample distance between the last two
+//! levels is its uncertainty (the first-order contact rule makes the error roughly halve per
+//! level, so that distance is about the finest level's own error). The predictability horizon
+//! comes from a perturbed run (initial positions moved as in [`super::uncertainty`]) at h₀
+//! against the unperturbed one at h₀.
+//!
+//! Two ways to run it:
+//! - **kept** (every scene whose last two levels fit in memory): h₀ from the scene, the
+//!   hierarchy made once per scene and horizon and sampled by every grid between its steps
+//!   (`fine_kept`, `fine_level`);
+//! - **per grid** (`fine_step`, the others): h₀ = half the finest requested grid step, at
+//!   most the horizon / 1000, every level landing exactly on every sample time and impulse.
 
 use super::uncertainty::{perturbed, PREDICTABILITY_THRESHOLD};
 use crate::error::{Error, Result};
@@ -45,6 +51,9 @@ pub(super) struct Fine {
     pub evals: u64,
     /// Largest displacement from the initial positions at the samples (m).
     pub motion: f64,
+    /// Samples interpolated inside a fine step and samples landed on by a partial fine step
+    /// (a kept hierarchy; None when every level landed on the sample times).
+    pub between: Option<(usize, usize)>,
 }
 
 /// One run at step `h`, positions at `times`.
@@ -62,9 +71,10 @@ fn run_at(
 
 /// One run of the fine-step method with its contact stage at step `h` from `s0` to
 /// `horizon`, calling `sink(i, state)` at each of the sorted `times` (steps shortened to land
-/// on them); returns the force evaluations. The fine-step reference and its ensemble members
-/// ([`super::ensemble`]) are both this loop: a reference run is not a [`crate::run::run`] (its
-/// steps land on sample times and impulse times, which the runner's fixed grid does not).
+/// on them); returns the force evaluations. The per-grid fine-step reference and the ensemble
+/// members ([`super::ensemble`]) are both this loop (the kept levels step on their own lattice,
+/// [`super::fine_level`]): a reference run is not a [`crate::run::run`] (its steps land on
+/// sample times and impulse times, which the runner's fixed grid does not).
 pub(super) fn run_with(
     sys: &System,
     s0: &State,
@@ -128,7 +138,8 @@ pub(super) fn run_with(
     Ok(evals)
 }
 
-/// The converged fine-step reference of `sys` from `s0` at `times`, starting at step `h0`.
+/// The converged fine-step reference of `sys` from `s0` at `times`, starting at step `h0`, run
+/// on the request's own sample times (a scene whose hierarchy is too big to keep).
 pub(super) fn fine_step(
     sys: &System,
     s0: &State,
@@ -199,5 +210,6 @@ pub(super) fn fine_step(
         levels,
         evals,
         motion,
+        between: None,
     })
 }

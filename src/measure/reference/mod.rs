@@ -21,15 +21,17 @@
 //! tell it from zero.
 //!
 //! The adaptive solve is made once per scene and horizon and kept with its dense output
-//! (`solution`, within a memory budget); a [`Reference`] samples it at the times of its
-//! grids (a whole sweep at once) and stores only positions there, so a new grid costs no new
-//! solve.
+//! (`solution`, within a memory budget), and so is the fine-step hierarchy (`fine_kept`, its
+//! last two levels whole); a [`Reference`] samples it at the times of its grids (a whole sweep
+//! at once) and stores only positions there, so a new grid costs no new solve.
 
 mod adaptive;
 mod contact_events;
 pub mod contacts;
 mod dense;
 mod ensemble;
+mod fine_kept;
+mod fine_level;
 pub mod finestep;
 pub mod period;
 mod rhs;
@@ -358,9 +360,9 @@ impl Reference {
         error <= self.floor_at(g, n)
     }
 
-    /// Which kept adaptive solve this reference was sampled from: references of one scene and
-    /// horizon on any grids share one (the kept solve); None when it solved on its own grids
-    /// (closed form, fine steps, or a solve too big to keep).
+    /// Which kept solve (adaptive, or fine-step hierarchy) this reference was sampled from:
+    /// references of one scene and horizon on any grids share one; None when it solved on its
+    /// own grids (closed form, or a solve too big to keep).
     pub fn solve_id(&self) -> Option<u64> {
         self.solve_id
     }
@@ -646,14 +648,23 @@ impl Reference {
     fn fill_fine_step(&mut self, sys: &System, s0: &State) -> Result<()> {
         let ents = entries(&self.grids);
         let times: Vec<f64> = ents.iter().map(|e| e.t).collect();
-        let h0 = 0.5
-            * self
-                .grids
-                .iter()
-                .map(|g| g.dt)
-                .fold(f64::INFINITY, f64::min);
         let floor = ROUND_OFF * length_scale(s0);
-        let fine = finestep::fine_step(sys, s0, &times, self.info.horizon, h0, floor)?;
+        let kept = fine_kept::shared(sys, s0, self.info.horizon)?;
+        let fine = match &kept {
+            Some(h) => {
+                self.solve_id = Some(h.id);
+                h.sample(sys, &times, floor)?
+            }
+            None => {
+                let h0 = 0.5
+                    * self
+                        .grids
+                        .iter()
+                        .map(|g| g.dt)
+                        .fold(f64::INFINITY, f64::min);
+                finestep::fine_step(sys, s0, &times, self.info.horizon, h0, floor)?
+            }
+        };
         self.motion = fine.motion;
         self.member_solver = Some(ensemble::MemberSolver::FineStep { h: fine.step });
         for (e, x) in ents.iter().zip(fine.samples) {
@@ -663,14 +674,21 @@ impl Reference {
         self.info.predictability_horizon = fine.horizon;
         self.info.predictability_threshold =
             uncertainty::PREDICTABILITY_THRESHOLD * self.motion_scale();
+        let (sampled, how) = match fine.between {
+            Some((interpolated, landed)) => (
+                format!(", both sampled the same way, plus the cubic Hermite interpolant's error estimate at samples interpolated inside a fine step ({interpolated} of {} samples interpolated, {landed} landed on by a partial fine step)", times.len()),
+                "; one run of levels per scene, sampled between its steps by cubic Hermite interpolation of positions and velocities, or by a partial fine step from the step's start where the step holds a contact",
+            ),
+            None => (String::new(), "; every level landing on the sample times"),
+        };
         self.info.uncertainty_measured_by = format!(
-            "distance between the last two of {} halvings of the step (finest {:e} s)",
+            "distance between the last two of {} halvings of the step (finest {:e} s){sampled}",
             fine.levels, fine.step
         );
         self.info.solver_evals = fine.evals;
         self.info.kind = "fine_step".into();
         self.info.description = format!(
-            "the scene's projection contacts have no continuous counterpart: {} with the scene's contact stage at successively halved steps until two levels agree to {:e} x the motion scale (finest step {:e} s, {} levels)",
+            "the scene's projection contacts have no continuous counterpart: {} with the scene's contact stage at successively halved steps until two levels agree to {:e} x the motion scale (finest step {:e} s, {} levels){how}",
             finestep::FINE_METHOD, finestep::FINE_AGREEMENT, fine.step, fine.levels
         );
         Ok(())

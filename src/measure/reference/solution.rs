@@ -58,6 +58,12 @@ type Entry = (String, Option<Arc<Solution>>);
 static CACHE: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
 static NEXT_ID: AtomicU64 = AtomicU64::new(1);
 
+/// A fresh solve id, distinct from every other kept solve's (adaptive or fine-step) in the
+/// process.
+pub(super) fn new_id() -> u64 {
+    NEXT_ID.fetch_add(1, Ordering::Relaxed)
+}
+
 /// The kept solve of `sys` from `s0` to `horizon` at tolerance `rtol` (tracking `tracked`),
 /// solving it when no request has yet; None when its dense output does not fit
 /// [`TRACK_BYTES`] (the caller solves on its grids instead).
@@ -149,7 +155,7 @@ fn solve_kept(
         return Ok(None);
     };
     Ok(Some(Solution {
-        id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+        id: new_id(),
         main,
         loose,
         perturbed,
