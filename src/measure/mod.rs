@@ -7,6 +7,7 @@ pub mod case;
 pub mod command;
 pub mod compare;
 pub mod contacts;
+pub mod decimated;
 mod dop853;
 pub mod engine_fare;
 pub mod expect;
