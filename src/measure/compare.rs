@@ -181,6 +181,10 @@ pub fn projected_cost(
     }
 }
 
+/// Samples of the reference when no method is left to compare with it (every one skipped):
+/// enough to describe it, far fewer than a run's grid would store.
+pub const NOTHING_COMPARED_SAMPLES: u64 = 64;
+
 /// Runs the comparison.
 // Long because every method's run shares one reference, judge and settings, and the document gathers all of them with its command.
 pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
@@ -216,6 +220,12 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
             (kept, Some(b - runs))
         }
         None => (names, None),
+    };
+    // With no run left to compare, the reference is only described: a few samples do.
+    let grid = if names.is_empty() {
+        super::grid::TimeGrid::new(dt, steps, NOTHING_COMPARED_SAMPLES)
+    } else {
+        grid
     };
     let mut reference = Reference::compute_within(&sys, &s0, &[grid], horizon, limit)?;
     let position_tolerance = crate::measure::tolerance::resolve(

@@ -20,6 +20,7 @@ pub mod observables;
 pub mod probe;
 pub mod reference;
 pub mod small_steps;
+pub mod small_steps_budget;
 pub mod stability;
 pub mod statistics;
 pub mod study;
