@@ -191,6 +191,9 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let Timing { dt, steps, .. } = Timing::resolve(scene, cfg.dt, cfg.duration)?;
+    if let Some(n) = cfg.frame_substeps {
+        Timing::substeps_within("--substeps", steps, n)?;
+    }
     // Default: the scene's own [run].methods next to every engine, else everything.
     let asked: Vec<String> = if cfg.methods.is_empty() && !scene.run.methods.is_empty() {
         let ext = cfg.registry.engine_names().into_iter().map(String::from);
