@@ -34,6 +34,7 @@ mod empirical;
 mod map;
 mod statement;
 mod theory;
+pub mod work;
 
 pub use super::modes::Mode;
 pub use analyse::{analyse, write_stability};
