@@ -11,6 +11,7 @@ pub mod decimated;
 mod dop853;
 pub mod engine_fare;
 pub mod expect;
+pub mod expect_answer;
 mod fit;
 pub mod framerate;
 pub mod grid;
