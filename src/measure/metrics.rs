@@ -7,7 +7,9 @@
 //!   [`EnergyRecord`] account (K + G + E + dissipated − injected, constant for the exact
 //!   solution) and E = |K₀| + |G₀| + |E₀| (or the scene's energy scale when that is 0).
 //!   Drift = least-squares slope of ε over t (1/s); oscillation = peak-to-peak of ε minus
-//!   that line; balance = ε at the last step.
+//!   that line; balance = ε at the last step. Both are fitted to every observed state up to
+//!   [`super::decimated::MAX_KEPT`] of them and to every 2^k-th past that, so memory is bounded
+//!   whatever the step count; the largest |ε| and the balance use every state.
 //! - Momentum drift = max over t of |P(t) − P(0) − Σ impulses so far| (kg·m/s), only for
 //!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
 //! - Constraint violation: max and mean over steps of the largest |‖x_j − x_i‖ − L|.

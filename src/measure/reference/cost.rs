@@ -53,6 +53,8 @@ pub const FINE_CERTAIN_RUNS: f64 = 4.0;
 pub struct Projection {
     /// Modelled seconds (s).
     pub seconds: f64,
+    /// Steps counted: the main adaptive solve's, or every fine-step run's together.
+    pub steps: f64,
     /// What was counted, in words (for the refusal).
     pub what: String,
 }
@@ -102,6 +104,7 @@ pub fn project(sys: &System, s0: &State, grids: &[TimeGrid], horizon: f64) -> Pr
     if super::has_closed_form(sys) {
         return Projection {
             seconds: samples * sample_price,
+            steps: 0.0,
             what: format!("the closed form at {} sample times", sig3(samples)),
         };
     }
@@ -114,6 +117,7 @@ pub fn project(sys: &System, s0: &State, grids: &[TimeGrid], horizon: f64) -> Pr
         let per = fine_step_seconds(sys, s0, h0);
         return Projection {
             seconds: FINE_CERTAIN_RUNS * steps * per,
+            steps: FINE_CERTAIN_RUNS * steps,
             what: format!(
                 "the fine-step reference: {} steps of {FINE_METHOD} at {} s and below ({} ms per step by the cost model)",
                 sig3(FINE_CERTAIN_RUNS * steps),
@@ -134,6 +138,7 @@ pub fn project(sys: &System, s0: &State, grids: &[TimeGrid], horizon: f64) -> Pr
     let per = dop853_step_seconds(sys);
     Projection {
         seconds: steps * per * (1.0 + COMPANION_SHARE) + samples * sample_price,
+        steps,
         what: format!(
             "the DOP853 reference: at least {} steps over {} s (ω = {} rad/s), with its two companion solves ({} ms per step by the cost model)",
             sig3(steps),
