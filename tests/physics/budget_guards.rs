@@ -63,7 +63,7 @@ fn the_reference_projection_is_a_floor_of_its_solve() {
 fn a_reference_held_to_a_limit_stops_naming_the_budget() {
     let d = Some("3.7");
     let (_, r) = reference_of("two_body", d, Some(1e-6));
-    let err = r.err().expect("stopped").to_string();
+    let err = r.expect_err("stopped").to_string();
     assert!(
         err.starts_with("--budget: the reference (DOP853) stopped"),
         "{err}"
