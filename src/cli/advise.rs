@@ -43,6 +43,11 @@ pub struct Args {
     /// margin over the verified run's), for `springlab expect` to hold the scene to it.
     #[arg(long)]
     pub write_expect: bool,
+    /// The game's frame rate (Hz) whose answer --write-expect writes (method, hz, substeps);
+    /// default: the scene's [run] hz when it has one, else the free step is written. A rate
+    /// outside the frame view's 30, 60, 144 and 240 Hz is added to it.
+    #[arg(long, allow_negative_numbers = true)]
+    pub hz: Option<f64>,
 }
 
 /// Runs the command.
@@ -56,6 +61,13 @@ pub fn run(a: Args) -> Result<()> {
             a.scenario.display()
         );
     }
+    if let Some(h) = a.hz.filter(|h| !(h.is_finite() && *h > 0.0)) {
+        anyhow::bail!(
+            "--hz: must be a finite frame rate > 0, got {}",
+            springlab::error::num(h)
+        );
+    }
+    let game_hz = a.hz.or(scene.run.hz);
     let cfg = AdviseConfig {
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
@@ -70,6 +82,7 @@ pub fn run(a: Args) -> Result<()> {
         blowup_factor: a.blowup.value()?,
         frame_rates: !a.no_frame_rates,
         budget_seconds: Some(a.budget.budget),
+        game_hz,
         ..Default::default()
     };
     let dir = a.m.out_dir(&scene.name, "advise");
@@ -155,11 +168,20 @@ pub fn run(a: Args) -> Result<()> {
     }
     super::common::print_written(&f);
     if a.write_expect {
-        let Some(spec) = springlab::measure::advise::expect_table(&adv) else {
-            anyhow::bail!(
-                "--write-expect: no candidate met the bound, so there is no answer to hold {} to",
-                a.scenario.display()
-            );
+        let spec = match game_hz {
+            Some(hz) => springlab::measure::expect_answer::game_rate_table(&adv, hz).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "--write-expect: no method meets the bound at {} Hz (the scene's frame rate, or --hz), so there is no game-rate answer to hold {} to",
+                    springlab::error::num(hz),
+                    a.scenario.display()
+                )
+            })?,
+            None => springlab::measure::advise::expect_table(&adv).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "--write-expect: no candidate met the bound, so there is no answer to hold {} to",
+                    a.scenario.display()
+                )
+            })?,
         };
         let path = springlab::scenario::append_expect::append_expect(
             &a.scenario,

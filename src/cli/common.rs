@@ -120,6 +120,7 @@ impl StepArgs {
         let mut plan = RunPlan::new(t.dt, t.steps);
         plan.blowup_factor = blowup_factor;
         plan.substeps = self.substeps.unwrap_or(1) as u64;
+        Timing::substeps_within("--substeps", t.steps, plan.substeps)?;
         Ok(plan)
     }
 

@@ -11,6 +11,8 @@ use std::path::PathBuf;
     long_about = "Runs each scene's [expect] method at its frame step (hz or dt) with its \
 substeps over the scene's duration against the reference, the same run `compare` makes for one \
 method, and prints one line per expectation: what is expected, what was measured, pass or FAIL. \
+The run and its reference are held to --budget (modelled seconds, as compare's): a scene whose \
+reference or run would pass it fails with the figure. \
 A scene without an [expect] table is listed as skipped (not a failure) unless no scene given has \
 one, which is an error; a scene that does not load is a failing line naming the file. \
 Exits non-zero when any expectation fails."
@@ -19,9 +21,12 @@ pub struct Args {
     /// Scenario files (TOML); those without an `[expect]` table are listed as skipped.
     #[arg(required = true)]
     pub scenarios: Vec<PathBuf>,
-    /// Also write the results as JUnit XML to this file (one testcase per expectation).
+    /// Also write the results as JUnit XML to this file (one testcase per expectation, named
+    /// without its limit; the limit is in the failure message).
     #[arg(long)]
     pub junit: Option<PathBuf>,
+    #[command(flatten)]
+    pub budget: super::common::BudgetArg,
 }
 
 /// Runs the command.
@@ -33,9 +38,14 @@ pub fn run(a: Args) -> Result<()> {
             Err(e) => rows.push(error_row(&label, "scene loads", &e.to_string())),
             Ok(scene) => {
                 if let Some(e) = &scene.expect {
-                    eprintln!("{label}: {}", describe(e));
+                    println!("{label}: {}", describe(e));
                 }
-                rows.extend(check_scene(&scene, &label)?);
+                // A scene that cannot be measured (a reference past the budget) fails with
+                // the reason; the other scenes are still checked.
+                match check_scene(&scene, &label, Some(a.budget.budget)) {
+                    Ok(r) => rows.extend(r),
+                    Err(e) => rows.push(error_row(&label, "scene is measured", &e.to_string())),
+                }
             }
         }
     }

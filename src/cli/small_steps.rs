@@ -23,6 +23,8 @@ pub struct Args {
     /// Output directory (default: out/small_steps/).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub budget: super::common::BudgetArg,
 }
 
 /// Runs the command.
@@ -47,6 +49,7 @@ pub fn run(a: Args) -> Result<()> {
         } else {
             a.budgets.clone()
         },
+        budget_seconds: Some(a.budget.budget),
     };
     if let Some(d) = cfg.duration {
         if !(d.is_finite() && d > 0.0) {

@@ -116,7 +116,7 @@ pub struct CompareResult {
 /// The methods of `names` whose runs fit `budget` (s, summed), cheapest first by their probed
 /// price per frame ([`super::probe::seconds_per_frame`]: a frame's `frame_substeps` are inside
 /// it, so `steps` frames cost `steps` times it); the rest go to `skipped` with the figures.
-/// Order is kept.
+/// Order is kept. Returns the kept methods and their projected cost (s) together.
 #[allow(clippy::too_many_arguments)]
 fn within_budget(
     sys: &crate::model::System,
@@ -127,9 +127,8 @@ fn within_budget(
     steps: u64,
     budget: f64,
     skipped: &mut Vec<(String, String)>,
-) -> Result<Vec<String>> {
-    use super::probe::{check_budget, split_by_budget};
-    check_budget(budget)?;
+) -> Result<(Vec<String>, f64)> {
+    use super::probe::split_by_budget;
     let costs: Vec<_> = names
         .iter()
         .map(|m| projected_cost(sys, s0, cfg, m, dt, steps))
@@ -139,9 +138,19 @@ fn within_budget(
     } else {
         "step"
     };
+    let price: Vec<(String, f64)> = names
+        .iter()
+        .cloned()
+        .zip(costs.iter().map(|c| c.projected))
+        .collect();
     let (kept, left) = split_by_budget(names, &costs, budget, "its run", unit);
     skipped.extend(left);
-    Ok(kept)
+    let spent = price
+        .iter()
+        .filter(|(n, _)| kept.contains(n))
+        .map(|(_, c)| c)
+        .sum();
+    Ok((kept, spent))
 }
 
 /// The modelled cost the budget projects for method `name`'s run of `steps` frames of `dt`
@@ -172,12 +181,19 @@ pub fn projected_cost(
     }
 }
 
+/// Samples of the reference when no method is left to compare with it (every one skipped):
+/// enough to describe it, far fewer than a run's grid would store.
+pub const NOTHING_COMPARED_SAMPLES: u64 = 64;
+
 /// Runs the comparison.
 // Long because every method's run shares one reference, judge and settings, and the document gathers all of them with its command.
 pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let sys = scene.build();
     let s0 = scene.initial_state();
     let Timing { dt, steps, .. } = Timing::resolve(scene, cfg.dt, cfg.duration)?;
+    if let Some(n) = cfg.frame_substeps {
+        Timing::substeps_within("--substeps", steps, n)?;
+    }
     // Default: the scene's own [run].methods next to every engine, else everything.
     let asked: Vec<String> = if cfg.methods.is_empty() && !scene.run.methods.is_empty() {
         let ext = cfg.registry.engine_names().into_iter().map(String::from);
@@ -186,13 +202,35 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         cfg.methods.clone()
     };
     let (names, mut skipped) = applicable(&cfg.registry, &sys, &asked, &cfg.options)?;
-    let names = match cfg.budget_seconds {
-        Some(b) => within_budget(&sys, &s0, cfg, names, dt, steps, b, &mut skipped)?,
-        None => names,
-    };
     let grid = run_grid(dt, steps, sys.len());
     let horizon = grid.time(steps);
-    let mut reference = Reference::compute(&sys, &s0, &[grid], horizon)?;
+    // The budget covers the reference too: refused at once when its projection alone passes
+    // the budget; the runs share what it leaves, and the reference may spend what they leave.
+    let (names, limit) = match cfg.budget_seconds {
+        Some(b) => {
+            super::probe::check_budget(b)?;
+            let p = super::reference::cost::check(&sys, &s0, &[grid], horizon, b)?;
+            let left = b - p.seconds;
+            let first = skipped.len();
+            let (kept, runs) = within_budget(&sys, &s0, cfg, names, dt, steps, left, &mut skipped)?;
+            for (_, why) in &mut skipped[first..] {
+                why.push_str(&format!(
+                    " (the budget of {} s less about {} s for the reference)",
+                    super::probe::sig3(b),
+                    super::probe::sig3(p.seconds)
+                ));
+            }
+            (kept, Some(b - runs))
+        }
+        None => (names, None),
+    };
+    // With no run left to compare, the reference is only described: a few samples do.
+    let grid = if names.is_empty() {
+        super::grid::TimeGrid::new(dt, steps, NOTHING_COMPARED_SAMPLES)
+    } else {
+        grid
+    };
+    let mut reference = Reference::compute_within(&sys, &s0, &[grid], horizon, limit)?;
     let position_tolerance = crate::measure::tolerance::resolve(
         cfg.tolerance,
         scene.run.tolerance,

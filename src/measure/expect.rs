@@ -15,7 +15,11 @@ use crate::scenario::{Expect, Scenario};
 pub struct ExpectRow {
     /// The scene as named on the command line (its file path): the JUnit classname.
     pub scene: String,
-    /// What is expected, e.g. `max_strain ≤ 0.05`: the JUnit testcase name.
+    /// Which expectation, e.g. `max_strain`: the JUnit testcase name, the same whatever its
+    /// limit, so a CI server's history of a test case survives a change of limit.
+    pub name: String,
+    /// What is expected, e.g. `max_strain ≤ 0.05`, as the table prints it (the limit is also
+    /// in the failure message).
     pub expectation: String,
     /// What was measured, or why there is no number.
     pub measured: String,
@@ -74,6 +78,7 @@ pub fn describe(e: &Expect) -> String {
 pub fn error_row(scene: &str, what: &str, why: &str) -> ExpectRow {
     ExpectRow {
         scene: scene.to_string(),
+        name: what.to_string(),
         expectation: what.to_string(),
         measured: why.to_string(),
         failure: Some(why.to_string()),
@@ -86,6 +91,7 @@ pub fn error_row(scene: &str, what: &str, why: &str) -> ExpectRow {
 pub fn skipped_row(scene: &str) -> ExpectRow {
     ExpectRow {
         scene: scene.to_string(),
+        name: "[expect] table".into(),
         expectation: "[expect] table".into(),
         measured: "no [expect] table".into(),
         failure: None,
@@ -93,14 +99,15 @@ pub fn skipped_row(scene: &str) -> ExpectRow {
     }
 }
 
-/// The config of the one-method comparison an expectation is measured with.
-fn config(e: &Expect) -> CompareConfig {
+/// The config of the one-method comparison an expectation is measured with, its run and
+/// reference held to `budget` (modelled seconds; `None`: none).
+fn config(e: &Expect, budget: Option<f64>) -> CompareConfig {
     CompareConfig {
         methods: vec![e.method.clone()],
         dt: Some(e.frame_dt),
         frame_substeps: Some(e.substeps),
         series_points: 0,
-        budget_seconds: None,
+        budget_seconds: budget,
         ..Default::default()
     }
 }
@@ -124,22 +131,32 @@ fn numeric(
             });
             (expectation, cell, failure)
         }
-        Err(why) => (expectation, why.clone(), Some(format!("{label}: {why}"))),
+        Err(why) => (
+            expectation,
+            why.clone(),
+            Some(format!(
+                "{label} (limit {}): {}",
+                crate::error::num(limit),
+                why.trim_start_matches("—, ")
+            )),
+        ),
     }
 }
 
 /// Runs `scene`'s `[expect]` run against the reference and checks every expectation; `label`
 /// names the scene in the rows (its path as given). A scene without `[expect]` gives one
-/// skipped row saying so.
+/// skipped row saying so. With a `budget` (modelled seconds, as `compare --budget`), a
+/// reference projected past it is an error naming `--budget`, and a run projected past what
+/// the reference leaves fails every expectation with the figure.
 ///
 /// The position error is compared over the reference's predictable horizon (compare's
 /// `error_max_predictable`): when the reference is not predictable over the whole run, the
 /// measured cell says up to when.
-pub fn check_scene(scene: &Scenario, label: &str) -> Result<Vec<ExpectRow>> {
+pub fn check_scene(scene: &Scenario, label: &str, budget: Option<f64>) -> Result<Vec<ExpectRow>> {
     let Some(e) = &scene.expect else {
         return Ok(vec![skipped_row(label)]);
     };
-    let res = compare(scene, &config(e))?;
+    let res = compare(scene, &config(e, budget))?;
     let case = res.entries.first().and_then(|en| en.result.clone());
     let skip = res
         .entries
@@ -227,6 +244,9 @@ pub fn check_scene(scene: &Scenario, label: &str) -> Result<Vec<ExpectRow>> {
         .into_iter()
         .map(|(expectation, measured, failure)| ExpectRow {
             scene: label.to_string(),
+            name: expectation
+                .split_once(' ')
+                .map_or(expectation.clone(), |(n, _)| n.to_string()),
             expectation,
             measured,
             failure,
@@ -254,7 +274,8 @@ pub fn xml_escape(s: &str) -> String {
 }
 
 /// The rows as a JUnit XML document: one `testsuite` named `springlab expect`, one
-/// `testcase` per row (classname the scene, name the expectation), a `failure` where it failed.
+/// `testcase` per row (classname the scene, name the expectation's name without its limit), a
+/// `failure` where it failed (its message names the limit).
 pub fn junit(rows: &[ExpectRow]) -> String {
     let failures = rows.iter().filter(|r| !r.passed()).count();
     let skipped = rows.iter().filter(|r| r.skipped).count();
@@ -267,7 +288,7 @@ pub fn junit(rows: &[ExpectRow]) -> String {
         let head = format!(
             "  <testcase classname=\"{}\" name=\"{}\"",
             xml_escape(&r.scene),
-            xml_escape(&r.expectation)
+            xml_escape(&r.name)
         );
         match &r.failure {
             None if r.skipped => out.push_str(&format!(
@@ -294,6 +315,7 @@ mod tests {
         let rows = vec![
             ExpectRow {
                 scene: "a<&>\"'.toml".into(),
+                name: "stable".into(),
                 expectation: "stable".into(),
                 measured: "stable".into(),
                 failure: None,

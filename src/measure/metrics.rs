@@ -7,7 +7,9 @@
 //!   [`EnergyRecord`] account (K + G + E + dissipated − injected, constant for the exact
 //!   solution) and E = |K₀| + |G₀| + |E₀| (or the scene's energy scale when that is 0).
 //!   Drift = least-squares slope of ε over t (1/s); oscillation = peak-to-peak of ε minus
-//!   that line; balance = ε at the last step.
+//!   that line; balance = ε at the last step. Both are fitted to every observed state up to
+//!   [`super::decimated::MAX_KEPT`] of them and to every 2^k-th past that, so memory is bounded
+//!   whatever the step count; the largest |ε| and the balance use every state.
 //! - Momentum drift = max over t of |P(t) − P(0) − Σ impulses so far| (kg·m/s), only for
 //!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
 //! - Constraint violation: max and mean over steps of the largest |‖x_j − x_i‖ − L|.
@@ -29,6 +31,7 @@
 //!   reference's mean spacing T_ref, phase error 2π·(t − t_ref)/T_ref at the last pair.
 
 use super::apexes::Apexes;
+use super::decimated::Decimated;
 use super::reference::period::match_crossings;
 use super::reference::{Reference, Tracked};
 use super::statistics::{Statistic, WindowReader};
@@ -303,8 +306,13 @@ pub struct MetricsObserver<'a> {
     dt: f64,
     e0: Option<f64>,
     e_scale: f64,
-    t: Vec<f64>,
-    eps: Vec<f64>,
+    /// (t, relative energy error) of the observed states, decimated past
+    /// [`super::decimated::MAX_KEPT`]: what the drift and oscillation are fitted to.
+    energy: Decimated<[f64; 2]>,
+    /// Largest |relative energy error| over every observed state.
+    eps_abs_max: f64,
+    /// Relative energy error of the last observed state.
+    eps_last: f64,
     /// The quality observables, from the same observed states.
     quality: QualityObserver<'a>,
     err_sq: f64,
@@ -316,6 +324,9 @@ pub struct MetricsObserver<'a> {
     tracked: Option<Tracked>,
     prev: Option<(f64, f64, f64)>,
     crossings: Vec<f64>,
+    /// True once the run crossed zero more than [`super::decimated::MAX_KEPT`] times: its
+    /// period and phase are then not reported (no dominant mode to match).
+    crossings_overflow: bool,
     series_stride: Option<u64>,
     /// The series, when asked for.
     pub series: Series,
@@ -361,8 +372,9 @@ impl<'a> MetricsObserver<'a> {
             dt: g.dt,
             e0: None,
             e_scale,
-            t: Vec::new(),
-            eps: Vec::new(),
+            energy: Decimated::default(),
+            eps_abs_max: 0.0,
+            eps_last: 0.0,
             quality,
             err_sq: 0.0,
             m: Metrics {
@@ -376,6 +388,7 @@ impl<'a> MetricsObserver<'a> {
             tracked: reference.tracked,
             prev: None,
             crossings: Vec::new(),
+            crossings_overflow: false,
             series_stride,
             series: Series::default(),
             last_err: 0.0,
@@ -400,11 +413,13 @@ impl<'a> MetricsObserver<'a> {
             m.error_rms = (self.err_sq / m.compared_steps as f64).sqrt();
         }
         m.error_final = self.last_err;
-        let (a, b) = linear_fit(&self.t, &self.eps);
+        let (t, eps): (Vec<f64>, Vec<f64>) =
+            self.energy.kept().iter().map(|p| (p[0], p[1])).unzip();
+        let (a, b) = linear_fit(&t, &eps);
         m.energy_drift = b;
-        m.energy_oscillation = detrended_peak_to_peak(&self.t, &self.eps, a, b);
-        m.energy_error_max = self.eps.iter().fold(0.0, |acc, e| acc.max(e.abs()));
-        m.energy_balance = self.eps.last().copied().unwrap_or(0.0);
+        m.energy_oscillation = detrended_peak_to_peak(&t, &eps, a, b);
+        m.energy_error_max = self.eps_abs_max;
+        m.energy_balance = self.eps_last;
         let q = self.quality.quality();
         m.strain_max = q.strain_max;
         m.energy_drift_rate = q.energy_drift_rate;
@@ -417,7 +432,12 @@ impl<'a> MetricsObserver<'a> {
         if self.cons_n > 0 {
             m.constraint_mean = Some(self.cons_sum / self.cons_n as f64);
         }
-        if let Ok(t_ref) = self.reference.dominant_period() {
+        let period = self
+            .reference
+            .dominant_period()
+            .ok()
+            .filter(|_| !self.crossings_overflow);
+        if let Some(t_ref) = period {
             let rc = &self.reference.crossings;
             let pairs = match_crossings(rc, &self.crossings, t_ref);
             m.period_reference = Some(t_ref);
@@ -439,8 +459,9 @@ impl Observer for MetricsObserver<'_> {
         let t = step as f64 * self.dt;
         let e0 = *self.e0.get_or_insert(e.total);
         let eps = (e.total - e0) / self.e_scale;
-        self.t.push(t);
-        self.eps.push(eps);
+        self.energy.push([t, eps]);
+        self.eps_abs_max = self.eps_abs_max.max(eps.abs());
+        self.eps_last = eps;
         self.quality.observe(step, s, e)?;
         if let Some(w) = &mut self.window {
             w.observe(self.sys, step, s);
@@ -491,7 +512,11 @@ impl Observer for MetricsObserver<'_> {
                 if v0 < 0.0 && v1 >= 0.0 {
                     let h = t - t0;
                     let sfrac = hermite_upward_root(x0, v0, x1, v1, h);
-                    self.crossings.push(t0 + sfrac * h);
+                    if self.crossings.len() < super::decimated::MAX_KEPT {
+                        self.crossings.push(t0 + sfrac * h);
+                    } else {
+                        self.crossings_overflow = true;
+                    }
                 }
             }
             self.prev = Some((t, x1, v1));

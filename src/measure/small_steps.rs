@@ -15,7 +15,6 @@
 
 use crate::error::{Error, Result};
 use crate::integrate::Xpbd;
-use crate::measure::grid::TimeGrid;
 use crate::measure::reference::{Reference, ReferenceInfo};
 use crate::model::{State, System, Vec3};
 use crate::run::{run, EnergyRecord, Observer, RunPlan, Status};
@@ -38,6 +37,9 @@ pub struct SmallStepsConfig {
     /// Budgets n: sweeps per frame, each run as n substeps × 1 iteration and 1 step × n
     /// iterations.
     pub budgets: Vec<usize>,
+    /// Time budget (modelled seconds) of each scene's runs and reference, checked before they
+    /// start ([`super::small_steps_budget`]); `None`: none.
+    pub budget_seconds: Option<f64>,
 }
 
 impl Default for SmallStepsConfig {
@@ -46,6 +48,7 @@ impl Default for SmallStepsConfig {
             frame_dt: FRAME_DT,
             duration: None,
             budgets: DEFAULT_BUDGETS.to_vec(),
+            budget_seconds: None,
         }
     }
 }
@@ -299,10 +302,22 @@ pub fn small_steps_scene(scene: &Scenario, cfg: &SmallStepsConfig) -> Result<Sce
     // A frame longer than the run is refused as `run` refuses it, before any reference solve.
     crate::scenario::Timing::step_fits(scene, cfg.frame_dt, Some(flag), duration)?;
     let frames = crate::scenario::Timing::steps_within(flag, cfg.frame_dt, duration)?;
+    super::small_steps_budget::check_steps(&cfg.budgets, frames, cfg.frame_dt)?;
     let sys = scene.build();
     let s0 = scene.initial_state();
-    let grid = TimeGrid::new(cfg.frame_dt, frames, frames);
-    let reference = Reference::compute(&sys, &s0, &[grid], grid.time(frames))?;
+    // Every frame compared while the reference's samples fit memory (compare's grid).
+    let grid = crate::measure::grid::run_grid(cfg.frame_dt, frames, sys.len());
+    let limit = match cfg.budget_seconds {
+        Some(b) => Some(super::small_steps_budget::check(
+            &sys,
+            &s0,
+            &grid,
+            &cfg.budgets,
+            b,
+        )?),
+        None => None,
+    };
+    let reference = Reference::compute_within(&sys, &s0, &[grid], grid.time(frames), limit)?;
     let compared = match reference.info.predictability_horizon {
         Some(h) => (1..=frames)
             .take_while(|&f| grid.time(f) < h)
@@ -360,6 +375,9 @@ pub fn small_steps(scenes: &[Scenario], cfg: &SmallStepsConfig) -> Result<SmallS
     }
     let b: Vec<String> = cfg.budgets.iter().map(|n| n.to_string()).collect();
     cmd += &format!(" --budgets {}", b.join(","));
+    if let Some(budget) = cfg.budget_seconds {
+        cmd += &format!(" --budget {budget}");
+    }
     Ok(SmallSteps {
         command: cmd,
         scenes: scenes

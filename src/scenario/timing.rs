@@ -203,6 +203,23 @@ impl Timing {
         ))
     }
 
+    /// Refuses `frames` frames of `substeps` substeps each when together they pass the step
+    /// limit, naming `flag` (`--substeps`): the run would take more steps than any run may.
+    pub fn substeps_within(flag: &str, frames: u64, substeps: u64) -> Result<()> {
+        let total = frames as f64 * substeps as f64;
+        if total <= super::MAX_STEPS as f64 {
+            return Ok(());
+        }
+        Err(Error::option(
+            flag,
+            format!(
+                "{substeps} substeps per frame over {frames} frames is {} steps, above the limit of {}",
+                num(total),
+                num(super::MAX_STEPS as f64)
+            ),
+        ))
+    }
+
     /// Refuses a step `dt` longer than the `duration` it must cover: the run would end after
     /// its duration. `flag`: the option that gave the step (`--dt`, `--hz`), `None` when it
     /// came from `[run].dt`.

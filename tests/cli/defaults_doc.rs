@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::process::Command;
 
-const COMMANDS: [&str; 13] = [
+const COMMANDS: [&str; 14] = [
     "run",
     "check",
     "list",
@@ -19,6 +19,7 @@ const COMMANDS: [&str; 13] = [
     "framerate",
     "merge",
     "small-steps",
+    "expect",
 ];
 
 fn help(cmd: &str) -> String {

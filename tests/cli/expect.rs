@@ -145,9 +145,7 @@ fn expect_passes_fails_and_writes_junit() {
     assert_eq!((count(u), failing(u)), (2, 2));
     let strain = cases
         .iter()
-        .find(|c| {
-            c.attribute("classname") == Some(t) && c.attribute("name") == Some("max_strain ≤ 0.05")
-        })
+        .find(|c| c.attribute("classname") == Some(t) && c.attribute("name") == Some("max_strain"))
         .expect("the tight strain testcase");
     let msg = strain
         .children()
@@ -155,6 +153,24 @@ fn expect_passes_fails_and_writes_junit() {
         .and_then(|f| f.attribute("message"))
         .unwrap();
     assert!(msg.contains("> limit 0.05"), "{msg}");
+    // Names carry no limit: a change of limit keeps every testcase's name (its history).
+    let names = |scene: &str| -> Vec<String> {
+        cases
+            .iter()
+            .filter(|c| c.attribute("classname") == Some(scene))
+            .filter_map(|c| c.attribute("name").map(String::from))
+            .collect()
+    };
+    assert_eq!(names(p), names(t));
+    assert_eq!(
+        names(p),
+        [
+            "stable",
+            "max_position_error",
+            "max_strain",
+            "max_energy_drift_rate"
+        ]
+    );
 }
 
 #[test]
@@ -259,4 +275,49 @@ fn advise_writes_the_answer_that_expect_then_holds() {
     assert!(!done, "a second --write-expect must refuse");
     assert!(err.contains("already has an [expect] table"), "{err}");
     assert_eq!(std::fs::read_to_string(&scene).unwrap(), text);
+}
+
+// A scene with a frame rate gets the game-rate answer: `--write-expect` writes the method, the
+// rate and the substeps per frame of the frame view's best at that rate (`--hz`, else the
+// scene's [run] hz), and `expect` holds the scene to it. The twin without a rate writes the
+// free step (a `dt`, one substep), as `advise_writes_the_answer_that_expect_then_holds` checks.
+#[test]
+fn advise_writes_the_game_rate_answer_when_the_scene_has_a_rate() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, extra, flags) in [("asked", "", vec!["--hz", "30"]), ("own", "", vec![])] {
+        let scene = spring_scene(dir.path(), name, 1.0, extra);
+        if name == "own" {
+            let text = std::fs::read_to_string(&scene)
+                .unwrap()
+                .replace("duration = 1\n", "duration = 1\nhz = 30\n");
+            assert!(text.contains("hz = 30"), "{text}");
+            std::fs::write(&scene, text).unwrap();
+        }
+        let p = scene.to_str().unwrap();
+        let out_dir = dir.path().join(format!("adv-{name}"));
+        let mut args = vec![
+            "advise",
+            p,
+            "--methods",
+            "velocity_verlet",
+            "--points",
+            "3",
+            "--no-frame-rates",
+            "--write-expect",
+            "--out",
+            out_dir.to_str().unwrap(),
+        ];
+        args.extend(flags);
+        ok(&args);
+        let text = std::fs::read_to_string(&scene).unwrap();
+        let table = &text[text.find("[expect]").expect("a table")..];
+        assert!(table.contains("hz = 30"), "{table}");
+        assert!(
+            table.contains("substeps = ") && !table.contains("dt = "),
+            "{table}"
+        );
+        let out = ok(&["expect", p]);
+        assert!(!out.contains("FAIL"), "{out}");
+        assert!(out.contains("(30.0 Hz)"), "{out}");
+    }
 }

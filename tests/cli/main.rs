@@ -18,5 +18,6 @@ mod report_collision;
 mod report_commands;
 mod report_files;
 mod report_rerun;
+mod runaway;
 mod support;
 mod verdict_outputs;

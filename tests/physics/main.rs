@@ -8,6 +8,7 @@ mod rapier_support;
 mod advise_cost;
 mod analytic_closed_form;
 mod bounce_apexes;
+mod budget_guards;
 mod collide_bounce;
 mod collide_coulomb;
 mod collide_energy_books;

@@ -47,6 +47,9 @@ pub struct AdviseConfig {
     /// the costliest methods that would exceed it are left out, named with the figure. `None`:
     /// no budget (the study chooses its engines by its own rule).
     pub budget_seconds: Option<f64>,
+    /// The game's frame rate (Hz) whose answer `--write-expect` writes: added to the frame
+    /// view when it is not one of its rates (the view's only rate with `--no-frame-rates`).
+    pub game_hz: Option<f64>,
     /// An ensemble already made for this scene over the same horizon (the study passes
     /// compare's); None: made here when the statistics metric needs it.
     pub ensemble: Option<Ensemble>,
@@ -70,6 +73,7 @@ impl Default for AdviseConfig {
             timing: ADVICE_TIMING,
             frame_rates: true,
             budget_seconds: None,
+            game_hz: None,
             ensemble: None,
         }
     }

@@ -46,6 +46,23 @@ pub struct FrameEntry {
     pub cost_per_second: Option<f64>,
     /// Why `cost_per_second` is null.
     pub cost_per_second_reason: Option<String>,
+    /// Largest strain of the substepped run (None when it is not ok): what an `[expect]` table
+    /// at this rate holds ([`crate::measure::expect_answer`]); not written to `advice.json`.
+    #[serde(skip)]
+    pub strain_max: Option<f64>,
+    /// Slope of the substepped run's energy balance (J/s), for the same table.
+    #[serde(skip)]
+    pub energy_drift_rate: Option<f64>,
+}
+
+/// The rates of the frame view: [`FRAME_RATES`] when `view` is asked, with `game_hz` added
+/// where it is not among them; `game_hz` alone without the view.
+pub fn rates_of(view: bool, game_hz: Option<f64>) -> Vec<f64> {
+    let mut rates: Vec<f64> = if view { FRAME_RATES.to_vec() } else { vec![] };
+    if let Some(hz) = game_hz.filter(|h| !rates.contains(h)) {
+        rates.push(hz);
+    }
+    rates
 }
 
 /// The game view at one frame rate.
@@ -155,6 +172,8 @@ impl FramePlan {
                             timing: None,
                             cost_per_second: cost,
                             cost_per_second_reason: why,
+                            strain_max: sub.metric(|m| m.strain_max),
+                            energy_drift_rate: sub.metric(|m| m.energy_drift_rate),
                         })
                     })
                     .collect::<Result<Vec<FrameEntry>>>()?;

@@ -277,7 +277,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let plan = FramePlan::new(
         horizon,
         &predictions.iter().map(|p| p.1.dt).collect::<Vec<_>>(),
-        if cfg.frame_rates { &FRAME_RATES } else { &[] },
+        &frames::rates_of(cfg.frame_rates, cfg.game_hz),
     );
     let vjobs: Vec<(String, TimeGrid)> = predictions
         .iter()
@@ -348,6 +348,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .flag("substeps", cfg.options.substeps)
         .method_options(&cfg.registry, &cfg.options)
         .switch("no-frame-rates", !cfg.frame_rates)
+        .flag_opt("hz", cfg.game_hz)
         .flag_opt("budget", cfg.budget_seconds)
         .render();
     Ok(Advice {

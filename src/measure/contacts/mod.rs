@@ -95,7 +95,8 @@ struct Track {
     bounces: u32,
     last_e: Option<f64>,
     apexes: Vec<Apex>,
-    heights: Vec<[f64; 2]>,
+    /// `[t, gap]` while near an obstacle, decimated past [`crate::measure::decimated::MAX_KEPT`].
+    heights: crate::measure::decimated::Decimated<[f64; 2]>,
     slide: Option<OpenSlide>,
 }
 
@@ -507,11 +508,11 @@ impl ContactMetrics {
             .iter()
             .map(|&p| {
                 let t = &self.tracks[p];
-                let stride = t.heights.len().div_ceil(MAX_SERIES_POINTS).max(1);
+                let stride = t.heights.kept().len().div_ceil(MAX_SERIES_POINTS).max(1);
                 ParticleBounces {
                     particle: p,
                     apexes: t.apexes.clone(),
-                    heights: t.heights.iter().step_by(stride).copied().collect(),
+                    heights: t.heights.kept().iter().step_by(stride).copied().collect(),
                 }
             })
             .collect();

@@ -28,6 +28,7 @@
 mod adaptive;
 mod contact_events;
 pub mod contacts;
+pub mod cost;
 mod dense;
 mod ensemble;
 mod fine_kept;
@@ -41,7 +42,7 @@ pub mod uncertainty;
 
 use super::grid::TimeGrid;
 use crate::collide::Response;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::integrate::{Analytic, Stepper};
 use crate::measure::observables::position_error;
 use crate::model::{State, System, Vec3};
@@ -149,6 +150,8 @@ pub struct Reference {
     strain_until: Vec<std::sync::OnceLock<Vec<f64>>>,
     /// The kept adaptive solve this reference was sampled from ([`Reference::solve_id`]).
     solve_id: Option<u64>,
+    /// Modelled seconds its solves may take ([`Reference::compute_within`]); None: no limit.
+    limit: Option<f64>,
 }
 
 /// True when the scene has a closed form (the `analytic` method accepts it).
@@ -185,6 +188,18 @@ impl Reference {
         Self::compute_with(sys, s0, grids, horizon, ReferenceSolver::Auto)
     }
 
+    /// As [`Reference::compute`], its solves held to `limit` modelled seconds ([`cost`]): an
+    /// adaptive solve that needs more stops with an error naming `--budget`. `None`: no limit.
+    pub fn compute_within(
+        sys: &System,
+        s0: &State,
+        grids: &[TimeGrid],
+        horizon: f64,
+        limit: Option<f64>,
+    ) -> Result<Self> {
+        Self::compute_limited(sys, s0, grids, horizon, ReferenceSolver::Auto, limit)
+    }
+
     /// As [`Reference::compute`], choosing the method explicitly.
     pub fn compute_with(
         sys: &System,
@@ -192,6 +207,17 @@ impl Reference {
         grids: &[TimeGrid],
         horizon: f64,
         solver: ReferenceSolver,
+    ) -> Result<Self> {
+        Self::compute_limited(sys, s0, grids, horizon, solver, None)
+    }
+
+    fn compute_limited(
+        sys: &System,
+        s0: &State,
+        grids: &[TimeGrid],
+        horizon: f64,
+        solver: ReferenceSolver,
+        limit: Option<f64>,
     ) -> Result<Self> {
         let horizon = entries(grids).last().map_or(horizon, |e| e.t.max(horizon));
         let tracked = tracked_component(sys, s0);
@@ -231,6 +257,7 @@ impl Reference {
             ensemble: None,
             member_solver: None,
             solve_id: None,
+            limit,
         };
         if solver == ReferenceSolver::Auto
             && has_closed_form(sys)
@@ -286,7 +313,7 @@ impl Reference {
             return self.add_own_ensemble(sys, s0, tolerance, scene_grid);
         }
         let horizon = scene_grid.time(scene_grid.steps);
-        let mut scene = Reference::compute(sys, s0, &[scene_grid], horizon)?;
+        let mut scene = Reference::compute_within(sys, s0, &[scene_grid], horizon, self.limit)?;
         scene.add_own_ensemble(sys, s0, tolerance, scene_grid)?;
         match scene.ensemble {
             Some(e) => self.use_ensemble(&e, tolerance),
@@ -323,6 +350,19 @@ impl Reference {
         };
         let end = self.info.horizon;
         let relative = tolerance / self.motion_scale();
+        if let (Some(limit), ensemble::MemberSolver::FineStep { h }) = (self.limit, solver) {
+            let each = cost::fine_run_seconds(sys, s0, h, end - start);
+            let all = each * crate::measure::statistics::ENSEMBLE_SIZE as f64;
+            if all > limit {
+                self.info.ensemble = Some(format!(
+                    "no ensemble: its {} fine-step members would take about {} s of modelled work, beyond the {} s the budget leaves the reference; `--budget` raises it",
+                    crate::measure::statistics::ENSEMBLE_SIZE,
+                    crate::measure::probe::sig3(all),
+                    crate::measure::probe::sig3(limit)
+                ));
+                return Ok(());
+            }
+        }
         match ensemble::ensemble(sys, s0, start, end, solver, tolerance, relative)? {
             Ok(mut e) => {
                 e.grid = Some(grid);
@@ -529,7 +569,8 @@ impl Reference {
         let horizon = self.info.horizon;
         // Never below the tolerance the solver was asked for.
         let floor = REFERENCE_TOL * length_scale(s0);
-        let kept = solution::shared(sys, s0, horizon, REFERENCE_TOL, self.tracked)?;
+        let limit = self.limit.map(|s| cost::dop853_step_limit(sys, s));
+        let kept = solution::shared(sys, s0, horizon, REFERENCE_TOL, self.tracked, limit)?;
         let (main, out, comp) = match &kept {
             Some(sol) => {
                 self.solve_id = Some(sol.id);
@@ -558,7 +599,7 @@ impl Reference {
                 }
                 (main, sol.out.clone(), comp)
             }
-            None => self.solve_on_grids(sys, s0, &times, floor)?,
+            None => self.solve_on_grids(sys, s0, &times, floor, limit)?,
         };
         self.crossings = out.crossings;
         self.down_crossings = out.down_crossings;
@@ -614,6 +655,7 @@ impl Reference {
         s0: &State,
         times: &[f64],
         floor: f64,
+        limit: Option<cost::StepLimit>,
     ) -> Result<(Vec<Vec<Vec3>>, adaptive::SolveOut, uncertainty::Companions)> {
         let n = sys.len();
         let horizon = self.info.horizon;
@@ -625,11 +667,16 @@ impl Reference {
             horizon,
             REFERENCE_TOL,
             self.tracked,
-            None,
+            limit.map(|l| l.steps),
             &mut |i, y| main[i] = unpack_x(y, n),
             None,
-        )?
-        .expect("no step limit");
+        )?;
+        let Some(out) = out else {
+            return Err(limit.map_or_else(
+                || Error::Step("reference (DOP853): stopped without a step limit".into()),
+                |l| l.error(horizon),
+            ));
+        };
         self.motion = out.motion;
         let comp = uncertainty::companions(
             sys,

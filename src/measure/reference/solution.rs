@@ -73,6 +73,7 @@ pub(super) fn shared(
     horizon: f64,
     rtol: f64,
     tracked: Option<Tracked>,
+    limit: Option<super::cost::StepLimit>,
 ) -> Result<Option<Arc<Solution>>> {
     let key = format!("{sys:?}|{s0:?}|{horizon:?}|{rtol:?}|{tracked:?}");
     if let Some((_, kept)) = lock().iter().find(|(k, _)| *k == key) {
@@ -80,7 +81,7 @@ pub(super) fn shared(
     }
     // Solved outside the lock: two threads asking at once both solve, to the same bits, and
     // the first to finish is kept.
-    let made = solve_kept(sys, s0, horizon, rtol, tracked)?.map(Arc::new);
+    let made = solve_kept(sys, s0, horizon, rtol, tracked, limit)?.map(Arc::new);
     let mut cache = lock();
     if let Some((_, kept)) = cache.iter().find(|(k, _)| *k == key) {
         return Ok(kept.clone());
@@ -108,6 +109,7 @@ fn solve_kept(
     horizon: f64,
     rtol: f64,
     tracked: Option<Tracked>,
+    limit: Option<super::cost::StepLimit>,
 ) -> Result<Option<Solution>> {
     let n = sys.len();
     let y0 = super::rhs::pack(&s0.x, &s0.v);
@@ -119,10 +121,13 @@ fn solve_kept(
         horizon,
         rtol,
         tracked,
-        None,
+        limit.map(|l| l.steps),
         &mut |_, _| {},
         Some(&mut main),
     )?;
+    if let (None, true, Some(l)) = (&out, main.complete(), limit) {
+        return Err(l.error(horizon));
+    }
     let Some(out) = out.filter(|_| main.complete()) else {
         return Ok(None);
     };

@@ -1,7 +1,10 @@
 //! `stability.json`: theory and empirical search for every applicable method on one scene.
 
-use super::empirical::{empirical_limit, searches_over_budget, EmpiricalCriterion};
+use super::empirical::{
+    empirical_limit_within, search_costs, searches_over_budget, EmpiricalCriterion,
+};
 use super::theory::{theory_limit, Limit, RHO_TOL, SCAN_MAX, SCAN_MIN};
+use super::work::{units, SearchWork};
 use super::{MethodStability, StabilityConfig, StabilityReport, Verdict};
 use crate::error::{Error, Result};
 use crate::measure::modes::{modes, Modes};
@@ -35,19 +38,30 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         })
         .collect::<Result<_>>()?;
     let starts = search_starts(scene, cfg, &names, &theories, &crit);
+    let costs = search_costs(&sys, &s0, cfg, &names, &starts, horizon);
     let left_out = match cfg.budget_seconds {
-        Some(b) => searches_over_budget(&sys, &s0, cfg, &names, &starts, horizon, b)?,
+        Some(b) => searches_over_budget(&names, &costs, b)?,
         None => vec![None; names.len()],
     };
+    // The searches that run, their projections, and what each may spend: the budget less the
+    // others' projections (a fixed share, so the verdicts do not depend on thread timing).
+    let projected: Vec<f64> = costs
+        .iter()
+        .zip(&left_out)
+        .map(|(c, l)| if l.is_none() { c.projected } else { 0.0 })
+        .collect();
+    let planned: f64 = projected.iter().sum();
     let pb = crate::run::progress_bar(
-        names.len() as u64,
-        &format!("stability {}", scene.name),
+        units(planned).max(1),
+        &format!("stability {} (modelled ms of trials)", scene.name),
         cfg.progress,
     );
     let results: Vec<Result<MethodStability>> = names
         .par_iter()
         .enumerate()
         .map(|(k, name)| {
+            let allowance = cfg.budget_seconds.map(|b| b - (planned - projected[k]));
+            let mut work = SearchWork::new(&pb, projected[k], allowance);
             let search = Search {
                 sys: &sys,
                 s0: &s0,
@@ -55,9 +69,10 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
                 start: starts[k],
                 left_out: left_out[k].as_deref(),
             };
-            analyse_one(cfg, name, theories[k], &ms, &search)
+            let r = analyse_one(cfg, name, theories[k], &ms, &search, &mut work);
+            work.finish();
+            r
         })
-        .inspect(|_| pb.inc(1))
         .collect();
     pb.finish_and_clear();
     let asked = crate::measure::case::asked_or_all(&cfg.registry, &cfg.methods);
@@ -169,6 +184,7 @@ fn analyse_one(
     theory: Option<Limit>,
     ms: &Modes,
     search: &Search,
+    work: &mut SearchWork,
 ) -> Result<MethodStability> {
     let method = cfg.registry.get(name)?;
     let exact = method.info.stability == StabilityTheory::Unconditional;
@@ -199,13 +215,14 @@ fn analyse_one(
         });
     }
     let empirical = match (search.start, search.left_out) {
-        (Some(start), None) => Some(empirical_limit(
+        (Some(start), None) => Some(empirical_limit_within(
             search.sys,
             search.s0,
             method,
             &cfg.options,
             start,
             search.crit,
+            Some(work),
         )?),
         (Some(_), Some(why)) => {
             note = Some(why.to_string());
@@ -213,6 +230,9 @@ fn analyse_one(
         }
         (None, _) => None,
     };
+    if let Some(why) = empirical.as_ref().and_then(|e| e.stopped.clone()) {
+        note = Some(why);
+    }
     let (verdict, dt, decided_by) = match (&theory, &empirical) {
         (Some(t), _) => (t.0, t.1, "spectral_radius"),
         (None, Some(e)) => (e.verdict, e.max_stable_dt, "empirical_bisection"),

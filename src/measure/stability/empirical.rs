@@ -43,6 +43,11 @@ pub struct Empirical {
     pub max_stable_dt: Option<f64>,
     /// Trial runs made.
     pub runs: usize,
+    /// Why the search ended before its bracket closed (the budget), when it did: the verdict
+    /// is then what the trials so far showed (`stable_below` a step found stable, larger ones
+    /// untried or unbracketed; `not_analysed` when no stable step was found).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped: Option<String>,
 }
 
 /// Empirical search for the largest stable step of `method` on the real scene.
@@ -54,90 +59,120 @@ pub fn empirical_limit(
     start: f64,
     crit: &EmpiricalCriterion,
 ) -> Result<Empirical> {
+    empirical_limit_within(sys, s0, method, opts, start, crit, None)
+}
+
+/// As [`empirical_limit`], each trial booked on `work` ([`super::work::SearchWork`]): a trial
+/// that would take the search past its allowance is not run, and the search ends with what it
+/// found, saying so in [`Empirical::stopped`].
+// Long because the bracketing and the bisection share the trial closure and its stop.
+pub fn empirical_limit_within(
+    sys: &System,
+    s0: &State,
+    method: &Method,
+    opts: &MethodOptions,
+    start: f64,
+    crit: &EmpiricalCriterion,
+    mut work: Option<&mut super::work::SearchWork>,
+) -> Result<Empirical> {
     let mut runs = 0;
-    let mut stable = |h: f64| -> Result<bool> {
+    let mut stopped: Option<String> = None;
+    // Some(verdict) per trial; None when the budget stopped the search before it.
+    let mut stable = |h: f64| -> Result<Option<bool>> {
+        let steps = trial_steps(crit, h);
+        if let Some(why) = work.as_deref().and_then(|w| w.refuse(steps)) {
+            stopped = Some(why);
+            return Ok(None);
+        }
         runs += 1;
         let mut stepper = method.create(opts);
         let plan = RunPlan {
             dt: h,
-            steps: trial_steps(crit, h),
+            steps,
             substeps: 1,
             blowup_factor: crit.blowup_factor,
             stop_at_verdict: true,
         };
-        Ok(
-            run(sys, stepper.as_mut(), s0.clone(), &plan, &mut NoObserver)?
-                .status
-                .is_ok(),
-        )
+        let out = run(sys, stepper.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
+        if let Some(w) = work.as_deref_mut() {
+            w.book(out.modelled_seconds, out.steps_done);
+        }
+        Ok(Some(out.status.is_ok()))
+    };
+    let done = |verdict, max_stable_dt, runs, stopped: &mut Option<String>| Empirical {
+        verdict,
+        max_stable_dt,
+        runs,
+        stopped: stopped.take(),
     };
     let mut h = start.clamp(crit.dt_min, crit.dt_max);
     let (mut lo, mut hi);
-    if stable(h)? {
-        lo = h;
-        loop {
-            h *= 2.0;
-            if h > crit.dt_max {
-                return Ok(Empirical {
-                    verdict: Verdict::UnconditionallyStable,
-                    max_stable_dt: None,
-                    runs,
-                });
-            }
-            if !stable(h)? {
-                hi = h;
-                break;
-            }
+    match stable(h)? {
+        None => return Ok(done(Verdict::NotAnalysed, None, runs, &mut stopped)),
+        Some(true) => {
             lo = h;
+            loop {
+                h *= 2.0;
+                if h > crit.dt_max {
+                    return Ok(done(
+                        Verdict::UnconditionallyStable,
+                        None,
+                        runs,
+                        &mut stopped,
+                    ));
+                }
+                match stable(h)? {
+                    // Stable at `lo`, larger steps untried: a lower bound.
+                    None => return Ok(done(Verdict::StableBelow, Some(lo), runs, &mut stopped)),
+                    Some(false) => {
+                        hi = h;
+                        break;
+                    }
+                    Some(true) => lo = h,
+                }
+            }
         }
-    } else {
-        hi = h;
-        loop {
-            h *= 0.5;
-            if h < crit.dt_min {
-                return Ok(Empirical {
-                    verdict: Verdict::UnstableForAllDt,
-                    max_stable_dt: None,
-                    runs,
-                });
-            }
-            if stable(h)? {
-                lo = h;
-                break;
-            }
+        Some(false) => {
             hi = h;
+            loop {
+                h *= 0.5;
+                if h < crit.dt_min {
+                    return Ok(done(Verdict::UnstableForAllDt, None, runs, &mut stopped));
+                }
+                match stable(h)? {
+                    None => return Ok(done(Verdict::NotAnalysed, None, runs, &mut stopped)),
+                    Some(true) => {
+                        lo = h;
+                        break;
+                    }
+                    Some(false) => hi = h,
+                }
+            }
         }
     }
     while hi / lo > 1.001 {
         let mid = (lo * hi).sqrt();
-        if stable(mid)? {
-            lo = mid
-        } else {
-            hi = mid
+        match stable(mid)? {
+            None => break,
+            Some(true) => lo = mid,
+            Some(false) => hi = mid,
         }
     }
-    Ok(Empirical {
-        verdict: Verdict::StableBelow,
-        max_stable_dt: Some(lo),
-        runs,
-    })
+    Ok(done(Verdict::StableBelow, Some(lo), runs, &mut stopped))
 }
 
-/// Per method, why its empirical search is left out (`None`: it runs): the searches that fit
-/// `budget` (s, summed), cheapest first, run; each projected at [`SEARCH_TRIALS`] trials of
-/// `horizon / start` steps at its probed time per step.
-pub(super) fn searches_over_budget(
+/// Per method, its empirical search's projected cost: [`SEARCH_TRIALS`] trials of
+/// `horizon / start` steps at its probed time per step (nothing where no search runs).
+pub(super) fn search_costs(
     sys: &System,
     s0: &State,
     cfg: &StabilityConfig,
     names: &[String],
     starts: &[Option<f64>],
     horizon: f64,
-    budget: f64,
-) -> Result<Vec<Option<String>>> {
-    use crate::measure::probe::{check_budget, seconds_per_step, split_by_budget, Cost};
-    check_budget(budget)?;
-    let costs: Vec<Cost> = names
+) -> Vec<crate::measure::probe::Cost> {
+    use crate::measure::probe::{seconds_per_step, Cost};
+    names
         .iter()
         .zip(starts)
         .map(|(name, start)| match start {
@@ -156,9 +191,20 @@ pub(super) fn searches_over_budget(
                 projected: 0.0,
             },
         })
-        .collect();
+        .collect()
+}
+
+/// Per method, why its empirical search is left out (`None`: it runs): the searches that fit
+/// `budget` (s, summed), cheapest first, run; each projected by [`search_costs`] (`costs`).
+pub(super) fn searches_over_budget(
+    names: &[String],
+    costs: &[crate::measure::probe::Cost],
+    budget: f64,
+) -> Result<Vec<Option<String>>> {
+    use crate::measure::probe::{check_budget, split_by_budget};
+    check_budget(budget)?;
     let what = format!("its empirical search (about {SEARCH_TRIALS} trials over the horizon)");
-    let (_, left) = split_by_budget(names.to_vec(), &costs, budget, &what, "step");
+    let (_, left) = split_by_budget(names.to_vec(), costs, budget, &what, "step");
     Ok(names
         .iter()
         .map(|n| left.iter().find(|l| l.0 == *n).map(|l| l.1.clone()))

@@ -34,11 +34,13 @@ mod empirical;
 mod map;
 mod statement;
 mod theory;
+pub mod work;
 
 pub use super::modes::Mode;
 pub use analyse::{analyse, write_stability};
 pub use empirical::{
-    empirical_limit, trial_steps, Empirical, EmpiricalCriterion, MIN_TRIAL_STEPS, SEARCH_TRIALS,
+    empirical_limit, empirical_limit_within, trial_steps, Empirical, EmpiricalCriterion,
+    MIN_TRIAL_STEPS, SEARCH_TRIALS,
 };
 pub use map::{
     decide, seeded, stability_map, MapConfig, MapRow, GROWTH_SHOWN, MAP_HEADER, MAP_MAX_STEPS,
