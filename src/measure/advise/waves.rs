@@ -1,0 +1,342 @@
+//! The order of advice's work: candidates run in waves, cheapest floor first
+//! ([`super::screen`]), each wave's grid runs followed by its verification (and its frame-rate
+//! runs), so the cheapest candidates are verified before the dear ones run and the screen can
+//! hold those to them.
+//!
+//! The first wave is the [`FIRST_WAVE`] candidates first in floor order (floors within the
+//! ranking's tie band taken highest order of accuracy first) among those whose floor is set by
+//! their stability limit (the floor of an unconditionally stable method or an engine,
+//! its cost at the grid's largest step, says little about the step it will need), else of all;
+//! while nothing is verified, each next wave is the next [`FIRST_WAVE`] by floor. Once an
+//! answer is verified, every candidate left whose floor is above the screen factor
+//! ([`super::screen::SCREEN_FACTOR`] unless asked otherwise) times the
+//! cheapest verified answer's cost is not run, and the rest run in one last wave, each down
+//! to the finest grid step within the screen. Every grid run is judged against one reference
+//! of the whole grid; each wave's verification against a reference of its own steps.
+
+use super::config::AdviseConfig;
+use super::frames::FramePlan;
+use super::cost::TIE_BAND;
+use super::screen::{Basis, Priced, Screened};
+use super::search::{predict_row, reference_for, run_grids, run_on, unable_reason};
+use super::search::{Decided, Prediction};
+use crate::error::Result;
+use crate::measure::case::{CaseResult, CaseSettings};
+use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use crate::measure::reference::ReferenceInfo;
+use crate::measure::tolerance::Judge;
+use crate::model::System;
+use crate::scenario::Scenario;
+
+/// Candidates in each wave while nothing is verified.
+pub const FIRST_WAVE: usize = 2;
+
+/// What advice runs on: the scene, its system, the options, the run settings, the horizon (s)
+/// and the frame rates of the game view (Hz).
+pub(super) struct Ctx<'a> {
+    pub scene: &'a Scenario,
+    pub sys: &'a System,
+    pub cfg: &'a AdviseConfig,
+    pub set: &'a CaseSettings,
+    pub horizon: f64,
+    pub rates: &'a [f64],
+}
+
+/// One candidate's verified answer.
+#[derive(Debug, Clone)]
+pub(super) struct Answer {
+    /// Method name.
+    pub name: String,
+    /// The step it was verified at (s): the frame view's substeps come from it.
+    pub verify_dt: f64,
+    /// The chosen run: the verification run when it met the bound, else the last passing
+    /// grid run.
+    pub chosen: CaseResult,
+    /// The chosen run's predicted error.
+    pub predicted: f64,
+    /// Per frame rate: the run at one step per frame and the substepped run.
+    pub frames: Vec<(CaseResult, CaseResult)>,
+}
+
+impl Answer {
+    /// Modelled seconds per simulated second of the chosen run (s/s).
+    pub fn cost(&self) -> f64 {
+        self.chosen.modelled_seconds / (self.chosen.dt * self.chosen.steps as f64)
+    }
+}
+
+/// What happened to one candidate.
+#[derive(Debug, Clone)]
+pub(super) enum Fate {
+    /// Verified.
+    Answered(Box<Answer>),
+    /// Cannot meet the bound on the grid, with why.
+    Unable(String),
+    /// Screened out.
+    Screened(Box<Screened>),
+}
+
+/// What the waves found: the reference of the grid runs, each candidate's fate (candidate
+/// order; None for one left for the grid's extension), every step run, and each candidate's
+/// grid runs (for the extension).
+pub(super) struct Waves {
+    pub reference: ReferenceInfo,
+    pub fates: Vec<Option<Fate>>,
+    pub tried: Vec<f64>,
+    pub rows: Vec<(String, Vec<CaseResult>)>,
+}
+
+/// The order candidates are taken in: by floor, the cheapest remaining candidate and every
+/// other within [`TIE_BAND`] of it forming a group (as the ranking groups costs), a group
+/// ordered by the registry's order of accuracy, highest first (of two methods that cost the
+/// same per step, the higher order meets a tolerance at the larger step), then by name.
+fn by_floor(priced: &[Priced], orders: &[u32]) -> Vec<usize> {
+    let mut rest: Vec<usize> = (0..priced.len()).collect();
+    rest.sort_by(|&a, &b| {
+        priced[a]
+            .floor
+            .total_cmp(&priced[b].floor)
+            .then_with(|| priced[a].name.cmp(&priced[b].name))
+    });
+    let mut order = Vec::with_capacity(rest.len());
+    while let Some(&lead) = rest.first() {
+        let limit = priced[lead].floor * (1.0 + TIE_BAND);
+        let (mut group, others): (Vec<usize>, Vec<usize>) =
+            rest.iter().partition(|&&i| priced[i].floor <= limit);
+        group.sort_by(|&a, &b| {
+            orders[b]
+                .cmp(&orders[a])
+                .then_with(|| priced[a].name.cmp(&priced[b].name))
+        });
+        order.extend(group);
+        rest = others;
+    }
+    order
+}
+
+/// The next wave from `pending` (in floor order): everything left once an answer is
+/// verified, else the first [`FIRST_WAVE`] bounded candidates (any, when none is bounded).
+fn next_wave(priced: &[Priced], pending: &[usize], verified: bool) -> Vec<usize> {
+    if verified {
+        return pending.to_vec();
+    }
+    let bounded: Vec<usize> = pending
+        .iter()
+        .copied()
+        .filter(|&i| priced[i].bounded)
+        .take(FIRST_WAVE)
+        .collect();
+    if bounded.is_empty() {
+        pending.iter().copied().take(FIRST_WAVE).collect()
+    } else {
+        bounded
+    }
+}
+
+/// Runs the candidates `priced` over `grid` in waves (see the module docs).
+pub(super) fn run_waves(
+    ctx: &Ctx,
+    priced: &[Priced],
+    grid: &[(f64, u64)],
+    decided: &mut Decided,
+) -> Result<Waves> {
+    let (scene, cfg) = (ctx.scene, ctx.cfg);
+    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, ctx.sys.len());
+    let grids: Vec<TimeGrid> = grid
+        .iter()
+        .map(|&(dt, s)| TimeGrid::new(dt, s, max_samples))
+        .collect();
+    let reference = reference_for(scene, cfg, &grids, ctx.horizon, decided)?;
+    let judge = decided.judge.clone().expect("decided by the reference");
+    let mut fates: Vec<Option<Fate>> = vec![None; priced.len()];
+    let mut ran = vec![false; grid.len()];
+    let mut rows: Vec<(String, Vec<CaseResult>)> = Vec::new();
+    let orders: Vec<u32> = priced
+        .iter()
+        .map(|p| {
+            cfg.registry
+                .info(&p.name)
+                .map_or(0, |m| m.order.finite().unwrap_or(u32::MAX))
+        })
+        .collect();
+    let mut pending = by_floor(priced, &orders);
+    let mut basis: Option<Basis> = None;
+    let mut wave_no = 0;
+    while !pending.is_empty() {
+        if let Some(b) = &basis {
+            let limit = cfg.screen_factor * b.modelled_per_second;
+            for &i in pending.iter().filter(|&&i| priced[i].floor > limit) {
+                fates[i] = Some(Fate::Screened(Box::new(Screened::not_run(&priced[i], b))));
+            }
+            pending.retain(|&i| priced[i].floor <= limit);
+        }
+        let wave = next_wave(priced, &pending, basis.is_some());
+        if wave.is_empty() {
+            break;
+        }
+        pending.retain(|i| !wave.contains(i));
+        wave_no += 1;
+        let limit = basis
+            .as_ref()
+            .map(|b| cfg.screen_factor * b.modelled_per_second);
+        let jobs: Vec<(String, usize)> = wave
+            .iter()
+            .flat_map(|&i| {
+                (0..grid.len())
+                    .filter(move |&k| priced[i].runs_at(k, limit))
+                    .map(move |k| (priced[i].name.clone(), k))
+            })
+            .collect();
+        for (_, k) in &jobs {
+            ran[*k] = true;
+        }
+        let cases = run_on(
+            (scene, ctx.sys),
+            &reference,
+            &jobs,
+            ctx.set,
+            (&format!("grid runs (wave {wave_no})"), cfg.progress),
+        )?;
+        let mut predictions = Vec::new();
+        let mut at = 0;
+        for &i in &wave {
+            let p = &priced[i];
+            let n = (0..grid.len()).filter(|&k| p.runs_at(k, limit)).count();
+            let row = &cases[at..at + n];
+            at += n;
+            rows.push((p.name.clone(), row.to_vec()));
+            match predict_row(
+                &p.name,
+                row,
+                (ctx.horizon, max_samples),
+                &judge,
+                cfg.safety,
+            ) {
+                Ok(pred) => predictions.push((i, pred)),
+                Err(errors) => fates[i] = Some(missed(p, grid, &errors, basis.as_ref(), &judge, cfg)),
+            }
+        }
+        let preds: Vec<Prediction> = predictions.iter().map(|(_, p)| p.clone()).collect();
+        let label = format!("verification (wave {wave_no})");
+        let answers = verify(ctx, &preds, max_samples, decided, &label)?;
+        for ((i, _), a) in predictions.iter().zip(answers) {
+            let cost = a.cost();
+            if basis
+                .as_ref()
+                .is_none_or(|b| cost < b.modelled_per_second)
+            {
+                basis = Some(Basis {
+                    method: a.name.clone(),
+                    modelled_per_second: cost,
+                });
+            }
+            fates[*i] = Some(Fate::Answered(Box::new(a)));
+        }
+    }
+    let tried = grid
+        .iter()
+        .zip(&ran)
+        .filter(|(_, &r)| r)
+        .map(|(g, _)| g.0)
+        .collect();
+    Ok(Waves {
+        reference: reference.info,
+        fates,
+        tried,
+        rows,
+    })
+}
+
+/// The fate of a candidate whose grid runs (`errors`: step and error, finest first) missed
+/// tolerance / safety at its finest step run: screened, when finer grid steps were left out
+/// for cost, else unable.
+fn missed(
+    p: &Priced,
+    grid: &[(f64, u64)],
+    errors: &[(f64, Option<f64>)],
+    basis: Option<&Basis>,
+    judge: &Judge,
+    cfg: &AdviseConfig,
+) -> Fate {
+    let Some(b) = basis else {
+        return Fate::Unable(unable_reason(errors, judge.bound, cfg.safety));
+    };
+    let Some(&(finest, _)) = errors.first() else {
+        return Fate::Screened(Box::new(Screened::no_step_within(p, grid, b)));
+    };
+    // The next finer grid step, left out for its cost.
+    match grid.iter().enumerate().rfind(|(_, g)| g.0 < finest) {
+        Some((k, g)) => Fate::Screened(Box::new(Screened::not_run_below(
+            &p.name,
+            finest,
+            (g.0, p.per_second[k]),
+            (b, cfg.screen_factor),
+            &match errors[0].1 {
+                Some(e) => format!(
+                    "its error at the finest step run is {e:.3e}, above tolerance/safety {:.3e}",
+                    judge.bound / cfg.safety
+                ),
+                None => "it is unstable at the finest step run".to_string(),
+            },
+        ))),
+        None => Fate::Unable(unable_reason(errors, judge.bound, cfg.safety)),
+    }
+}
+
+/// Verifies `preds`: re-runs each at its predicted step (and runs its frame-rate view) against
+/// a reference of those steps; the chosen run is the verification run when it meets the
+/// bound, else the last passing grid run.
+pub(super) fn verify(
+    ctx: &Ctx,
+    preds: &[Prediction],
+    max_samples: u64,
+    decided: &mut Decided,
+    label: &str,
+) -> Result<Vec<Answer>> {
+    if preds.is_empty() {
+        return Ok(Vec::new());
+    }
+    let steps: Vec<f64> = preds.iter().map(|p| p.1.dt).collect();
+    let plan = FramePlan::new(ctx.horizon, &steps, ctx.rates);
+    let jobs: Vec<(String, TimeGrid)> = preds
+        .iter()
+        .map(|p| (p.0.clone(), p.1))
+        .chain(
+            plan.grids(max_samples)
+                .into_iter()
+                .map(|(pi, g)| (preds[pi].0.clone(), g)),
+        )
+        .collect();
+    let (_, res) = run_grids(
+        ctx.scene,
+        ctx.cfg,
+        &jobs,
+        (ctx.horizon, ctx.set),
+        decided,
+        label,
+    )?;
+    let judge = decided.judge.as_ref().expect("decided by the first reference");
+    let np = preds.len();
+    Ok(preds
+        .iter()
+        .enumerate()
+        .map(|(pi, (name, g, pred, fallback))| {
+            let (chosen, predicted) = match judge.error(&res[pi]) {
+                Some(e) if e <= judge.bound => (res[pi].clone(), *pred),
+                _ => (fallback.clone(), judge.error(fallback).unwrap_or(0.0)),
+            };
+            Answer {
+                name: name.clone(),
+                verify_dt: g.dt,
+                chosen,
+                predicted,
+                frames: (0..ctx.rates.len())
+                    .map(|fi| {
+                        let k = np + 2 * (fi * np + pi);
+                        (res[k].clone(), res[k + 1].clone())
+                    })
+                    .collect(),
+            }
+        })
+        .collect())
+}
