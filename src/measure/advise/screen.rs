@@ -17,6 +17,7 @@
 
 use super::config::AdviseConfig;
 use crate::error::Result;
+use crate::measure::case::CaseResult;
 use crate::measure::probe::{seconds_per_step, sig3};
 use crate::measure::stability::Verdict;
 use crate::model::System;
@@ -124,13 +125,51 @@ pub(super) fn price(
         .collect())
 }
 
-/// The verified answer a screen is held to: its method and modelled cost per simulated second.
+/// The answer a screen is held to: the cheapest verified answer, or, where waves are verified
+/// together ([`super::waves`]), the cheapest grid run that met the bound.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Basis {
     /// Method name.
     pub method: String,
-    /// Its verified answer's modelled seconds per simulated second (s/s).
+    /// Its run's modelled seconds per simulated second (s/s).
     pub modelled_per_second: f64,
+    /// Its run's step (s).
+    pub dt: f64,
+    /// True for a grid run that met tolerance / safety, false for a verified answer.
+    pub grid_run: bool,
+}
+
+impl Basis {
+    /// The basis of method `name`'s run `c`.
+    pub(super) fn of(name: &str, c: &CaseResult, grid_run: bool) -> Self {
+        Basis {
+            method: name.to_string(),
+            modelled_per_second: c.modelled_seconds / (c.dt * c.steps as f64),
+            dt: c.dt,
+            grid_run,
+        }
+    }
+
+    /// The cheaper of `a` and `b` (`a` on a tie: the earlier in the order of the work).
+    pub(super) fn cheaper(a: Option<Basis>, b: Basis) -> Option<Basis> {
+        match a {
+            Some(a) if a.modelled_per_second <= b.modelled_per_second => Some(a),
+            _ => Some(b),
+        }
+    }
+
+    /// "rk4's verified answer", or "rk4's run at dt = … s, which met the bound on the grid".
+    fn words(&self) -> String {
+        if self.grid_run {
+            format!(
+                "{}'s run at dt = {} s, which met the bound on the grid",
+                self.method,
+                sig3(self.dt)
+            )
+        } else {
+            format!("{}'s verified answer", self.method)
+        }
+    }
 }
 
 /// A candidate advice did not run, or did not run below a step, because it models far above
@@ -146,7 +185,7 @@ pub struct Screened {
     pub modelled_per_second: f64,
     /// The step that cost is at (s).
     pub dt: f64,
-    /// The verified answer it was held to.
+    /// The answer it was held to.
     pub basis: Basis,
     /// In words, with the figures.
     pub reason: String,
@@ -188,9 +227,9 @@ impl Screened {
             dt,
             basis: basis.clone(),
             reason: format!(
-                "not run: at least {}× the cost of {}'s verified answer (modelled {} s per simulated second {how}, dt = {} s, vs {})",
+                "not run: at least {}× the cost of {} (modelled {} s per simulated second {how}, dt = {} s, vs {})",
                 sig3(cost / basis.modelled_per_second),
-                basis.method,
+                basis.words(),
                 sig3(cost),
                 sig3(dt),
                 sig3(basis.modelled_per_second),
@@ -215,10 +254,10 @@ impl Screened {
             dt: next,
             basis: basis.clone(),
             reason: format!(
-                "not run below {} s: finer steps model above {}× the cost of {}'s verified answer (modelled {} s per simulated second at dt = {} s vs {}); {errors}",
+                "not run below {} s: finer steps model above {}× the cost of {} (modelled {} s per simulated second at dt = {} s vs {}); {errors}",
                 sig3(finest),
                 crate::error::num(factor),
-                basis.method,
+                basis.words(),
                 sig3(cost),
                 sig3(next),
                 sig3(basis.modelled_per_second),

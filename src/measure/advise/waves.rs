@@ -1,7 +1,13 @@
 //! The order of advice's work: candidates run in waves, cheapest floor first
 //! ([`super::screen`]), each wave's grid runs followed by its verification (and its frame-rate
 //! runs), so the cheapest candidates are verified before the dear ones run and the screen can
-//! hold those to them.
+//! hold those to them. Verifying a wave takes a reference of its steps: where the grid's
+//! reference is a kept solve ([`crate::measure::reference::Reference::solve_id`]) that is a
+//! resampling, and each wave is verified at once; where it is not (a scene whose solve is too
+//! big to keep), each would be a solve of its own, so the waves are verified together after
+//! the last one and the screen holds the rest to the cheapest grid run that met the bound
+//! (tolerance / safety, against the same reference), which costs no less than its candidate's
+//! verified answer.
 //!
 //! The first wave is the [`FIRST_WAVE`] candidates first in floor order (floors within the
 //! ranking's tie band taken highest order of accuracy first) among those whose floor is set by
@@ -56,13 +62,6 @@ pub(super) struct Answer {
     pub predicted: f64,
     /// Per frame rate: the run at one step per frame and the substepped run.
     pub frames: Vec<(CaseResult, CaseResult)>,
-}
-
-impl Answer {
-    /// Modelled seconds per simulated second of the chosen run (s/s).
-    pub fn cost(&self) -> f64 {
-        self.chosen.modelled_seconds / (self.chosen.dt * self.chosen.steps as f64)
-    }
 }
 
 /// What happened to one candidate.
@@ -162,6 +161,12 @@ pub(super) fn run_waves(
     let mut pending = by_floor(priced, &orders);
     let mut basis: Option<Basis> = None;
     let mut wave_no = 0;
+    // Where the reference is a kept solve, verifying a wave resamples it: each wave is verified
+    // at once and the screen holds the rest to verified answers. Otherwise each verification
+    // would solve the reference again, so all are verified together after the last wave and
+    // the screen holds the rest to the cheapest grid run that met the bound.
+    let verify_each = reference.solve_id().is_some();
+    let mut deferred: Vec<(usize, Prediction)> = Vec::new();
     while !pending.is_empty() {
         if let Some(b) = &basis {
             let limit = cfg.screen_factor * b.modelled_per_second;
@@ -216,22 +221,25 @@ pub(super) fn run_waves(
                 Err(errors) => fates[i] = Some(missed(p, grid, &errors, basis.as_ref(), &judge, cfg)),
             }
         }
-        let preds: Vec<Prediction> = predictions.iter().map(|(_, p)| p.clone()).collect();
-        let label = format!("verification (wave {wave_no})");
-        let answers = verify(ctx, &preds, max_samples, decided, &label)?;
-        for ((i, _), a) in predictions.iter().zip(answers) {
-            let cost = a.cost();
-            if basis
-                .as_ref()
-                .is_none_or(|b| cost < b.modelled_per_second)
-            {
-                basis = Some(Basis {
-                    method: a.name.clone(),
-                    modelled_per_second: cost,
-                });
+        if verify_each {
+            let preds: Vec<Prediction> = predictions.iter().map(|(_, p)| p.clone()).collect();
+            let label = format!("verification (wave {wave_no})");
+            let answers = verify(ctx, &preds, max_samples, decided, &label)?;
+            for ((i, _), a) in predictions.iter().zip(answers) {
+                basis = Basis::cheaper(basis, Basis::of(&a.name, &a.chosen, false));
+                fates[*i] = Some(Fate::Answered(Box::new(a)));
             }
-            fates[*i] = Some(Fate::Answered(Box::new(a)));
+        } else {
+            for (i, p) in predictions {
+                basis = Basis::cheaper(basis, Basis::of(&p.0, &p.3, true));
+                deferred.push((i, p));
+            }
         }
+    }
+    let preds: Vec<Prediction> = deferred.iter().map(|(_, p)| p.clone()).collect();
+    let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
+    for ((i, _), a) in deferred.iter().zip(answers) {
+        fates[*i] = Some(Fate::Answered(Box::new(a)));
     }
     let tried = grid
         .iter()
