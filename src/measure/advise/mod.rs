@@ -317,7 +317,10 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
                 "verification (extended grid)",
             )?;
             for a in answers {
-                let i = names.iter().position(|n| *n == a.name).expect("a candidate");
+                let i = names
+                    .iter()
+                    .position(|n| *n == a.name)
+                    .expect("a candidate");
                 fates[i] = Some(Fate::Answered(Box::new(a)));
             }
             unable.extend(ext.dropped);

@@ -82,13 +82,8 @@ pub(super) fn price(
     grid: &[(f64, u64)],
 ) -> Result<Vec<Priced>> {
     let s0 = scene.initial_state();
-    let limits = crate::measure::stability::theory_limits(
-        &cfg.registry,
-        &cfg.options,
-        sys,
-        &s0,
-        names,
-    )?;
+    let limits =
+        crate::measure::stability::theory_limits(&cfg.registry, &cfg.options, sys, &s0, names)?;
     let jobs: Vec<(usize, usize)> = (0..names.len())
         .flat_map(|i| (0..grid.len()).map(move |k| (i, k)))
         .collect();

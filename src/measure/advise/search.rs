@@ -34,16 +34,17 @@ pub(super) fn reference_for(
 ) -> Result<Reference> {
     let sys = scene.build();
     let s0 = scene.initial_state();
-    let stage = crate::run::progress_stage(
-        format!("advise {}: reference", scene.name),
-        cfg.progress,
-    );
+    let stage =
+        crate::run::progress_stage(format!("advise {}: reference", scene.name), cfg.progress);
     let mut reference = Reference::compute(&sys, &s0, grids, horizon)?;
     drop(stage);
     match &decided.judge {
         None => {
             let _stage = crate::run::progress_stage(
-                format!("advise {}: judge (the tolerance, an ensemble where needed)", scene.name),
+                format!(
+                    "advise {}: judge (the tolerance, an ensemble where needed)",
+                    scene.name
+                ),
                 cfg.progress,
             );
             let (judge, note) = crate::measure::tolerance::decide(
@@ -347,10 +348,9 @@ pub(super) fn extend(
         for (n, row) in &rows {
             match predict_row(n, row, (horizon, max_samples), &judge, cfg.safety) {
                 Ok(p) => predictions.push(p),
-                Err(errors) => missed.push((
-                    n.clone(),
-                    unable_reason(&errors, judge.bound, cfg.safety),
-                )),
+                Err(errors) => {
+                    missed.push((n.clone(), unable_reason(&errors, judge.bound, cfg.safety)))
+                }
             }
         }
         cant = missed;

@@ -2,8 +2,8 @@
 //! ([`super::screen`]), each wave's grid runs followed by its verification (and its frame-rate
 //! runs), so the cheapest candidates are verified before the dear ones run and the screen can
 //! hold those to them. Verifying a wave takes a reference of its steps: where the grid's
-//! reference is a kept solve ([`crate::measure::reference::Reference::solve_id`]) that is a
-//! resampling, and each wave is verified at once; where it is not (a scene whose solve is too
+//! reference is a kept solve ([`crate::measure::reference::Reference::solve_id`]) or a closed
+//! form, that is a resampling, and each wave is verified at once; where it is not (a scene whose solve is too
 //! big to keep), each would be a solve of its own, so the waves are verified together after
 //! the last one and the screen holds the rest to the cheapest grid run that met the bound
 //! (tolerance / safety, against the same reference), which costs no less than its candidate's
@@ -21,8 +21,8 @@
 //! of the whole grid; each wave's verification against a reference of its own steps.
 
 use super::config::AdviseConfig;
-use super::frames::FramePlan;
 use super::cost::TIE_BAND;
+use super::frames::FramePlan;
 use super::screen::{Basis, Priced, Screened};
 use super::search::{predict_row, reference_for, run_grids, run_on, unable_reason};
 use super::search::{Decided, Prediction};
@@ -161,11 +161,12 @@ pub(super) fn run_waves(
     let mut pending = by_floor(priced, &orders);
     let mut basis: Option<Basis> = None;
     let mut wave_no = 0;
-    // Where the reference is a kept solve, verifying a wave resamples it: each wave is verified
-    // at once and the screen holds the rest to verified answers. Otherwise each verification
+    // Where the reference is a kept solve (or a closed form, no solver step), verifying a wave
+    // resamples it: each wave is verified at once and the screen holds the rest to verified
+    // answers. Otherwise each verification
     // would solve the reference again, so all are verified together after the last wave and
     // the screen holds the rest to the cheapest grid run that met the bound.
-    let verify_each = reference.solve_id().is_some();
+    let verify_each = reference.solve_id().is_some() || reference.info.solver_steps == 0;
     let mut deferred: Vec<(usize, Prediction)> = Vec::new();
     while !pending.is_empty() {
         if let Some(b) = &basis {
@@ -210,15 +211,11 @@ pub(super) fn run_waves(
             let row = &cases[at..at + n];
             at += n;
             rows.push((p.name.clone(), row.to_vec()));
-            match predict_row(
-                &p.name,
-                row,
-                (ctx.horizon, max_samples),
-                &judge,
-                cfg.safety,
-            ) {
+            match predict_row(&p.name, row, (ctx.horizon, max_samples), &judge, cfg.safety) {
                 Ok(pred) => predictions.push((i, pred)),
-                Err(errors) => fates[i] = Some(missed(p, grid, &errors, basis.as_ref(), &judge, cfg)),
+                Err(errors) => {
+                    fates[i] = Some(missed(p, grid, &errors, basis.as_ref(), &judge, cfg))
+                }
             }
         }
         if verify_each {
@@ -323,7 +320,10 @@ pub(super) fn verify(
         decided,
         label,
     )?;
-    let judge = decided.judge.as_ref().expect("decided by the first reference");
+    let judge = decided
+        .judge
+        .as_ref()
+        .expect("decided by the first reference");
     let np = preds.len();
     Ok(preds
         .iter()
