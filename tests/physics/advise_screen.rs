@@ -113,10 +113,8 @@ fn twin_without_a_screen_the_candidate_runs_and_the_pick_is_the_same() {
     {
         assert!(r.modelled_per_second > SCREEN_FACTOR * open.modelled_per_second.unwrap());
     }
-    for (a, b) in [(&screened, &open)] {
-        assert_eq!(a.method, b.method);
-        assert_eq!(a.dt, b.dt);
-        assert_eq!(a.verified_error, b.verified_error);
-        assert_eq!(a.modelled_per_second, b.modelled_per_second);
-    }
+    assert_eq!(screened.method, open.method);
+    assert_eq!(screened.dt, open.dt);
+    assert_eq!(screened.verified_error, open.verified_error);
+    assert_eq!(screened.modelled_per_second, open.modelled_per_second);
 }

@@ -174,6 +174,9 @@ pub const EXTENSION_FACTOR: f64 = 30.0;
 /// Largest run of an extended grid, in particle-steps: a finer grid than this is not tried.
 pub const EXTENSION_PARTICLE_STEPS: f64 = 5e7;
 
+/// A candidate's grid runs, ascending in the step.
+pub(super) type Row = (String, Vec<CaseResult>);
+
 /// A method advice cannot use, with why.
 pub(super) type Unable = (String, String);
 
@@ -277,7 +280,7 @@ pub(super) fn extend(
     (scene, sys): (&Scenario, &System),
     cfg: &AdviseConfig,
     (set, horizon): (&CaseSettings, f64),
-    (rows, mut grid): (Vec<(String, Vec<CaseResult>)>, Vec<(f64, u64)>),
+    (rows, mut grid): (Vec<Row>, Vec<(f64, u64)>),
     mut cant: Vec<Unable>,
     decided: &mut Decided,
 ) -> Result<Option<Extended>> {

@@ -25,7 +25,7 @@ use super::cost::TIE_BAND;
 use super::frames::FramePlan;
 use super::screen::{Basis, Priced, Screened};
 use super::search::{predict_row, reference_for, run_grids, run_on, unable_reason};
-use super::search::{Decided, Prediction};
+use super::search::{Decided, Prediction, Row};
 use crate::error::Result;
 use crate::measure::case::{CaseResult, CaseSettings};
 use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
@@ -82,7 +82,7 @@ pub(super) struct Waves {
     pub reference: ReferenceInfo,
     pub fates: Vec<Option<Fate>>,
     pub tried: Vec<f64>,
-    pub rows: Vec<(String, Vec<CaseResult>)>,
+    pub rows: Vec<Row>,
 }
 
 /// The order candidates are taken in: by floor, the cheapest remaining candidate and every
@@ -149,7 +149,7 @@ pub(super) fn run_waves(
     let judge = decided.judge.clone().expect("decided by the reference");
     let mut fates: Vec<Option<Fate>> = vec![None; priced.len()];
     let mut ran = vec![false; grid.len()];
-    let mut rows: Vec<(String, Vec<CaseResult>)> = Vec::new();
+    let mut rows: Vec<Row> = Vec::new();
     let orders: Vec<u32> = priced
         .iter()
         .map(|p| {
