@@ -118,3 +118,37 @@ fn twin_without_a_screen_the_candidate_runs_and_the_pick_is_the_same() {
     assert_eq!(screened.verified_error, open.verified_error);
     assert_eq!(screened.modelled_per_second, open.modelled_per_second);
 }
+
+/// Every number of an advice but its wall times, as JSON.
+fn without_wall_times(adv: &Advice) -> String {
+    let mut v = serde_json::to_value(adv).unwrap();
+    fn strip(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Object(m) => {
+                m.retain(|k, _| k != "wall_per_second" && k != "timing");
+                m.values_mut().for_each(strip);
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    strip(&mut v);
+    v.to_string()
+}
+
+/// Oracle: the one-thread advice; the screen decides on modelled costs (counted work), so the
+/// order of the waves, what is screened and every figure are the same bits on two threads.
+#[test]
+fn the_screen_decides_the_same_whatever_the_thread_count() {
+    let scene = scene();
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| advise(&scene, &config(SCREEN_FACTOR)).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    assert!(!one.screened.is_empty());
+    assert_eq!(without_wall_times(&one), without_wall_times(&two));
+}
