@@ -29,7 +29,7 @@ use super::search::{Decided, Prediction, Row};
 use crate::error::Result;
 use crate::measure::case::{CaseResult, CaseSettings};
 use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
-use crate::measure::reference::ReferenceInfo;
+use crate::measure::reference::{Reference, ReferenceInfo};
 use crate::measure::tolerance::Judge;
 use crate::model::System;
 use crate::scenario::Scenario;
@@ -132,6 +132,67 @@ fn next_wave(priced: &[Priced], pending: &[usize], verified: bool) -> Vec<usize>
     }
 }
 
+/// What the waves have found so far, per candidate (fates), per grid step (whether it ran),
+/// and the grid rows run.
+struct Found {
+    fates: Vec<Option<Fate>>,
+    ran: Vec<bool>,
+    rows: Vec<Row>,
+}
+
+/// The grid's reference, the judge it decided and the samples per run.
+struct OnGrid<'a> {
+    grid: &'a [(f64, u64)],
+    reference: &'a Reference,
+    judge: &'a Judge,
+    max_samples: u64,
+}
+
+/// Runs the grid rows of the candidates `wave` (each down to the finest step within `limit`,
+/// s/s, when there is a screen) against the grid's reference, and predicts each one's step;
+/// a candidate that misses gets its fate in `found`.
+fn grid_wave(
+    ctx: &Ctx,
+    priced: &[Priced],
+    (wave, wave_no): (&[usize], usize),
+    (on, basis): (&OnGrid, Option<&Basis>),
+    found: &mut Found,
+) -> Result<Vec<(usize, Prediction)>> {
+    let cfg = ctx.cfg;
+    let limit = basis.map(|b| cfg.screen_factor * b.modelled_per_second);
+    let steps = |i: usize| (0..on.grid.len()).filter(move |&k| priced[i].runs_at(k, limit));
+    let jobs: Vec<(String, usize)> = wave
+        .iter()
+        .flat_map(|&i| steps(i).map(move |k| (priced[i].name.clone(), k)))
+        .collect();
+    for (_, k) in &jobs {
+        found.ran[*k] = true;
+    }
+    let cases = run_on(
+        (ctx.scene, ctx.sys),
+        on.reference,
+        &jobs,
+        ctx.set,
+        (&format!("grid runs (wave {wave_no})"), cfg.progress),
+    )?;
+    let mut predictions = Vec::new();
+    let mut at = 0;
+    for &i in wave {
+        let p = &priced[i];
+        let row = &cases[at..at + steps(i).count()];
+        at += row.len();
+        found.rows.push((p.name.clone(), row.to_vec()));
+        let target = (ctx.horizon, on.max_samples);
+        match predict_row(&p.name, row, target, on.judge, cfg.safety) {
+            Ok(pred) => predictions.push((i, pred)),
+            Err(errors) => {
+                found.fates[i] = Some(missed(p, on.grid, &errors, basis, on.judge, cfg));
+            }
+        }
+    }
+    Ok(predictions)
+}
+
 /// Runs the candidates `priced` over `grid` in waves (see the module docs).
 pub(super) fn run_waves(
     ctx: &Ctx,
@@ -139,17 +200,25 @@ pub(super) fn run_waves(
     grid: &[(f64, u64)],
     decided: &mut Decided,
 ) -> Result<Waves> {
-    let (scene, cfg) = (ctx.scene, ctx.cfg);
+    let cfg = ctx.cfg;
     let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, ctx.sys.len());
     let grids: Vec<TimeGrid> = grid
         .iter()
         .map(|&(dt, s)| TimeGrid::new(dt, s, max_samples))
         .collect();
-    let reference = reference_for(scene, cfg, &grids, ctx.horizon, decided)?;
+    let reference = reference_for(ctx.scene, cfg, &grids, ctx.horizon, decided)?;
     let judge = decided.judge.clone().expect("decided by the reference");
-    let mut fates: Vec<Option<Fate>> = vec![None; priced.len()];
-    let mut ran = vec![false; grid.len()];
-    let mut rows: Vec<Row> = Vec::new();
+    let on = OnGrid {
+        grid,
+        reference: &reference,
+        judge: &judge,
+        max_samples,
+    };
+    let mut found = Found {
+        fates: vec![None; priced.len()],
+        ran: vec![false; grid.len()],
+        rows: Vec::new(),
+    };
     let orders: Vec<u32> = priced
         .iter()
         .map(|p| {
@@ -160,19 +229,21 @@ pub(super) fn run_waves(
         .collect();
     let mut pending = by_floor(priced, &orders);
     let mut basis: Option<Basis> = None;
-    let mut wave_no = 0;
-    // Where the reference is a kept solve (or a closed form, no solver step), verifying a wave
-    // resamples it: each wave is verified at once and the screen holds the rest to verified
-    // answers. Otherwise each verification
-    // would solve the reference again, so all are verified together after the last wave and
-    // the screen holds the rest to the cheapest grid run that met the bound.
-    let verify_each = reference.solve_id().is_some() || reference.info.solver_steps == 0;
+    // Where the reference is a kept solve (or a closed form: no solver step or evaluation),
+    // verifying a wave resamples it: each wave is verified at once, and the screen holds the rest to
+    // verified answers. Otherwise each verification would solve the reference again, so all
+    // are verified together after the last wave, and the screen holds the rest to the
+    // cheapest grid run that met the bound.
+    let closed_form = reference.info.solver_steps == 0 && reference.info.solver_evals == 0;
+    let verify_each = reference.solve_id().is_some() || closed_form;
     let mut deferred: Vec<(usize, Prediction)> = Vec::new();
+    let mut wave_no = 0;
     while !pending.is_empty() {
         if let Some(b) = &basis {
             let limit = cfg.screen_factor * b.modelled_per_second;
             for &i in pending.iter().filter(|&&i| priced[i].floor > limit) {
-                fates[i] = Some(Fate::Screened(Box::new(Screened::not_run(&priced[i], b))));
+                let s = Screened::not_run(&priced[i], b);
+                found.fates[i] = Some(Fate::Screened(Box::new(s)));
             }
             pending.retain(|&i| priced[i].floor <= limit);
         }
@@ -182,73 +253,44 @@ pub(super) fn run_waves(
         }
         pending.retain(|i| !wave.contains(i));
         wave_no += 1;
-        let limit = basis
-            .as_ref()
-            .map(|b| cfg.screen_factor * b.modelled_per_second);
-        let jobs: Vec<(String, usize)> = wave
-            .iter()
-            .flat_map(|&i| {
-                (0..grid.len())
-                    .filter(move |&k| priced[i].runs_at(k, limit))
-                    .map(move |k| (priced[i].name.clone(), k))
-            })
-            .collect();
-        for (_, k) in &jobs {
-            ran[*k] = true;
-        }
-        let cases = run_on(
-            (scene, ctx.sys),
-            &reference,
-            &jobs,
-            ctx.set,
-            (&format!("grid runs (wave {wave_no})"), cfg.progress),
+        let predictions = grid_wave(
+            ctx,
+            priced,
+            (&wave, wave_no),
+            (&on, basis.as_ref()),
+            &mut found,
         )?;
-        let mut predictions = Vec::new();
-        let mut at = 0;
-        for &i in &wave {
-            let p = &priced[i];
-            let n = (0..grid.len()).filter(|&k| p.runs_at(k, limit)).count();
-            let row = &cases[at..at + n];
-            at += n;
-            rows.push((p.name.clone(), row.to_vec()));
-            match predict_row(&p.name, row, (ctx.horizon, max_samples), &judge, cfg.safety) {
-                Ok(pred) => predictions.push((i, pred)),
-                Err(errors) => {
-                    fates[i] = Some(missed(p, grid, &errors, basis.as_ref(), &judge, cfg))
-                }
-            }
-        }
-        if verify_each {
-            let preds: Vec<Prediction> = predictions.iter().map(|(_, p)| p.clone()).collect();
-            let label = format!("verification (wave {wave_no})");
-            let answers = verify(ctx, &preds, max_samples, decided, &label)?;
-            for ((i, _), a) in predictions.iter().zip(answers) {
-                basis = Basis::cheaper(basis, Basis::of(&a.name, &a.chosen, false));
-                fates[*i] = Some(Fate::Answered(Box::new(a)));
-            }
-        } else {
+        if !verify_each {
             for (i, p) in predictions {
                 basis = Basis::cheaper(basis, Basis::of(&p.0, &p.3, true));
                 deferred.push((i, p));
             }
+            continue;
+        }
+        let preds: Vec<Prediction> = predictions.iter().map(|(_, p)| p.clone()).collect();
+        let label = format!("verification (wave {wave_no})");
+        let answers = verify(ctx, &preds, max_samples, decided, &label)?;
+        for ((i, _), a) in predictions.iter().zip(answers) {
+            basis = Basis::cheaper(basis, Basis::of(&a.name, &a.chosen, false));
+            found.fates[*i] = Some(Fate::Answered(Box::new(a)));
         }
     }
     let preds: Vec<Prediction> = deferred.iter().map(|(_, p)| p.clone()).collect();
     let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
     for ((i, _), a) in deferred.iter().zip(answers) {
-        fates[*i] = Some(Fate::Answered(Box::new(a)));
+        found.fates[*i] = Some(Fate::Answered(Box::new(a)));
     }
     let tried = grid
         .iter()
-        .zip(&ran)
+        .zip(&found.ran)
         .filter(|(_, &r)| r)
         .map(|(g, _)| g.0)
         .collect();
     Ok(Waves {
         reference: reference.info,
-        fates,
+        fates: found.fates,
         tried,
-        rows,
+        rows: found.rows,
     })
 }
 
