@@ -11,14 +11,17 @@
 //!
 //! The first wave is the [`FIRST_WAVE`] candidates first in floor order (floors within the
 //! ranking's tie band taken highest order of accuracy first) among those whose floor is set by
-//! their stability limit (the floor of an unconditionally stable method or an engine,
-//! its cost at the grid's largest step, says little about the step it will need), else of all;
-//! while nothing is verified, each next wave is the next [`FIRST_WAVE`] by floor. Once an
-//! answer is verified, every candidate left whose floor is above the screen factor
-//! ([`super::screen::SCREEN_FACTOR`] unless asked otherwise) times the
-//! cheapest verified answer's cost is not run, and the rest run in one last wave, each down
-//! to the finest grid step within the screen. Every grid run is judged against one reference
-//! of the whole grid; each wave's verification against a reference of its own steps.
+//! their stability limit (the floor of an unconditionally stable method or an engine, its cost
+//! at the grid's largest step, says little about the step it will need), else of all; while
+//! nothing is verified, each next wave is the next [`FIRST_WAVE`] by floor, each candidate's
+//! grid row run first down to the finest step within the screen factor times its own floor,
+//! and the rest of its row only when that predicts nothing. Once an answer is verified, every
+//! candidate left whose floor is above the screen factor
+//! ([`super::screen::SCREEN_FACTOR`] unless asked otherwise) times the cheapest verified
+//! answer's cost is not run, and the rest run in one more wave, each down to the finest grid
+//! step within the screen; a candidate predicted before (under its own floor's screen) runs
+//! its further steps within it there too, and is verified again should its prediction change.
+//! Every grid run is judged against one reference of the whole grid.
 
 use super::config::AdviseConfig;
 use super::cost::TIE_BAND;
@@ -34,8 +37,10 @@ use crate::measure::tolerance::Judge;
 use crate::model::System;
 use crate::scenario::Scenario;
 
-/// Candidates in each wave while nothing is verified.
-pub const FIRST_WAVE: usize = 2;
+/// Candidates in each wave while nothing is verified (1: a grid row's runs already fill the
+/// cores, its finest run taking about half its time, so a second candidate would double the
+/// work before the screen can cut it without finishing sooner).
+pub const FIRST_WAVE: usize = 1;
 
 /// What advice runs on: the scene, its system, the options, the run settings, the horizon (s)
 /// and the frame rates of the game view (Hz).
@@ -132,65 +137,119 @@ fn next_wave(priced: &[Priced], pending: &[usize], verified: bool) -> Vec<usize>
     }
 }
 
-/// What the waves have found so far, per candidate (fates), per grid step (whether it ran),
-/// and the grid rows run.
+/// What the waves have found so far: each candidate's grid runs (per grid step), its current
+/// prediction, and its fate.
 struct Found {
+    runs: Vec<Vec<Option<CaseResult>>>,
+    preds: Vec<Option<Prediction>>,
     fates: Vec<Option<Fate>>,
-    ran: Vec<bool>,
-    rows: Vec<Row>,
+}
+
+impl Found {
+    /// Candidate `i`'s runs, ascending in the step.
+    fn row(&self, i: usize) -> Vec<CaseResult> {
+        self.runs[i].iter().flatten().cloned().collect()
+    }
+
+    /// The grid steps of candidate `i` not yet run whose modelled cost is within `limit`
+    /// (s/s; None: every one).
+    fn missing(&self, i: usize, p: &Priced, limit: Option<f64>) -> Vec<(usize, usize)> {
+        (0..self.runs[i].len())
+            .filter(|&k| self.runs[i][k].is_none() && p.runs_at(k, limit))
+            .map(|k| (i, k))
+            .collect()
+    }
 }
 
 /// The grid's reference, the judge it decided and the samples per run.
 struct OnGrid<'a> {
-    grid: &'a [(f64, u64)],
     reference: &'a Reference,
     judge: &'a Judge,
     max_samples: u64,
 }
 
-/// Runs the grid rows of the candidates `wave` (each down to the finest step within `limit`,
-/// s/s, when there is a screen) against the grid's reference, and predicts each one's step;
-/// a candidate that misses gets its fate in `found`.
-fn grid_wave(
+/// Runs `jobs` (candidate, grid step) against the grid's reference, keeping each run in
+/// `found`.
+fn run_jobs(
     ctx: &Ctx,
     priced: &[Priced],
-    (wave, wave_no): (&[usize], usize),
-    (on, basis): (&OnGrid, Option<&Basis>),
+    on: &OnGrid,
+    (jobs, label): (&[(usize, usize)], &str),
     found: &mut Found,
-) -> Result<Vec<(usize, Prediction)>> {
-    let cfg = ctx.cfg;
-    let limit = basis.map(|b| cfg.screen_factor * b.modelled_per_second);
-    let steps = |i: usize| (0..on.grid.len()).filter(move |&k| priced[i].runs_at(k, limit));
-    let jobs: Vec<(String, usize)> = wave
+) -> Result<()> {
+    let named: Vec<(String, usize)> = jobs
         .iter()
-        .flat_map(|&i| steps(i).map(move |k| (priced[i].name.clone(), k)))
+        .map(|&(i, k)| (priced[i].name.clone(), k))
         .collect();
-    for (_, k) in &jobs {
-        found.ran[*k] = true;
-    }
     let cases = run_on(
         (ctx.scene, ctx.sys),
         on.reference,
-        &jobs,
+        &named,
         ctx.set,
-        (&format!("grid runs (wave {wave_no})"), cfg.progress),
+        (label, ctx.cfg.progress),
     )?;
-    let mut predictions = Vec::new();
-    let mut at = 0;
-    for &i in wave {
-        let p = &priced[i];
-        let row = &cases[at..at + steps(i).count()];
-        at += row.len();
-        found.rows.push((p.name.clone(), row.to_vec()));
-        let target = (ctx.horizon, on.max_samples);
-        match predict_row(&p.name, row, target, on.judge, cfg.safety) {
-            Ok(pred) => predictions.push((i, pred)),
-            Err(errors) => {
-                found.fates[i] = Some(missed(p, on.grid, &errors, basis, on.judge, cfg));
-            }
+    for (&(i, k), c) in jobs.iter().zip(cases) {
+        found.runs[i][k] = Some(c);
+    }
+    Ok(())
+}
+
+/// The grid runs of one wave: the fresh candidates `fresh`, each down to the finest step within
+/// the screen at `limit` (s/s) or, with no screen yet, within [`super::screen::SCREEN_FACTOR`]
+/// times its own floor first and, when that predicts nothing, the rest of its row; and the
+/// steps within the screen that earlier candidates have not run yet. Returns the candidates
+/// whose runs changed.
+fn grid_wave(
+    ctx: &Ctx,
+    priced: &[Priced],
+    (fresh, wave_no): (&[usize], usize),
+    (on, limit): (&OnGrid, Option<f64>),
+    found: &mut Found,
+) -> Result<Vec<usize>> {
+    let factor = ctx.cfg.screen_factor;
+    let mut jobs: Vec<(usize, usize)> = Vec::new();
+    for &i in fresh {
+        let own = limit.unwrap_or(factor * priced[i].floor);
+        jobs.extend(found.missing(i, &priced[i], Some(own)));
+    }
+    if let Some(l) = limit {
+        // A candidate predicted before the screen was known, or under a looser one.
+        for i in (0..priced.len()).filter(|&i| found.preds[i].is_some()) {
+            jobs.extend(found.missing(i, &priced[i], Some(l)));
         }
     }
-    Ok(predictions)
+    let label = format!("grid runs (wave {wave_no})");
+    run_jobs(ctx, priced, on, (&jobs, &label), found)?;
+    if limit.is_none() {
+        let rest: Vec<(usize, usize)> = fresh
+            .iter()
+            .filter(|&&i| predict(ctx, on, &found.row(i), &priced[i].name).is_err())
+            .flat_map(|&i| found.missing(i, &priced[i], None))
+            .collect();
+        run_jobs(ctx, priced, on, (&rest, &label), found)?;
+        jobs.extend(rest);
+    }
+    let mut touched: Vec<usize> = fresh.to_vec();
+    touched.extend(jobs.iter().map(|j| j.0).filter(|i| !fresh.contains(i)));
+    touched.sort_unstable();
+    touched.dedup();
+    Ok(touched)
+}
+
+/// The prediction of candidate `name` from its runs `row` ([`predict_row`]).
+fn predict(
+    ctx: &Ctx,
+    on: &OnGrid,
+    row: &[CaseResult],
+    name: &str,
+) -> std::result::Result<Prediction, Vec<(f64, Option<f64>)>> {
+    let target = (ctx.horizon, on.max_samples);
+    predict_row(name, row, target, on.judge, ctx.cfg.safety)
+}
+
+/// Whether two predictions ask the same verification: the same step and fallback run.
+fn same_prediction(a: &Prediction, b: &Prediction) -> bool {
+    a.1 == b.1 && a.3.dt == b.3.dt
 }
 
 /// Runs the candidates `priced` over `grid` in waves (see the module docs).
@@ -209,15 +268,15 @@ pub(super) fn run_waves(
     let reference = reference_for(ctx.scene, cfg, &grids, ctx.horizon, decided)?;
     let judge = decided.judge.clone().expect("decided by the reference");
     let on = OnGrid {
-        grid,
         reference: &reference,
         judge: &judge,
         max_samples,
     };
+    let n = priced.len();
     let mut found = Found {
-        fates: vec![None; priced.len()],
-        ran: vec![false; grid.len()],
-        rows: Vec::new(),
+        runs: vec![vec![None; grid.len()]; n],
+        preds: vec![None; n],
+        fates: vec![None; n],
     };
     let orders: Vec<u32> = priced
         .iter()
@@ -230,67 +289,87 @@ pub(super) fn run_waves(
     let mut pending = by_floor(priced, &orders);
     let mut basis: Option<Basis> = None;
     // Where the reference is a kept solve (or a closed form: no solver step or evaluation),
-    // verifying a wave resamples it: each wave is verified at once, and the screen holds the rest to
-    // verified answers. Otherwise each verification would solve the reference again, so all
-    // are verified together after the last wave, and the screen holds the rest to the
+    // verifying a wave resamples it: each wave is verified at once, and the screen holds the
+    // rest to verified answers. Otherwise each verification would solve the reference again,
+    // so all are verified together after the last wave, and the screen holds the rest to the
     // cheapest grid run that met the bound.
     let closed_form = reference.info.solver_steps == 0 && reference.info.solver_evals == 0;
     let verify_each = reference.solve_id().is_some() || closed_form;
-    let mut deferred: Vec<(usize, Prediction)> = Vec::new();
     let mut wave_no = 0;
-    while !pending.is_empty() {
-        if let Some(b) = &basis {
-            let limit = cfg.screen_factor * b.modelled_per_second;
-            for &i in pending.iter().filter(|&&i| priced[i].floor > limit) {
+    loop {
+        let limit = basis
+            .as_ref()
+            .map(|b| cfg.screen_factor * b.modelled_per_second);
+        if let (Some(l), Some(b)) = (limit, &basis) {
+            for &i in pending.iter().filter(|&&i| priced[i].floor > l) {
                 let s = Screened::not_run(&priced[i], b);
                 found.fates[i] = Some(Fate::Screened(Box::new(s)));
             }
-            pending.retain(|&i| priced[i].floor <= limit);
+            pending.retain(|&i| priced[i].floor <= l);
         }
-        let wave = next_wave(priced, &pending, basis.is_some());
-        if wave.is_empty() {
+        let fresh = next_wave(priced, &pending, basis.is_some());
+        pending.retain(|i| !fresh.contains(i));
+        wave_no += 1;
+        let touched = grid_wave(ctx, priced, (&fresh, wave_no), (&on, limit), &mut found)?;
+        if touched.is_empty() {
             break;
         }
-        pending.retain(|i| !wave.contains(i));
-        wave_no += 1;
-        let predictions = grid_wave(
-            ctx,
-            priced,
-            (&wave, wave_no),
-            (&on, basis.as_ref()),
-            &mut found,
-        )?;
+        let mut changed: Vec<(usize, Prediction)> = Vec::new();
+        for i in touched {
+            match predict(ctx, &on, &found.row(i), &priced[i].name) {
+                Ok(p) => {
+                    if !found.preds[i]
+                        .as_ref()
+                        .is_some_and(|q| same_prediction(q, &p))
+                    {
+                        found.preds[i] = Some(p.clone());
+                        changed.push((i, p));
+                    }
+                }
+                Err(errors) => {
+                    found.preds[i] = None;
+                    let fate = missed(&priced[i], grid, &errors, basis.as_ref(), &judge, cfg);
+                    found.fates[i] = Some(fate);
+                }
+            }
+        }
         if !verify_each {
-            for (i, p) in predictions {
+            for (_, p) in &changed {
                 basis = Basis::cheaper(basis, Basis::of(&p.0, &p.3, true));
-                deferred.push((i, p));
             }
             continue;
         }
-        let preds: Vec<Prediction> = predictions.iter().map(|(_, p)| p.clone()).collect();
+        let preds: Vec<Prediction> = changed.iter().map(|(_, p)| p.clone()).collect();
         let label = format!("verification (wave {wave_no})");
         let answers = verify(ctx, &preds, max_samples, decided, &label)?;
-        for ((i, _), a) in predictions.iter().zip(answers) {
+        for ((i, _), a) in changed.iter().zip(answers) {
             basis = Basis::cheaper(basis, Basis::of(&a.name, &a.chosen, false));
             found.fates[*i] = Some(Fate::Answered(Box::new(a)));
         }
     }
-    let preds: Vec<Prediction> = deferred.iter().map(|(_, p)| p.clone()).collect();
-    let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
-    for ((i, _), a) in deferred.iter().zip(answers) {
-        found.fates[*i] = Some(Fate::Answered(Box::new(a)));
+    if !verify_each {
+        let idx: Vec<usize> = (0..n).filter(|&i| found.preds[i].is_some()).collect();
+        let preds: Vec<Prediction> = idx.iter().filter_map(|&i| found.preds[i].clone()).collect();
+        let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
+        for (&i, a) in idx.iter().zip(answers) {
+            found.fates[i] = Some(Fate::Answered(Box::new(a)));
+        }
     }
     let tried = grid
         .iter()
-        .zip(&found.ran)
-        .filter(|(_, &r)| r)
-        .map(|(g, _)| g.0)
+        .enumerate()
+        .filter(|(k, _)| found.runs.iter().any(|r| r[*k].is_some()))
+        .map(|(_, g)| g.0)
+        .collect();
+    let rows = (0..n)
+        .filter(|&i| found.runs[i].iter().any(Option::is_some))
+        .map(|i| (priced[i].name.clone(), found.row(i)))
         .collect();
     Ok(Waves {
         reference: reference.info,
         fates: found.fates,
         tried,
-        rows: found.rows,
+        rows,
     })
 }
 
