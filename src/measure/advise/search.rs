@@ -41,10 +41,7 @@ pub(super) fn reference_for(
     match &decided.judge {
         None => {
             let _stage = crate::run::progress_stage(
-                format!(
-                    "advise {}: judge (the tolerance, an ensemble where needed)",
-                    scene.name
-                ),
+                format!("advise {}: judge (tolerance, ensemble)", scene.name),
                 cfg.progress,
             );
             let (judge, note) = crate::measure::tolerance::decide(
