@@ -38,6 +38,10 @@ pub struct Args {
     pub points: usize,
     #[command(flatten)]
     pub blowup: super::common::BlowupArg,
+    /// Screen: a candidate, or a grid step of one, modelled above this many times the cost of
+    /// the cheapest verified answer is not run (named with the figure); `inf` runs them all.
+    #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::advise::SCREEN_FACTOR)]
+    pub screen: f64,
     /// Append the advised answer to the scenario file as an [expect] table (method, step,
     /// stable, position error within the tolerance, strain and energy drift rate with a
     /// margin over the verified run's), for `springlab expect` to hold the scene to it.
@@ -83,6 +87,7 @@ pub fn run(a: Args) -> Result<()> {
         frame_rates: !a.no_frame_rates,
         budget_seconds: Some(a.budget.budget),
         game_hz,
+        screen_factor: a.screen,
         ..Default::default()
     };
     let dir = a.m.out_dir(&scene.name, "advise");
@@ -148,6 +153,9 @@ pub fn run(a: Args) -> Result<()> {
     }
     for (n, why) in &adv.unable {
         println!("{n:<22} cannot: {why}");
+    }
+    for s in &adv.screened {
+        println!("{:<22} {}", s.method, s.reason);
     }
     for fr in &adv.frame_rates {
         println!(

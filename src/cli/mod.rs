@@ -65,9 +65,34 @@ enum Command {
     SmallSteps(small_steps::Args),
 }
 
+impl Command {
+    /// The subcommand's name, as typed: the label of the command's progress stage.
+    fn name(&self) -> &'static str {
+        match self {
+            Command::Run(_) => "run",
+            Command::Check(_) => "check",
+            Command::List(_) => "list",
+            Command::BenchScaling(_) => "bench-scaling",
+            Command::BenchRatios(_) => "bench-ratios",
+            Command::Report(_) => "report",
+            Command::Sweep(_) => "sweep",
+            Command::Stability(_) => "stability",
+            Command::Advise(_) => "advise",
+            Command::Compare(_) => "compare",
+            Command::Framerate(_) => "framerate",
+            Command::Expect(_) => "expect",
+            Command::Merge(_) => "merge",
+            Command::SmallSteps(_) => "small-steps",
+        }
+    }
+}
+
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // The whole command is a stage: a long one prints a progress line at least every
+    // interval until it ends, whatever part of it runs.
+    let _stage = springlab::run::progress_stage(cli.command.name(), true);
     let result = match cli.command {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::run(a),

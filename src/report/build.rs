@@ -81,6 +81,13 @@ pub fn build(cfg: &BuildConfig, say: &(dyn Fn(&str) + Sync)) -> Result<Built> {
                 .with_max_len(1)
                 .map(|(k, f)| {
                     let t0 = Instant::now();
+                    let _stage = crate::run::progress_stage(
+                        format!(
+                            "report {}",
+                            f.file_stem().unwrap_or_default().to_string_lossy()
+                        ),
+                        true,
+                    );
                     let res = Scenario::from_file(f).and_then(|s| report_scene(&s, &cfg.opts));
                     match &res {
                         Ok((s, false)) => line(&scene_line(s, t0.elapsed().as_secs_f64())),

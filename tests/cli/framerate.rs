@@ -86,6 +86,60 @@ fn symplectic_euler_needs_ceil_h_omega_max_over_two() {
     }
 }
 
+/// Oracle: the same textbook limit (module docs). The search that starts from the substeps the
+/// linear stability theory gives (hω_max < 2 for symplectic Euler, found by the theory from the
+/// method itself) finds what the plain search doubling from one substep finds, ⌈H·ω_max/2⌉; and
+/// of the counts between one and that answer it runs only the one just below it.
+#[test]
+fn the_search_from_the_stability_theory_finds_what_doubling_finds() {
+    let scene = Scenario::from_toml_str(CHAIN, "chain.toml").unwrap();
+    let n = 8.0;
+    let omega_max =
+        2.0 * (1000.0f64 / 0.01).sqrt() * (n * std::f64::consts::PI / (2.0 * (n + 1.0))).sin();
+    let search = |theory_start: bool| {
+        framerate(
+            &scene,
+            &FramerateConfig {
+                rates: vec![30.0, 60.0, 144.0],
+                tolerance: Some(1e3),
+                blowup_factor: 100.0,
+                methods: vec!["symplectic_euler".into()],
+                theory_start,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+    };
+    let (from_theory, doubling) = (search(true), search(false));
+    for (t, d) in from_theory.entries.iter().zip(&doubling.entries) {
+        let expect = (omega_max / t.hz / 2.0).ceil() as u64;
+        let fewest =
+            |e: &springlab::measure::framerate::RateEntry| e.fewest.as_ref().map(|f| f.substeps);
+        assert_eq!(fewest(t), Some(expect), "{} Hz: tried {:?}", t.hz, t.tried);
+        assert_eq!(
+            fewest(t),
+            fewest(d),
+            "{} Hz: {:?} vs {:?}",
+            t.hz,
+            t.tried,
+            d.tried
+        );
+        let below: Vec<u64> = t
+            .tried
+            .iter()
+            .map(|c| c.0)
+            .filter(|&c| c < expect)
+            .collect();
+        assert_eq!(below, [1, expect - 1], "{} Hz: tried {:?}", t.hz, t.tried);
+        assert!(
+            t.tried.len() < d.tried.len(),
+            "{:?} vs {:?}",
+            t.tried,
+            d.tried
+        );
+    }
+}
+
 #[test]
 fn writes_csv_and_json_with_a_command_that_recreates_them() {
     let scene = Scenario::from_file("scenarios/damped_spring.toml").unwrap();

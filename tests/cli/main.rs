@@ -13,6 +13,7 @@ mod interrupt;
 mod measure_cli;
 mod output_lock;
 mod progress_budget;
+mod progress_lines;
 mod report_browser;
 mod report_collision;
 mod report_commands;

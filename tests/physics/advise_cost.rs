@@ -55,6 +55,9 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
         // Rapier meets 10 cm from about 1.5 ms down.
         dt_min: Some(1e-3),
         points: 5,
+        // The comparison needs Rapier run: with the screen it would not be, for the very gap
+        // this test measures (the screen has its own tests, `advise_screen`).
+        screen_factor: f64::INFINITY,
         ..Default::default()
     };
     let adv = advise(&scene, &cfg).unwrap();
@@ -174,6 +177,8 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
         tolerance: Some(1e-3),
         metric: Some(Metric::Position),
         points: 6,
+        // The Rapier candidates must run to be compared (the screen would leave them out).
+        screen_factor: f64::INFINITY,
         ..Default::default()
     };
     let adv = advise(&scene, &cfg).unwrap();

@@ -6,6 +6,7 @@ mod common;
 mod rapier_support;
 
 mod advise_cost;
+mod advise_screen;
 mod analytic_closed_form;
 mod bounce_apexes;
 mod budget_guards;

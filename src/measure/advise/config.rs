@@ -1,7 +1,8 @@
 //! What advice is asked for: the methods, the tolerance and metric, the step grid, the
-//! budget and the timing rule.
+//! budget, the screen and the timing rule.
 
 use super::cost::ADVICE_TIMING;
+use super::screen::SCREEN_FACTOR;
 use crate::measure::case::TimingRule;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::Metric;
@@ -53,6 +54,9 @@ pub struct AdviseConfig {
     /// An ensemble already made for this scene over the same horizon (the study passes
     /// compare's); None: made here when the statistics metric needs it.
     pub ensemble: Option<Ensemble>,
+    /// A candidate, or a grid step of one, modelled above this many times the cheapest
+    /// verified answer's cost is not run (default [`SCREEN_FACTOR`]; infinity runs them all).
+    pub screen_factor: f64,
 }
 
 impl Default for AdviseConfig {
@@ -75,6 +79,7 @@ impl Default for AdviseConfig {
             budget_seconds: None,
             game_hz: None,
             ensemble: None,
+            screen_factor: SCREEN_FACTOR,
         }
     }
 }

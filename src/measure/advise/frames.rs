@@ -1,6 +1,8 @@
 //! The game view of advice: at each common frame rate, how each candidate fares with one step
 //! per frame and with enough substeps to meet the tolerance, and which is cheapest there by
-//! the same cost as the pick ([`super::cost`]).
+//! the same cost as the pick ([`super::cost`]). Its substeps per frame come from each
+//! candidate's verified step (⌈frame / step⌉), which its verification found stable, so the view
+//! needs no search (`springlab framerate` searches, from the stability theory's count).
 
 use super::cost::{force_evals_per_second, rank, CostKey, PickedBy};
 use crate::error::Result;

@@ -11,23 +11,32 @@
 //! method has no force-evaluation count, and counting them would make it look free. The
 //! median wall time of repeated interleaved runs is shown beside it.
 //!
+//! The work is ordered so the cheap candidates are verified first ([`waves`]), and a candidate
+//! (or a grid step of one) modelled far above the cheapest verified answer is not run
+//! ([`screen`]: more than [`SCREEN_FACTOR`] times its cost), named with the figures.
+//!
 //! Every number in [`Advice`] is reproducible bit for bit, the ranking and the pick included,
 //! except the wall times (`wall_per_second`, `timing`).
 
 mod config;
 pub mod cost;
 pub mod frames;
+pub mod screen;
 mod search;
+mod waves;
 
 pub use config::AdviseConfig;
 pub use cost::{CostMeasure, PickedBy, ADVICE_TIMING, TIE_BAND};
 pub use frames::{FrameEntry, FrameRate, FRAME_RATES};
+pub use screen::{Basis, Screened, SCREEN_FACTOR, STABILITY_SLACK};
 pub use search::unable_reason;
-use search::{candidates, run_grids, search_grid, Decided};
+use search::{candidates, extend, Decided};
 pub use search::{EXTENSION_FACTOR, EXTENSION_PARTICLE_STEPS, GRID_EXTENSIONS};
+pub use waves::FIRST_WAVE;
+use waves::{run_waves, verify, Answer, Ctx, Fate};
 
 use super::case::{time_interleaved, CaseResult, CaseSettings, TimedRun, TimingRule, WallTimes};
-use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use super::grid::{max_samples_for, DEFAULT_BUDGET_BYTES};
 use super::reference::ReferenceInfo;
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
@@ -112,6 +121,11 @@ pub struct Advice {
     pub alternatives: Vec<Choice>,
     /// Candidates that cannot meet the tolerance on the grid, with the reason.
     pub unable: Vec<(String, String)>,
+    /// The screen: a candidate, or a grid step of one, modelled above this many times the
+    /// cheapest verified answer's cost is not run ([`screen`]).
+    pub screen_factor: f64,
+    /// Candidates not run, or not run below a step, for the screen, with the figures.
+    pub screened: Vec<Screened>,
     /// The step grid tried (s).
     pub grid: Vec<f64>,
     /// The frame-rate view.
@@ -143,6 +157,16 @@ impl Choice {
             energy_drift_rate: c.metric(|m| m.energy_drift_rate),
         })
     }
+}
+
+/// Whether `a` and `b` are the same run for the clock: one method, as many steps, and steps
+/// equal but for round-off (a frame of 1/60 s in 12 substeps and one of 1/240 s in 3 are the
+/// same 1/720 s step, computed two ways): timed once, its wall time shown for both.
+fn same_run(a: &TimedRun, b: &TimedRun) -> bool {
+    a.method == b.method
+        && a.steps == b.steps
+        && a.substeps == b.substeps
+        && (a.dt - b.dt).abs() <= 1e-12 * a.dt.abs().max(b.dt.abs())
 }
 
 /// `choices` cheapest first by [`cost::rank`], with the rule that decided the first place.
@@ -221,9 +245,11 @@ pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
     ))
 }
 
-/// Runs the advice: the grid (extended downwards while nothing meets the bound and the runs
-/// stay affordable), the prediction per method, its verification and the pick.
-// Long because verification, frame-rate runs and timing share the candidates' chosen runs; the candidate list and the grid search are separate functions.
+/// Runs the advice: the candidates priced, then run in waves (the cheapest verified first,
+/// the dear ones screened against them: [`waves`]), the grid extended downwards while nothing
+/// meets the bound and the runs stay affordable, the frame-rate view, the timing and the pick.
+// Long because timing and ranking share the candidates' chosen runs and the frame view; the
+// waves, the screen and the grid's extension are modules of their own.
 pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     crate::measure::tolerance::check(cfg.tolerance)?;
     if cfg.safety.is_nan() || cfg.safety < 1.0 {
@@ -232,6 +258,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
             format!("must be ≥ 1, got {}", crate::error::num(cfg.safety)),
         ));
     }
+    screen::check_factor(cfg.screen_factor)?;
     check_timing(&cfg.timing)?;
     let sys = scene.build();
     let (horizon, grid) = step_grid_of(scene, cfg)?;
@@ -247,61 +274,105 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         contacts: false,
         substeps: None,
     };
-    let mut decided = Decided::default();
-    let searched = search_grid(
-        (scene, &sys),
+    let priced = {
+        let _stage = crate::run::progress_stage(
+            format!("advise {}: modelled costs", scene.name),
+            cfg.progress,
+        );
+        screen::price((scene, &sys), cfg, &names, &grid)?
+    };
+    let rate_list = frames::rates_of(cfg.frame_rates, cfg.game_hz);
+    let rates: &[f64] = &rate_list;
+    let ctx = Ctx {
+        scene,
+        sys: &sys,
         cfg,
-        &set,
+        set: &set,
         horizon,
-        (names, grid),
-        &mut decided,
-    )?;
-    let (reference, predictions, cant, mut tried, grid) = (
-        searched.reference,
-        searched.predictions,
-        searched.cant,
-        searched.tried,
-        searched.grid,
-    );
-    unable.extend(searched.dropped);
-    unable.extend(cant);
+        rates,
+    };
+    let mut decided = Decided::default();
+    let waves = run_waves(&ctx, &priced, &grid, &mut decided)?;
+    let (mut reference, mut tried, mut fates) = (waves.reference, waves.tried, waves.fates);
+    let answered = fates.iter().any(|f| matches!(f, Some(Fate::Answered(_))));
+    let cant: Vec<search::Unable> = names
+        .iter()
+        .zip(&fates)
+        .filter_map(|(n, f)| match f {
+            Some(Fate::Unable(r)) => Some((n.clone(), r.clone())),
+            _ => None,
+        })
+        .collect();
+    let extended = if answered {
+        None
+    } else {
+        extend(
+            (scene, &sys),
+            cfg,
+            (&set, horizon),
+            (waves.rows, grid.clone()),
+            cant.clone(),
+            &mut decided,
+        )?
+    };
+    match extended {
+        Some(ext) => {
+            reference = ext.reference;
+            tried.extend(ext.tried);
+            let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, ext.grid.len() * 2, sys.len());
+            let answers = verify(
+                &ctx,
+                &ext.predictions,
+                max_samples,
+                &mut decided,
+                "verification (extended grid)",
+            )?;
+            for a in answers {
+                let i = names
+                    .iter()
+                    .position(|n| *n == a.name)
+                    .expect("a candidate");
+                fates[i] = Some(Fate::Answered(Box::new(a)));
+            }
+            unable.extend(ext.dropped);
+            unable.extend(ext.cant);
+        }
+        None => unable.extend(cant),
+    }
     tried.sort_by(f64::total_cmp);
     tried.dedup();
     let judge = decided
         .judge
         .clone()
         .expect("decided by the first reference");
-    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
-    // Verification runs, and the frame-rate runs, against one more reference.
-    let names: Vec<String> = predictions.iter().map(|p| p.0.clone()).collect();
+    let answers: Vec<&Answer> = fates
+        .iter()
+        .filter_map(|f| match f {
+            Some(Fate::Answered(a)) => Some(a.as_ref()),
+            _ => None,
+        })
+        .collect();
+    let screened: Vec<Screened> = fates
+        .iter()
+        .filter_map(|f| match f {
+            Some(Fate::Screened(s)) => Some(s.as_ref().clone()),
+            _ => None,
+        })
+        .collect();
+    let names: Vec<String> = answers.iter().map(|a| a.name.clone()).collect();
     let plan = FramePlan::new(
         horizon,
-        &predictions.iter().map(|p| p.1.dt).collect::<Vec<_>>(),
-        &frames::rates_of(cfg.frame_rates, cfg.game_hz),
+        &answers.iter().map(|a| a.verify_dt).collect::<Vec<_>>(),
+        rates,
     );
-    let vjobs: Vec<(String, TimeGrid)> = predictions
-        .iter()
-        .map(|p| (p.0.clone(), p.1))
-        .chain(
-            plan.grids(max_samples)
-                .into_iter()
-                .map(|(pi, g)| (names[pi].clone(), g)),
-        )
+    let frame_runs: Vec<CaseResult> = (0..rates.len())
+        .flat_map(|fi| {
+            answers
+                .iter()
+                .flat_map(move |a| [a.frames[fi].0.clone(), a.frames[fi].1.clone()])
+        })
         .collect();
-    let (_, vres) = run_grids(scene, cfg, &vjobs, horizon, &set, &mut decided)?;
-    let np = predictions.len();
-    // The chosen run of each candidate: the verified one, else the last passing grid step.
-    let chosen: Vec<(&CaseResult, f64)> = predictions
-        .iter()
-        .enumerate()
-        .map(
-            |(pi, (_, _, pred, fallback))| match judge.error(&vres[pi]) {
-                Some(e) if e <= judge.bound => (&vres[pi], *pred),
-                _ => (fallback, judge.error(fallback).unwrap_or(0.0)),
-            },
-        )
-        .collect();
-    let mut view = plan.entries(&cfg.registry, &names, &vres[np..], &judge, &scene.name)?;
+    let mut view = plan.entries(&cfg.registry, &names, &frame_runs, &judge, &scene.name)?;
     // Timing: every chosen run and every frame entry that meets the tolerance, once each,
     // interleaved on this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
@@ -311,26 +382,40 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         substeps: None,
     };
     let mut runs: Vec<TimedRun> = Vec::new();
-    for r in chosen
+    for r in answers
         .iter()
-        .map(|(c, _)| run_of(c))
+        .map(|a| run_of(&a.chosen))
         .chain(plan.timed_runs(&view))
     {
-        if !runs.contains(&r) {
+        if !runs.iter().any(|x| same_run(x, &r)) {
             runs.push(r);
         }
     }
-    let timings = time_interleaved(&sys, &scene.initial_state(), &runs, &set, &cfg.timing)?;
+    let timings = {
+        let _stage = crate::run::progress_stage(
+            format!("advise {}: timing {} runs", scene.name, runs.len()),
+            cfg.progress,
+        );
+        time_interleaved(&sys, &scene.initial_state(), &runs, &set, &cfg.timing)?
+    };
     let timing_of = |r: &TimedRun| -> WallTimes {
         let k = runs
             .iter()
-            .position(|x| x == r)
+            .position(|x| same_run(x, r))
             .expect("every run was timed");
         timings[k].clone()
     };
-    let choices: Vec<Choice> = chosen
+    let choices: Vec<Choice> = answers
         .iter()
-        .map(|&(c, pred)| Choice::new(&cfg.registry, c, pred, &judge, timing_of(&run_of(c))))
+        .map(|a| {
+            Choice::new(
+                &cfg.registry,
+                &a.chosen,
+                a.predicted,
+                &judge,
+                timing_of(&run_of(&a.chosen)),
+            )
+        })
         .collect::<Result<_>>()?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     plan.apply_timings(&mut view, &timing_of);
@@ -350,6 +435,10 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .switch("no-frame-rates", !cfg.frame_rates)
         .flag_opt("hz", cfg.game_hz)
         .flag_opt("budget", cfg.budget_seconds)
+        .flag_opt(
+            "screen",
+            (cfg.screen_factor != SCREEN_FACTOR).then_some(cfg.screen_factor),
+        )
         .render();
     Ok(Advice {
         command,
@@ -373,6 +462,8 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         cost_per_second_reason: pick.as_ref().and_then(|p| p.cost_per_second_reason.clone()),
         alternatives,
         unable,
+        screen_factor: cfg.screen_factor,
+        screened,
         grid: tried,
         frame_rates: view,
     })

@@ -23,32 +23,27 @@ pub(super) struct Decided {
     pub(super) metric_note: Option<String>,
 }
 
-/// Runs `jobs` (method, grid) against one reference of their grids; the first call decides
-/// the judge (and the ensemble, for the statistics metric) in `decided`.
-pub(super) fn run_grids(
+/// The reference of `grids` for `scene`; the first call decides the judge (and the ensemble,
+/// for the statistics metric) in `decided`, later ones take its ensemble.
+pub(super) fn reference_for(
     scene: &Scenario,
     cfg: &AdviseConfig,
-    jobs: &[(String, TimeGrid)],
+    grids: &[TimeGrid],
     horizon: f64,
-    set: &CaseSettings,
     decided: &mut Decided,
-) -> Result<(ReferenceInfo, Vec<CaseResult>)> {
+) -> Result<Reference> {
     let sys = scene.build();
     let s0 = scene.initial_state();
-    let mut grids: Vec<TimeGrid> = Vec::new();
-    let idx: Vec<usize> = jobs
-        .iter()
-        .map(|(_, g)| match grids.iter().position(|h| h == g) {
-            Some(i) => i,
-            None => {
-                grids.push(*g);
-                grids.len() - 1
-            }
-        })
-        .collect();
-    let mut reference = Reference::compute(&sys, &s0, &grids, horizon)?;
+    let stage =
+        crate::run::progress_stage(format!("advise {}: reference", scene.name), cfg.progress);
+    let mut reference = Reference::compute(&sys, &s0, grids, horizon)?;
+    drop(stage);
     match &decided.judge {
         None => {
+            let _stage = crate::run::progress_stage(
+                format!("advise {}: judge (tolerance, ensemble)", scene.name),
+                cfg.progress,
+            );
             let (judge, note) = crate::measure::tolerance::decide(
                 cfg.metric,
                 cfg.tolerance,
@@ -68,22 +63,66 @@ pub(super) fn run_grids(
             }
         }
     }
+    Ok(reference)
+}
+
+/// Runs `jobs` (method, index of its grid in `reference`) against `reference`, in parallel,
+/// collected in order; a bar labelled `label` counts them.
+pub(super) fn run_on(
+    (scene, sys): (&Scenario, &System),
+    reference: &Reference,
+    jobs: &[(String, usize)],
+    set: &CaseSettings,
+    (label, progress): (&str, bool),
+) -> Result<Vec<CaseResult>> {
+    let s0 = scene.initial_state();
     let pb = crate::run::progress_bar(
         jobs.len() as u64,
-        &format!("advise {}", scene.name),
-        cfg.progress,
+        &format!("advise {}: {label}", scene.name),
+        progress,
     );
     let out: Vec<Result<CaseResult>> = jobs
         .par_iter()
-        .zip(&idx)
-        .map(|((name, _), &g)| {
-            let r = run_case(&sys, &s0, &reference, g, name, set);
+        .map(|(name, g)| {
+            let r = run_case(sys, &s0, reference, *g, name, set);
             pb.inc(1);
             r
         })
         .collect();
     pb.finish_and_clear();
-    Ok((reference.info, out.into_iter().collect::<Result<_>>()?))
+    out.into_iter().collect()
+}
+
+/// Runs `jobs` (method, grid) against one reference of their grids ([`reference_for`]), with
+/// a bar labelled `label`.
+pub(super) fn run_grids(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    jobs: &[(String, TimeGrid)],
+    (horizon, set): (f64, &CaseSettings),
+    decided: &mut Decided,
+    label: &str,
+) -> Result<(ReferenceInfo, Vec<CaseResult>)> {
+    let mut grids: Vec<TimeGrid> = Vec::new();
+    let idx: Vec<(String, usize)> = jobs
+        .iter()
+        .map(|(n, g)| match grids.iter().position(|h| h == g) {
+            Some(i) => (n.clone(), i),
+            None => {
+                grids.push(*g);
+                (n.clone(), grids.len() - 1)
+            }
+        })
+        .collect();
+    let reference = reference_for(scene, cfg, &grids, horizon, decided)?;
+    let out = run_on(
+        (scene, &scene.build()),
+        &reference,
+        &idx,
+        set,
+        (label, cfg.progress),
+    )?;
+    Ok((reference.info, out))
 }
 
 /// The methods whose grid runs fit `budget` (s, summed), cheapest first; each projected from
@@ -132,6 +171,9 @@ pub const EXTENSION_FACTOR: f64 = 30.0;
 /// Largest run of an extended grid, in particle-steps: a finer grid than this is not tried.
 pub const EXTENSION_PARTICLE_STEPS: f64 = 5e7;
 
+/// A candidate's grid runs, ascending in the step.
+pub(super) type Row = (String, Vec<CaseResult>);
+
 /// A method advice cannot use, with why.
 pub(super) type Unable = (String, String);
 
@@ -139,50 +181,43 @@ pub(super) type Unable = (String, String);
 /// passing grid run; or why it cannot meet the bound.
 pub(super) type Prediction = (String, TimeGrid, f64, CaseResult);
 
-/// The predictions of every candidate from the grid runs `cases` (candidate-major).
-fn predict(
-    names: &[String],
-    cases: &[CaseResult],
-    points: usize,
-    horizon: f64,
-    max_samples: u64,
+/// A candidate's prediction from its row of grid runs `row` (ascending in the step, the
+/// finest first; a screened row starts at its finest step run): the largest step below which
+/// every step run met tolerance / `safety`, refined by log-log interpolation towards the next
+/// (failing) step; or, when its finest step misses, the (step, error) of every run.
+pub(super) fn predict_row(
+    name: &str,
+    row: &[CaseResult],
+    (horizon, max_samples): (f64, u64),
     judge: &Judge,
     safety: f64,
-) -> (Vec<Prediction>, Vec<(String, String)>) {
+) -> std::result::Result<Prediction, Vec<(f64, Option<f64>)>> {
     let target = judge.bound / safety;
-    let (mut predictions, mut unable) = (Vec::new(), Vec::new());
-    for (i, name) in names.iter().enumerate() {
-        let row = &cases[i * points..(i + 1) * points];
-        let mut last_pass = None;
-        for (j, c) in row.iter().enumerate() {
-            match judge.error(c) {
-                Some(e) if e <= target => last_pass = Some(j),
-                _ => break,
-            }
+    let mut last_pass = None;
+    for (j, c) in row.iter().enumerate() {
+        match judge.error(c) {
+            Some(e) if e <= target => last_pass = Some(j),
+            _ => break,
         }
-        let Some(j) = last_pass else {
-            let errors: Vec<(f64, Option<f64>)> =
-                row.iter().map(|c| (c.dt, judge.error(c))).collect();
-            unable.push((name.clone(), unable_reason(&errors, judge.bound, safety)));
-            continue;
-        };
-        let ej = judge.error(&row[j]).expect("passed");
-        let (mut dt, mut pred) = (row[j].dt, ej);
-        if let Some(next) = row.get(j + 1) {
-            if let Some(en) = judge.error(next) {
-                if ej > 0.0 && en > ej {
-                    let slope = (en / ej).ln() / (next.dt / row[j].dt).ln();
-                    let d = row[j].dt * (target / ej).powf(1.0 / slope);
-                    dt = d.clamp(row[j].dt, next.dt);
-                    pred = ej * (dt / row[j].dt).powf(slope);
-                }
-            }
-        }
-        let steps = crate::model::covering_steps(horizon, dt);
-        let g = TimeGrid::new(horizon / steps as f64, steps, max_samples);
-        predictions.push((name.clone(), g, pred, row[j].clone()));
     }
-    (predictions, unable)
+    let Some(j) = last_pass else {
+        return Err(row.iter().map(|c| (c.dt, judge.error(c))).collect());
+    };
+    let ej = judge.error(&row[j]).expect("passed");
+    let (mut dt, mut pred) = (row[j].dt, ej);
+    if let Some(next) = row.get(j + 1) {
+        if let Some(en) = judge.error(next) {
+            if ej > 0.0 && en > ej {
+                let slope = (en / ej).ln() / (next.dt / row[j].dt).ln();
+                let d = row[j].dt * (target / ej).powf(1.0 / slope);
+                dt = d.clamp(row[j].dt, next.dt);
+                pred = ej * (dt / row[j].dt).powf(slope);
+            }
+        }
+    }
+    let steps = crate::model::covering_steps(horizon, dt);
+    let g = TimeGrid::new(horizon / steps as f64, steps, max_samples);
+    Ok((name.to_string(), g, pred, row[j].clone()))
 }
 
 /// The methods advice may pick: those that apply (the rest, with why, in the second list),
@@ -211,101 +246,126 @@ pub(super) fn candidates(
     Ok((names, unable))
 }
 
-/// What the grid search found: the reference of its last grid, the predictions, the methods
-/// that cannot meet the bound, every step tried, the last grid, and the methods dropped on
-/// the way (not converging when the grid was extended).
-pub(super) struct Searched {
+/// What the grid's extension found: the reference of its last grid, the predictions, the
+/// methods that cannot meet the bound, every step it tried, its last grid, and the methods
+/// dropped on the way (not converging).
+pub(super) struct Extended {
     pub(super) reference: ReferenceInfo,
     pub(super) predictions: Vec<Prediction>,
-    pub(super) cant: Vec<(String, String)>,
+    pub(super) cant: Vec<Unable>,
     pub(super) tried: Vec<f64>,
     pub(super) grid: Vec<(f64, u64)>,
-    pub(super) dropped: Vec<(String, String)>,
+    pub(super) dropped: Vec<Unable>,
 }
 
-/// Runs every candidate over the grid and predicts its step; while nothing is predicted, the
-/// grid is extended downwards (at most [`GRID_EXTENSIONS`] times, within
-/// [`EXTENSION_PARTICLE_STEPS`]) for the candidates still converging.
-pub(super) fn search_grid(
+/// Whether a row of runs (ascending in the step) is still converging: ok at its finest step,
+/// and its error there the smallest of the row.
+pub(super) fn converging(row: &[CaseResult], judge: &Judge) -> bool {
+    let errors: Vec<Option<f64>> = row.iter().map(|c| judge.error(c)).collect();
+    errors
+        .first()
+        .copied()
+        .flatten()
+        .is_some_and(|e0| errors.iter().flatten().all(|&e| e0 <= e))
+}
+
+/// When nothing met the bound on `grid` (every candidate's `rows` run in full), extends the
+/// grid downwards (at most [`GRID_EXTENSIONS`] times, within [`EXTENSION_PARTICLE_STEPS`]) for
+/// the candidates still converging, while nothing is predicted; `cant` holds why each
+/// candidate missed on the grid so far. `None` when the grid is not extended.
+pub(super) fn extend(
     (scene, sys): (&Scenario, &System),
     cfg: &AdviseConfig,
-    set: &CaseSettings,
-    horizon: f64,
-    (mut names, mut grid): (Vec<String>, Vec<(f64, u64)>),
+    (set, horizon): (&CaseSettings, f64),
+    (rows, mut grid): (Vec<Row>, Vec<(f64, u64)>),
+    mut cant: Vec<Unable>,
     decided: &mut Decided,
-) -> Result<Searched> {
-    let mut unable = Vec::new();
+) -> Result<Option<Extended>> {
+    let mut dropped = Vec::new();
     let mut tried: Vec<f64> = Vec::new();
-    let mut extensions = 0;
-    loop {
-        let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
-        let jobs: Vec<(String, TimeGrid)> = names
-            .iter()
-            .flat_map(|n| {
-                grid.iter()
-                    .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
-            })
-            .collect();
-        let (reference, cases) = run_grids(scene, cfg, &jobs, horizon, set, decided)?;
+    let mut rows = rows;
+    let mut reference = None;
+    for extensions in 0..=GRID_EXTENSIONS {
         let judge = decided
             .judge
-            .as_ref()
+            .clone()
             .expect("decided by the first reference");
-        let (p, cant) = predict(
-            &names,
-            &cases,
-            grid.len(),
-            horizon,
-            max_samples,
-            judge,
-            cfg.safety,
-        );
-        tried.extend(grid.iter().map(|g| g.0));
         let finest = grid.iter().map(|g| g.0).fold(f64::INFINITY, f64::min);
         let span = grid.iter().map(|g| g.0).fold(0.0, f64::max) / finest;
         let next_min = finest / span.min(EXTENSION_FACTOR);
         let affordable = sys.len() as f64 * horizon / next_min <= EXTENSION_PARTICLE_STEPS
             && crate::scenario::Timing::steps_within("--dt-min", next_min, horizon).is_ok();
-        // Only a candidate still converging goes on: ok at the finest step, and its error
-        // there the smallest of its row (the grid is ascending in the step).
-        let converging: Vec<bool> = (0..names.len())
-            .map(|i| {
-                let row = &cases[i * grid.len()..(i + 1) * grid.len()];
-                let errors: Vec<Option<f64>> = row.iter().map(|c| judge.error(c)).collect();
-                errors[0].is_some_and(|e0| errors.iter().flatten().all(|&e| e0 <= e))
-            })
+        let going: Vec<String> = rows
+            .iter()
+            .filter(|(_, r)| converging(r, &judge))
+            .map(|(n, _)| n.clone())
             .collect();
-        if !p.is_empty()
-            || !converging.contains(&true)
+        if going.is_empty()
             || cfg.dt_min.is_some()
             || extensions >= GRID_EXTENSIONS
             || !affordable
             || span.is_nan()
             || span <= 1.0
         {
-            return Ok(Searched {
+            return Ok(reference.map(|reference| Extended {
                 reference,
-                predictions: p,
+                predictions: Vec::new(),
                 cant,
                 tried,
                 grid,
-                dropped: unable,
-            });
+                dropped,
+            }));
         }
-        let kept: Vec<String> = names
-            .iter()
-            .zip(&converging)
-            .filter(|(_, &c)| c)
-            .map(|(n, _)| n.clone())
-            .collect();
-        unable.extend(cant.into_iter().filter(|(n, _)| !kept.contains(n)));
-        names = kept;
+        dropped.extend(cant.into_iter().filter(|(n, _)| !going.contains(n)));
         grid = step_grid(next_min, finest, cfg.points.max(2), horizon)
             .into_iter()
             .filter(|g| g.0 < finest)
             .collect();
-        extensions += 1;
+        let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
+        let jobs: Vec<(String, TimeGrid)> = going
+            .iter()
+            .flat_map(|n| {
+                grid.iter()
+                    .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
+            })
+            .collect();
+        let (info, cases) = run_grids(
+            scene,
+            cfg,
+            &jobs,
+            (horizon, set),
+            decided,
+            &format!("extended grid {}", extensions + 1),
+        )?;
+        reference = Some(info);
+        tried.extend(grid.iter().map(|g| g.0));
+        let (mut predictions, mut missed) = (Vec::new(), Vec::new());
+        rows = going
+            .iter()
+            .zip(cases.chunks(grid.len()))
+            .map(|(n, r)| (n.clone(), r.to_vec()))
+            .collect();
+        for (n, row) in &rows {
+            match predict_row(n, row, (horizon, max_samples), &judge, cfg.safety) {
+                Ok(p) => predictions.push(p),
+                Err(errors) => {
+                    missed.push((n.clone(), unable_reason(&errors, judge.bound, cfg.safety)))
+                }
+            }
+        }
+        cant = missed;
+        if !predictions.is_empty() {
+            return Ok(Some(Extended {
+                reference: reference.expect("just set"),
+                predictions,
+                cant,
+                tried,
+                grid,
+                dropped,
+            }));
+        }
     }
+    unreachable!("the loop returns by its last extension")
 }
 
 /// Why a candidate whose smallest grid step misses tolerance / `safety` gets no advice, in

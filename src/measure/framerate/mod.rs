@@ -4,8 +4,10 @@
 //!
 //! Method: one reference (exact impulses, [`super::reference`]) sampled on every rate's frame
 //! grid; per method and rate, the run at 1 substep, then the fewest substeps that is stable
-//! and meets the tolerance ([`search::fewest_substeps`]: doubling, then bisection, up to
-//! `max_substeps`, and in a budgeted study up to a cost cap in particle-steps). A substep
+//! and meets the tolerance ([`search::fewest_substeps_from`]: from the fewest substeps the
+//! linear stability theory says are stable, where the method's registry entry says it applies,
+//! else from one; doubling, then bisection, up to `max_substeps`, and in a budgeted study up
+//! to a cost cap in particle-steps). A substep
 //! means the same for every method ([`crate::run::RunPlan`]): native methods take n equal
 //! steps per frame, Rapier methods n solver substeps. Position error and energy drift are
 //! compare's metrics (`measure::metrics`); the runs of the table are then timed like advice's
@@ -81,6 +83,11 @@ pub struct FramerateConfig {
     pub progress: bool,
     /// How the table's runs are timed.
     pub timing: TimingRule,
+    /// Start each method's search from the fewest substeps its linear stability theory says
+    /// are stable, where its registry entry says the theory applies
+    /// ([`search::fewest_substeps_from`]); false: double from one substep. The fewest found is
+    /// the same either way for a test monotone in the substeps; the start saves the runs below.
+    pub theory_start: bool,
     /// Time budget (s of runs, summed): each method's worst-case search is projected from its
     /// time per substep, probed first; the costliest searches that would exceed it are left
     /// out, named with the figure. `None`: no budget (the study chooses by its own rule).
@@ -105,6 +112,7 @@ impl Default for FramerateConfig {
             progress: false,
             timing: FRAMERATE_TIMING,
             budget_seconds: None,
+            theory_start: true,
         }
     }
 }
@@ -397,6 +405,30 @@ fn no_fewest_note(
     }
 }
 
+/// Each method's largest stable step by the linear stability theory, where its registry entry
+/// says the theory applies and the theory gives one (None elsewhere, or with
+/// [`FramerateConfig::theory_start`] off): the frame-rate search starts from the substeps it
+/// implies instead of doubling from one.
+fn search_starts(
+    cfg: &FramerateConfig,
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    names: &[String],
+) -> Result<Vec<Option<f64>>> {
+    if !cfg.theory_start {
+        return Ok(vec![None; names.len()]);
+    }
+    let limits =
+        crate::measure::stability::theory_limits(&cfg.registry, &cfg.options, sys, s0, names)?;
+    Ok(limits
+        .into_iter()
+        .map(|l| match l {
+            Some((crate::measure::stability::Verdict::StableBelow, Some(h))) if h > 0.0 => Some(h),
+            _ => None,
+        })
+        .collect())
+}
+
 /// Measures every method at every frame rate: per method and rate, the fewest substeps that
 /// meet the tolerance.
 // Long because the per-rate search runs as one parallel closure over the shared reference, judge and settings; its validation and notes are separate functions.
@@ -422,6 +454,10 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .map(|(hz, &n)| TimeGrid::new(1.0 / hz, n, max_samples))
         .collect();
     let horizon = grids.iter().map(|g| g.time(g.steps)).fold(0.0, f64::max);
+    let stage = crate::run::progress_stage(
+        format!("framerate {}: reference and judge", scene.name),
+        cfg.progress,
+    );
     let mut reference = Reference::compute(&sys, &s0, &grids, horizon)?;
     let (judge, metric_note) = crate::measure::tolerance::decide(
         cfg.metric,
@@ -445,6 +481,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let floors: Vec<Option<f64>> = (0..cfg.rates.len())
         .map(|r| frame_event_floor(scene, &reference, r))
         .collect::<Result<_>>()?;
+    drop(stage);
     let jobs: Vec<(usize, usize)> = (0..names.len())
         .flat_map(|b| (0..cfg.rates.len()).map(move |r| (b, r)))
         .filter(|&(b, r)| searched_at(cfg, &names[b], cfg.rates[r]))
@@ -455,6 +492,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         cfg.progress,
     );
     let particles = sys.len().max(1) as f64;
+    let starts = search_starts(cfg, &sys, &s0, &names)?;
     let searched: Vec<Result<RateEntry>> = jobs
         .par_iter()
         .map(|&(b, r)| {
@@ -475,7 +513,8 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                 runs.push((n, c));
                 Ok(Some(ok))
             };
-            let found = search::fewest_substeps(cfg.max_substeps, &mut trial)?;
+            let start = starts[b].map_or(1, |h| (1.0 / (cfg.rates[r] * h)).ceil() as u64);
+            let found = search::fewest_substeps_from(start, cfg.max_substeps, &mut trial)?;
             let of = |n: u64| {
                 runs.iter()
                     .find(|(m, _)| *m == n)
@@ -507,7 +546,11 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         .collect();
     pb.finish_and_clear();
     let mut entries = searched.into_iter().collect::<Result<Vec<_>>>()?;
-    timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
+    {
+        let _stage =
+            crate::run::progress_stage(format!("framerate {}: timing", scene.name), cfg.progress);
+        timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
+    }
     let command = CommandLine::new("framerate", &scene.source)
         .list("hz", &cfg.rates)
         .list("engine-hz", cfg.engine_rates.as_deref().unwrap_or(&[]))

@@ -1,4 +1,5 @@
-//! The fewest substeps per frame that pass a test: doubling, then bisection.
+//! The fewest substeps per frame that pass a test: doubling, then bisection; from one
+//! substep, or from the count the linear stability theory says is the fewest stable.
 //!
 //! Assumes the test is monotone in the substeps (more substeps never turn a pass into a
 //! failure), as it is for a stable method's error and for a stability limit; where it is not,
@@ -41,12 +42,22 @@ pub fn fewest_substeps(
         }
         n = if n == max { max + 1 } else { (2 * n).min(max) };
     }
-    let Some(mut hi) = hi else {
+    let Some(hi) = hi else {
         return Ok(Search {
             fewest: None,
             tried,
         });
     };
+    bisect((lo, hi), &mut passes, tried)
+}
+
+/// Bisects between `lo`, a count known to fail (0: none), and `hi`, one known to pass, adding
+/// each count tried to `tried`.
+fn bisect(
+    (mut lo, mut hi): (u64, u64),
+    passes: &mut impl FnMut(u64) -> Result<Option<bool>>,
+    mut tried: Vec<(u64, bool)>,
+) -> Result<Search> {
     while hi - lo > 1 {
         let mid = lo + (hi - lo) / 2;
         match passes(mid)? {
@@ -66,6 +77,68 @@ pub fn fewest_substeps(
     })
 }
 
+/// As [`fewest_substeps`], starting from `start`, the fewest substeps the linear stability
+/// theory says are stable: one substep first (the table's row), then `start − 1` (which the
+/// theory says fails; should it pass, the answer lies below it and is bisected there), then
+/// `start`, 2·`start`, … to `max`, and bisection. A test monotone in the substeps gets the same
+/// answer as [`fewest_substeps`], without the doubling runs below the theory's count.
+pub fn fewest_substeps_from(
+    start: u64,
+    max: u64,
+    mut passes: impl FnMut(u64) -> Result<Option<bool>>,
+) -> Result<Search> {
+    let max = max.max(1);
+    let start = start.min(max);
+    if start <= 2 {
+        return fewest_substeps(max, passes);
+    }
+    let mut tried = Vec::new();
+    let none = |tried| {
+        Ok(Search {
+            fewest: None,
+            tried,
+        })
+    };
+    match passes(1)? {
+        None => return none(tried),
+        Some(ok) => {
+            tried.push((1, ok));
+            if ok {
+                return bisect((0, 1), &mut passes, tried);
+            }
+        }
+    }
+    let below = start - 1;
+    let mut lo = below;
+    match passes(below)? {
+        None => return none(tried),
+        Some(ok) => {
+            tried.push((below, ok));
+            if ok {
+                return bisect((1, below), &mut passes, tried);
+            }
+        }
+    }
+    let mut n = start;
+    loop {
+        match passes(n)? {
+            None => return none(tried),
+            Some(true) => {
+                tried.push((n, true));
+                return bisect((lo, n), &mut passes, tried);
+            }
+            Some(false) => {
+                tried.push((n, false));
+                lo = n;
+            }
+        }
+        if n == max {
+            return none(tried);
+        }
+        n = (2 * n).min(max);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,5 +154,24 @@ mod tests {
         let s = fewest_substeps(64, |n| Ok((n <= 8).then_some(false))).unwrap();
         assert_eq!(s.fewest, None);
         assert_eq!(s.tried.last(), Some(&(8, false)));
+    }
+
+    // Oracle: the same threshold tests; from any start, right or wrong, the search finds what
+    // the doubling search finds, and from a right start it runs nothing between 1 and it but
+    // the count just below.
+    #[test]
+    fn from_any_start_finds_what_doubling_finds() {
+        for need in 1..=70u64 {
+            let plain = fewest_substeps(64, |n| Ok(Some(n >= need))).unwrap();
+            for start in 1..=70u64 {
+                let s = fewest_substeps_from(start, 64, |n| Ok(Some(n >= need))).unwrap();
+                assert_eq!(s.fewest, plain.fewest, "need {need}, start {start}");
+                if start == need && start > 2 && need <= 64 {
+                    let below: Vec<u64> =
+                        s.tried.iter().map(|t| t.0).filter(|&n| n < start).collect();
+                    assert_eq!(below, [1, start - 1], "need {need}");
+                }
+            }
+        }
     }
 }

@@ -145,3 +145,28 @@ impl Default for StabilityConfig {
         }
     }
 }
+
+/// The linear theory's verdict on each of `names` on `sys` from `s0` (None for a method
+/// without that theory, or a scene without modes): the modes are found once for all. What the
+/// commands that search over steps or substeps start from (advice's cost floors, the
+/// frame-rate search), so a method's stability fact comes from its registry entry.
+pub fn theory_limits(
+    registry: &Registry,
+    options: &MethodOptions,
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    names: &[String],
+) -> crate::error::Result<Vec<Option<Limit>>> {
+    let mut ms: Option<Modes> = None;
+    names
+        .iter()
+        .map(|name| {
+            let method = registry.get(name)?;
+            if !method.info.linear_theory() {
+                return Ok(None);
+            }
+            let ms = ms.get_or_insert_with(|| super::modes::modes(sys, s0));
+            Ok((!ms.modes.is_empty()).then(|| theory_limit(method, options, ms)))
+        })
+        .collect()
+}

@@ -1,0 +1,471 @@
+//! The order of advice's work: candidates run in waves, cheapest floor first
+//! ([`super::screen`]), each wave's grid runs followed by its verification (and its frame-rate
+//! runs), so the cheapest candidates are verified before the dear ones run and the screen can
+//! hold those to them. Verifying a wave takes a reference of its steps: where the grid's
+//! reference is a kept solve ([`crate::measure::reference::Reference::solve_id`]) or a closed
+//! form, that is a resampling, and each wave is verified at once; where it is not (a scene whose solve is too
+//! big to keep), each would be a solve of its own, so the waves are verified together after
+//! the last one and the screen holds the rest to the cheapest grid run that met the bound
+//! (tolerance / safety, against the same reference), which costs no less than its candidate's
+//! verified answer.
+//!
+//! The first wave is the [`FIRST_WAVE`] candidates first in floor order (floors within the
+//! ranking's tie band taken highest order of accuracy first) among those whose floor is set by
+//! their stability limit (the floor of an unconditionally stable method or an engine, its cost
+//! at the grid's largest step, says little about the step it will need), else of all; while
+//! nothing is verified, each next wave is the next [`FIRST_WAVE`] by floor, each candidate's
+//! grid row run first down to the finest step within the screen factor times its own floor,
+//! and the rest of its row only when that predicts nothing. Once an answer is verified, every
+//! candidate left whose floor is above the screen factor
+//! ([`super::screen::SCREEN_FACTOR`] unless asked otherwise) times the cheapest verified
+//! answer's cost is not run, and the rest run in one more wave, each down to the finest grid
+//! step within the screen; a candidate predicted before (under its own floor's screen) runs
+//! its further steps within it there too, and is verified again should its prediction change.
+//! Every grid run is judged against one reference of the whole grid.
+
+use super::config::AdviseConfig;
+use super::cost::TIE_BAND;
+use super::frames::FramePlan;
+use super::screen::{Basis, Priced, Screened};
+use super::search::{predict_row, reference_for, run_grids, run_on, unable_reason};
+use super::search::{Decided, Prediction, Row};
+use crate::error::Result;
+use crate::measure::case::{CaseResult, CaseSettings};
+use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
+use crate::measure::reference::{Reference, ReferenceInfo};
+use crate::measure::tolerance::Judge;
+use crate::model::System;
+use crate::scenario::Scenario;
+
+/// Candidates in each wave while nothing is verified (1: a grid row's runs already fill the
+/// cores, its finest run taking about half its time, so a second candidate would double the
+/// work before the screen can cut it without finishing sooner).
+pub const FIRST_WAVE: usize = 1;
+
+/// What advice runs on: the scene, its system, the options, the run settings, the horizon (s)
+/// and the frame rates of the game view (Hz).
+pub(super) struct Ctx<'a> {
+    pub scene: &'a Scenario,
+    pub sys: &'a System,
+    pub cfg: &'a AdviseConfig,
+    pub set: &'a CaseSettings,
+    pub horizon: f64,
+    pub rates: &'a [f64],
+}
+
+/// One candidate's verified answer.
+#[derive(Debug, Clone)]
+pub(super) struct Answer {
+    /// Method name.
+    pub name: String,
+    /// The step it was verified at (s): the frame view's substeps come from it.
+    pub verify_dt: f64,
+    /// The chosen run: the verification run when it met the bound, else the last passing
+    /// grid run.
+    pub chosen: CaseResult,
+    /// The chosen run's predicted error.
+    pub predicted: f64,
+    /// Per frame rate: the run at one step per frame and the substepped run.
+    pub frames: Vec<(CaseResult, CaseResult)>,
+}
+
+/// What happened to one candidate.
+#[derive(Debug, Clone)]
+pub(super) enum Fate {
+    /// Verified.
+    Answered(Box<Answer>),
+    /// Cannot meet the bound on the grid, with why.
+    Unable(String),
+    /// Screened out.
+    Screened(Box<Screened>),
+}
+
+/// What the waves found: the reference of the grid runs, each candidate's fate (candidate
+/// order; None for one left for the grid's extension), every step run, and each candidate's
+/// grid runs (for the extension).
+pub(super) struct Waves {
+    pub reference: ReferenceInfo,
+    pub fates: Vec<Option<Fate>>,
+    pub tried: Vec<f64>,
+    pub rows: Vec<Row>,
+}
+
+/// The order candidates are taken in: by floor, the cheapest remaining candidate and every
+/// other within [`TIE_BAND`] of it forming a group (as the ranking groups costs), a group
+/// ordered by the registry's order of accuracy, highest first (of two methods that cost the
+/// same per step, the higher order meets a tolerance at the larger step), then by name.
+fn by_floor(priced: &[Priced], orders: &[u32]) -> Vec<usize> {
+    let mut rest: Vec<usize> = (0..priced.len()).collect();
+    rest.sort_by(|&a, &b| {
+        priced[a]
+            .floor
+            .total_cmp(&priced[b].floor)
+            .then_with(|| priced[a].name.cmp(&priced[b].name))
+    });
+    let mut order = Vec::with_capacity(rest.len());
+    while let Some(&lead) = rest.first() {
+        let limit = priced[lead].floor * (1.0 + TIE_BAND);
+        let (mut group, others): (Vec<usize>, Vec<usize>) =
+            rest.iter().partition(|&&i| priced[i].floor <= limit);
+        group.sort_by(|&a, &b| {
+            orders[b]
+                .cmp(&orders[a])
+                .then_with(|| priced[a].name.cmp(&priced[b].name))
+        });
+        order.extend(group);
+        rest = others;
+    }
+    order
+}
+
+/// The next wave from `pending` (in floor order): everything left once an answer is
+/// verified, else the first [`FIRST_WAVE`] bounded candidates (any, when none is bounded).
+fn next_wave(priced: &[Priced], pending: &[usize], verified: bool) -> Vec<usize> {
+    if verified {
+        return pending.to_vec();
+    }
+    let bounded: Vec<usize> = pending
+        .iter()
+        .copied()
+        .filter(|&i| priced[i].bounded)
+        .take(FIRST_WAVE)
+        .collect();
+    if bounded.is_empty() {
+        pending.iter().copied().take(FIRST_WAVE).collect()
+    } else {
+        bounded
+    }
+}
+
+/// What the waves have found so far: each candidate's grid runs (per grid step), its current
+/// prediction, and its fate.
+struct Found {
+    runs: Vec<Vec<Option<CaseResult>>>,
+    preds: Vec<Option<Prediction>>,
+    fates: Vec<Option<Fate>>,
+}
+
+impl Found {
+    /// Candidate `i`'s runs, ascending in the step.
+    fn row(&self, i: usize) -> Vec<CaseResult> {
+        self.runs[i].iter().flatten().cloned().collect()
+    }
+
+    /// The grid steps of candidate `i` not yet run whose modelled cost is within `limit`
+    /// (s/s; None: every one).
+    fn missing(&self, i: usize, p: &Priced, limit: Option<f64>) -> Vec<(usize, usize)> {
+        (0..self.runs[i].len())
+            .filter(|&k| self.runs[i][k].is_none() && p.runs_at(k, limit))
+            .map(|k| (i, k))
+            .collect()
+    }
+}
+
+/// The grid's reference, the judge it decided and the samples per run.
+struct OnGrid<'a> {
+    reference: &'a Reference,
+    judge: &'a Judge,
+    max_samples: u64,
+}
+
+/// Runs `jobs` (candidate, grid step) against the grid's reference, keeping each run in
+/// `found`.
+fn run_jobs(
+    ctx: &Ctx,
+    priced: &[Priced],
+    on: &OnGrid,
+    (jobs, label): (&[(usize, usize)], &str),
+    found: &mut Found,
+) -> Result<()> {
+    let named: Vec<(String, usize)> = jobs
+        .iter()
+        .map(|&(i, k)| (priced[i].name.clone(), k))
+        .collect();
+    let cases = run_on(
+        (ctx.scene, ctx.sys),
+        on.reference,
+        &named,
+        ctx.set,
+        (label, ctx.cfg.progress),
+    )?;
+    for (&(i, k), c) in jobs.iter().zip(cases) {
+        found.runs[i][k] = Some(c);
+    }
+    Ok(())
+}
+
+/// The grid runs of one wave: the fresh candidates `fresh`, each down to the finest step within
+/// the screen at `limit` (s/s) or, with no screen yet, within [`super::screen::SCREEN_FACTOR`]
+/// times its own floor first and, when that predicts nothing, the rest of its row; and the
+/// steps within the screen that earlier candidates have not run yet. Returns the candidates
+/// whose runs changed.
+fn grid_wave(
+    ctx: &Ctx,
+    priced: &[Priced],
+    (fresh, wave_no): (&[usize], usize),
+    (on, limit): (&OnGrid, Option<f64>),
+    found: &mut Found,
+) -> Result<Vec<usize>> {
+    let factor = ctx.cfg.screen_factor;
+    let mut jobs: Vec<(usize, usize)> = Vec::new();
+    for &i in fresh {
+        let own = limit.unwrap_or(factor * priced[i].floor);
+        jobs.extend(found.missing(i, &priced[i], Some(own)));
+    }
+    if let Some(l) = limit {
+        // A candidate predicted before the screen was known, or under a looser one.
+        for i in (0..priced.len()).filter(|&i| found.preds[i].is_some()) {
+            jobs.extend(found.missing(i, &priced[i], Some(l)));
+        }
+    }
+    let label = format!("grid runs (wave {wave_no})");
+    run_jobs(ctx, priced, on, (&jobs, &label), found)?;
+    if limit.is_none() {
+        let rest: Vec<(usize, usize)> = fresh
+            .iter()
+            .filter(|&&i| predict(ctx, on, &found.row(i), &priced[i].name).is_err())
+            .flat_map(|&i| found.missing(i, &priced[i], None))
+            .collect();
+        run_jobs(ctx, priced, on, (&rest, &label), found)?;
+        jobs.extend(rest);
+    }
+    let mut touched: Vec<usize> = fresh.to_vec();
+    touched.extend(jobs.iter().map(|j| j.0).filter(|i| !fresh.contains(i)));
+    touched.sort_unstable();
+    touched.dedup();
+    Ok(touched)
+}
+
+/// The prediction of candidate `name` from its runs `row` ([`predict_row`]).
+fn predict(
+    ctx: &Ctx,
+    on: &OnGrid,
+    row: &[CaseResult],
+    name: &str,
+) -> std::result::Result<Prediction, Vec<(f64, Option<f64>)>> {
+    let target = (ctx.horizon, on.max_samples);
+    predict_row(name, row, target, on.judge, ctx.cfg.safety)
+}
+
+/// Whether two predictions ask the same verification: the same step and fallback run.
+fn same_prediction(a: &Prediction, b: &Prediction) -> bool {
+    a.1 == b.1 && a.3.dt == b.3.dt
+}
+
+/// Runs the candidates `priced` over `grid` in waves (see the module docs).
+pub(super) fn run_waves(
+    ctx: &Ctx,
+    priced: &[Priced],
+    grid: &[(f64, u64)],
+    decided: &mut Decided,
+) -> Result<Waves> {
+    let cfg = ctx.cfg;
+    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, ctx.sys.len());
+    let grids: Vec<TimeGrid> = grid
+        .iter()
+        .map(|&(dt, s)| TimeGrid::new(dt, s, max_samples))
+        .collect();
+    let reference = reference_for(ctx.scene, cfg, &grids, ctx.horizon, decided)?;
+    let judge = decided.judge.clone().expect("decided by the reference");
+    let on = OnGrid {
+        reference: &reference,
+        judge: &judge,
+        max_samples,
+    };
+    let n = priced.len();
+    let mut found = Found {
+        runs: vec![vec![None; grid.len()]; n],
+        preds: vec![None; n],
+        fates: vec![None; n],
+    };
+    let orders: Vec<u32> = priced
+        .iter()
+        .map(|p| {
+            cfg.registry
+                .info(&p.name)
+                .map_or(0, |m| m.order.finite().unwrap_or(u32::MAX))
+        })
+        .collect();
+    let mut pending = by_floor(priced, &orders);
+    let mut basis: Option<Basis> = None;
+    // Where the reference is a kept solve (or a closed form: no solver step or evaluation),
+    // verifying a wave resamples it: each wave is verified at once, and the screen holds the
+    // rest to verified answers. Otherwise each verification would solve the reference again,
+    // so all are verified together after the last wave, and the screen holds the rest to the
+    // cheapest grid run that met the bound.
+    let closed_form = reference.info.solver_steps == 0 && reference.info.solver_evals == 0;
+    let verify_each = reference.solve_id().is_some() || closed_form;
+    let mut wave_no = 0;
+    loop {
+        let limit = basis
+            .as_ref()
+            .map(|b| cfg.screen_factor * b.modelled_per_second);
+        if let (Some(l), Some(b)) = (limit, &basis) {
+            for &i in pending.iter().filter(|&&i| priced[i].floor > l) {
+                let s = Screened::not_run(&priced[i], b);
+                found.fates[i] = Some(Fate::Screened(Box::new(s)));
+            }
+            pending.retain(|&i| priced[i].floor <= l);
+        }
+        let fresh = next_wave(priced, &pending, basis.is_some());
+        pending.retain(|i| !fresh.contains(i));
+        wave_no += 1;
+        let touched = grid_wave(ctx, priced, (&fresh, wave_no), (&on, limit), &mut found)?;
+        if touched.is_empty() {
+            break;
+        }
+        let mut changed: Vec<(usize, Prediction)> = Vec::new();
+        for i in touched {
+            match predict(ctx, &on, &found.row(i), &priced[i].name) {
+                Ok(p) => {
+                    if !found.preds[i]
+                        .as_ref()
+                        .is_some_and(|q| same_prediction(q, &p))
+                    {
+                        found.preds[i] = Some(p.clone());
+                        changed.push((i, p));
+                    }
+                }
+                Err(errors) => {
+                    found.preds[i] = None;
+                    let fate = missed(&priced[i], grid, &errors, basis.as_ref(), &judge, cfg);
+                    found.fates[i] = Some(fate);
+                }
+            }
+        }
+        if !verify_each {
+            for (_, p) in &changed {
+                basis = Basis::cheaper(basis, Basis::of(&p.0, &p.3, true));
+            }
+            continue;
+        }
+        let preds: Vec<Prediction> = changed.iter().map(|(_, p)| p.clone()).collect();
+        let label = format!("verification (wave {wave_no})");
+        let answers = verify(ctx, &preds, max_samples, decided, &label)?;
+        for ((i, _), a) in changed.iter().zip(answers) {
+            basis = Basis::cheaper(basis, Basis::of(&a.name, &a.chosen, false));
+            found.fates[*i] = Some(Fate::Answered(Box::new(a)));
+        }
+    }
+    if !verify_each {
+        let idx: Vec<usize> = (0..n).filter(|&i| found.preds[i].is_some()).collect();
+        let preds: Vec<Prediction> = idx.iter().filter_map(|&i| found.preds[i].clone()).collect();
+        let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
+        for (&i, a) in idx.iter().zip(answers) {
+            found.fates[i] = Some(Fate::Answered(Box::new(a)));
+        }
+    }
+    let tried = grid
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| found.runs.iter().any(|r| r[*k].is_some()))
+        .map(|(_, g)| g.0)
+        .collect();
+    let rows = (0..n)
+        .filter(|&i| found.runs[i].iter().any(Option::is_some))
+        .map(|i| (priced[i].name.clone(), found.row(i)))
+        .collect();
+    Ok(Waves {
+        reference: reference.info,
+        fates: found.fates,
+        tried,
+        rows,
+    })
+}
+
+/// The fate of a candidate whose grid runs (`errors`: step and error, finest first) missed
+/// tolerance / safety at its finest step run: screened, when finer grid steps were left out
+/// for cost, else unable.
+fn missed(
+    p: &Priced,
+    grid: &[(f64, u64)],
+    errors: &[(f64, Option<f64>)],
+    basis: Option<&Basis>,
+    judge: &Judge,
+    cfg: &AdviseConfig,
+) -> Fate {
+    let Some(b) = basis else {
+        return Fate::Unable(unable_reason(errors, judge.bound, cfg.safety));
+    };
+    let Some(&(finest, _)) = errors.first() else {
+        return Fate::Screened(Box::new(Screened::no_step_within(p, grid, b)));
+    };
+    // The next finer grid step, left out for its cost.
+    match grid.iter().enumerate().rfind(|(_, g)| g.0 < finest) {
+        Some((k, g)) => Fate::Screened(Box::new(Screened::not_run_below(
+            &p.name,
+            finest,
+            (g.0, p.per_second[k]),
+            (b, cfg.screen_factor),
+            &match errors[0].1 {
+                Some(e) => format!(
+                    "its error at the finest step run is {e:.3e}, above tolerance/safety {:.3e}",
+                    judge.bound / cfg.safety
+                ),
+                None => "it is unstable at the finest step run".to_string(),
+            },
+        ))),
+        None => Fate::Unable(unable_reason(errors, judge.bound, cfg.safety)),
+    }
+}
+
+/// Verifies `preds`: re-runs each at its predicted step (and runs its frame-rate view) against
+/// a reference of those steps; the chosen run is the verification run when it meets the
+/// bound, else the last passing grid run.
+pub(super) fn verify(
+    ctx: &Ctx,
+    preds: &[Prediction],
+    max_samples: u64,
+    decided: &mut Decided,
+    label: &str,
+) -> Result<Vec<Answer>> {
+    if preds.is_empty() {
+        return Ok(Vec::new());
+    }
+    let steps: Vec<f64> = preds.iter().map(|p| p.1.dt).collect();
+    let plan = FramePlan::new(ctx.horizon, &steps, ctx.rates);
+    let jobs: Vec<(String, TimeGrid)> = preds
+        .iter()
+        .map(|p| (p.0.clone(), p.1))
+        .chain(
+            plan.grids(max_samples)
+                .into_iter()
+                .map(|(pi, g)| (preds[pi].0.clone(), g)),
+        )
+        .collect();
+    let (_, res) = run_grids(
+        ctx.scene,
+        ctx.cfg,
+        &jobs,
+        (ctx.horizon, ctx.set),
+        decided,
+        label,
+    )?;
+    let judge = decided
+        .judge
+        .as_ref()
+        .expect("decided by the first reference");
+    let np = preds.len();
+    Ok(preds
+        .iter()
+        .enumerate()
+        .map(|(pi, (name, g, pred, fallback))| {
+            let (chosen, predicted) = match judge.error(&res[pi]) {
+                Some(e) if e <= judge.bound => (res[pi].clone(), *pred),
+                _ => (fallback.clone(), judge.error(fallback).unwrap_or(0.0)),
+            };
+            Answer {
+                name: name.clone(),
+                verify_dt: g.dt,
+                chosen,
+                predicted,
+                frames: (0..ctx.rates.len())
+                    .map(|fi| {
+                        let k = np + 2 * (fi * np + pi);
+                        (res[k].clone(), res[k + 1].clone())
+                    })
+                    .collect(),
+            }
+        })
+        .collect())
+}

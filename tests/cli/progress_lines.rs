@@ -1,0 +1,111 @@
+//! The progress promise in a pipe: a long command prints a line at least every interval until
+//! it ends, naming the stage it is in, however long a single stage without a count (a
+//! reference solve, the timing runs) lasts.
+//!
+//! Oracle: the interval's definition (`SPRINGLAB_PROGRESS_INTERVAL`, the seconds between lines)
+//! and the clock of this test: each stderr line is stamped as it arrives through the pipe, and
+//! no gap (from the start to the first line, between lines, from the last line to the exit)
+//! may exceed the interval plus a slack for a loaded machine.
+
+use crate::support::bin;
+use std::io::{BufRead, BufReader};
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+/// Seconds between lines asked of the command.
+const INTERVAL: f64 = 0.3;
+
+/// What a gap may exceed the interval by: the ticker looks several times per interval, and a
+/// machine shared with other jobs may hold a thread back for a while.
+const SLACK: f64 = 0.7;
+
+/// An 8×8 cloth, the shipped cloth's particle mass and springs, two top corners pinned.
+const CLOTH8: &str = r#"
+name = "cloth8"
+[world]
+gravity = [0.0, -9.81, 0.0]
+[[cloth]]
+origin = [0.0, 0.0, 0.0]
+size = [1.0, 1.0]
+count = [8, 8]
+mass = 0.001
+stiffness = 200.0
+damping = 0.002
+bend_stiffness = 20.0
+plane = "xz"
+fix = ["top_left", "top_right"]
+[run]
+dt = 0.001
+duration = 1.0
+"#;
+
+#[test]
+fn a_long_command_in_a_pipe_prints_a_line_every_interval_until_it_ends() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("cloth8.toml");
+    std::fs::write(&scene, CLOTH8).unwrap();
+    let start = Instant::now();
+    let mut child = bin()
+        .arg("advise")
+        .arg(&scene)
+        .args([
+            "--tolerance",
+            "0.002",
+            "--methods",
+            "position_verlet,rk4,xpbd",
+        ])
+        .arg("--out")
+        .arg(dir.path().join("out"))
+        .env("SPRINGLAB_PROGRESS_INTERVAL", INTERVAL.to_string())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        BufReader::new(stderr)
+            .lines()
+            .map(|l| (start.elapsed(), l.unwrap()))
+            .collect::<Vec<(Duration, String)>>()
+    });
+    let status = child.wait().unwrap();
+    let end = start.elapsed();
+    let lines = reader.join().unwrap();
+    assert!(status.success(), "{lines:?}");
+    let progress: Vec<&(Duration, String)> = lines
+        .iter()
+        .filter(|(_, l)| l.starts_with("progress: "))
+        .collect();
+    let stamps: Vec<f64> = std::iter::once(0.0)
+        .chain(progress.iter().map(|(t, _)| t.as_secs_f64()))
+        .chain(std::iter::once(end.as_secs_f64()))
+        .collect();
+    assert!(
+        end.as_secs_f64() > 4.0 * INTERVAL,
+        "the command must outlast a few intervals to test anything: {end:?}"
+    );
+    for w in stamps.windows(2) {
+        assert!(
+            w[1] - w[0] <= INTERVAL + SLACK,
+            "silent from {:.2} s to {:.2} s (interval {INTERVAL} s): {lines:#?}",
+            w[0],
+            w[1]
+        );
+    }
+    // Every line names the stage: the command's own, or one of advice's parts.
+    for (_, l) in &progress {
+        let stage = l.trim_start_matches("progress: ");
+        assert!(
+            stage.starts_with("advise cloth8: ") || stage.starts_with("advise: "),
+            "{l}"
+        );
+        assert!(l.contains(" s elapsed"), "{l}");
+    }
+    // The stretches without a count (the reference, the timing runs) are named too.
+    assert!(
+        progress
+            .iter()
+            .any(|(_, l)| l.contains(": reference") || l.contains(": timing")),
+        "{lines:#?}"
+    );
+}
