@@ -19,8 +19,9 @@
 //! A modelled cost of 0 or one not finite is a failed count and an error, never the cheapest.
 
 use crate::error::{Error, Result};
-use crate::measure::case::TimingRule;
+use crate::measure::case::{time_interleaved, CaseSettings, TimedRun, TimingRule, WallTimes};
 use crate::method::{CostUnit, Registry};
+use crate::model::{State, System};
 use serde::Serialize;
 
 /// Relative band within which two modelled costs are a tie (0.20: 20 %).
@@ -112,6 +113,53 @@ pub fn force_evals_per_second(
             )),
         ),
     })
+}
+
+/// Whether `a` and `b` are the same run for the clock: one method, as many steps, and steps
+/// equal but for round-off (a frame of 1/60 s in 12 substeps and one of 1/240 s in 3 are the
+/// same 1/720 s step, computed two ways): timed once, its wall time shown for both.
+fn same_run(a: &TimedRun, b: &TimedRun) -> bool {
+    a.method == b.method
+        && a.steps == b.steps
+        && a.substeps == b.substeps
+        && (a.dt - b.dt).abs() <= 1e-12 * a.dt.abs().max(b.dt.abs())
+}
+
+/// The wall times of a set of runs, each timed once ([`time_once`]).
+pub(super) struct Timed {
+    runs: Vec<TimedRun>,
+    times: Vec<WallTimes>,
+}
+
+impl Timed {
+    /// The wall times of `r`, one of the runs asked for.
+    pub(super) fn of(&self, r: &TimedRun) -> WallTimes {
+        let k = self
+            .runs
+            .iter()
+            .position(|x| same_run(x, r))
+            .expect("every run was timed");
+        self.times[k].clone()
+    }
+}
+
+/// Times every run of `wanted` once ([`same_run`]), interleaved on this thread under `rule`
+/// ([`time_interleaved`]).
+pub(super) fn time_once(
+    sys: &System,
+    s0: &State,
+    wanted: &[TimedRun],
+    set: &CaseSettings,
+    rule: &TimingRule,
+) -> Result<Timed> {
+    let mut runs: Vec<TimedRun> = Vec::new();
+    for r in wanted {
+        if !runs.iter().any(|x| same_run(x, r)) {
+            runs.push(r.clone());
+        }
+    }
+    let times = time_interleaved(sys, s0, &runs, set, rule)?;
+    Ok(Timed { runs, times })
 }
 
 /// What [`rank`] compares for one candidate.

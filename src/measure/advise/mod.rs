@@ -23,6 +23,7 @@ pub mod cost;
 pub mod frames;
 pub mod screen;
 mod search;
+mod verify;
 mod waves;
 
 pub use config::AdviseConfig;
@@ -30,13 +31,13 @@ pub use cost::{CostMeasure, PickedBy, ADVICE_TIMING, TIE_BAND};
 pub use frames::{FrameEntry, FrameRate, FRAME_RATES};
 pub use screen::{Basis, Screened, SCREEN_FACTOR, STABILITY_SLACK};
 pub use search::unable_reason;
-use search::{candidates, extend, Decided};
+use search::{candidates, Decided};
 pub use search::{EXTENSION_FACTOR, EXTENSION_PARTICLE_STEPS, GRID_EXTENSIONS};
+use verify::{Answer, Ctx};
 pub use waves::FIRST_WAVE;
-use waves::{run_waves, verify, Answer, Ctx, Fate};
+use waves::{run_waves, settle};
 
-use super::case::{time_interleaved, CaseResult, CaseSettings, TimedRun, TimingRule, WallTimes};
-use super::grid::{max_samples_for, DEFAULT_BUDGET_BYTES};
+use super::case::{CaseResult, CaseSettings, TimedRun, TimingRule, WallTimes};
 use super::reference::ReferenceInfo;
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
@@ -157,16 +158,6 @@ impl Choice {
             energy_drift_rate: c.metric(|m| m.energy_drift_rate),
         })
     }
-}
-
-/// Whether `a` and `b` are the same run for the clock: one method, as many steps, and steps
-/// equal but for round-off (a frame of 1/60 s in 12 substeps and one of 1/240 s in 3 are the
-/// same 1/720 s step, computed two ways): timed once, its wall time shown for both.
-fn same_run(a: &TimedRun, b: &TimedRun) -> bool {
-    a.method == b.method
-        && a.steps == b.steps
-        && a.substeps == b.substeps
-        && (a.dt - b.dt).abs() <= 1e-12 * a.dt.abs().max(b.dt.abs())
 }
 
 /// `choices` cheapest first by [`cost::rank`], with the rule that decided the first place.
@@ -293,72 +284,14 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     };
     let mut decided = Decided::default();
     let waves = run_waves(&ctx, &priced, &grid, &mut decided)?;
-    let (mut reference, mut tried, mut fates) = (waves.reference, waves.tried, waves.fates);
-    let answered = fates.iter().any(|f| matches!(f, Some(Fate::Answered(_))));
-    let cant: Vec<search::Unable> = names
-        .iter()
-        .zip(&fates)
-        .filter_map(|(n, f)| match f {
-            Some(Fate::Unable(r)) => Some((n.clone(), r.clone())),
-            _ => None,
-        })
-        .collect();
-    let extended = if answered {
-        None
-    } else {
-        extend(
-            (scene, &sys),
-            cfg,
-            (&set, horizon),
-            (waves.rows, grid.clone()),
-            cant.clone(),
-            &mut decided,
-        )?
-    };
-    match extended {
-        Some(ext) => {
-            reference = ext.reference;
-            tried.extend(ext.tried);
-            let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, ext.grid.len() * 2, sys.len());
-            let answers = verify(
-                &ctx,
-                &ext.predictions,
-                max_samples,
-                &mut decided,
-                "verification (extended grid)",
-            )?;
-            for a in answers {
-                let i = names
-                    .iter()
-                    .position(|n| *n == a.name)
-                    .expect("a candidate");
-                fates[i] = Some(Fate::Answered(Box::new(a)));
-            }
-            unable.extend(ext.dropped);
-            unable.extend(ext.cant);
-        }
-        None => unable.extend(cant),
-    }
-    tried.sort_by(f64::total_cmp);
-    tried.dedup();
+    let settled = settle(&ctx, &names, (waves, &grid), &mut decided)?;
+    unable.extend(settled.unable);
+    let (reference, tried, screened) = (settled.reference, settled.tried, settled.screened);
+    let answers: Vec<&Answer> = settled.answers.iter().collect();
     let judge = decided
         .judge
         .clone()
         .expect("decided by the first reference");
-    let answers: Vec<&Answer> = fates
-        .iter()
-        .filter_map(|f| match f {
-            Some(Fate::Answered(a)) => Some(a.as_ref()),
-            _ => None,
-        })
-        .collect();
-    let screened: Vec<Screened> = fates
-        .iter()
-        .filter_map(|f| match f {
-            Some(Fate::Screened(s)) => Some(s.as_ref().clone()),
-            _ => None,
-        })
-        .collect();
     let names: Vec<String> = answers.iter().map(|a| a.name.clone()).collect();
     let plan = FramePlan::new(
         horizon,
@@ -381,30 +314,17 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         steps: c.steps,
         substeps: None,
     };
-    let mut runs: Vec<TimedRun> = Vec::new();
-    for r in answers
+    let wanted: Vec<TimedRun> = answers
         .iter()
         .map(|a| run_of(&a.chosen))
         .chain(plan.timed_runs(&view))
-    {
-        if !runs.iter().any(|x| same_run(x, &r)) {
-            runs.push(r);
-        }
-    }
-    let timings = {
-        let _stage = crate::run::progress_stage(
-            format!("advise {}: timing {} runs", scene.name, runs.len()),
-            cfg.progress,
-        );
-        time_interleaved(&sys, &scene.initial_state(), &runs, &set, &cfg.timing)?
+        .collect();
+    let timed = {
+        let _stage =
+            crate::run::progress_stage(format!("advise {}: timing", scene.name), cfg.progress);
+        cost::time_once(&sys, &scene.initial_state(), &wanted, &set, &cfg.timing)?
     };
-    let timing_of = |r: &TimedRun| -> WallTimes {
-        let k = runs
-            .iter()
-            .position(|x| same_run(x, r))
-            .expect("every run was timed");
-        timings[k].clone()
-    };
+    let timing_of = |r: &TimedRun| timed.of(r);
     let choices: Vec<Choice> = answers
         .iter()
         .map(|a| {

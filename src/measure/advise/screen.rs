@@ -187,6 +187,37 @@ pub struct Screened {
 }
 
 impl Screened {
+    /// A candidate whose grid runs (`errors`: step and error, finest first) missed `target`
+    /// (tolerance / safety) at its finest step run, finer grid steps left out for costing
+    /// more than `factor` times `basis`; None when no finer step was left out (it is unable,
+    /// not screened).
+    pub(super) fn missed(
+        p: &Priced,
+        grid: &[(f64, u64)],
+        errors: &[(f64, Option<f64>)],
+        (basis, factor): (&Basis, f64),
+        target: f64,
+    ) -> Option<Self> {
+        let Some(&(finest, error)) = errors.first() else {
+            return Some(Self::no_step_within(p, grid, basis));
+        };
+        // The next finer grid step, left out for its cost.
+        let (k, g) = grid.iter().enumerate().rfind(|(_, g)| g.0 < finest)?;
+        let words = match error {
+            Some(e) => format!(
+                "its error at the finest step run is {e:.3e}, above tolerance/safety {target:.3e}"
+            ),
+            None => "it is unstable at the finest step run".to_string(),
+        };
+        Some(Self::not_run_below(
+            &p.name,
+            finest,
+            (g.0, p.per_second[k]),
+            (basis, factor),
+            &words,
+        ))
+    }
+
     /// A candidate not run: its floor is above the screen.
     pub(super) fn not_run(p: &Priced, basis: &Basis) -> Self {
         let how = if p.bounded {
@@ -202,7 +233,7 @@ impl Screened {
 
     /// A candidate none of whose grid steps is within the screen: not run, named with its
     /// cheapest grid step's cost.
-    pub(super) fn no_step_within(p: &Priced, grid: &[(f64, u64)], basis: &Basis) -> Self {
+    fn no_step_within(p: &Priced, grid: &[(f64, u64)], basis: &Basis) -> Self {
         let (k, cost) = p
             .per_second
             .iter()
@@ -235,7 +266,7 @@ impl Screened {
     /// A candidate whose steps down to `finest` (s) ran without meeting the bound, the next
     /// finer grid step `next` (s) modelled at `cost` (s/s) above `factor` times the basis;
     /// `errors` says how the finest step run missed.
-    pub(super) fn not_run_below(
+    fn not_run_below(
         name: &str,
         finest: f64,
         (next, cost): (f64, f64),

@@ -25,53 +25,24 @@
 
 use super::config::AdviseConfig;
 use super::cost::TIE_BAND;
-use super::frames::FramePlan;
 use super::screen::{Basis, Priced, Screened};
-use super::search::{predict_row, reference_for, run_grids, run_on, unable_reason};
-use super::search::{Decided, Prediction, Row};
+use super::search::{extend, predict_row, reference_for, run_on, unable_reason};
+use super::search::{Decided, Prediction, Row, Unable};
+use super::verify::{verify, Answer, Ctx};
 use crate::error::Result;
-use crate::measure::case::{CaseResult, CaseSettings};
+use crate::measure::case::CaseResult;
 use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use crate::measure::reference::{Reference, ReferenceInfo};
 use crate::measure::tolerance::Judge;
-use crate::model::System;
-use crate::scenario::Scenario;
 
 /// Candidates in each wave while nothing is verified (1: a grid row's runs already fill the
 /// cores, its finest run taking about half its time, so a second candidate would double the
 /// work before the screen can cut it without finishing sooner).
 pub const FIRST_WAVE: usize = 1;
 
-/// What advice runs on: the scene, its system, the options, the run settings, the horizon (s)
-/// and the frame rates of the game view (Hz).
-pub(super) struct Ctx<'a> {
-    pub scene: &'a Scenario,
-    pub sys: &'a System,
-    pub cfg: &'a AdviseConfig,
-    pub set: &'a CaseSettings,
-    pub horizon: f64,
-    pub rates: &'a [f64],
-}
-
-/// One candidate's verified answer.
-#[derive(Debug, Clone)]
-pub(super) struct Answer {
-    /// Method name.
-    pub name: String,
-    /// The step it was verified at (s): the frame view's substeps come from it.
-    pub verify_dt: f64,
-    /// The chosen run: the verification run when it met the bound, else the last passing
-    /// grid run.
-    pub chosen: CaseResult,
-    /// The chosen run's predicted error.
-    pub predicted: f64,
-    /// Per frame rate: the run at one step per frame and the substepped run.
-    pub frames: Vec<(CaseResult, CaseResult)>,
-}
-
 /// What happened to one candidate.
 #[derive(Debug, Clone)]
-pub(super) enum Fate {
+enum Fate {
     /// Verified.
     Answered(Box<Answer>),
     /// Cannot meet the bound on the grid, with why.
@@ -84,10 +55,10 @@ pub(super) enum Fate {
 /// order; None for one left for the grid's extension), every step run, and each candidate's
 /// grid runs (for the extension).
 pub(super) struct Waves {
-    pub reference: ReferenceInfo,
-    pub fates: Vec<Option<Fate>>,
-    pub tried: Vec<f64>,
-    pub rows: Vec<Row>,
+    reference: ReferenceInfo,
+    fates: Vec<Option<Fate>>,
+    tried: Vec<f64>,
+    rows: Vec<Row>,
 }
 
 /// The order candidates are taken in: by floor, the cheapest remaining candidate and every
@@ -374,8 +345,7 @@ pub(super) fn run_waves(
 }
 
 /// The fate of a candidate whose grid runs (`errors`: step and error, finest first) missed
-/// tolerance / safety at its finest step run: screened, when finer grid steps were left out
-/// for cost, else unable.
+/// tolerance / safety at its finest step run: screened ([`Screened::missed`]), else unable.
 fn missed(
     p: &Priced,
     grid: &[(f64, u64)],
@@ -384,88 +354,88 @@ fn missed(
     judge: &Judge,
     cfg: &AdviseConfig,
 ) -> Fate {
-    let Some(b) = basis else {
-        return Fate::Unable(unable_reason(errors, judge.bound, cfg.safety));
-    };
-    let Some(&(finest, _)) = errors.first() else {
-        return Fate::Screened(Box::new(Screened::no_step_within(p, grid, b)));
-    };
-    // The next finer grid step, left out for its cost.
-    match grid.iter().enumerate().rfind(|(_, g)| g.0 < finest) {
-        Some((k, g)) => Fate::Screened(Box::new(Screened::not_run_below(
-            &p.name,
-            finest,
-            (g.0, p.per_second[k]),
-            (b, cfg.screen_factor),
-            &match errors[0].1 {
-                Some(e) => format!(
-                    "its error at the finest step run is {e:.3e}, above tolerance/safety {:.3e}",
-                    judge.bound / cfg.safety
-                ),
-                None => "it is unstable at the finest step run".to_string(),
-            },
-        ))),
+    let target = judge.bound / cfg.safety;
+    match basis.and_then(|b| Screened::missed(p, grid, errors, (b, cfg.screen_factor), target)) {
+        Some(s) => Fate::Screened(Box::new(s)),
         None => Fate::Unable(unable_reason(errors, judge.bound, cfg.safety)),
     }
 }
 
-/// Verifies `preds`: re-runs each at its predicted step (and runs its frame-rate view) against
-/// a reference of those steps; the chosen run is the verification run when it meets the
-/// bound, else the last passing grid run.
-pub(super) fn verify(
+/// What advice settles on after its waves: the reference of its last grid, every step tried
+/// (ascending), the answers, the candidates screened and those unable, in candidate order.
+pub(super) struct Settled {
+    pub reference: ReferenceInfo,
+    pub tried: Vec<f64>,
+    pub answers: Vec<Answer>,
+    pub screened: Vec<Screened>,
+    pub unable: Vec<Unable>,
+}
+
+/// Settles the waves of candidates `names` on `grid`: when nothing was answered, the grid is
+/// extended downwards ([`extend`]) and its predictions verified.
+pub(super) fn settle(
     ctx: &Ctx,
-    preds: &[Prediction],
-    max_samples: u64,
+    names: &[String],
+    (waves, grid): (Waves, &[(f64, u64)]),
     decided: &mut Decided,
-    label: &str,
-) -> Result<Vec<Answer>> {
-    if preds.is_empty() {
-        return Ok(Vec::new());
-    }
-    let steps: Vec<f64> = preds.iter().map(|p| p.1.dt).collect();
-    let plan = FramePlan::new(ctx.horizon, &steps, ctx.rates);
-    let jobs: Vec<(String, TimeGrid)> = preds
+) -> Result<Settled> {
+    let (mut reference, mut tried, mut fates) = (waves.reference, waves.tried, waves.fates);
+    let answered = fates.iter().any(|f| matches!(f, Some(Fate::Answered(_))));
+    let cant: Vec<Unable> = names
         .iter()
-        .map(|p| (p.0.clone(), p.1))
-        .chain(
-            plan.grids(max_samples)
-                .into_iter()
-                .map(|(pi, g)| (preds[pi].0.clone(), g)),
-        )
-        .collect();
-    let (_, res) = run_grids(
-        ctx.scene,
-        ctx.cfg,
-        &jobs,
-        (ctx.horizon, ctx.set),
-        decided,
-        label,
-    )?;
-    let judge = decided
-        .judge
-        .as_ref()
-        .expect("decided by the first reference");
-    let np = preds.len();
-    Ok(preds
-        .iter()
-        .enumerate()
-        .map(|(pi, (name, g, pred, fallback))| {
-            let (chosen, predicted) = match judge.error(&res[pi]) {
-                Some(e) if e <= judge.bound => (res[pi].clone(), *pred),
-                _ => (fallback.clone(), judge.error(fallback).unwrap_or(0.0)),
-            };
-            Answer {
-                name: name.clone(),
-                verify_dt: g.dt,
-                chosen,
-                predicted,
-                frames: (0..ctx.rates.len())
-                    .map(|fi| {
-                        let k = np + 2 * (fi * np + pi);
-                        (res[k].clone(), res[k + 1].clone())
-                    })
-                    .collect(),
-            }
+        .zip(&fates)
+        .filter_map(|(n, f)| match f {
+            Some(Fate::Unable(r)) => Some((n.clone(), r.clone())),
+            _ => None,
         })
-        .collect())
+        .collect();
+    let extended = if answered {
+        None
+    } else {
+        extend(
+            (ctx.scene, ctx.sys),
+            ctx.cfg,
+            (ctx.set, ctx.horizon),
+            (waves.rows, grid.to_vec()),
+            cant.clone(),
+            decided,
+        )?
+    };
+    let mut unable = Vec::new();
+    match extended {
+        Some(ext) => {
+            reference = ext.reference;
+            tried.extend(ext.tried);
+            let max_samples =
+                max_samples_for(DEFAULT_BUDGET_BYTES, ext.grid.len() * 2, ctx.sys.len());
+            let label = "verification (extended grid)";
+            for a in verify(ctx, &ext.predictions, max_samples, decided, label)? {
+                let i = names
+                    .iter()
+                    .position(|n| *n == a.name)
+                    .expect("a candidate");
+                fates[i] = Some(Fate::Answered(Box::new(a)));
+            }
+            unable.extend(ext.dropped);
+            unable.extend(ext.cant);
+        }
+        None => unable.extend(cant),
+    }
+    tried.sort_by(f64::total_cmp);
+    tried.dedup();
+    let (mut answers, mut screened) = (Vec::new(), Vec::new());
+    for f in fates.into_iter().flatten() {
+        match f {
+            Fate::Answered(a) => answers.push(*a),
+            Fate::Screened(s) => screened.push(*s),
+            Fate::Unable(_) => {}
+        }
+    }
+    Ok(Settled {
+        reference,
+        tried,
+        answers,
+        screened,
+        unable,
+    })
 }

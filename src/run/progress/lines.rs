@@ -182,12 +182,14 @@ fn tick() {
             text.push_str(&line(it, pb.as_ref()));
             text.push('\n');
         }
+        b.last_line = Instant::now();
+        // Printed with the board released: a slow reader of stderr holds up only the ticker.
+        drop(b);
         if !text.is_empty() {
             match drawn_bar {
                 Some(pb) => pb.suspend(|| eprint!("{text}")),
                 None => eprint!("{text}"),
             }
         }
-        b.last_line = Instant::now();
     }
 }
