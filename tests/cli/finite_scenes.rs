@@ -112,7 +112,10 @@ fn twin_strong_but_finite_gravity_passes_the_energy_rule() {
     // √(10 m / 1e306 m/s²) = 3e-153 s is what refuses it (see `check`'s time-scale rule).
     let out = check(&anchored("2.0", "1e306"));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("time scale") && !err.contains("not finite"), "{err}");
+    assert!(
+        err.contains("time scale") && !err.contains("not finite"),
+        "{err}"
+    );
     // Strong but resolvable: √(10 / 1e20) = 3e-10 s, above the run's 1e3 f64 spacings.
     accepts(&anchored("2.0", "1e20"));
 }

@@ -216,33 +216,24 @@ fn a_failed_write_leaves_no_temporary_file() {
     let scene = tmp.path().join("cloth.toml");
     std::fs::write(&scene, SCENE).unwrap();
     let out = tmp.path().join("out");
+    let args = [
+        "run",
+        scene.to_str().unwrap(),
+        "-i",
+        "symplectic_euler",
+        "--out",
+    ];
     let o = Command::new("sh")
         .arg("-c")
         .arg("trap '' XFSZ; ulimit -f 16; exec \"$0\" \"$@\"")
         .arg(env!("CARGO_BIN_EXE_springlab"))
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "-i",
-            "symplectic_euler",
-            "--out",
-        ])
+        .args(args)
         .arg(&out)
         .output()
         .unwrap();
     assert!(!o.status.success(), "the limit did not bite");
     assert_eq!(hidden_under(&out), Vec::<String>::new());
-    let ok = springlab()
-        .args([
-            "run",
-            scene.to_str().unwrap(),
-            "-i",
-            "symplectic_euler",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let ok = springlab().args(args).arg(&out).output().unwrap();
     assert!(ok.status.success());
     assert!(out.join("trajectory.csv").is_file());
 }
