@@ -93,6 +93,11 @@ pub fn main() -> ExitCode {
     // The whole command is a stage: a long one prints a progress line at least every
     // interval until it ends, whatever part of it runs.
     let _stage = springlab::run::progress_stage(cli.command.name(), true);
+    // The flag a method name came from, named when the name is unknown.
+    let method_flag = match cli.command {
+        Command::Run(_) => "--method",
+        _ => "--methods",
+    };
     let result = match cli.command {
         Command::Run(a) => run::run(a),
         Command::Check(a) => check::run(a),
@@ -112,7 +117,16 @@ pub fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", message(&e));
+            let unknown_method = matches!(
+                e.downcast_ref::<springlab::error::Error>(),
+                Some(springlab::error::Error::UnknownMethod { .. })
+            );
+            let flag = if unknown_method {
+                format!("{method_flag}: ")
+            } else {
+                String::new()
+            };
+            eprintln!("error: {flag}{}", message(&e));
             ExitCode::FAILURE
         }
     }

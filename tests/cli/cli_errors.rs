@@ -450,3 +450,29 @@ fn advise_needs_at_least_two_points() {
         "nosuch",
     );
 }
+
+// Oracle: the rule that an error names the flag the user gave. A NaN or negative --dt-max is
+// that flag's fault, not --dt-min's; a --dt-max so small that the default small end under it
+// passes the step limit is --dt-max's too, printed in a few digits (not 300); an unknown
+// method names --methods (or run's --method). The twins: the same commands with sound values
+// get past those flags.
+#[test]
+fn the_flag_the_user_gave_is_the_one_blamed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sc = spring_scene();
+    let out = tmp.path().join("o");
+    let o = |extra: &[&str], cmd: &str| {
+        let mut a = vec![cmd, s(&sc), "--out", s(&out)];
+        a.extend_from_slice(extra);
+        run(&a)
+    };
+    for bad in ["nan", "-1"] {
+        one_line_error(&o(&["--dt-max", bad], "advise"), "--dt-max");
+    }
+    let line = one_line_error(&o(&["--dt-max", "1e-300"], "sweep"), "--dt-max");
+    assert!(line.len() < 200, "{line}");
+    one_line_error(&o(&["--methods", "no_such"], "compare"), "--methods");
+    one_line_error(&o(&["--method", "no_such"], "run"), "--method");
+    succeeds(&o(&["--dt-max", "0.01", "--methods", "rk4"], "advise"));
+    succeeds(&o(&["--methods", "rk4"], "compare"));
+}

@@ -11,7 +11,7 @@
 //! method has no force-evaluation count, and counting them would make it look free. The
 //! median wall time of repeated interleaved runs is shown beside it.
 //!
-//! The work is ordered so the cheap candidates are verified first ([`waves`]), and a candidate
+//! The work is ordered so the cheap candidates are verified first (`waves`), and a candidate
 //! (or a grid step of one) modelled far above the cheapest verified answer is not run
 //! ([`screen`]: more than [`SCREEN_FACTOR`] times its cost), named with the figures.
 //!
@@ -213,9 +213,24 @@ pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
             ),
         ));
     }
-    if !(dt_min > 0.0 && dt_min <= dt_max) {
+    if cfg.dt_max.is_some() && !(dt_max.is_finite() && dt_max > 0.0) {
         return Err(Error::option(
-            "--dt-min",
+            "--dt-max",
+            format!(
+                "must be a positive finite step (s), got {}",
+                crate::error::num(dt_max)
+            ),
+        ));
+    }
+    if !(dt_min > 0.0 && dt_min <= dt_max) {
+        // A default small end above a user's --dt-max is that flag's doing.
+        let blamed = if cfg.dt_min.is_none() && cfg.dt_max.is_some() {
+            "--dt-max"
+        } else {
+            "--dt-min"
+        };
+        return Err(Error::option(
+            blamed,
             format!(
                 "need 0 < dt-min ≤ dt-max, got {} and {}",
                 crate::error::num(dt_min),
@@ -237,7 +252,7 @@ pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
 }
 
 /// Runs the advice: the candidates priced, then run in waves (the cheapest verified first,
-/// the dear ones screened against them: [`waves`]), the grid extended downwards while nothing
+/// the dear ones screened against them: `waves`), the grid extended downwards while nothing
 /// meets the bound and the runs stay affordable, the frame-rate view, the timing and the pick.
 // Long because timing and ranking share the candidates' chosen runs and the frame view; the
 // waves, the screen and the grid's extension are modules of their own.

@@ -121,7 +121,7 @@ pub(super) fn price(
 }
 
 /// The answer a screen is held to: the cheapest verified answer, or, where waves are verified
-/// together ([`super::waves`]), the cheapest grid run that met the bound.
+/// together (`waves`), the cheapest grid run that met the bound.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Basis {
     /// Method name.

@@ -4,7 +4,7 @@
 //! Before a solve: a projection from the scene alone. The adaptive solver (DOP853 at 1e-12)
 //! takes at least [`STEPS_PER_RADIAN`] steps per radian of the scene's fastest motion over the
 //! horizon (the highest linearised frequency ω_max, or √(|g|/L) of the shortest rigid rod
-//! swinging under gravity), and at least 1 / [`CONTACT_MAX_STEP_FRACTION`] steps with
+//! swinging under gravity), and at least 1 / `CONTACT_MAX_STEP_FRACTION` steps with
 //! obstacles; each step costs [`EVALS_PER_STEP`] force evaluations (and a contact pass with
 //! obstacles), and its two companions about [`COMPANION_SHARE`] times the main solve's work.
 //! The fine-step reference runs a known number of steps: its first level, its perturbed run and

@@ -319,19 +319,34 @@ fn finish(
     rule: GridRule,
 ) -> Result<SweepPlan> {
     let (lo, hi) = (rule.dt_min, rule.dt_max.min(duration));
+    let num = crate::error::num;
+    // The flag to blame: --dt-min when the user gave it, else the flag the small end was
+    // derived from (--dt-max), else --dt-min as the flag that would fix it.
+    let blamed = if rule.dt_min_source == "--dt-min" || rule.dt_max_source != "--dt-max" {
+        "--dt-min"
+    } else {
+        "--dt-max"
+    };
     if lo > hi {
         return Err(Error::option(
-            "--dt-min",
+            blamed,
             format!(
-                "{lo} exceeds the largest step {hi} ({})",
+                "{} exceeds the largest step {} ({})",
+                num(lo),
+                num(hi),
                 rule.dt_max_source
             ),
         ));
     }
     if duration / lo > crate::scenario::MAX_STEPS as f64 {
         return Err(Error::option(
-            "--dt-min",
-            format!("{lo} s over {duration} s exceeds the step limit"),
+            blamed,
+            format!(
+                "the smallest step {} s over {} s exceeds the step limit of {}",
+                num(lo),
+                num(duration),
+                crate::scenario::MAX_STEPS
+            ),
         ));
     }
     // Halving spacing unless the user fixed the number of points.

@@ -1,6 +1,6 @@
 //! Progress: a bar with an ETA on a terminal; without one (pipes, CI logs, batch jobs) plain
 //! lines. Either way a long command is never silent: while any stage or bar of it is active, a
-//! line comes at least every [`line_interval`] ([`lines`]), naming the stage it is in, even
+//! line comes at least every [`line_interval`] (`lines`), naming the stage it is in, even
 //! while one long case runs. [`bar`] counts a stage's cases; [`stage`] names a stretch of work
 //! without a count (a reference solve, the timing runs, a whole command); [`ProgressObserver`]
 //! shows a run's steps.
@@ -53,7 +53,7 @@ impl Observer for ProgressObserver {
 }
 
 /// A bar of `len` steps labelled `msg`: drawn when `enabled` and stderr is a terminal, reported
-/// as plain lines ([`lines`]) when `enabled` and it is not, silent when not `enabled` (a
+/// as plain lines (`lines`) when `enabled` and it is not, silent when not `enabled` (a
 /// command's inner loops, whose command shows its own progress).
 pub fn bar(len: u64, msg: &str, enabled: bool) -> ProgressBar {
     let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
