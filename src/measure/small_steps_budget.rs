@@ -59,8 +59,9 @@ pub fn runs_seconds(
     frames: u64,
     budgets: &[usize],
 ) -> f64 {
+    // Both lines start from the same run, one substep of one iteration: probed once.
+    let one = per_frame(sys, s0, frame_dt, frames, (1, 1));
     let line = |split: fn(usize) -> (usize, usize)| {
-        let one = per_frame(sys, s0, frame_dt, frames, split(1));
         let two = per_frame(sys, s0, frame_dt, frames, split(2));
         (one, (two - one).max(0.0))
     };

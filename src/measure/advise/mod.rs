@@ -417,22 +417,36 @@ pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<Vec<std::path
 }
 
 /// The `[expect]` table that holds a scene to the advice's pick, or None without a pick: the
-/// pick's method and step (one substep), stable, its position error within the position
-/// tolerance, its strain within the verified run's plus the relative tolerance (the tolerance
-/// over the motion scale), and its energy drift rate within twice the verified run's.
+/// pick's method and step (one substep), held as [`held_to`] says.
 pub fn expect_table(adv: &Advice) -> Option<crate::scenario::file::ExpectSpec> {
     let pick = adv.alternatives.first()?;
+    let mut spec = held_to(adv, &pick.method, pick.strain_max, pick.energy_drift_rate);
+    spec.dt = Some(pick.dt);
+    spec.substeps = Some(1);
+    Some(spec)
+}
+
+/// The limits an `[expect]` table holds a verified run of `method` to (the caller sets its
+/// step or frame rate): stable, its position error within the position tolerance, its strain
+/// within the verified run's `strain` plus the relative tolerance (the tolerance over the motion
+/// scale), and its energy drift rate within twice the verified run's `drift`.
+pub fn held_to(
+    adv: &Advice,
+    method: &str,
+    strain: Option<f64>,
+    drift: Option<f64>,
+) -> crate::scenario::file::ExpectSpec {
     let relative = adv.position_tolerance.value / adv.reference.motion_scale;
-    Some(crate::scenario::file::ExpectSpec {
-        method: pick.method.clone(),
+    crate::scenario::file::ExpectSpec {
+        method: method.to_string(),
         hz: None,
-        dt: Some(pick.dt),
-        substeps: Some(1),
+        dt: None,
+        substeps: None,
         stable: Some(true),
         max_position_error: Some(adv.position_tolerance.value),
-        max_strain: pick.strain_max.map(|s| s + relative),
-        max_energy_drift_rate: pick.energy_drift_rate.map(|r| 2.0 * r.abs()),
-    })
+        max_strain: strain.map(|s| s + relative),
+        max_energy_drift_rate: drift.map(|r| 2.0 * r.abs()),
+    }
 }
 
 #[cfg(test)]

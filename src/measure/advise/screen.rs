@@ -19,7 +19,6 @@ use super::config::AdviseConfig;
 use crate::error::Result;
 use crate::measure::case::CaseResult;
 use crate::measure::probe::{seconds_per_step, sig3};
-use crate::measure::stability::Verdict;
 use crate::model::System;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
@@ -102,10 +101,7 @@ pub(super) fn price(
         .map(|(i, name)| {
             let row = &per_step[i * grid.len()..(i + 1) * grid.len()];
             let per_second: Vec<f64> = row.iter().zip(grid).map(|(p, g)| p / g.0).collect();
-            let limit = match limits[i] {
-                Some((Verdict::StableBelow, Some(h))) => Some(STABILITY_SLACK * h),
-                _ => None,
-            };
+            let limit = limits[i].map(|h| STABILITY_SLACK * h);
             let floor_dt = limit.map_or(dt_max, |l| l.min(dt_max));
             // Priced per step as at the largest grid step within it (the finest, when none is).
             let k = grid.iter().rposition(|g| g.0 <= floor_dt).unwrap_or(0);

@@ -418,15 +418,7 @@ fn search_starts(
     if !cfg.theory_start {
         return Ok(vec![None; names.len()]);
     }
-    let limits =
-        crate::measure::stability::theory_limits(&cfg.registry, &cfg.options, sys, s0, names)?;
-    Ok(limits
-        .into_iter()
-        .map(|l| match l {
-            Some((crate::measure::stability::Verdict::StableBelow, Some(h))) if h > 0.0 => Some(h),
-            _ => None,
-        })
-        .collect())
+    crate::measure::stability::theory_limits(&cfg.registry, &cfg.options, sys, s0, names)
 }
 
 /// Measures every method at every frame rate: per method and rate, the fewest substeps that

@@ -111,9 +111,16 @@ pub fn project(sys: &System, s0: &State, grids: &[TimeGrid], horizon: f64) -> Pr
     let projection =
         crate::collide::of(sys).is_some_and(|c| c.response == crate::collide::Response::Projection);
     if projection {
-        let finest = grids.iter().map(|g| g.dt).fold(f64::INFINITY, f64::min);
-        let h0 = (0.5 * finest).min(horizon / 1000.0);
-        let steps = (horizon / h0).ceil() + samples;
+        // The kept hierarchy's first step where it fits (its levels never land on samples),
+        // else the per-grid runs', which land on every sample time.
+        let (h0, landings) = match super::fine_kept::kept_first_step(sys, s0, horizon) {
+            Some(h0) => (h0, 0.0),
+            None => {
+                let finest = grids.iter().map(|g| g.dt).fold(f64::INFINITY, f64::min);
+                ((0.5 * finest).min(horizon / 1000.0), samples)
+            }
+        };
+        let steps = (horizon / h0).ceil() + landings;
         let per = fine_step_seconds(sys, s0, h0);
         return Projection {
             seconds: FINE_CERTAIN_RUNS * steps * per,

@@ -104,6 +104,17 @@ impl DenseTrack {
     /// particles; 0 at a stored state): from the first step whose valid range ends at or after
     /// `t`, so a restart time is sampled just before the restart.
     pub(super) fn sample(&self, t: f64) -> (Vec<Vec3>, f64) {
+        self.sample_with(t, true)
+    }
+
+    /// Positions at time `t` alone, the same bits as [`DenseTrack::sample`]'s, without the
+    /// error estimate (a companion solve's samples need only their distance to the main one).
+    pub(super) fn positions(&self, t: f64) -> Vec<Vec3> {
+        self.sample_with(t, false).0
+    }
+
+    /// [`DenseTrack::sample`], the estimate computed only when `estimate` (else 0).
+    fn sample_with(&self, t: f64, estimate: bool) -> (Vec<Vec3>, f64) {
         let k = self.steps.partition_point(|s| s.t_end < t);
         let Some(s) = self.steps.get(k).filter(|_| t > 0.0 || k > 0) else {
             let y = if t <= 0.0 || self.steps.is_empty() {
@@ -127,8 +138,10 @@ impl DenseTrack {
                 let i = 3 * p + c;
                 let row = |r: usize| self.row(s, 2 + r)[i];
                 y[i] = interpolate(row, x, DENSE_ROWS) + y_old[i];
-                let lower = interpolate(row, x, ESTIMATE_ROWS) + y_old[i];
-                d2 += (y[i] - lower).powi(2);
+                if estimate {
+                    let lower = interpolate(row, x, ESTIMATE_ROWS) + y_old[i];
+                    d2 += (y[i] - lower).powi(2);
+                }
             }
             err = err.max(d2.sqrt());
         }

@@ -253,16 +253,25 @@ fn most_levels(horizon: f64, h0: f64) -> usize {
     levels
 }
 
-/// Makes the hierarchy, or None when it would not fit or one of its first three runs failed.
-fn make(sys: &System, s0: &State, horizon: f64) -> Result<Option<Hierarchy>> {
+/// The first step of the hierarchy of `sys` from `s0` to `horizon` when its last two levels
+/// would fit [`HIERARCHY_BYTES`]; None when the per-grid runs would serve instead. What the
+/// hierarchy runs and what its cost projection prices ([`super::cost::project`]).
+pub(super) fn kept_first_step(sys: &System, s0: &State, horizon: f64) -> Option<f64> {
     let h0 = first_step(sys, s0, horizon);
     let top = most_levels(horizon, h0);
     let end = horizon * (1.0 + OVERRUN);
     let finest = h0 / f64::powi(2.0, top as i32 - 1);
     let pair = most_knots(sys, end, finest) + most_knots(sys, end, 2.0 * finest);
-    if pair.saturating_mul(knot_bytes(sys.len())) > HIERARCHY_BYTES {
+    (pair.saturating_mul(knot_bytes(sys.len())) <= HIERARCHY_BYTES).then_some(h0)
+}
+
+/// Makes the hierarchy, or None when it would not fit or one of its first three runs failed.
+fn make(sys: &System, s0: &State, horizon: f64) -> Result<Option<Hierarchy>> {
+    let Some(h0) = kept_first_step(sys, s0, horizon) else {
         return Ok(None);
-    }
+    };
+    let top = most_levels(horizon, h0);
+    let end = horizon * (1.0 + OVERRUN);
     let sp = perturbed(sys, s0);
     // Level 2 always runs, so it runs beside level 1 and the perturbed run: three
     // independent runs, each sequential, so the bits do not depend on the thread count; an

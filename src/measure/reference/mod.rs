@@ -582,7 +582,7 @@ impl Reference {
                         times
                             .iter()
                             .zip(&main)
-                            .map(|(&t, x)| position_error(&tr.sample(t).0, x))
+                            .map(|(&t, x)| position_error(&tr.positions(t), x))
                             .collect::<Vec<f64>>()
                     })
                 };

@@ -112,19 +112,24 @@ fn solve_kept(
     limit: Option<super::cost::StepLimit>,
 ) -> Result<Option<Solution>> {
     let n = sys.len();
-    let y0 = super::rhs::pack(&s0.x, &s0.v);
-    let mut main = DenseTrack::new(n, &y0, TRACK_BYTES);
-    let out = solve(
-        sys,
-        s0,
-        &[],
-        horizon,
-        rtol,
-        tracked,
-        limit.map(|l| l.steps),
-        &mut |_, _| {},
-        Some(&mut main),
-    )?;
+    // One solve from `start` recording its dense output: the main solve and each companion.
+    let tracked_solve = |start: &State, tol: f64, track_v: Option<Tracked>, steps: Option<u64>| {
+        let y = super::rhs::pack(&start.x, &start.v);
+        let mut track = DenseTrack::new(n, &y, TRACK_BYTES);
+        let done = solve(
+            sys,
+            start,
+            &[],
+            horizon,
+            tol,
+            track_v,
+            steps,
+            &mut |_, _| {},
+            Some(&mut track),
+        )?;
+        Ok::<_, crate::error::Error>((done, track))
+    };
+    let (out, main) = tracked_solve(s0, rtol, tracked, limit.map(|l| l.steps))?;
     if let (None, true, Some(l)) = (&out, main.complete(), limit) {
         return Err(l.error(horizon));
     }
@@ -134,19 +139,7 @@ fn solve_kept(
     let max_steps = COMPANION_WORK_FACTOR * (out.stats.steps + out.stats.rejected).max(100);
     let sp = perturbed(sys, s0);
     let companion = |start: &State, tol: f64| -> Result<Option<Option<DenseTrack>>> {
-        let y = super::rhs::pack(&start.x, &start.v);
-        let mut track = DenseTrack::new(n, &y, TRACK_BYTES);
-        let done = solve(
-            sys,
-            start,
-            &[],
-            horizon,
-            tol,
-            None,
-            Some(max_steps),
-            &mut |_, _| {},
-            Some(&mut track),
-        )?;
+        let (done, track) = tracked_solve(start, tol, None, Some(max_steps))?;
         if !track.complete() {
             return Ok(None);
         }

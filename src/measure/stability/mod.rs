@@ -146,17 +146,18 @@ impl Default for StabilityConfig {
     }
 }
 
-/// The linear theory's verdict on each of `names` on `sys` from `s0` (None for a method
-/// without that theory, or a scene without modes): the modes are found once for all. What the
-/// commands that search over steps or substeps start from (advice's cost floors, the
-/// frame-rate search), so a method's stability fact comes from its registry entry.
+/// The linear theory's largest stable step of each of `names` on `sys` from `s0` (s): None
+/// for a method without that theory, a scene without modes, or a verdict that is not a
+/// positive finite step. The modes are found once for all. What the commands that search over
+/// steps or substeps start from (advice's cost floors, the frame-rate search), so a method's
+/// stability fact comes from its registry entry.
 pub fn theory_limits(
     registry: &Registry,
     options: &MethodOptions,
     sys: &crate::model::System,
     s0: &crate::model::State,
     names: &[String],
-) -> crate::error::Result<Vec<Option<Limit>>> {
+) -> crate::error::Result<Vec<Option<f64>>> {
     let mut ms: Option<Modes> = None;
     names
         .iter()
@@ -166,7 +167,13 @@ pub fn theory_limits(
                 return Ok(None);
             }
             let ms = ms.get_or_insert_with(|| super::modes::modes(sys, s0));
-            Ok((!ms.modes.is_empty()).then(|| theory_limit(method, options, ms)))
+            if ms.modes.is_empty() {
+                return Ok(None);
+            }
+            Ok(match theory_limit(method, options, ms) {
+                (Verdict::StableBelow, Some(h)) if h.is_finite() && h > 0.0 => Some(h),
+                _ => None,
+            })
         })
         .collect()
 }
