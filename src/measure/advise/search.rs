@@ -272,7 +272,9 @@ pub(super) fn converging(row: &[CaseResult], judge: &Judge) -> bool {
 /// When nothing met the bound on `grid` (every candidate's `rows` run in full), extends the
 /// grid downwards (at most [`GRID_EXTENSIONS`] times, within [`EXTENSION_PARTICLE_STEPS`]) for
 /// the candidates still converging, while nothing is predicted; `cant` holds why each
-/// candidate missed on the grid so far. `None` when the grid is not extended.
+/// candidate missed on the grid so far. Each extension runs its coarser half first and its
+/// finer half (most of its cost) only when the coarser predicts nothing. `None` when the grid
+/// is not extended.
 pub(super) fn extend(
     (scene, sys): (&Scenario, &System),
     cfg: &AdviseConfig,
@@ -316,54 +318,69 @@ pub(super) fn extend(
                 dropped,
             }));
         }
-        dropped.extend(cant.into_iter().filter(|(n, _)| !going.contains(n)));
+        dropped.extend(
+            std::mem::take(&mut cant)
+                .into_iter()
+                .filter(|(n, _)| !going.contains(n)),
+        );
         grid = step_grid(next_min, finest, cfg.points.max(2), horizon)
             .into_iter()
             .filter(|g| g.0 < finest)
             .collect();
         let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, grid.len() * 2, sys.len());
-        let jobs: Vec<(String, TimeGrid)> = going
-            .iter()
-            .flat_map(|n| {
-                grid.iter()
-                    .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
-            })
-            .collect();
-        let (info, cases) = run_grids(
-            scene,
-            cfg,
-            &jobs,
-            (horizon, set),
-            decided,
-            &format!("extended grid {}", extensions + 1),
-        )?;
-        reference = Some(info);
-        tried.extend(grid.iter().map(|g| g.0));
-        let (mut predictions, mut missed) = (Vec::new(), Vec::new());
-        rows = going
-            .iter()
-            .zip(cases.chunks(grid.len()))
-            .map(|(n, r)| (n.clone(), r.to_vec()))
-            .collect();
-        for (n, row) in &rows {
-            match predict_row(n, row, (horizon, max_samples), &judge, cfg.safety) {
-                Ok(p) => predictions.push(p),
-                Err(errors) => {
-                    missed.push((n.clone(), unable_reason(&errors, judge.bound, cfg.safety)))
+        // The coarser half first: its runs cost a fraction of the finer half's, and a
+        // prediction there needs nothing finer (every run below it, down to the finest run,
+        // met the bound).
+        let half = grid.len() / 2;
+        let mut done: Vec<Row> = going.iter().map(|n| (n.clone(), Vec::new())).collect();
+        let parts = [(1, grid[half..].to_vec()), (2, grid[..half].to_vec())];
+        for (part, steps) in parts {
+            if steps.is_empty() {
+                continue;
+            }
+            let jobs: Vec<(String, TimeGrid)> = going
+                .iter()
+                .flat_map(|n| {
+                    steps
+                        .iter()
+                        .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
+                })
+                .collect();
+            let (info, cases) = run_grids(
+                scene,
+                cfg,
+                &jobs,
+                (horizon, set),
+                decided,
+                &format!("extended grid {}, part {part} of 2", extensions + 1),
+            )?;
+            reference = Some(info);
+            tried.extend(steps.iter().map(|g| g.0));
+            for ((_, row), r) in done.iter_mut().zip(cases.chunks(steps.len())) {
+                row.splice(0..0, r.iter().cloned());
+            }
+            let (mut predictions, mut missed) = (Vec::new(), Vec::new());
+            for (n, row) in &done {
+                match predict_row(n, row, (horizon, max_samples), &judge, cfg.safety) {
+                    Ok(p) => predictions.push(p),
+                    Err(errors) => {
+                        missed.push((n.clone(), unable_reason(&errors, judge.bound, cfg.safety)))
+                    }
                 }
             }
+            cant = missed;
+            if !predictions.is_empty() {
+                return Ok(Some(Extended {
+                    reference: reference.expect("just set"),
+                    predictions,
+                    cant,
+                    tried,
+                    grid,
+                    dropped,
+                }));
+            }
         }
-        cant = missed;
-        if !predictions.is_empty() {
-            return Ok(Some(Extended {
-                reference: reference.expect("just set"),
-                predictions,
-                cant,
-                tried,
-                grid,
-                dropped,
-            }));
-        }
+        rows = done;
     }
     unreachable!("the loop returns by its last extension")
 }
