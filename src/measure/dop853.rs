@@ -171,6 +171,58 @@ const D: [[f64; N_EXT]; 4] = [
      -0.39177261675615439165231486172e2, -0.14972683625798562581422125276e3],
 ];
 
+/// Where each stage's coefficients start in [`A`] (sorted by stage), with the end last.
+const ROW_START: [usize; N_EXT + 1] = row_starts();
+
+const fn row_starts() -> [usize; N_EXT + 1] {
+    let mut starts = [A.len(); N_EXT + 1];
+    let mut s = N_EXT;
+    while s > 0 {
+        s -= 1;
+        let mut k = starts[s + 1];
+        while k > 0 && A[k - 1].0 >= s {
+            k -= 1;
+        }
+        starts[s] = k;
+    }
+    starts
+}
+
+/// Stage `s`'s nonzero coefficients a[s][j], in increasing j.
+fn row(s: usize) -> &'static [(usize, usize, f64)] {
+    &A[ROW_START[s]..ROW_START[s + 1]]
+}
+
+/// Elements per block of the stage combinations: a block of the result stays in the first
+/// cache level while every term is added to it.
+const BLOCK: usize = 512;
+
+/// `out = base + Σ (scale·a) k_j` over the coefficients `terms` (j, a), added term by term in
+/// their order (each element sees the same operations as term-by-term passes over the whole
+/// vector; done block by block so the block being summed stays in cache).
+fn combine(
+    out: &mut [f64],
+    base: &[f64],
+    terms: &[(usize, usize, f64)],
+    scale: f64,
+    k: &[Vec<f64>],
+) {
+    let n = out.len();
+    let mut lo = 0;
+    while lo < n {
+        let hi = (lo + BLOCK).min(n);
+        let o = &mut out[lo..hi];
+        o.copy_from_slice(&base[lo..hi]);
+        for &(_, j, a) in terms {
+            let ha = scale * a;
+            for (x, kj) in o.iter_mut().zip(&k[j][lo..hi]) {
+                *x += ha * kj;
+            }
+        }
+        lo = hi;
+    }
+}
+
 const SAFETY: f64 = 0.9;
 const MIN_FACTOR: f64 = 0.2;
 const MAX_FACTOR: f64 = 10.0;
@@ -304,17 +356,8 @@ impl Dop853 {
     fn attempt(&mut self, rhs: &mut Rhs<'_>, h: f64) -> f64 {
         let n = self.y.len();
         self.k[0].copy_from_slice(&self.f);
-        let mut row = 0;
         for (s, &cs) in C.iter().enumerate().take(N_STAGES + 1).skip(1) {
-            self.tmp.copy_from_slice(&self.y);
-            while row < A.len() && A[row].0 == s {
-                let (_, j, a) = A[row];
-                let ha = h * a;
-                for i in 0..n {
-                    self.tmp[i] += ha * self.k[j][i];
-                }
-                row += 1;
-            }
+            combine(&mut self.tmp, &self.y, row(s), h, &self.k);
             if s < N_STAGES {
                 self.eval(rhs, self.t + cs * h, s);
             } else {
@@ -324,6 +367,7 @@ impl Dop853 {
             }
         }
         let (mut e5, mut e3) = (0.0, 0.0);
+        let b = row(N_STAGES);
         for i in 0..n {
             let sc = self.atol + self.y[i].abs().max(self.y_new[i].abs()) * self.rtol;
             let mut err5 = 0.0;
@@ -332,8 +376,7 @@ impl Dop853 {
             }
             // err3 = Σ b_j k_j - Σ bhat_j k_j, with b from row 12 of A.
             let mut err3 = 0.0;
-            for &(r, j, a) in A.iter().filter(|e| e.0 == N_STAGES) {
-                let _ = r;
+            for &(_, j, a) in b {
                 err3 += a * self.k[j][i];
             }
             for &(j, w) in &E3_DIFF {
@@ -416,14 +459,20 @@ impl Dop853 {
         let n = self.y.len();
         let h = self.t - self.t_old;
         for (s, &cs) in C.iter().enumerate().skip(13) {
-            self.tmp.copy_from_slice(&self.y_old);
-            for &(_, j, a) in A.iter().filter(|e| e.0 == s) {
-                for i in 0..n {
-                    self.tmp[i] += h * a * self.k[j][i];
-                }
-            }
+            combine(&mut self.tmp, &self.y_old, row(s), h, &self.k);
             rhs(self.t_old + cs * h, &self.tmp, &mut self.k[s]);
             self.stats.evals += 1;
+        }
+        // The interpolant's nonzero weights, in column order.
+        let mut weights = [[(0usize, 0.0f64); N_EXT]; 4];
+        let mut counts = [0usize; 4];
+        for (r, drow) in D.iter().enumerate() {
+            for (j, &d) in drow.iter().enumerate() {
+                if d != 0.0 {
+                    weights[r][counts[r]] = (j, d);
+                    counts[r] += 1;
+                }
+            }
         }
         for i in 0..n {
             let dy = self.y[i] - self.y_old[i];
@@ -432,12 +481,10 @@ impl Dop853 {
             self.dense[0][i] = dy;
             self.dense[1][i] = h * f_old - dy;
             self.dense[2][i] = 2.0 * dy - h * (f_new + f_old);
-            for (r, drow) in D.iter().enumerate() {
+            for (r, w) in weights.iter().enumerate() {
                 let mut acc = 0.0;
-                for (j, &d) in drow.iter().enumerate() {
-                    if d != 0.0 {
-                        acc += d * self.k[j][i];
-                    }
+                for &(j, d) in &w[..counts[r]] {
+                    acc += d * self.k[j][i];
                 }
                 self.dense[3 + r][i] = h * acc;
             }
@@ -495,6 +542,19 @@ mod tests {
     fn osc(_t: f64, y: &[f64], d: &mut [f64]) {
         d[0] = y[1];
         d[1] = -y[0];
+    }
+
+    // Oracle: the tableau itself. Each stage's row holds exactly that stage's coefficients of
+    // `A`, and the rows together hold all of them, in order.
+    #[test]
+    fn rows_split_the_tableau_by_stage() {
+        let mut all = Vec::new();
+        for s in 0..N_EXT {
+            assert!(row(s).iter().all(|e| e.0 == s), "stage {s}");
+            all.extend_from_slice(row(s));
+        }
+        assert_eq!(all, A);
+        assert!(row(0).is_empty() && row(N_STAGES).len() > 1);
     }
 
     #[test]
