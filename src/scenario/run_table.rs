@@ -95,9 +95,14 @@ pub(super) fn validate_run(ck: &Checker, raw: &ScenarioFile) -> Result<RunSettin
     })
 }
 
-/// Checks `[expect]`: a registered method, exactly one positive finite `hz` or `dt`,
-/// `substeps` ≥ 1, and positive finite limits.
-pub(super) fn validate_expect(ck: &Checker, raw: &ScenarioFile) -> Result<Option<Expect>> {
+/// Checks `[expect]`: a registered method, exactly one positive finite `hz` or `dt`, a frame
+/// no longer than the run (`run`'s duration, when the scene gives one) and frames × substeps
+/// within the step limit, `substeps` ≥ 1, and positive finite limits.
+pub(super) fn validate_expect(
+    ck: &Checker,
+    raw: &ScenarioFile,
+    run: &RunSettings,
+) -> Result<Option<Expect>> {
     let Some(e) = &raw.expect else {
         return Ok(None);
     };
@@ -130,6 +135,18 @@ pub(super) fn validate_expect(ck: &Checker, raw: &ScenarioFile) -> Result<Option
             ))
         }
     };
+    let (field, given) = match e.hz {
+        Some(hz) if frame_dt.is_finite() => (
+            "expect.hz",
+            format!("{} Hz (a frame of {} s)", num(hz), num(frame_dt)),
+        ),
+        Some(hz) => (
+            "expect.hz",
+            format!("{} Hz (a frame of 1/{} s)", num(hz), num(hz)),
+        ),
+        None => ("expect.dt", format!("a frame of {} s", num(frame_dt))),
+    };
+    expect_frames_fit(ck, run, (field, &given), frame_dt, substeps)?;
     let limit = |field: &str, v: Option<f64>| -> Result<Option<f64>> {
         v.map(|x| ck.positive(&format!("expect.{field}"), x))
             .transpose()
@@ -143,4 +160,56 @@ pub(super) fn validate_expect(ck: &Checker, raw: &ScenarioFile) -> Result<Option
         max_strain: limit("max_strain", e.max_strain)?,
         max_energy_drift_rate: limit("max_energy_drift_rate", e.max_energy_drift_rate)?,
     }))
+}
+
+/// Refuses an `[expect]` frame of `frame_dt` s (given by a field, as written) that the scene's run could
+/// not hold: longer than its duration (one frame would end after it), or so short that its
+/// frames × `substeps` pass the step limit. A run without a duration in seconds (steps with
+/// no step) is left to the command that gives it one.
+fn expect_frames_fit(
+    ck: &Checker,
+    run: &RunSettings,
+    (field, given): (&str, &str),
+    frame_dt: f64,
+    substeps: u64,
+) -> Result<()> {
+    let Some(duration) = run
+        .duration
+        .or(run.steps.zip(run.dt).map(|(n, d)| n as f64 * d))
+    else {
+        return Ok(());
+    };
+    if frame_dt > duration * (1.0 + 1e-12) {
+        return Err(ck.err(
+            field,
+            format!(
+                "{given} is longer than the run's duration of {} s: one frame would end after the run; give a frame ≤ the duration",
+                num(duration)
+            ),
+        ));
+    }
+    let frames = (duration / frame_dt).round();
+    if frames > MAX_STEPS as f64 {
+        return Err(ck.err(
+            field,
+            format!(
+                "{given} over the run's {} s is {} frames, above the limit of {} steps",
+                num(duration),
+                num(frames),
+                num(MAX_STEPS as f64)
+            ),
+        ));
+    }
+    if frames * substeps as f64 > MAX_STEPS as f64 {
+        return Err(ck.err(
+            "expect.substeps",
+            format!(
+                "{substeps} substeps per frame over {} frames is {} steps, above the limit of {}",
+                num(frames),
+                num(frames * substeps as f64),
+                num(MAX_STEPS as f64)
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -46,7 +46,7 @@ pub fn validate(raw: ScenarioFile, file: &Path) -> Result<Scenario> {
     impulses_within_run(&ck, &raw, &run)?;
     let collision = super::obstacle_validate::validate_collision(&raw, file)?;
     let name = validate_name(&ck, &raw, file)?;
-    let expect = validate_expect(&ck, &raw)?;
+    let expect = validate_expect(&ck, &raw, &run)?;
     let mut scene = Scenario {
         name,
         description: raw.description.clone().unwrap_or_default(),

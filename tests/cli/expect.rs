@@ -225,6 +225,45 @@ fn expect_table_errors_name_the_field_and_file() {
     assert!(err.contains("expect.method"), "{err}");
 }
 
+/// A frame longer than the run, or one so short its frames pass the step limit, is the
+/// table's own field at fault (not a flag `expect` does not have). Oracle: the run's length
+/// (1 s here) and the step limit of 1e10; the twin is a frame exactly the run's length.
+#[test]
+fn an_expect_frame_the_run_cannot_hold_names_its_field_and_the_twin_at_the_edge_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, table, field) in [
+        ("slow", "hz = 0.9", "expect.hz"),
+        ("long", "dt = 1.5", "expect.dt"),
+        ("fast", "hz = 1e300", "expect.hz"),
+        ("many", "hz = 1e9\nsubsteps = 20", "expect.substeps"),
+    ] {
+        let path = spring_scene(
+            dir.path(),
+            name,
+            1.0,
+            &format!("[expect]\nmethod = \"rk4\"\n{table}\nstable = true\n"),
+        );
+        for cmd in ["check", "expect"] {
+            let (success, out, err) = run(&[cmd, path.to_str().unwrap()]);
+            assert!(!success, "{cmd} {name}: {out}");
+            let said = format!("{out}{err}");
+            assert!(
+                said.contains(&format!("{name}.toml: {field}: ")),
+                "{cmd} {name}: {said}"
+            );
+            assert!(!said.contains("--dt"), "{cmd} {name}: {said}");
+        }
+    }
+    let edge = spring_scene(
+        dir.path(),
+        "edge",
+        1.0,
+        "[expect]\nmethod = \"rk4\"\nhz = 1\nstable = true\n",
+    );
+    let (success, out, err) = run(&["check", edge.to_str().unwrap()]);
+    assert!(success, "{out}{err}");
+}
+
 #[test]
 fn check_shows_the_expectations() {
     let dir = tempfile::tempdir().unwrap();
