@@ -15,6 +15,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
+    let files = springlab::report::scenario_files(&a.scenarios)?;
     println!("methods:");
     for m in springlab::method::Registry::builtin().iter() {
         let i = &m.info;
@@ -36,7 +37,7 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     println!("scenarios ({}):", a.scenarios.display());
-    for path in scenario_files(&a.scenarios)? {
+    for path in files {
         match Scenario::from_file(&path) {
             Ok(s) => {
                 let first = s.description.lines().next().unwrap_or("");
@@ -51,16 +52,4 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// The `*.toml` files of a directory, sorted by name.
-pub fn scenario_files(dir: &PathBuf) -> Result<Vec<PathBuf>> {
-    let rd = std::fs::read_dir(dir)
-        .map_err(|e| anyhow::anyhow!("{}: cannot list scenarios: {e}", dir.display()))?;
-    let mut files: Vec<PathBuf> = rd
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    Ok(files)
 }

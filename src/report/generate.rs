@@ -33,12 +33,17 @@ pub struct ReportOptions {
     pub no_cache: bool,
 }
 
-/// The scenario files of a directory (`*.toml`), sorted by name.
+/// The scenario files of a directory (`*.toml`), sorted by name; a path that is not a
+/// readable directory is an error naming `--scenarios`, the flag every command that lists
+/// scenarios reads it from.
 pub fn scenario_files(dir: &Path) -> Result<Vec<PathBuf>> {
-    let rd = std::fs::read_dir(dir).map_err(|source| Error::Read {
-        file: dir.to_path_buf(),
-        source,
-    })?;
+    let bad = |why: String| Error::option("--scenarios", format!("{}: {why}", dir.display()));
+    if dir.is_file() {
+        return Err(bad(
+            "is a file; give the folder of scenarios (every *.toml in it is read)".into(),
+        ));
+    }
+    let rd = std::fs::read_dir(dir).map_err(|e| bad(format!("cannot list the folder: {e}")))?;
     let mut files: Vec<PathBuf> = rd
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))

@@ -476,3 +476,35 @@ fn the_flag_the_user_gave_is_the_one_blamed() {
     succeeds(&o(&["--dt-max", "0.01", "--methods", "rk4"], "advise"));
     succeeds(&o(&["--methods", "rk4"], "compare"));
 }
+
+/// `--scenarios` names a folder: a scene file or a missing path there is the flag's fault,
+/// said on one line. Oracle: the OS (a file is not a folder; a missing path is ENOENT).
+#[test]
+fn scenarios_naming_a_file_or_nothing_is_refused_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = scene(dir.path());
+    let missing = dir.path().join("missing");
+    for cmd in ["report", "list"] {
+        for (path, why) in [(&file, "is a file"), (&missing, "os error 2")] {
+            let out = run(&[
+                cmd,
+                "--scenarios",
+                s(path),
+                "--out",
+                s(&dir.path().join("o")),
+            ][..if cmd == "list" { 3 } else { 5 }]);
+            let line = one_line_error(&out, "--scenarios");
+            assert!(line.contains(s(path)) && line.contains(why), "{line}");
+        }
+    }
+}
+
+/// Twin: the folder that holds the same file is listed.
+#[test]
+fn twin_scenarios_naming_the_folder_is_listed() {
+    let dir = tempfile::tempdir().unwrap();
+    scene(dir.path());
+    let out = run(&["list", "--scenarios", s(dir.path())]);
+    succeeds(&out);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("one_second"));
+}
