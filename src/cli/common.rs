@@ -131,20 +131,56 @@ impl StepArgs {
 }
 
 /// Refuses an output folder that cannot be one, before any work: `--out` (or a folder above
-/// it) exists and is a file. A folder that does not exist yet is fine (it is created).
+/// it) exists and is a file, is a symbolic link to nothing, or is the first existing folder
+/// on the path and cannot be written (read-only filesystem, no permission). A folder that
+/// does not exist yet is fine (it is created).
 pub fn check_out(out: &Path) -> Result<()> {
+    let at = |p: &Path| {
+        if p == out {
+            format!("{}", out.display())
+        } else {
+            format!("{}: {}", out.display(), p.display())
+        }
+    };
     for p in out.ancestors().filter(|p| !p.as_os_str().is_empty()) {
         match std::fs::metadata(p) {
-            Ok(m) if m.is_dir() => return Ok(()),
-            Ok(_) if p == out => bail!("--out: {} is a file, not a folder", out.display()),
-            Ok(_) => bail!(
-                "--out: {}: {} is a file, not a folder",
-                out.display(),
-                p.display()
-            ),
-            Err(_) => {}
+            Ok(m) if m.is_dir() => {
+                return writable(p)
+                    .map_err(|e| anyhow::anyhow!("--out: {}: cannot write there: {e}", at(p)))
+            }
+            Ok(_) => bail!("--out: {} is a file, not a folder", at(p)),
+            Err(_) => {
+                if let Ok(target) = std::fs::read_link(p) {
+                    bail!(
+                        "--out: {} is a symbolic link to {}, which does not exist",
+                        at(p),
+                        target.display()
+                    );
+                }
+            }
         }
     }
+    Ok(())
+}
+
+/// Whether this process may create entries in the folder `dir` (the OS's own answer, which
+/// also knows a read-only filesystem).
+#[cfg(unix)]
+fn writable(dir: &Path) -> std::io::Result<()> {
+    use std::os::unix::ffi::OsStrExt;
+    let c = std::ffi::CString::new(dir.as_os_str().as_bytes())
+        .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))?;
+    // SAFETY: `c` is a valid NUL-terminated path that outlives the call.
+    if unsafe { libc::access(c.as_ptr(), libc::W_OK | libc::X_OK) } == 0 {
+        Ok(())
+    } else {
+        Err(std::io::Error::last_os_error())
+    }
+}
+
+/// Elsewhere the first write says it.
+#[cfg(not(unix))]
+fn writable(_dir: &Path) -> std::io::Result<()> {
     Ok(())
 }
 

@@ -508,3 +508,94 @@ fn twin_scenarios_naming_the_folder_is_listed() {
     succeeds(&out);
     assert!(String::from_utf8_lossy(&out.stdout).contains("one_second"));
 }
+
+/// A folder this process cannot write into: a read-only folder for a user, a read-only
+/// filesystem for root (whom permissions do not stop): one from the mount table, else a
+/// read-only tmpfs mounted for the test. `None` where neither exists.
+#[cfg(unix)]
+fn read_only_folder(dir: &Path) -> Option<PathBuf> {
+    use std::os::unix::fs::PermissionsExt;
+    if unsafe { libc::geteuid() } != 0 {
+        let ro = dir.join("ro");
+        std::fs::create_dir(&ro).unwrap();
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        return Some(ro);
+    }
+    let mounts = std::fs::read_to_string("/proc/mounts").unwrap_or_default();
+    let listed = mounts.lines().find_map(|l| {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        (f.len() > 3 && f[3].split(',').any(|o| o == "ro") && Path::new(f[1]).is_dir())
+            .then(|| PathBuf::from(f[1]))
+    });
+    listed.or_else(|| {
+        let ro = dir.join("rofs");
+        std::fs::create_dir(&ro).unwrap();
+        let mounted = std::process::Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "ro", "none"])
+            .arg(&ro)
+            .status()
+            .is_ok_and(|s| s.success());
+        mounted.then_some(ro)
+    })
+}
+
+/// `--out` that cannot be written (a read-only folder, or a symbolic link to nothing, alone
+/// or above it) is refused before any work, naming the flag and the path at fault. Oracle:
+/// the OS (EROFS or EACCES for the folder; a link whose target is missing).
+#[cfg(unix)]
+#[test]
+fn out_that_cannot_be_written_is_refused_at_once_naming_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = spring_scene();
+    let dangling = dir.path().join("dangling");
+    std::os::unix::fs::symlink(dir.path().join("nowhere"), &dangling).unwrap();
+    let mut cases = vec![
+        (dangling.clone(), "which does not exist"),
+        (dangling.join("sub"), "which does not exist"),
+    ];
+    match read_only_folder(dir.path()) {
+        Some(ro) => {
+            cases.push((ro.clone(), "cannot write there"));
+            cases.push((ro.join("sub"), "cannot write there"));
+        }
+        None => eprintln!("no read-only folder on this machine: only the links are tried"),
+    }
+    for (out, why) in &cases {
+        for args in [
+            vec!["compare", s(&sc), "--out", s(out)],
+            vec!["report", "--quick", "--out", s(out)],
+        ] {
+            let line = one_line_error(&run(&args), "--out");
+            assert!(line.contains(s(out)) && line.contains(why), "{line}");
+        }
+    }
+    if let Some((ro, _)) = cases.get(2) {
+        if ro.ends_with("rofs") {
+            let _ = std::process::Command::new("umount").arg(ro).status();
+        }
+    }
+}
+
+/// Twin: a link to a folder that exists is followed and written through.
+#[cfg(unix)]
+#[test]
+fn twin_out_through_a_link_to_a_folder_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let real = dir.path().join("real");
+    std::fs::create_dir(&real).unwrap();
+    let link = dir.path().join("link");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    let sc = spring_scene();
+    let out = link.join("run");
+    succeeds(&run(&[
+        "run",
+        s(&sc),
+        "-i",
+        "rk4",
+        "--steps",
+        "10",
+        "--out",
+        s(&out),
+    ]));
+    assert!(real.join("run/summary.json").is_file());
+}
