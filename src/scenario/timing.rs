@@ -241,16 +241,12 @@ impl Timing {
     /// start of the step that contains its time, so one at or after the end changes nothing.
     /// The error names the impulse as written in the file (`impulse[k].time`).
     pub fn check_impulses(scene: &Scenario, end: f64) -> Result<()> {
-        let eps = 1e-9 * end;
         for (k, im) in scene.raw.impulse.iter().enumerate() {
-            if im.time >= end - eps {
+            if let Some(why) = impulse_after_run(im.time, end) {
                 return Err(Error::invalid(
                     &scene.source,
                     format!("impulse[{k}].time"),
-                    format!(
-                        "{} s is at or after the end of the run at {end} s; impulses must act within [0, {end}) s",
-                        im.time
-                    ),
+                    why,
                 ));
             }
         }
@@ -278,4 +274,25 @@ impl Timing {
         }
         Ok(())
     }
+}
+
+/// Why an impulse at `time` s never acts in a run ending at `end` s, or `None` when it acts.
+/// A time within a billionth of the run's length of its end is that end (the round-off of a
+/// sum of steps), so the last instant an impulse may be given is `end` less that margin; the
+/// message states this rule with the numbers. Scene loading and every command share it.
+pub(crate) fn impulse_after_run(time: f64, end: f64) -> Option<String> {
+    let margin = 1e-9 * end;
+    if time < end - margin {
+        return None;
+    }
+    let how = if time >= end {
+        "at or after"
+    } else {
+        "within round-off (1e-9 of the run's length) of"
+    };
+    Some(format!(
+        "{time} s is {how} the end of the run at {} s, so it would never act; give a time more than {} s before the end",
+        num(end),
+        num(margin)
+    ))
 }

@@ -299,14 +299,8 @@ fn impulses_within_run(ck: &Checker, raw: &ScenarioFile, run: &RunSettings) -> R
         return Ok(());
     };
     for (k, im) in raw.impulse.iter().enumerate() {
-        if im.time >= end * (1.0 - 1e-9) {
-            return Err(ck.err(
-                format!("impulse[{k}].time"),
-                format!(
-                    "{} s is at or after the end of the run at {end} s; impulses must act within [0, {end}) s",
-                    im.time
-                ),
-            ));
+        if let Some(why) = super::timing::impulse_after_run(im.time, end) {
+            return Err(ck.err(format!("impulse[{k}].time"), why));
         }
     }
     Ok(())

@@ -376,6 +376,51 @@ fn an_impulse_outside_the_run_is_refused_by_name() {
     );
 }
 
+/// An impulse within round-off of the run's end is refused with the rule it breaks (a margin
+/// of 1e-9 of the run's length, said in the message), not called "after" the end; its twin a
+/// tenth of a millisecond before the end acts. Oracle: the scene's numbers: 10 steps of 0.01 s
+/// end at 0.1 s; a kick of 1 m/s across the spring at 0.0999 s leaves the particle's
+/// transverse velocity at 1 m/s (the spring's pull across it over 1e-4 s is below 1e-6 m/s).
+#[test]
+fn an_impulse_in_the_end_round_off_says_so_and_its_twin_just_before_acts() {
+    let kick = |t: &str| {
+        format!("{GOOD}[[impulse]]\ntime = {t}\nparticle = 1\ndelta_v = [0.0, 1.0, 0.0]\n")
+    };
+    rejects(
+        kick("0.09999999999999999").as_bytes(),
+        &[
+            "impulse[0].time",
+            "0.09999999999999999 s is within round-off",
+            "more than 1e-10 s before the end",
+        ],
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "scene.toml", kick("0.0999").as_bytes());
+    let o = dir.path().join("o");
+    let out = bin()
+        .arg("run")
+        .arg(&f)
+        .args(["-i", "rk4", "--out"])
+        .arg(&o)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let traj = std::fs::read_to_string(o.join("trajectory.csv")).unwrap();
+    let last: Vec<f64> = traj
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|c| c.parse().unwrap())
+        .collect();
+    assert_eq!((last[0], last[2]), (10.0, 1.0), "{traj}");
+    assert!((last[7] - 1.0).abs() < 1e-6, "vy = {}", last[7]);
+}
+
 /// Input files are size-limited: a path that never ends (/dev/zero) given as a mesh or as the
 /// scene itself is refused once the limit is read, naming the limit (and for a mesh the field),
 /// instead of reading until memory runs out. Oracle: the documented limits (16 MiB for a scene,
