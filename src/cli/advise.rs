@@ -58,6 +58,7 @@ pub struct Args {
 // Long because it prints the advice's tables (pick, alternatives, frame rates) line by line.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
+    a.m.method_options.check_read_by(&a.m.methods)?;
     let scene = load(&a.scenario)?;
     if a.write_expect && scene.expect.is_some() {
         anyhow::bail!(

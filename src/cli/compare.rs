@@ -36,6 +36,7 @@ pub struct Args {
 // Long because it prints the comparison table and its notes line by line after writing the files.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
+    a.m.method_options.check_read_by(&a.m.methods)?;
     let scene = load(&a.scenario)?;
     let cfg = CompareConfig {
         methods: a.m.methods.clone(),

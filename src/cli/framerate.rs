@@ -57,6 +57,7 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(out) = &a.out {
         super::common::check_out(out)?;
     }
+    a.method_options.check_read_by(&a.methods)?;
     let scene = load(&a.scenario)?;
     if let Some(d) = a.duration.filter(|d| !(d.is_finite() && *d > 0.0)) {
         anyhow::bail!(

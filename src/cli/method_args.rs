@@ -10,6 +10,8 @@ use springlab::method::{MethodOptions, OptionSpec, Registry};
 #[derive(Debug, Clone, Default)]
 pub struct MethodArgs {
     options: MethodOptions,
+    /// The option flags the user wrote (not their defaults), checked against the methods run.
+    given: Vec<&'static str>,
 }
 
 impl MethodArgs {
@@ -20,6 +22,38 @@ impl MethodArgs {
             Some(n) => self.options.clone().with_substeps(n),
             None => self.options.clone(),
         }
+    }
+
+    /// Refuses an option flag the user gave that none of `methods` reads (it would change
+    /// nothing): the error names the flag, the methods asked and the ones that read it.
+    /// Names the registry does not know are left to the command's own check; an empty list
+    /// (every method that applies) reads every option.
+    pub fn check_read_by(&self, methods: &[String]) -> anyhow::Result<()> {
+        let registry = Registry::builtin();
+        let Some(infos) = methods
+            .iter()
+            .map(|n| registry.find(n).map(|m| &m.info))
+            .collect::<Option<Vec<_>>>()
+            .filter(|v| !v.is_empty())
+        else {
+            return Ok(());
+        };
+        for (spec, by) in schema() {
+            let read = infos
+                .iter()
+                .any(|i| i.options.iter().any(|o| o.flag == spec.flag));
+            if self.given.contains(&spec.flag) && !read {
+                let asked: Vec<&str> = infos.iter().map(|i| i.name).collect();
+                anyhow::bail!(
+                    "--{}: read only by {}; {} {} not read it, so it would change nothing (drop the flag or run a method that reads it)",
+                    spec.flag,
+                    by.join(", "),
+                    asked.join(", "),
+                    if asked.len() == 1 { "does" } else { "do" }
+                );
+            }
+        }
+        Ok(())
     }
 }
 
@@ -67,12 +101,16 @@ impl clap::Args for MethodArgs {
 impl FromArgMatches for MethodArgs {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
         let mut options = MethodOptions::default();
+        let mut given = Vec::new();
         for (spec, _) in schema() {
             if let Some(&v) = m.get_one::<usize>(spec.flag) {
                 options.set(&spec, v);
             }
+            if m.value_source(spec.flag) == Some(clap::parser::ValueSource::CommandLine) {
+                given.push(spec.flag);
+            }
         }
-        Ok(MethodArgs { options })
+        Ok(MethodArgs { options, given })
     }
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
         *self = Self::from_arg_matches(m)?;

@@ -16,9 +16,14 @@ pub struct Args {
     pub method: String,
     #[command(flatten)]
     pub step: StepArgs,
-    /// Write every k-th step to trajectory.csv and energy.csv (the last step always).
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
-    pub every: u64,
+    /// Write every k-th step to trajectory.csv and energy.csv (the last step always); default
+    /// 1. Outputs projected above 100 MB need it written out (or --force).
+    #[arg(long, allow_negative_numbers = true)]
+    pub every: Option<u64>,
+    /// Write the outputs even when they are projected past the free space, the process's
+    /// file-size limit or 100 MB.
+    #[arg(long)]
+    pub force: bool,
     /// Output directory (default: out/<scenario>/<method>/).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -34,10 +39,14 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(out) = &a.out {
         super::common::check_out(out)?;
     }
+    a.step
+        .method_options
+        .check_read_by(std::slice::from_ref(&a.method))?;
     let scene = load(&a.scenario)?;
     let mut plan = a.step.plan(&scene)?;
     plan.stop_at_verdict = a.stop_at_verdict;
-    if a.every == 0 {
+    let every = a.every.unwrap_or(1);
+    if every == 0 {
         bail!("--every: must be at least 1");
     }
     let mut stepper = springlab::method::create(&a.method, &a.step.options())?;
@@ -55,12 +64,16 @@ pub fn run(a: Args) -> Result<()> {
         .out
         .unwrap_or_else(|| PathBuf::from("out").join(&scene.name).join(&name));
     let _lock = springlab::output::lock_dir(&dir)?;
-    let (size, warning) = springlab::output::size_notice(sys.len(), plan.steps, a.every);
+    let ask = springlab::output::SizeAsk {
+        every_given: a.every.is_some(),
+        force: a.force,
+    };
+    let (size, warning) = springlab::output::size_guard(&dir, sys.len(), plan.steps, every, ask)?;
     if let Some(w) = warning {
         eprintln!("warning: {w}");
     }
     println!("{size}");
-    let mut files = RunFiles::create(&dir, a.every, plan.dt)?;
+    let mut files = RunFiles::create(&dir, every, plan.dt)?;
     // Collision metrics only when the scene has obstacles (contacts.json).
     let mut metrics = springlab::measure::contacts::ContactMetrics::new(&sys, plan.dt);
     let s0 = scene.initial_state();

@@ -50,6 +50,7 @@ pub struct Args {
 // Long because it prints the stability table and its notes line by line after writing the file.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
+    a.m.method_options.check_read_by(&a.m.methods)?;
     let scene = load(&a.scenario)?;
     if let Some(h) = a.horizon {
         if !(h.is_finite() && h > 0.0) {

@@ -53,6 +53,7 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
+    a.m.method_options.check_read_by(&a.m.methods)?;
     let scene = load(&a.scenario)?;
     let cfg = SweepConfig {
         methods: a.m.methods.clone(),

@@ -60,12 +60,28 @@ impl CommandLine {
         let joined: Vec<String> = values.iter().map(|v| v.to_string()).collect();
         self.flag(name, joined.join(","))
     }
-    /// Adds `--flag value` for every option the methods of `methods` read (their declared
-    /// schema, in registration order), at its value in `opts`.
-    pub fn method_options(self, registry: &Registry, opts: &MethodOptions) -> Self {
+    /// Adds `--flag value` for every option a method of `methods` reads (their declared
+    /// schema, in registration order), at its value in `opts`; every option when `methods` is
+    /// empty (all methods). An option no listed method reads is left out: the command line
+    /// refuses it.
+    pub fn method_options(
+        self,
+        registry: &Registry,
+        methods: &[String],
+        opts: &MethodOptions,
+    ) -> Self {
+        let read = |flag: &str| {
+            methods.is_empty()
+                || methods.iter().any(|n| {
+                    registry
+                        .find(n)
+                        .is_some_and(|m| m.info.options.iter().any(|o| o.flag == flag))
+                })
+        };
         registry
             .option_schema()
             .into_iter()
+            .filter(|(spec, _)| read(spec.flag))
             .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.get(&spec)))
     }
     /// Adds a bare `--name`.

@@ -298,12 +298,13 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
             result: None,
         });
     }
+    let listed = asked_or_all(&cfg.registry, &asked);
     let command = CommandLine::new("compare", &scene.source)
         .flag("dt", dt)
         .flag("duration", grid.time(steps))
-        .list("methods", &asked_or_all(&cfg.registry, &asked))
+        .list("methods", &listed)
         .flag_opt("substeps", cfg.frame_substeps)
-        .method_options(&cfg.registry, &cfg.options)
+        .method_options(&cfg.registry, &listed, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag("series-points", cfg.series_points)
         .switch("trace", cfg.trace)

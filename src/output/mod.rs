@@ -5,14 +5,16 @@ mod atomic;
 pub mod interrupt;
 mod lock;
 mod run_files;
+mod run_size;
 pub mod timing;
 mod transaction;
 
 pub use atomic::{write_atomic, AtomicFile};
 pub use lock::{lock_dir, lock_dir_shared, DirLock};
 pub use run_files::{
-    every_within, human_bytes, projected_run_bytes, size_notice, write_run, written_frames,
-    RunFiles, RunSummary, SIZE_WARNING_BYTES,
+    every_within, human_bytes, projected_run_bytes, write_run, written_frames, RunFiles,
+    RunSummary, SIZE_WARNING_BYTES,
 };
+pub use run_size::{size_guard, SizeAsk};
 pub use timing::{read_document, write_document, TIMING_FILE};
 pub use transaction::{published_path, recover, Recovery, Transaction};

@@ -248,44 +248,15 @@ pub fn every_within(particles: usize, steps: u64, every: u64, limit: u64) -> Opt
 /// Projected outputs above this many bytes draw a warning from `run` (100 MB).
 pub const SIZE_WARNING_BYTES: u64 = 100_000_000;
 
-/// A byte count in decimal units (`1.38 GB`, `412.00 kB`).
+/// A byte count in decimal units (`1.38 GB`, `412.00 kB`, `145.53 TB`).
 pub fn human_bytes(b: u64) -> String {
-    let units = [(1e9, "GB"), (1e6, "MB"), (1e3, "kB")];
+    let units = [(1e12, "TB"), (1e9, "GB"), (1e6, "MB"), (1e3, "kB")];
     for (scale, unit) in units {
         if b as f64 >= scale {
             return format!("{:.2} {unit}", b as f64 / scale);
         }
     }
     format!("{b} B")
-}
-
-/// What `run` prints before it starts: the projected size of its outputs, and above
-/// [`SIZE_WARNING_BYTES`] a warning suggesting the `--every` that brings them under.
-pub fn size_notice(particles: usize, steps: u64, every: u64) -> (String, Option<String>) {
-    let (traj, energy) = projected_run_bytes(particles, steps, every);
-    let rows = written_frames(steps, every);
-    let line = format!(
-        "projected output: about {} ({rows} frames × {particles} particles: trajectory.csv {}, energy.csv {})",
-        human_bytes(traj + energy),
-        human_bytes(traj),
-        human_bytes(energy)
-    );
-    if traj + energy <= SIZE_WARNING_BYTES {
-        return (line, None);
-    }
-    let advice = match every_within(particles, steps, every, SIZE_WARNING_BYTES) {
-        Some(k) => {
-            let (t, e) = projected_run_bytes(particles, steps, k);
-            format!("--every {k} brings it to about {}", human_bytes(t + e))
-        }
-        None => "even the first and last frames alone exceed it".into(),
-    };
-    let warning = format!(
-        "this run will write about {} of CSV, above {}; {advice}",
-        human_bytes(traj + energy),
-        human_bytes(SIZE_WARNING_BYTES)
-    );
-    (line, Some(warning))
 }
 
 #[cfg(test)]
@@ -315,13 +286,5 @@ mod size_tests {
         assert!(total(k) <= limit);
         assert!((1..k).all(|j| total(j) > limit), "k = {k}");
         assert_eq!(every_within(p, steps, 1, 1), None);
-    }
-
-    // Oracle: a small run stays quiet and a large one warns (its twin).
-    #[test]
-    fn the_warning_fires_above_the_limit_only() {
-        assert!(size_notice(10, 100, 1).1.is_none());
-        let w = size_notice(1024, 10_000, 1).1.expect("a 1 GB run warns");
-        assert!(w.contains("--every "), "{w}");
     }
 }

@@ -599,3 +599,74 @@ fn twin_out_through_a_link_to_a_folder_is_written() {
     ]));
     assert!(real.join("run/summary.json").is_file());
 }
+
+/// A method option the methods asked do not read would change nothing: it is refused on one
+/// line naming the flag and the methods that read it, by every command that runs methods.
+/// Oracle: the registry's option schema (`list` shows `--xpbd-substeps` read by xpbd only,
+/// `--iterations` by verlet_constraints only).
+#[test]
+fn a_method_option_no_asked_method_reads_is_refused_naming_the_flag() {
+    let sc = spring_scene();
+    let sc = s(&sc);
+    for (args, flag) in [
+        (
+            vec!["run", sc, "-i", "rk4", "--xpbd-substeps", "4"],
+            "--xpbd-substeps",
+        ),
+        (
+            vec![
+                "compare",
+                sc,
+                "--methods",
+                "rk4,symplectic_euler",
+                "--iterations",
+                "5",
+            ],
+            "--iterations",
+        ),
+        (
+            vec!["sweep", sc, "--methods", "rk4", "--xpbd-iterations", "2"],
+            "--xpbd-iterations",
+        ),
+        (
+            vec!["framerate", sc, "--methods", "rk4", "--xpbd-substeps", "2"],
+            "--xpbd-substeps",
+        ),
+    ] {
+        let line = one_line_error(&run(&args), flag);
+        assert!(line.contains("read only by"), "{line}");
+    }
+}
+
+/// Twin: the same flags with a method that reads them run.
+#[test]
+fn twin_a_method_option_its_method_reads_is_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = spring_scene();
+    let sc = s(&sc);
+    let o = dir.path().join("o");
+    succeeds(&run(&[
+        "run",
+        sc,
+        "-i",
+        "xpbd",
+        "--xpbd-substeps",
+        "4",
+        "--steps",
+        "10",
+        "--out",
+        s(&o),
+    ]));
+    succeeds(&run(&[
+        "compare",
+        sc,
+        "--methods",
+        "rk4,xpbd",
+        "--xpbd-substeps",
+        "2",
+        "--duration",
+        "0.1",
+        "--out",
+        s(&o),
+    ]));
+}

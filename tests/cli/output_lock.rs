@@ -284,3 +284,81 @@ fn shards_started_together_all_run_and_a_whole_report_still_excludes_them() {
     let err = String::from_utf8_lossy(&shard.stderr);
     assert!(!shard.status.success() && err.contains(BUSY), "{err}");
 }
+
+/// `run` with the given extra arguments (no `--every` unless among them), and an optional
+/// file-size limit (bytes) set in the child as `ulimit -f` would.
+fn run_sized(scene: &Path, out: &Path, steps: u64, extra: &[&str], fsize: Option<u64>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_springlab"));
+    c.arg("run")
+        .arg(scene)
+        .args(["-i", "symplectic_euler", "--steps", &steps.to_string()])
+        .args(extra)
+        .arg("--out")
+        .arg(out);
+    #[cfg(unix)]
+    if let Some(bytes) = fsize {
+        use std::os::unix::process::CommandExt;
+        // SAFETY: only async-signal-safe setrlimit runs between fork and exec.
+        unsafe {
+            c.pre_exec(move || {
+                let r = libc::rlimit {
+                    rlim_cur: bytes,
+                    rlim_max: bytes,
+                };
+                if libc::setrlimit(libc::RLIMIT_FSIZE, &r) == 0 {
+                    Ok(())
+                } else {
+                    Err(std::io::Error::last_os_error())
+                }
+            });
+        }
+    }
+    c.output().unwrap()
+}
+
+// Oracle: the projection `run` prints (checked against written files above): 10 000 frames of
+// the 30×30 cloth are over a gigabyte, 300 frames about 40 MB. Past 100 MB without `--every`
+// the run is refused before it writes anything; with `--every` written out it is the user's
+// choice (the warning test above).
+#[test]
+fn a_large_run_without_every_is_refused_before_it_writes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = scene(tmp.path());
+    let out = tmp.path().join("big");
+    let o = run_sized(&scene, &out, 10_000, &[], None);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.starts_with("error: --every: this run would write about ") && err.contains("--every "),
+        "{err}"
+    );
+    assert!(!out.join("trajectory.csv").exists());
+}
+
+// Oracle: the OS's file-size limit (RLIMIT_FSIZE, set in the child) against the projection:
+// 300 frames of 900 particles are about 40 MB, above a 1 MB limit, so the run is refused
+// naming the limit instead of dying of SIGXFSZ mid-file; its twin under a 1 GB limit writes.
+#[cfg(unix)]
+#[test]
+fn a_run_past_the_file_size_limit_is_refused_and_its_twin_within_writes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = scene(tmp.path());
+    let out = tmp.path().join("limited");
+    let o = run_sized(&scene, &out, 300, &[], Some(1_000_000));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.starts_with("error: --every: ") && err.contains("file-size limit of 1.00 MB"),
+        "{err}"
+    );
+    assert!(
+        !out.exists()
+            || std::fs::read_dir(&out).unwrap().all(|e| {
+                let n = e.unwrap().file_name();
+                !n.to_string_lossy().ends_with(".csv")
+            })
+    );
+    let o = run_sized(&scene, &out, 300, &[], Some(1_000_000_000));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.join("trajectory.csv").is_file());
+}

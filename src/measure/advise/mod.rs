@@ -366,7 +366,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
         .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, &cfg.options)
+        .method_options(&cfg.registry, &asked, &cfg.options)
         .switch("no-frame-rates", !cfg.frame_rates)
         .flag_opt("hz", cfg.game_hz)
         .flag_opt("budget", cfg.budget_seconds)

@@ -543,23 +543,21 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
             crate::run::progress_stage(format!("framerate {}: timing", scene.name), cfg.progress);
         timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
     }
+    let listed: Vec<String> = names
+        .iter()
+        .chain(skipped.iter().map(|s| &s.0))
+        .cloned()
+        .collect();
     let command = CommandLine::new("framerate", &scene.source)
         .list("hz", &cfg.rates)
         .list("engine-hz", cfg.engine_rates.as_deref().unwrap_or(&[]))
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
-        .list(
-            "methods",
-            &names
-                .iter()
-                .chain(skipped.iter().map(|s| &s.0))
-                .cloned()
-                .collect::<Vec<_>>(),
-        )
+        .list("methods", &listed)
         .flag("duration", duration)
         .flag("max-substeps", cfg.max_substeps)
         .flag_opt("cost-cap", cfg.cost_cap)
-        .method_options(&cfg.registry, &cfg.options)
+        .method_options(&cfg.registry, &listed, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag_opt("budget", cfg.budget_seconds)
         .render();

@@ -79,7 +79,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let command = crate::measure::command::CommandLine::new("stability", &scene.source)
         .list("methods", &asked)
         .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, &cfg.options)
+        .method_options(&cfg.registry, &asked, &cfg.options)
         .flag("horizon", horizon)
         .flag("blowup-factor", cfg.blowup_factor)
         .flag_opt("budget", cfg.budget_seconds)

@@ -242,7 +242,7 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .flag_opt("budget", cfg.budget_seconds)
         .flag("duration", plan.duration)
         .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, &cfg.options)
+        .method_options(&cfg.registry, &asked, &cfg.options)
         .flag("blowup-factor", cfg.blowup_factor)
         .render();
     Ok(plan)
