@@ -46,7 +46,8 @@ fn killed_run_leaves_the_previous_outputs_intact() {
     assert!(st.success());
     let before = read_all(&out);
 
-    // The second run would take minutes: 10⁷ steps writing every step.
+    // The second run would take minutes: 10⁷ steps writing every step (`--force`: past the
+    // free space, which it never reaches before it is killed).
     let mut child = springlab()
         .args([
             "run",
@@ -55,6 +56,7 @@ fn killed_run_leaves_the_previous_outputs_intact() {
             "rk4",
             "--steps",
             "10000000",
+            "--force",
             "--out",
         ])
         .arg(&out)
@@ -168,7 +170,7 @@ fn ctrl_c_stops_a_command_with_one_line_and_no_temporary_left() {
     let scenes = tmp.path().join("scenes");
     std::fs::create_dir(&scenes).unwrap();
     std::fs::copy(&scene, scenes.join("cloth.toml")).unwrap();
-    let long_run = ["run", s, "-i", "rk4", "--steps", "10000000"];
+    let long_run = ["run", s, "-i", "rk4", "--steps", "10000000", "--force"];
     let cases: [(&[&str], i32, i32); 4] = [
         (&long_run, libc::SIGINT, 130),
         (&["compare", s, "--duration", "100"], libc::SIGINT, 130),
