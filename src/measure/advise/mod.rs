@@ -355,18 +355,21 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     plan.apply_timings(&mut view, &timing_of);
     let pick = alternatives.first().cloned();
-    let asked = super::case::asked_or_all(&cfg.registry, &cfg.methods);
+    // The methods as asked: none asked means advice's default set (closed forms left out with
+    // a reason), which listing every name would change.
+    let asked = &cfg.methods;
     let command = super::command::CommandLine::new("advise", &scene.source)
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
         .flag("horizon", horizon)
-        .list("methods", &asked)
+        .list("methods", asked)
         .flag("safety", cfg.safety)
         .flag("points", cfg.points)
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
         .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, &asked, &cfg.options)
+        .method_options(&cfg.registry, asked, &cfg.options)
+        .flag("blowup-factor", cfg.blowup_factor)
         .switch("no-frame-rates", !cfg.frame_rates)
         .flag_opt("hz", cfg.game_hz)
         .flag_opt("budget", cfg.budget_seconds)
