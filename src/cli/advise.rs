@@ -91,6 +91,7 @@ pub fn run(a: Args) -> Result<()> {
         screen_factor: a.screen,
         ..Default::default()
     };
+    springlab::measure::advise::check_config(&scene, &cfg)?;
     let dir = a.m.out_dir(&scene.name, "advise");
     let _lock = springlab::output::lock_dir(&dir)?;
     let adv = advise(&scene, &cfg)?;

@@ -251,12 +251,10 @@ pub fn step_grid_of(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
     ))
 }
 
-/// Runs the advice: the candidates priced, then run in waves (the cheapest verified first,
-/// the dear ones screened against them: `waves`), the grid extended downwards while nothing
-/// meets the bound and the runs stay affordable, the frame-rate view, the timing and the pick.
-// Long because timing and ranking share the candidates' chosen runs and the frame view; the
-// waves, the screen and the grid's extension are modules of their own.
-pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
+/// Refuses a config `advise` cannot run, naming the flag (tolerance, safety, screen factor,
+/// timing rule, the step grid), before any work: a command checks it before it takes its
+/// output folder. Returns the horizon and the step grid.
+pub fn check_config(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f64, u64)>)> {
     crate::measure::tolerance::check(cfg.tolerance)?;
     if cfg.safety.is_nan() || cfg.safety < 1.0 {
         return Err(Error::option(
@@ -266,8 +264,17 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     }
     screen::check_factor(cfg.screen_factor)?;
     check_timing(&cfg.timing)?;
+    step_grid_of(scene, cfg)
+}
+
+/// Runs the advice: the candidates priced, then run in waves (the cheapest verified first,
+/// the dear ones screened against them: `waves`), the grid extended downwards while nothing
+/// meets the bound and the runs stay affordable, the frame-rate view, the timing and the pick.
+// Long because timing and ranking share the candidates' chosen runs and the frame view; the
+// waves, the screen and the grid's extension are modules of their own.
+pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
+    let (horizon, grid) = check_config(scene, cfg)?;
     let sys = scene.build();
-    let (horizon, grid) = step_grid_of(scene, cfg)?;
     let (names, mut unable) = candidates((scene, &sys), cfg, &grid)?;
     let set = CaseSettings {
         registry: cfg.registry.clone(),
