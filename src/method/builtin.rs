@@ -35,9 +35,43 @@ const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
     }
 }
 
-/// The built-in methods, in the order reports list them.
-// Long because it is a table: one entry per method, each its facts and constructor.
+/// Each built-in method's chart colour: eighteen colours no two alike, the closed form black,
+/// so every method keeps its own line in every chart.
+const COLOURS: [(&str, [u8; 3]); 18] = [
+    ("explicit_euler", [214, 39, 40]),
+    ("symplectic_euler", [31, 119, 180]),
+    ("implicit_euler", [44, 160, 44]),
+    ("linear_implicit_euler", [127, 201, 127]),
+    ("implicit_midpoint", [23, 190, 207]),
+    ("bdf2", [0, 128, 128]),
+    ("rk2", [255, 127, 14]),
+    ("rk4", [148, 103, 189]),
+    ("velocity_verlet", [140, 86, 75]),
+    ("position_verlet", [204, 153, 0]),
+    ("verlet_constraints", [227, 119, 194]),
+    ("xpbd", [188, 189, 34]),
+    ("rattle", [170, 0, 170]),
+    ("analytic", [0, 0, 0]),
+    ("rapier_impulse", [128, 0, 0]),
+    ("rapier_multibody", [0, 0, 128]),
+    ("rapier_soft", [250, 128, 114]),
+    ("rapier_soft_fem", [100, 110, 160]),
+];
+
+/// The built-in methods, in the order reports list them, each with its colour ([`COLOURS`]).
 pub fn methods() -> Vec<Method> {
+    let mut all = table();
+    for m in &mut all {
+        m.info.colour = COLOURS
+            .iter()
+            .find(|(n, _)| *n == m.info.name)
+            .map(|(_, c)| *c);
+    }
+    all
+}
+
+// Long because it is a table: one entry per method, each its facts and constructor.
+fn table() -> Vec<Method> {
     vec![
         Method::new(
             MethodInfo::native(
@@ -217,5 +251,29 @@ impl Registry {
                     .expect("built-in methods have consistent facts")
             })
             .clone()
+    }
+}
+
+#[cfg(test)]
+mod colour_tests {
+    use super::*;
+
+    // Oracle: the definition of a legend: every built-in method has a colour, no two share
+    // one, and the colour table names only built-in methods.
+    #[test]
+    fn every_built_in_method_has_its_own_colour() {
+        let all = methods();
+        let mut seen: Vec<[u8; 3]> = Vec::new();
+        for m in &all {
+            let c = m
+                .info
+                .colour
+                .unwrap_or_else(|| panic!("{} has no colour", m.info.name));
+            assert!(!seen.contains(&c), "{} shares {c:?}", m.info.name);
+            seen.push(c);
+        }
+        for (n, _) in COLOURS {
+            assert!(all.iter().any(|m| m.info.name == n), "{n} is not a method");
+        }
     }
 }

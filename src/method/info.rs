@@ -120,6 +120,9 @@ pub struct MethodInfo {
     /// The options the method reads when it is built; the command line's flags and the
     /// recorded command are generated from them.
     pub options: &'static [super::options::OptionSpec],
+    /// The method's colour in every chart (RGB), distinct from every other built-in's; `None`
+    /// (a user's method) takes one from a fallback set.
+    pub colour: Option<[u8; 3]>,
 }
 
 impl MethodInfo {
@@ -140,6 +143,7 @@ impl MethodInfo {
             splits_frames: false,
             recurrence_steps: 1,
             options: &[],
+            colour: None,
         }
     }
     /// True when the spectral-radius theory applies.

@@ -62,34 +62,28 @@ pub struct Panel<'a> {
     pub legend: SeriesLabelPosition,
 }
 
-/// A colour per method that stays the same across every chart of the report.
+/// A colour per method that stays the same across every chart of the report: the registry's
+/// own for a method (no two alike); a label that is no method (the reference, a user's method
+/// without one) takes one of three greys, by a hash of its name.
 pub fn color_for(label: &str) -> RGBColor {
-    const PALETTE: [RGBColor; 12] = [
-        RGBColor(214, 39, 40),   // red
-        RGBColor(31, 119, 180),  // blue
-        RGBColor(44, 160, 44),   // green
-        RGBColor(255, 127, 14),  // orange
-        RGBColor(148, 103, 189), // purple
-        RGBColor(140, 86, 75),   // brown
-        RGBColor(227, 119, 194), // pink
-        RGBColor(23, 190, 207),  // cyan
-        RGBColor(60, 60, 60),    // dark grey
-        RGBColor(188, 189, 34),  // olive
-        RGBColor(0, 0, 128),     // navy
-        RGBColor(128, 0, 0),     // maroon
+    const GREYS: [RGBColor; 3] = [
+        RGBColor(60, 60, 60),
+        RGBColor(110, 110, 110),
+        RGBColor(160, 160, 160),
     ];
     let key = label.split_whitespace().next().unwrap_or(label);
-    let idx = crate::method::Registry::builtin()
-        .names()
-        .iter()
-        .position(|n| *n == key)
-        .unwrap_or_else(|| {
-            key.bytes()
-                .fold(7usize, |h, b| h.wrapping_mul(31) ^ b as usize)
-                % 3
-                + 9
-        });
-    PALETTE[idx % PALETTE.len()]
+    match crate::method::Registry::builtin()
+        .find(key)
+        .and_then(|m| m.info.colour)
+    {
+        Some([r, g, b]) => RGBColor(r, g, b),
+        None => {
+            let h = key
+                .bytes()
+                .fold(7usize, |h, b| h.wrapping_mul(31) ^ b as usize);
+            GREYS[h % GREYS.len()]
+        }
+    }
 }
 
 /// A tick label: plain decimals in [1e-3, 1e4), else compact scientific (`1e-6`, `2.5e7`).
