@@ -106,7 +106,7 @@ pub fn run(a: Args) -> Result<()> {
         println!(
             "{:<22} {:<24} {:>12} {:>9} {:<22}",
             i.method,
-            serde_json::to_value(i.verdict)?.as_str().unwrap_or(""),
+            i.verdict.words(),
             fmt_opt(i.max_stable_dt),
             i.h_omega.map_or("-".into(), |h| format!("{h:.6}")),
             i.decided_by,

@@ -2,6 +2,7 @@
 //! the cost per frame of the fewest substeps that meet the tolerance, against the frame rate,
 //! from the very `framerate.json` that `springlab framerate` writes.
 
+use super::finite::cell;
 use super::html::esc;
 use super::plots::common::{svg_grid, Axis, Panel};
 use crate::error::Result;
@@ -121,14 +122,14 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
         esc(&fr.command),
         fr.duration,
         fr.max_substeps,
-        fr.tolerance,
+        cell(Some(fr.tolerance), 3),
         fr.events,
         note.map_or(String::new(), |n| format!(" {}", esc(n)))
     );
     for hz in &rates {
         body += &format!(
             "<th>{hz} Hz: 1 step</th><th>{hz} Hz: for {} m</th>",
-            fr.tolerance
+            cell(Some(fr.tolerance), 3)
         );
     }
     body += "</tr>\n";
@@ -154,7 +155,7 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
                     "{} · {}",
                     f.substeps,
                     f.modelled_seconds_per_frame
-                        .map_or("—".into(), |w| format!("{:.3} ms", w * 1e3))
+                        .map_or("—".into(), |w| format!("{} ms", cell(Some(w * 1e3), 3)))
                 )
             });
             body += &format!("<td>{}</td><td>{}</td>", esc(&one), esc(&fewest));

@@ -168,7 +168,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
         .partition(|n| n.starts_with(crate::measure::study::FRAMERATE_NOTE_PREFIX));
     if let Some(c) = charts::convergence(s) {
         write_chart(&dir, "convergence", plots::convergence(&c), &c)?;
-        fig("convergence", "Convergence", format!("Largest position error against the step, log-log; the legend gives each method's observed order as the sweep fitted it on its asymptotic range (none when that range was not reached), dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step. {}", link("sweep/summary.json, sweep/sweep.csv")));
+        fig("convergence", "Convergence", format!("Largest position error against the step, log-log, against the reference ({}); the legend gives each method's observed order as the sweep fitted it on its asymptotic range (none when that range was not reached), dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step. {}", c.reference, link("sweep/summary.json, sweep/sweep.csv")));
     }
     if let Some(w) = charts::work_precision(s) {
         write_chart(&dir, "work_precision", plots::work_precision(&w), &w)?;

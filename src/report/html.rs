@@ -124,7 +124,7 @@ fn stability_table(st: &StabilityReport) -> String {
         out += &format!(
             "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>\n",
             esc(&i.method),
-            esc(&format!("{:?}", i.verdict)),
+            esc(i.verdict.words()),
             cell(i.max_stable_dt, 4),
             cell(i.h_omega, 4),
             esc(&i.decided_by),

@@ -199,6 +199,18 @@ pub enum Verdict {
     NotAnalysed,
 }
 
+impl Verdict {
+    /// The verdict in words, as every table prints it (the JSON keeps the snake_case name).
+    pub fn words(self) -> &'static str {
+        match self {
+            Verdict::StableBelow => "stable below its limit",
+            Verdict::UnconditionallyStable => "stable at every step",
+            Verdict::UnstableForAllDt => "unstable at every step",
+            Verdict::NotAnalysed => "not analysed",
+        }
+    }
+}
+
 /// A verdict with its step limit (s) when `stable_below`.
 pub type Limit = (Verdict, Option<f64>);
 

@@ -9,7 +9,7 @@ pub fn position_error(data: &PositionErrorData) -> Result<String> {
     svg_single(
         (900, 520),
         &Panel {
-            title: format!("Position error against the reference ({})", data.reference),
+            title: "Position error against the reference".into(),
             x: Axis::lin("time t (s)"),
             y: Axis::log("max position error (m)"),
             series: &data.series,
