@@ -94,6 +94,14 @@ pub fn run(a: Args) -> Result<()> {
                 "each acts at the first frame boundary at or after its time",
         }
     );
+    for (k, im) in sys.impulses.iter().enumerate().take(limit) {
+        let d = im.delta_v;
+        println!(
+            "  [{k}] t = {} s: particle {}, Δv = ({}, {}, {}) m/s",
+            im.time, im.particle, d.x, d.y, d.z
+        );
+    }
+    left_out(sys.impulses.len(), limit);
     if let Some(t) = &own_run {
         println!("run: dt = {} s, {} steps ({} s)", t.dt, t.steps, t.duration);
     }
@@ -108,14 +116,6 @@ pub fn run(a: Args) -> Result<()> {
         },
         scene.run.hz.unwrap_or(springlab::measure::answer::GAME_HZ)
     );
-    for (k, im) in sys.impulses.iter().enumerate().take(limit) {
-        let d = im.delta_v;
-        println!(
-            "  [{k}] t = {} s: particle {}, Δv = ({}, {}, {}) m/s",
-            im.time, im.particle, d.x, d.y, d.z
-        );
-    }
-    left_out(sys.impulses.len(), limit);
     print_collision(&scene, limit);
     println!("active terms: {}", sys.active_terms().join(", "));
     let mut applicable = Vec::new();
