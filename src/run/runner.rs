@@ -317,7 +317,7 @@ pub fn run(
             let fired = match failure {
                 // A step that failed (an implicit solve that did not converge) left no state
                 // worth writing: it ends the run like a divergence.
-                Some(Error::Step(why)) => Some((Rule::Diverged, why)),
+                Some(Error::Step(why)) => Some((Rule::Diverged, verdict.failed_step(&last, &why))),
                 Some(other) => return Err(other),
                 None => verdict.step(&s, &rec).map(|f| (f.rule, f.reason)),
             };

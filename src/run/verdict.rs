@@ -267,6 +267,24 @@ impl Verdict {
         Some(Fired { rule, reason })
     }
 
+    /// The reason a run whose step failed (an implicit solve that found no root) is unstable,
+    /// judged from `last`, the account of the last step it finished: when the balance had
+    /// already risen past [`SUSTAINED`] × the scene's energy scale, the method was producing
+    /// energy no physical run has and the failed solve is its consequence, so the reason says
+    /// so first; otherwise it is the solver's own `why`.
+    pub fn failed_step(&self, last: &EnergyRecord, why: &str) -> String {
+        let rise = last.total - self.e0_total;
+        if last.is_finite() && rise > SUSTAINED * self.scale {
+            format!(
+                "energy balance rose by {rise:.3e} J ({}), past {SUSTAINED} × the scene's energy scale of {:.3e} J: the method produced that energy, and then its step failed ({why})",
+                self.books(last),
+                self.scale
+            )
+        } else {
+            why.to_string()
+        }
+    }
+
     /// The account's terms in words, for a reason.
     fn books(&self, e: &EnergyRecord) -> String {
         format!(
@@ -315,6 +333,22 @@ mod tests {
             v.step(&state(1.0), &record(k(n as f64), 0.0))
                 .map(|f| (n, f.rule))
         })
+    }
+
+    // Oracle: the rule's own level, SUSTAINED = 10 scales: a step that fails after the balance
+    // rose 25 scales is blamed on the energy (the solver's words kept after it); its twin, a
+    // failure with the balance within one scale, keeps the solver's reason alone.
+    #[test]
+    fn a_failed_step_after_an_energy_gain_is_blamed_on_the_energy() {
+        let v = Verdict::new(0.0, 14.0, DEFAULT_BLOWUP_FACTOR);
+        let why = "implicit_midpoint: Newton did not converge in 50 iterations";
+        let gained = v.failed_step(&record(350.0, 0.0), why);
+        assert!(
+            gained.starts_with("energy balance rose by 3.500e2 J")
+                && gained.ends_with(&format!("({why})")),
+            "{gained}"
+        );
+        assert_eq!(v.failed_step(&record(10.0, 0.0), why), why);
     }
 
     #[test]
