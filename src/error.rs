@@ -122,13 +122,16 @@ pub fn num(x: f64) -> String {
 /// A finite number with `sig` significant digits, as tables and notes print measured figures:
 /// plain between 1e-3 and 1e5 (`0.0116`, `2706`), else scientific (`1.00e-6`); zero is `0`.
 pub fn significant(v: f64, sig: usize) -> String {
+    let sci = format!("{v:.prec$e}", prec = sig.saturating_sub(1));
+    // The decade after rounding: 0.0099999 to three digits is 0.0100, not 0.01000.
+    let rounded: f64 = sci.parse().unwrap_or(v);
     if v == 0.0 {
         "0".into()
-    } else if (1e-3..1e5).contains(&v.abs()) {
-        let digits = (sig as i32 - 1 - v.abs().log10().floor() as i32).max(0) as usize;
+    } else if (1e-3..1e5).contains(&rounded.abs()) {
+        let digits = (sig as i32 - 1 - rounded.abs().log10().floor() as i32).max(0) as usize;
         format!("{v:.digits$}")
     } else {
-        format!("{v:.prec$e}", prec = sig.saturating_sub(1))
+        sci
     }
 }
 
@@ -154,5 +157,24 @@ impl Error {
             option: option.into(),
             message: message.into(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::significant;
+
+    // Oracle: counting digits by hand. A value that rounds up into the next decade keeps
+    // `sig` digits there (0.00999999… to three is 0.0100); its twins away from the edge keep
+    // theirs; the plain range is decided after rounding (99 999.9 is 1.00e5).
+    #[test]
+    fn significant_digits_hold_across_a_decade_edge() {
+        assert_eq!(significant(0.00999999987674645, 3), "0.0100");
+        assert_eq!(significant(9.996, 3), "10.0");
+        assert_eq!(significant(0.0116, 3), "0.0116");
+        assert_eq!(significant(2706.0, 3), "2706");
+        assert_eq!(significant(99999.9, 3), "1.00e5");
+        assert_eq!(significant(1.234e-6, 3), "1.23e-6");
+        assert_eq!(significant(0.0, 3), "0");
     }
 }
