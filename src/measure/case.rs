@@ -269,10 +269,29 @@ pub fn run_case(
     name: &str,
     set: &CaseSettings,
 ) -> Result<CaseResult> {
+    run_case_judged(sys, s0, reference, grid, name, set, None)
+}
+
+/// [`run_case`], ended early once the run can no longer pass `stop` (`(divisor, bound)` of
+/// [`super::tolerance::Judge::position_stop`]): a search that needs only whether a run passes
+/// does not compute the rest of one that has failed. A run ended so has no metrics (it shows
+/// no number) and its `steps_done` says where it stopped.
+pub fn run_case_judged(
+    sys: &System,
+    s0: &State,
+    reference: &Reference,
+    grid: usize,
+    name: &str,
+    set: &CaseSettings,
+    stop: Option<(f64, f64)>,
+) -> Result<CaseResult> {
     let g: TimeGrid = reference.grids[grid];
     let (plan, options) = frame_setup(set, g.dt, g.steps, set.substeps);
     let mut stepper = set.registry.create(name, &options)?;
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
+    if let Some(st) = stop {
+        obs = obs.stop_past(st);
+    }
     let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));
     let mut contacts = set
         .contacts
@@ -296,6 +315,7 @@ pub fn run_case(
         wall = WallTimes::of(&samples).median_seconds;
     }
     let contacts = contacts.map(|c| c.report());
+    let stopped = crate::run::Observer::seen_enough(&obs) && out.steps_done < g.steps;
     let (unstable_time, unstable_reason) = match &out.status {
         Status::Ok => (None, None),
         Status::Unstable { time, reason, .. } => (Some(*time), Some(reason.clone())),
@@ -312,7 +332,7 @@ pub fn run_case(
         status: out.status.kind(),
         unstable_time,
         unstable_reason,
-        metrics: out.status.is_ok().then(|| Metrics {
+        metrics: (out.status.is_ok() && !stopped).then(|| Metrics {
             penetration_max: contacts.as_ref().map(ContactReport::penetration_max),
             ..obs.metrics()
         }),

@@ -338,6 +338,9 @@ pub struct MetricsObserver<'a> {
     /// Apex heights of the run and of the reference at the compared steps, on a scene with
     /// obstacles and gravity.
     apexes: Option<(Apexes, Apexes)>,
+    /// `(divisor, bound)`: the run has seen enough once its position error before the
+    /// predictability horizon, over `divisor`, passes `bound` ([`MetricsObserver::stop_past`]).
+    stop_past: Option<(f64, f64)>,
 }
 
 impl<'a> MetricsObserver<'a> {
@@ -403,7 +406,17 @@ impl<'a> MetricsObserver<'a> {
                 let a = Apexes::new(gravity, &sys.free, threshold);
                 (a.clone(), a)
             }),
+            stop_past: None,
         }
+    }
+
+    /// Ends the run (through [`Observer::seen_enough`]) once its largest position error
+    /// before the predictability horizon, divided by `divisor`, exceeds `bound`: that error only
+    /// grows, so a judge holding it to `bound` can no longer pass the run
+    /// ([`super::tolerance::Judge::position_stop`]).
+    pub fn stop_past(mut self, (divisor, bound): (f64, f64)) -> Self {
+        self.stop_past = Some((divisor, bound));
+        self
     }
 
     /// The metrics of the steps seen so far (call after the run).
@@ -455,6 +468,10 @@ impl<'a> MetricsObserver<'a> {
 }
 
 impl Observer for MetricsObserver<'_> {
+    fn seen_enough(&self) -> bool {
+        self.stop_past
+            .is_some_and(|(d, b)| self.m.error_max_predictable / d > b)
+    }
     fn observe(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
         let t = step as f64 * self.dt;
         let e0 = *self.e0.get_or_insert(e.total);

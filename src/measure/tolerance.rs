@@ -216,6 +216,19 @@ impl Judge {
             .and_then(|m| self.metric.error(m, self.tolerance.value))
     }
 
+    /// The part of the judgement a run can fail before it ends, as `(divisor, bound)`: the
+    /// largest position error before the predictability horizon, over `divisor`, must stay
+    /// within `bound`; it only grows, so a run past it is failed for good
+    /// ([`super::metrics::MetricsObserver::stop_past`]). `None` where the error can still fall
+    /// (strain, energy, apex heights).
+    pub fn position_stop(&self) -> Option<(f64, f64)> {
+        match self.metric {
+            Metric::Position => Some((1.0, self.bound)),
+            Metric::Statistics => Some((self.tolerance.value, self.bound)),
+            Metric::Strain | Metric::Energy | Metric::Impacts => None,
+        }
+    }
+
     /// True when the run is ok and its error is within the bound.
     pub fn meets(&self, c: &super::case::CaseResult) -> bool {
         self.error(c).is_some_and(|e| e <= self.bound)

@@ -14,6 +14,11 @@ pub trait Observer {
     fn finish(&mut self, _last_step: u64, _s: &State, _e: &EnergyRecord) -> Result<()> {
         Ok(())
     }
+    /// True once the observer has seen enough to decide what it was asked (a run that can no
+    /// longer meet a tolerance): the runner ends the run after this step, its status unchanged.
+    fn seen_enough(&self) -> bool {
+        false
+    }
 }
 
 /// An observer that ignores everything.
@@ -30,6 +35,9 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
         self.0.finish(step, s, e)?;
         self.1.finish(step, s, e)
     }
+    fn seen_enough(&self) -> bool {
+        self.0.seen_enough() || self.1.seen_enough()
+    }
 }
 
 /// An observer that may be absent (a metric that does not apply to the scene).
@@ -40,6 +48,9 @@ impl<T: Observer> Observer for Option<T> {
     fn finish(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
         self.as_mut().map_or(Ok(()), |o| o.finish(step, s, e))
     }
+    fn seen_enough(&self) -> bool {
+        self.as_ref().is_some_and(|o| o.seen_enough())
+    }
 }
 
 impl<T: Observer + ?Sized> Observer for &mut T {
@@ -48,5 +59,8 @@ impl<T: Observer + ?Sized> Observer for &mut T {
     }
     fn finish(&mut self, step: u64, s: &State, e: &EnergyRecord) -> Result<()> {
         (**self).finish(step, s, e)
+    }
+    fn seen_enough(&self) -> bool {
+        (**self).seen_enough()
     }
 }

@@ -346,7 +346,7 @@ pub fn run(
         last = rec;
         done = frame + 1;
         obs.observe(done, &s, &rec)?;
-        if stop {
+        if stop || obs.seen_enough() {
             break;
         }
     }

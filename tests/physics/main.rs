@@ -32,6 +32,7 @@ mod ensemble_statistics;
 mod extremes;
 mod extremes_map;
 mod framerate_floor;
+mod framerate_stop;
 mod frames_events;
 mod frames_substeps;
 mod fuzz_scenario;
