@@ -219,7 +219,7 @@ impl Judge {
     /// The part of the judgement a run can fail before it ends, as `(divisor, bound)`: the
     /// largest position error before the predictability horizon, over `divisor`, must stay
     /// within `bound`; it only grows, so a run past it is failed for good
-    /// ([`super::metrics::MetricsObserver::stop_past`]). `None` where the error can still fall
+    /// (`MetricsObserver::stop_past`). `None` where the error can still fall
     /// (strain, energy, apex heights).
     pub fn position_stop(&self) -> Option<(f64, f64)> {
         match self.metric {
