@@ -109,7 +109,7 @@ pub fn run(a: Args) -> Result<()> {
             i.verdict.words(),
             fmt_opt(i.max_stable_dt),
             i.h_omega.map_or("-".into(), |h| format!("{h:.6}")),
-            i.decided_by,
+            i.decided_by.name(),
         );
     }
     for (n, why) in &rep.skipped {

@@ -127,7 +127,7 @@ fn stability_table(st: &StabilityReport) -> String {
             esc(i.verdict.words()),
             cell(i.max_stable_dt, 4),
             cell(i.h_omega, 4),
-            esc(&i.decided_by),
+            esc(i.decided_by.name()),
             cell(i.theory_max_stable_dt, 4),
             cell(i.empirical.as_ref().and_then(|e| e.max_stable_dt), 4),
             esc(&match &i.note {

@@ -199,10 +199,10 @@ pub fn scene_summary(
             stability: stab.map(|i| i.verdict),
             stable_dt: stab.and_then(|i| i.max_stable_dt),
             stable_h_omega: stab.and_then(|i| i.h_omega),
-            stability_decided_by: stab.map(|i| i.decided_by.clone()),
+            stability_decided_by: stab.map(|i| i.decided_by.name().to_string()),
             stable_up_to_tried: stab
                 .filter(|i| {
-                    i.decided_by == "empirical_bisection"
+                    i.decided_by == crate::measure::stability::DecidedBy::EmpiricalBisection
                         && i.verdict == Verdict::UnconditionallyStable
                 })
                 .map(|_| s.stability.empirical_criterion.dt_max),

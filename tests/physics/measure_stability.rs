@@ -70,7 +70,8 @@ fn anchored_spring_limits_match_theory() {
         let s = find(&r, name);
         assert_eq!(s.verdict, Verdict::UnconditionallyStable, "{name}");
         assert_eq!(
-            s.decided_by, "spectral_radius",
+            s.decided_by,
+            springlab::measure::stability::DecidedBy::SpectralRadius,
             "{name}: linear theory decides"
         );
     }

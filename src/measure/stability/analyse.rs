@@ -206,7 +206,7 @@ fn analyse_one(
             verdict: Verdict::UnconditionallyStable,
             max_stable_dt: None,
             h_omega: None,
-            decided_by: "closed_form".into(),
+            decided_by: super::DecidedBy::ClosedForm,
             theory_verdict: Some(Verdict::UnconditionallyStable),
             theory_max_stable_dt: None,
             empirical: None,
@@ -234,8 +234,12 @@ fn analyse_one(
         note = Some(why);
     }
     let (verdict, dt, decided_by) = match (&theory, &empirical) {
-        (Some(t), _) => (t.0, t.1, "spectral_radius"),
-        (None, Some(e)) => (e.verdict, e.max_stable_dt, "empirical_bisection"),
+        (Some(t), _) => (t.0, t.1, super::DecidedBy::SpectralRadius),
+        (None, Some(e)) => (
+            e.verdict,
+            e.max_stable_dt,
+            super::DecidedBy::EmpiricalBisection,
+        ),
         (None, None) => {
             if search.left_out.is_none() {
                 note = Some(
@@ -243,7 +247,7 @@ fn analyse_one(
                         .into(),
                 );
             }
-            (Verdict::NotAnalysed, None, "none")
+            (Verdict::NotAnalysed, None, super::DecidedBy::Nothing)
         }
     };
     if ms.damping_coupling.is_some_and(|c| c > 1e-6) && theory.is_some() {
@@ -261,7 +265,7 @@ fn analyse_one(
         verdict,
         max_stable_dt: dt,
         h_omega: dt.map(|d| d * ms.omega_max),
-        decided_by: decided_by.into(),
+        decided_by,
         theory_verdict: theory.map(|t| t.0),
         theory_max_stable_dt: theory.and_then(|t| t.1),
         empirical,

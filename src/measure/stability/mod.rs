@@ -56,6 +56,33 @@ use super::modes::Modes;
 use crate::method::{MethodOptions, Registry};
 use serde::Serialize;
 
+/// What decided a method's stability verdict, as documents name it (snake_case).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DecidedBy {
+    /// The spectral radius of the linearised one-step map.
+    SpectralRadius,
+    /// The empirical bisection on the energy verdict (no linear theory applies).
+    EmpiricalBisection,
+    /// A closed form: stable at any step.
+    ClosedForm,
+    /// Nothing: no theory applies and the empirical search did not run.
+    #[serde(rename = "none")]
+    Nothing,
+}
+
+impl DecidedBy {
+    /// The name documents and tables print.
+    pub fn name(self) -> &'static str {
+        match self {
+            DecidedBy::SpectralRadius => "spectral_radius",
+            DecidedBy::EmpiricalBisection => "empirical_bisection",
+            DecidedBy::ClosedForm => "closed_form",
+            DecidedBy::Nothing => "none",
+        }
+    }
+}
+
 /// Per-method stability.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MethodStability {
@@ -67,8 +94,8 @@ pub struct MethodStability {
     pub max_stable_dt: Option<f64>,
     /// max_stable_dt × omega_max.
     pub h_omega: Option<f64>,
-    /// What decided the verdict: `spectral_radius` or `empirical_bisection`.
-    pub decided_by: String,
+    /// What decided the verdict.
+    pub decided_by: DecidedBy,
     /// The theory verdict (None for engine methods).
     pub theory_verdict: Option<Verdict>,
     /// The theory limit (s).
