@@ -34,15 +34,11 @@ impl MethodArgs {
             .iter()
             .map(|n| registry.find(n).map(|m| &m.info))
             .collect::<Option<Vec<_>>>()
-            .filter(|v| !v.is_empty())
         else {
             return Ok(());
         };
         for (spec, by) in schema() {
-            let read = infos
-                .iter()
-                .any(|i| i.options.iter().any(|o| o.flag == spec.flag));
-            if self.given.contains(&spec.flag) && !read {
+            if self.given.contains(&spec.flag) && !registry.reads_option(methods, spec.flag) {
                 let asked: Vec<&str> = infos.iter().map(|i| i.name).collect();
                 anyhow::bail!(
                     "--{}: read only by {}; {} {} not read it, so it would change nothing (drop the flag or run a method that reads it)",

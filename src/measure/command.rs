@@ -70,18 +70,10 @@ impl CommandLine {
         methods: &[String],
         opts: &MethodOptions,
     ) -> Self {
-        let read = |flag: &str| {
-            methods.is_empty()
-                || methods.iter().any(|n| {
-                    registry
-                        .find(n)
-                        .is_some_and(|m| m.info.options.iter().any(|o| o.flag == flag))
-                })
-        };
         registry
             .option_schema()
             .into_iter()
-            .filter(|(spec, _)| read(spec.flag))
+            .filter(|(spec, _)| registry.reads_option(methods, spec.flag))
             .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.get(&spec)))
     }
     /// Adds a bare `--name`.

@@ -227,6 +227,17 @@ impl Registry {
         out
     }
 
+    /// Whether option `flag` changes any of `methods` (names or aliases; a name it does not
+    /// know reads nothing): what a recorded command writes and what the command line
+    /// refuses. An empty list stands for every method, which reads every option.
+    pub fn reads_option(&self, methods: &[String], flag: &str) -> bool {
+        methods.is_empty()
+            || methods.iter().any(|n| {
+                self.find(n)
+                    .is_some_and(|m| m.info.options.iter().any(|o| o.flag == flag))
+            })
+    }
+
     /// Every canonical name, in registration order.
     pub fn names(&self) -> Vec<&'static str> {
         self.methods.iter().map(|m| m.info.name).collect()

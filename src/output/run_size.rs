@@ -38,42 +38,39 @@ pub fn size_guard(
         human_bytes(traj),
         human_bytes(energy)
     );
-    let fits = |limit: u64| match every_within(particles, steps, every, limit) {
-        Some(k) => {
-            let (t, e) = projected_run_bytes(particles, steps, k);
-            format!("--every {k} brings it to about {}", human_bytes(t + e))
-        }
-        None => "even the first and last frames alone exceed it".into(),
-    };
-    let refuse = |room: String, limit: u64| {
-        Error::option(
-            "--every",
-            format!(
-                "this run would write about {} of CSV, {room}; {} (--force writes anyway)",
-                human_bytes(total),
-                fits(limit.min(SIZE_WARNING_BYTES))
-            ),
+    // What the run would write against `room`, and the `--every` that fits both the room's
+    // `limit` and the 100 MB line: every refusal and the warning say it the same way.
+    let says = |verb: &str, room: &str, limit: u64| {
+        let fit = match every_within(particles, steps, every, limit.min(SIZE_WARNING_BYTES)) {
+            Some(k) => {
+                let (t, e) = projected_run_bytes(particles, steps, k);
+                format!("--every {k} brings it to about {}", human_bytes(t + e))
+            }
+            None => "even the first and last frames alone exceed it".into(),
+        };
+        format!(
+            "this run {verb} write about {} of CSV, {room}; {fit}",
+            human_bytes(total)
         )
+    };
+    let refuse = |room: &str, limit: u64, how: &str| {
+        Error::option("--every", format!("{} ({how})", says("would", room, limit)))
     };
     if !ask.force {
         if let Some(free) = free_space(dir).filter(|&f| total > f) {
-            return Err(refuse(
-                format!(
-                    "more than the {} free where {} is written",
-                    human_bytes(free),
-                    dir.display()
-                ),
-                free,
-            ));
+            let room = format!(
+                "more than the {} free where {} is written",
+                human_bytes(free),
+                dir.display()
+            );
+            return Err(refuse(&room, free, "--force writes anyway"));
         }
         if let Some(limit) = file_size_limit().filter(|&l| traj.max(energy) > l) {
-            return Err(refuse(
-                format!(
-                    "a file above this process's file-size limit of {} (ulimit -f)",
-                    human_bytes(limit)
-                ),
-                limit,
-            ));
+            let room = format!(
+                "a file above this process's file-size limit of {} (ulimit -f)",
+                human_bytes(limit)
+            );
+            return Err(refuse(&room, limit, "--force writes anyway"));
         }
     }
     if total <= SIZE_WARNING_BYTES {
@@ -81,21 +78,10 @@ pub fn size_guard(
     }
     let above = format!("above {}", human_bytes(SIZE_WARNING_BYTES));
     if !(ask.every_given || ask.force) {
-        return Err(Error::option(
-            "--every",
-            format!(
-                "this run would write about {} of CSV, {above}; {}, or give --every 1 to write every step",
-                human_bytes(total),
-                fits(SIZE_WARNING_BYTES)
-            ),
-        ));
+        let how = "--every 1 or --force writes every step";
+        return Err(refuse(&above, SIZE_WARNING_BYTES, how));
     }
-    let warning = format!(
-        "this run will write about {} of CSV, {above}; {}",
-        human_bytes(total),
-        fits(SIZE_WARNING_BYTES)
-    );
-    Ok((line, Some(warning)))
+    Ok((line, Some(says("will", &above, SIZE_WARNING_BYTES))))
 }
 
 /// Bytes free to this process on the filesystem that will hold `dir` (its first existing
@@ -104,7 +90,7 @@ fn free_space(dir: &Path) -> Option<u64> {
     let existing = dir
         .ancestors()
         .find(|p| p.is_dir())
-        .or(Some(Path::new(".")))?;
+        .unwrap_or(Path::new("."));
     fs4::available_space(existing).ok()
 }
 

@@ -114,6 +114,15 @@ pub struct RunSettings {
     pub hz: Option<f64>,
 }
 
+impl RunSettings {
+    /// The run's length in seconds as the file gives it: `duration`, else `steps` × `dt`;
+    /// `None` when the file leaves it to a command (steps without a step, or neither).
+    pub fn length(&self) -> Option<f64> {
+        self.duration
+            .or_else(|| self.steps.zip(self.dt).map(|(n, dt)| n as f64 * dt))
+    }
+}
+
 /// A validated scene: everything needed to build a [`System`] and its initial [`State`].
 #[derive(Debug, Clone)]
 pub struct Scenario {

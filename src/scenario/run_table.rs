@@ -173,10 +173,7 @@ fn expect_frames_fit(
     frame_dt: f64,
     substeps: u64,
 ) -> Result<()> {
-    let Some(duration) = run
-        .duration
-        .or(run.steps.zip(run.dt).map(|(n, d)| n as f64 * d))
-    else {
+    let Some(duration) = run.length() else {
         return Ok(());
     };
     if frame_dt > duration * (1.0 + 1e-12) {
@@ -200,16 +197,8 @@ fn expect_frames_fit(
             ),
         ));
     }
-    if frames * substeps as f64 > MAX_STEPS as f64 {
-        return Err(ck.err(
-            "expect.substeps",
-            format!(
-                "{substeps} substeps per frame over {} frames is {} steps, above the limit of {}",
-                num(frames),
-                num(frames * substeps as f64),
-                num(MAX_STEPS as f64)
-            ),
-        ));
+    match super::timing::substeps_past_limit(frames, substeps) {
+        Some(why) => Err(ck.err("expect.substeps", why)),
+        None => Ok(()),
     }
-    Ok(())
 }

@@ -206,18 +206,10 @@ impl Timing {
     /// Refuses `frames` frames of `substeps` substeps each when together they pass the step
     /// limit, naming `flag` (`--substeps`): the run would take more steps than any run may.
     pub fn substeps_within(flag: &str, frames: u64, substeps: u64) -> Result<()> {
-        let total = frames as f64 * substeps as f64;
-        if total <= super::MAX_STEPS as f64 {
-            return Ok(());
+        match substeps_past_limit(frames as f64, substeps) {
+            Some(why) => Err(Error::option(flag, why)),
+            None => Ok(()),
         }
-        Err(Error::option(
-            flag,
-            format!(
-                "{substeps} substeps per frame over {frames} frames is {} steps, above the limit of {}",
-                num(total),
-                num(super::MAX_STEPS as f64)
-            ),
-        ))
     }
 
     /// Refuses a step `dt` longer than the `duration` it must cover: the run would end after
@@ -295,4 +287,18 @@ pub(crate) fn impulse_after_run(time: f64, end: f64) -> Option<String> {
         num(end),
         num(margin)
     ))
+}
+
+/// Why `frames` frames of `substeps` substeps each pass the step limit, or `None` when they
+/// fit: the one rule for a command's `--substeps` and a scene's `expect.substeps`.
+pub(crate) fn substeps_past_limit(frames: f64, substeps: u64) -> Option<String> {
+    let total = frames * substeps as f64;
+    (total > super::MAX_STEPS as f64).then(|| {
+        format!(
+            "{substeps} substeps per frame over {} frames is {} steps, above the limit of {}",
+            num(frames),
+            num(total),
+            num(super::MAX_STEPS as f64)
+        )
+    })
 }

@@ -292,10 +292,7 @@ fn validate_impulses(
 
 /// The file's own run length: no impulse may fall at or after it (it would never act).
 fn impulses_within_run(ck: &Checker, raw: &ScenarioFile, run: &RunSettings) -> Result<()> {
-    let end = run
-        .duration
-        .or_else(|| run.steps.zip(run.dt).map(|(n, dt)| n as f64 * dt));
-    let Some(end) = end else {
+    let Some(end) = run.length() else {
         return Ok(());
     };
     for (k, im) in raw.impulse.iter().enumerate() {

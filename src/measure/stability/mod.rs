@@ -56,9 +56,8 @@ use super::modes::Modes;
 use crate::method::{MethodOptions, Registry};
 use serde::Serialize;
 
-/// What decided a method's stability verdict, as documents name it (snake_case).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// What decided a method's stability verdict; documents spell it by [`DecidedBy::name`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DecidedBy {
     /// The spectral radius of the linearised one-step map.
     SpectralRadius,
@@ -67,7 +66,6 @@ pub enum DecidedBy {
     /// A closed form: stable at any step.
     ClosedForm,
     /// Nothing: no theory applies and the empirical search did not run.
-    #[serde(rename = "none")]
     Nothing,
 }
 
@@ -80,6 +78,12 @@ impl DecidedBy {
             DecidedBy::ClosedForm => "closed_form",
             DecidedBy::Nothing => "none",
         }
+    }
+}
+
+impl Serialize for DecidedBy {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
     }
 }
 
