@@ -36,7 +36,23 @@ pub struct TimingRule {
     pub max_repetitions: usize,
 }
 
+/// The rule that times nothing again: each wall time shown is the measured run's own stepping
+/// time (one run; its observers and metrics stay off the clock, as in [`time_interleaved`]).
+/// A study uses it: its wall times decide nothing, and every run it shows has already run once.
+pub const MEASURED_RUN: TimingRule = TimingRule {
+    min_repetitions: 0,
+    min_total_seconds: 0.0,
+    cap_seconds: 0.0,
+    cap_repetitions: 0,
+    max_repetitions: 0,
+};
+
 impl TimingRule {
+    /// True for [`MEASURED_RUN`]: no dedicated timing runs, the measured run's own time.
+    pub fn reuses_measured_run(&self) -> bool {
+        self.max_repetitions == 0
+    }
+
     /// True when `reps` runs that took `total` seconds in all are enough.
     pub fn satisfied(&self, reps: usize, total: f64) -> bool {
         (reps >= self.min_repetitions && total >= self.min_total_seconds)

@@ -481,12 +481,19 @@ impl Dop853 {
             self.dense[0][i] = dy;
             self.dense[1][i] = h * f_old - dy;
             self.dense[2][i] = 2.0 * dy - h * (f_new + f_old);
-            for (r, w) in weights.iter().enumerate() {
-                let mut acc = 0.0;
-                for &(j, d) in &w[..counts[r]] {
-                    acc += d * self.k[j][i];
+        }
+        // Each row is summed stage by stage over whole vectors (unit stride), in the same
+        // order per element as a per-element sum: the same bits, several times faster.
+        for (r, w) in weights.iter().enumerate() {
+            let row = &mut self.dense[3 + r];
+            row.fill(0.0);
+            for &(j, d) in &w[..counts[r]] {
+                for (acc, kj) in row.iter_mut().zip(&self.k[j]) {
+                    *acc += d * kj;
                 }
-                self.dense[3 + r][i] = h * acc;
+            }
+            for acc in row.iter_mut() {
+                *acc *= h;
             }
         }
         self.dense_ready = true;

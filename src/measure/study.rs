@@ -23,7 +23,8 @@
 //!   [`FRAMERATE_METHOD_SECONDS`] or less. Engines (Rapier) are the comparison a game
 //!   programmer makes at these rates, so they take part even when compare left them out (their
 //!   modelled frame then prices it), and every engine gets [`FRAMERATE_ENGINE_SECONDS`]; the section lists the modelled time of any method left out
-//!   (`springlab framerate` runs it). Each table run and each advice candidate is timed once ([`ONE_TIMED_RUN`]).
+//!   (`springlab framerate` runs it). Each table run's and each advice candidate's wall time is its accuracy run's own
+//!   ([`super::case::MEASURED_RUN`]): the wall times decide nothing, so the study runs nothing again to time it.
 //!
 //! Every such choice is made on modelled seconds ([`crate::run::cost`]: counted work, priced),
 //! never on a clock, so a re-run of the study takes the same methods everywhere.
@@ -74,17 +75,6 @@ pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 /// How every study note about the frame-rate section begins (the report shows those notes in
 /// that section).
 pub const FRAMERATE_NOTE_PREFIX: &str = "Frame rates";
-
-/// The study's timing of each frame-rate table run and each advice candidate: once. The wall
-/// times decide nothing (the modelled cost does), so repetitions would only sharpen a figure
-/// shown beside it; `springlab advise` and `framerate` repeat theirs.
-pub const ONE_TIMED_RUN: super::case::TimingRule = super::case::TimingRule {
-    min_repetitions: 1,
-    min_total_seconds: 0.0,
-    cap_seconds: f64::INFINITY,
-    cap_repetitions: 1,
-    max_repetitions: 1,
-};
 
 /// Time budget of a study's advice (s of runs, summed over its candidates): the costliest
 /// candidates whose grid runs would not fit are left out with the figure (on the 32×32 cloth,
@@ -216,7 +206,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         // The frame-rate section (`framerate`) answers the game view: one computation.
         frame_rates: false,
         budget_seconds: Some(STUDY_ADVICE_SECONDS),
-        timing: ONE_TIMED_RUN,
+        timing: super::case::MEASURED_RUN,
         ..Default::default()
     };
     let kept = kept_after_compare(scene, cfg, &compared, &advice_cfg, timing, &mut notes)?;
@@ -668,7 +658,7 @@ fn study_framerate(
             ensemble: compared.ensemble.clone(),
             blowup_factor: cfg.blowup_factor,
             progress: cfg.progress,
-            timing: ONE_TIMED_RUN,
+            timing: super::case::MEASURED_RUN,
             ..Default::default()
         },
     )?;

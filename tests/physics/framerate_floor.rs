@@ -52,3 +52,40 @@ fn exact_events_have_no_floor_and_meet_the_tolerance() {
     assert_eq!(e.frame_event_floor, None);
     assert!(e.fewest.is_some(), "{:?}", e.fewest_note);
 }
+
+// The wall-time rules of the table's runs: under `MEASURED_RUN` (a report's study) each
+// stable row's wall time is the one run that measured it, nothing repeated; its twin under the
+// command's own rule repeats every row at least as often as the rule asks.
+#[test]
+fn measured_run_timing_keeps_the_accuracy_runs_time_and_the_twin_repeats() {
+    use springlab::measure::case::MEASURED_RUN;
+    use springlab::measure::framerate::FRAMERATE_TIMING;
+    let timed_rows = |rule| {
+        let cfg = FramerateConfig {
+            timing: rule,
+            ..config()
+        };
+        let fr = framerate(&kicked("exact"), &cfg).unwrap();
+        let e = fr.entries[0].clone();
+        [Some(e.one_substep), e.fewest]
+            .into_iter()
+            .flatten()
+            .filter(|r| r.status.is_ok())
+            .map(|r| {
+                (
+                    r.timing.expect("a stable row is timed"),
+                    r.wall_seconds_per_frame,
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let measured = timed_rows(MEASURED_RUN);
+    assert!(!measured.is_empty());
+    for (t, per_frame) in &measured {
+        assert_eq!(t.repetitions, 1);
+        assert!(per_frame.is_some_and(|w| w > 0.0));
+    }
+    for (t, _) in timed_rows(FRAMERATE_TIMING) {
+        assert!(t.repetitions >= FRAMERATE_TIMING.cap_repetitions);
+    }
+}

@@ -77,10 +77,18 @@ impl CostMeasure {
             measure: MEASURE,
             model: "the run's counted work (steps, force evaluations, Newton and linear iterations, link updates, contact passes; an engine's frames priced from the scene) times fixed per-item costs: the same on every re-run",
             timing: WallTiming {
-                wall_time: "median over repetitions, shown beside the ranking measure; it decides nothing",
-                repetitions: rule.min_repetitions,
+                wall_time: if rule.reuses_measured_run() {
+                    "the accuracy run's own stepping wall time (one run), shown beside the ranking measure; it decides nothing"
+                } else {
+                    "median over repetitions, shown beside the ranking measure; it decides nothing"
+                },
+                repetitions: rule.min_repetitions.max(1),
                 rule: *rule,
-                schedule: "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh stepper, no observer, the runner's stepping wall time",
+                schedule: if rule.reuses_measured_run() {
+                    "no timing runs: each wall time is the runner's stepping wall time of the run that measured the error (observers off the clock), taken while other runs may share the machine"
+                } else {
+                    "one thread, after every accuracy run; candidates' repetitions interleaved round-robin (A, B, A, B, …); each repetition a fresh stepper, no observer, the runner's stepping wall time"
+                },
             },
             tie_band: TIE_BAND,
             tie_rule: format!(
@@ -144,21 +152,28 @@ impl Timed {
 }
 
 /// Times every run of `wanted` once ([`same_run`]), interleaved on this thread under `rule`
-/// ([`time_interleaved`]).
+/// ([`time_interleaved`]); under [`crate::measure::case::MEASURED_RUN`] each run's wall time is
+/// the one its accuracy run measured (given beside it, in seconds), and nothing runs again.
 pub(super) fn time_once(
     sys: &System,
     s0: &State,
-    wanted: &[TimedRun],
+    wanted: &[(TimedRun, f64)],
     set: &CaseSettings,
     rule: &TimingRule,
 ) -> Result<Timed> {
     let mut runs: Vec<TimedRun> = Vec::new();
-    for r in wanted {
+    let mut measured: Vec<f64> = Vec::new();
+    for (r, wall) in wanted {
         if !runs.iter().any(|x| same_run(x, r)) {
             runs.push(r.clone());
+            measured.push(*wall);
         }
     }
-    let times = time_interleaved(sys, s0, &runs, set, rule)?;
+    let times = if rule.reuses_measured_run() {
+        measured.iter().map(|&w| WallTimes::of(&[w])).collect()
+    } else {
+        time_interleaved(sys, s0, &runs, set, rule)?
+    };
     Ok(Timed { runs, times })
 }
 

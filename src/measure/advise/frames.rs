@@ -18,6 +18,10 @@ pub const FRAME_RATES: [f64; 4] = [30.0, 60.0, 144.0, 240.0];
 /// Why an entry that fails the tolerance has no wall time.
 const NOT_TIMED: &str = "not timed: the substepped run does not meet the tolerance";
 
+/// Why an entry that meets the tolerance but is not its rate's best has no wall time.
+const NOT_BEST: &str =
+    "not timed: only each rate's best is timed (the modelled cost ranks; a wall time decides nothing)";
+
 /// How one method fares at one frame rate.
 #[derive(Debug, Clone, Serialize)]
 pub struct FrameEntry {
@@ -36,8 +40,8 @@ pub struct FrameEntry {
     /// Modelled seconds per simulated second at that many substeps (s/s,
     /// [`crate::run::cost`]): what `best` is ranked by; null when the run is not stable.
     pub modelled_per_second: Option<f64>,
-    /// Median wall time per simulated second at that many substeps (s/s); null when the
-    /// entry fails the tolerance (only entries that can be `best` are timed).
+    /// Median wall time per simulated second at that many substeps (s/s); null unless the
+    /// entry is its rate's `best` (only those are timed).
     pub wall_per_second: Option<f64>,
     /// Why `wall_per_second` is null.
     pub wall_per_second_reason: Option<String>,
@@ -55,6 +59,9 @@ pub struct FrameEntry {
     /// Slope of the substepped run's energy balance (J/s), for the same table.
     #[serde(skip)]
     pub energy_drift_rate: Option<f64>,
+    /// The substepped accuracy run's own stepping wall time (s), for a timing that reuses it.
+    #[serde(skip)]
+    pub measured_wall: f64,
 }
 
 /// The rates of the frame view: [`FRAME_RATES`] when `view` is asked, with `game_hz` added
@@ -176,6 +183,7 @@ impl FramePlan {
                             cost_per_second_reason: why,
                             strain_max: sub.metric(|m| m.strain_max),
                             energy_drift_rate: sub.metric(|m| m.energy_drift_rate),
+                            measured_wall: sub.wall_seconds,
                         })
                     })
                     .collect::<Result<Vec<FrameEntry>>>()?;
@@ -202,29 +210,35 @@ impl FramePlan {
         }
     }
 
-    /// The substepped runs to time: every entry that meets the tolerance, in view order.
-    pub(super) fn timed_runs(&self, view: &[FrameRate]) -> Vec<TimedRun> {
+    /// The substepped runs to time, with the wall time their accuracy run measured: each
+    /// rate's best entry, in view order.
+    pub(super) fn timed_runs(&self, view: &[FrameRate]) -> Vec<(TimedRun, f64)> {
         let mut out = Vec::new();
         for (fi, fr) in view.iter().enumerate() {
             for (pi, e) in fr.entries.iter().enumerate() {
-                if e.meets_tolerance {
-                    out.push(self.run_of(fi, pi, &e.method));
+                if fr.best.as_deref() == Some(e.method.as_str()) {
+                    out.push((self.run_of(fi, pi, &e.method), e.measured_wall));
                 }
             }
         }
         out
     }
 
-    /// Fills in each timed entry's wall time from `timing_of` (shown beside the modelled
-    /// cost that ranked it).
+    /// Fills in each rate's best entry's wall time from `timing_of` (shown beside the modelled
+    /// cost that ranked it) and says why every other entry that meets the tolerance has none.
     pub(super) fn apply_timings(
         &self,
         view: &mut [FrameRate],
         timing_of: &dyn Fn(&TimedRun) -> WallTimes,
     ) {
         for (fi, fr) in view.iter_mut().enumerate() {
+            let best = fr.best.clone();
             for (pi, e) in fr.entries.iter_mut().enumerate() {
                 if !e.meets_tolerance {
+                    continue;
+                }
+                if best.as_deref() != Some(e.method.as_str()) {
+                    e.wall_per_second_reason = Some(NOT_BEST.to_string());
                     continue;
                 }
                 let r = self.run_of(fi, pi, &e.method);

@@ -180,18 +180,19 @@ fn rank_choices(choices: Vec<Choice>, scenario: &str) -> Result<(Vec<Choice>, Op
 }
 
 fn check_timing(r: &TimingRule) -> Result<()> {
-    let ok = r.min_repetitions >= 1
-        && r.max_repetitions >= r.min_repetitions
-        && r.cap_repetitions >= 1
-        && r.min_total_seconds.is_finite()
-        && r.min_total_seconds >= 0.0
-        && r.cap_seconds > 0.0;
+    let ok = r.reuses_measured_run() && *r == crate::measure::case::MEASURED_RUN
+        || r.min_repetitions >= 1
+            && r.max_repetitions >= r.min_repetitions
+            && r.cap_repetitions >= 1
+            && r.min_total_seconds.is_finite()
+            && r.min_total_seconds >= 0.0
+            && r.cap_seconds > 0.0;
     if ok {
         Ok(())
     } else {
         Err(Error::option(
             "timing",
-            format!("need 1 ≤ min_repetitions ≤ max_repetitions, cap_repetitions ≥ 1, a finite min_total_seconds ≥ 0 and cap_seconds > 0; got {r:?}"),
+            format!("need MEASURED_RUN, or 1 ≤ min_repetitions ≤ max_repetitions, cap_repetitions ≥ 1, a finite min_total_seconds ≥ 0 and cap_seconds > 0; got {r:?}"),
         ))
     }
 }
@@ -328,17 +329,17 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         })
         .collect();
     let mut view = plan.entries(&cfg.registry, &names, &frame_runs, &judge, &scene.name)?;
-    // Timing: every chosen run and every frame entry that meets the tolerance, once each,
-    // interleaved on this thread after all accuracy runs.
+    // Timing: every chosen run and each frame rate's best entry, once each, interleaved on
+    // this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
         method: c.method.clone(),
         dt: c.dt,
         steps: c.steps,
         substeps: None,
     };
-    let wanted: Vec<TimedRun> = answers
+    let wanted: Vec<(TimedRun, f64)> = answers
         .iter()
-        .map(|a| run_of(&a.chosen))
+        .map(|a| (run_of(&a.chosen), a.chosen.wall_seconds))
         .chain(plan.timed_runs(&view))
         .collect();
     let timed = {

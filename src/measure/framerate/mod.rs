@@ -28,7 +28,7 @@ pub use timing::FRAMERATE_TIMING;
 pub use write::{write_framerate, FRAMERATE_HEADER};
 
 use super::advise::cost::force_evals_per_second;
-use super::case::{applicable, run_case_judged, CaseResult, CaseSettings, TimingRule};
+use super::case::{applicable, run_case_judged, CaseResult, CaseSettings, TimingRule, WallTimes};
 use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -229,14 +229,18 @@ fn check(cfg: &FramerateConfig) -> Result<()> {
     Ok(())
 }
 
-/// The measured part of a run (timing filled in later).
+/// The measured part of a run; its wall time too under [`MEASURED_RUN`] timing (a stable run
+/// that covered every frame), else filled in by the timing after every accuracy run.
 fn frame_run(
-    registry: &Registry,
+    cfg: &FramerateConfig,
     c: &CaseResult,
     substeps: u64,
     judge: &Judge,
 ) -> Result<FrameRun> {
-    let (evals, why) = force_evals_per_second(registry, &c.method, c.force_evals, c.steps as f64)?;
+    let (evals, why) =
+        force_evals_per_second(&cfg.registry, &c.method, c.force_evals, c.steps as f64)?;
+    let measured = (cfg.timing.reuses_measured_run() && c.ok() && c.steps_done == c.steps)
+        .then(|| WallTimes::of(&[c.wall_seconds]));
     Ok(FrameRun {
         substeps,
         status: c.status,
@@ -247,8 +251,10 @@ fn frame_run(
         modelled_seconds_per_frame: c
             .ok()
             .then(|| c.modelled_seconds / c.steps_done.max(1) as f64),
-        wall_seconds_per_frame: None,
-        timing: None,
+        wall_seconds_per_frame: measured
+            .as_ref()
+            .map(|t| t.median_seconds / c.steps.max(1) as f64),
+        timing: measured,
         force_evals_per_frame: evals,
         force_evals_reason: why,
         unstable_time: c.unstable_time,
@@ -516,9 +522,9 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                     .map(|(_, c)| c)
                     .expect("every tried count has its run")
             };
-            let one = frame_run(&cfg.registry, of(1), 1, &judge)?;
+            let one = frame_run(cfg, of(1), 1, &judge)?;
             let fewest = match found.fewest {
-                Some(n) => Some(frame_run(&cfg.registry, of(n), n, &judge)?),
+                Some(n) => Some(frame_run(cfg, of(n), n, &judge)?),
                 None => None,
             };
             let largest = found.tried.iter().map(|t| t.0).max().unwrap_or(1);
@@ -544,7 +550,9 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     {
         let _stage =
             crate::run::progress_stage(format!("framerate {}: timing", scene.name), cfg.progress);
-        timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
+        if !cfg.timing.reuses_measured_run() {
+            timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
+        }
     }
     let listed: Vec<String> = names
         .iter()

@@ -351,7 +351,8 @@ impl Reference {
         let end = self.info.horizon;
         let relative = tolerance / self.motion_scale();
         if let (Some(limit), ensemble::MemberSolver::FineStep { h }) = (self.limit, solver) {
-            let each = cost::fine_run_seconds(sys, s0, h, end - start);
+            // Each member runs from the start, not from the window.
+            let each = cost::fine_run_seconds(sys, s0, h, end);
             let all = each * crate::measure::statistics::ENSEMBLE_SIZE as f64;
             if all > limit {
                 self.info.ensemble = Some(format!(
