@@ -157,6 +157,8 @@ pub fn frame_setup(
 /// so that a drift of the machine's speed touches all of them alike; a run leaves the rotation
 /// once `rule` is satisfied. Each repetition uses a fresh stepper and no observer; the time
 /// is the runner's stepping wall time. Returns one [`WallTimes`] per run, in input order.
+/// [`MEASURED_RUN`] repeats nothing, so it is refused here: its callers take the accuracy
+/// runs' own times instead.
 pub fn time_interleaved(
     sys: &System,
     s0: &State,
@@ -164,6 +166,12 @@ pub fn time_interleaved(
     set: &CaseSettings,
     rule: &TimingRule,
 ) -> Result<Vec<WallTimes>> {
+    if rule.reuses_measured_run() {
+        return Err(crate::error::Error::option(
+            "timing",
+            "MEASURED_RUN times no run again: take the accuracy run's own wall time".to_string(),
+        ));
+    }
     let mut samples: Vec<Vec<f64>> = vec![Vec::new(); runs.len()];
     let mut totals = vec![0.0; runs.len()];
     loop {
@@ -259,6 +267,11 @@ pub struct CaseSettings {
     /// that many equal steps per frame, engines that many solver substeps. `None`: one step
     /// per frame for native methods, `options.substeps` for engines.
     pub substeps: Option<u64>,
+    /// End a run early once it can no longer pass (`(divisor, bound)` of
+    /// [`super::tolerance::Judge::position_stop`]): a search that needs only whether a run
+    /// passes does not compute the rest of one that has failed. A run ended so has no metrics
+    /// (it shows no number) and its `steps_done` says where it stopped. `None`: every run whole.
+    pub stop: Option<(f64, f64)>,
 }
 
 impl Default for CaseSettings {
@@ -272,11 +285,13 @@ impl Default for CaseSettings {
             trace: None,
             contacts: false,
             substeps: None,
+            stop: None,
         }
     }
 }
 
-/// Runs `name` on grid `grid` of `reference` (the grid's dt and steps).
+/// Runs `name` on grid `grid` of `reference` (the grid's dt and steps), ended early under
+/// [`CaseSettings::stop`].
 pub fn run_case(
     sys: &System,
     s0: &State,
@@ -285,27 +300,11 @@ pub fn run_case(
     name: &str,
     set: &CaseSettings,
 ) -> Result<CaseResult> {
-    run_case_judged(sys, s0, reference, grid, name, set, None)
-}
-
-/// [`run_case`], ended early once the run can no longer pass `stop` (`(divisor, bound)` of
-/// [`super::tolerance::Judge::position_stop`]): a search that needs only whether a run passes
-/// does not compute the rest of one that has failed. A run ended so has no metrics (it shows
-/// no number) and its `steps_done` says where it stopped.
-pub fn run_case_judged(
-    sys: &System,
-    s0: &State,
-    reference: &Reference,
-    grid: usize,
-    name: &str,
-    set: &CaseSettings,
-    stop: Option<(f64, f64)>,
-) -> Result<CaseResult> {
     let g: TimeGrid = reference.grids[grid];
     let (plan, options) = frame_setup(set, g.dt, g.steps, set.substeps);
     let mut stepper = set.registry.create(name, &options)?;
     let mut obs = MetricsObserver::new(sys, s0, reference, grid, set.series_points);
-    if let Some(st) = stop {
+    if let Some(st) = set.stop {
         obs = obs.stop_past(st);
     }
     let mut trace = set.trace.as_ref().map(|t| TraceObserver::new(t, g.dt));

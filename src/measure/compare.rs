@@ -265,6 +265,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         trace,
         contacts: true,
         substeps: cfg.frame_substeps,
+        stop: None,
     };
     let pb = crate::run::progress_bar(
         names.len() as u64,

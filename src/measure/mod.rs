@@ -15,6 +15,7 @@ pub mod expect_answer;
 mod fit;
 pub mod framerate;
 pub mod grid;
+mod kept;
 pub(crate) mod metrics;
 mod modes;
 pub mod observables;

@@ -150,22 +150,14 @@ impl Lin {
 /// Computed once per system and state in a process (the study asks for a scene's modes in
 /// several places: a dense eigen-decomposition of a 16×16 cloth takes about 0.3 s).
 pub fn modes(sys: &System, s0: &State) -> Modes {
-    type Kept = Vec<(String, Modes)>;
-    static KEPT: std::sync::Mutex<Kept> = std::sync::Mutex::new(Vec::new());
-    /// Most analyses kept (the oldest dropped first, analysed again when asked for).
-    const KEPT_MODES: usize = 64;
-    let key = format!("{sys:?}|{s0:?}");
-    let lock = || KEPT.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some((_, m)) = lock().iter().find(|(k, _)| *k == key) {
-        return m.clone();
+    /// Most analyses kept.
+    static KEPT: super::kept::Kept<Modes> = super::kept::Kept::new(64);
+    let made = KEPT.get_or_make::<std::convert::Infallible>(format!("{sys:?}|{s0:?}"), || {
+        Ok(analyse(sys, s0))
+    });
+    match made {
+        Ok(m) => m,
     }
-    let made = analyse(sys, s0);
-    let mut kept = lock();
-    if kept.len() >= KEPT_MODES {
-        kept.remove(0);
-    }
-    kept.push((key, made.clone()));
-    made
 }
 
 /// [`modes`], analysed afresh.

@@ -1,6 +1,6 @@
 //! A search that only needs whether a run passes ends a run once it has failed for good: its
 //! largest position error before the predictability horizon only grows, so once it passes the
-//! tolerance no later step can bring it back (`measure::case::run_case_judged`).
+//! tolerance no later step can bring it back (`measure::case::CaseSettings::stop`).
 //!
 //! Oracle (closed form): the anchored spring (1 kg, ω = 2 rad/s, released 0.5 m from rest;
 //! the closed-form reference). Explicit Euler multiplies the amplitude by √(1 + (hω)²) each
@@ -9,7 +9,7 @@
 //! within 2e-4 m over 10 s (phase error ≈ (hω)²/24 per radian), never passes 1 cm, runs to the
 //! end, and its metrics are bit for bit those of the unjudged run.
 
-use springlab::measure::case::{run_case, run_case_judged, CaseSettings};
+use springlab::measure::case::{run_case, CaseSettings};
 use springlab::measure::grid::TimeGrid;
 use springlab::measure::reference::Reference;
 use springlab::scenario::Scenario;
@@ -34,7 +34,11 @@ fn case(
         ..Default::default()
     };
     let whole = run_case(&sys, &s0, &r, 0, method, &set).unwrap();
-    let judged = run_case_judged(&sys, &s0, &r, 0, method, &set, Some((1.0, TOLERANCE))).unwrap();
+    let stopping = CaseSettings {
+        stop: Some((1.0, TOLERANCE)),
+        ..set.clone()
+    };
+    let judged = run_case(&sys, &s0, &r, 0, method, &stopping).unwrap();
     (whole, judged, steps)
 }
 

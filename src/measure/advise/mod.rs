@@ -287,6 +287,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         trace: None,
         contacts: false,
         substeps: None,
+        stop: None,
     };
     let priced = {
         let _stage = crate::run::progress_stage(

@@ -28,7 +28,7 @@ pub use timing::FRAMERATE_TIMING;
 pub use write::{write_framerate, FRAMERATE_HEADER};
 
 use super::advise::cost::force_evals_per_second;
-use super::case::{applicable, run_case_judged, CaseResult, CaseSettings, TimingRule, WallTimes};
+use super::case::{applicable, run_case, CaseResult, CaseSettings, TimingRule, WallTimes};
 use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -475,6 +475,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         trace: None,
         contacts: false,
         substeps: None,
+        stop: None,
     };
     let floors: Vec<Option<f64>> = (0..cfg.rates.len())
         .map(|r| frame_event_floor(scene, &reference, r))
@@ -502,14 +503,14 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
                         return Ok(None);
                     }
                 }
-                let s = CaseSettings {
-                    substeps: Some(n),
-                    ..set.clone()
-                };
                 // One substep is the table's row, shown whole; any other count only has to
                 // pass or fail (a pass is shown, and never stops early).
-                let stop = (n > 1).then(|| judge.position_stop()).flatten();
-                let c = run_case_judged(&sys, &s0, &reference, r, name, &s, stop)?;
+                let s = CaseSettings {
+                    substeps: Some(n),
+                    stop: (n > 1).then(|| judge.position_stop()).flatten(),
+                    ..set.clone()
+                };
+                let c = run_case(&sys, &s0, &reference, r, name, &s)?;
                 let ok = judge.meets(&c);
                 runs.push((n, c));
                 Ok(Some(ok))

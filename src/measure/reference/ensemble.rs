@@ -89,12 +89,8 @@ type Made = std::result::Result<Ensemble, String>;
 
 /// Ensembles made in this process, keyed like the kept solves ([`super::solution`]): every
 /// command that judges a scene by statistics over the same window reads the same members, made
-/// once. At most [`KEPT_ENSEMBLES`] are kept, the oldest dropped first (made again, to the
-/// same bits, when asked for).
-static KEPT: std::sync::Mutex<Vec<(String, Made)>> = std::sync::Mutex::new(Vec::new());
-
-/// Most ensembles kept.
-const KEPT_ENSEMBLES: usize = 32;
+/// once ([`crate::measure::kept`]; at most 32 kept).
+static KEPT: crate::measure::kept::Kept<Made> = crate::measure::kept::Kept::new(32);
 
 /// The ensemble over the window from `start` (the predictability horizon) to `end`, judged
 /// with position tolerance `tolerance` (m) and `relative_tolerance`; None when fewer than three
@@ -111,25 +107,7 @@ pub(super) fn ensemble(
     relative_tolerance: f64,
 ) -> Result<Made> {
     let key = format!("{sys:?}|{s0:?}|{start:?}|{end:?}|{solver:?}");
-    let lock = || KEPT.lock().unwrap_or_else(|e| e.into_inner());
-    let kept = lock()
-        .iter()
-        .find(|(k, _)| *k == key)
-        .map(|(_, m)| m.clone());
-    let made = match kept {
-        Some(m) => m,
-        None => {
-            let m = make(sys, s0, start, end, solver)?;
-            let mut all = lock();
-            if !all.iter().any(|(k, _)| *k == key) {
-                if all.len() >= KEPT_ENSEMBLES {
-                    drop(all.remove(0));
-                }
-                all.push((key, m.clone()));
-            }
-            m
-        }
-    };
+    let made = KEPT.get_or_make(key, || make(sys, s0, start, end, solver))?;
     Ok(made.map(|mut e| {
         e.tolerance = tolerance;
         e.relative_tolerance = relative_tolerance;

@@ -192,6 +192,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         trace: None,
         contacts: false,
         substeps: None,
+        stop: None,
     };
     let mut pending: Vec<usize> = owned
         .iter()
