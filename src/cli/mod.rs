@@ -27,6 +27,12 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Solve every reference afresh, neither reading nor writing the reference store
+    /// (SPRINGLAB_CACHE_DIR, else the platform cache folder's springlab/references; the
+    /// environment variable SPRINGLAB_NO_CACHE does the same); `report` also studies every
+    /// scene again
+    #[arg(long, global = true)]
+    no_cache: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -90,6 +96,13 @@ impl Command {
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    let no_cache =
+        cli.no_cache || std::env::var_os("SPRINGLAB_NO_CACHE").is_some_and(|v| !v.is_empty());
+    if !no_cache {
+        springlab::measure::reference::store::use_dir(
+            springlab::measure::reference::store::default_dir(),
+        );
+    }
     // The whole command is a stage: a long one prints a progress line at least every
     // interval until it ends, whatever part of it runs.
     let _stage = springlab::run::progress_stage(cli.command.name(), true);
@@ -104,7 +117,7 @@ pub fn main() -> ExitCode {
         Command::List(a) => list::run(a),
         Command::BenchScaling(a) => bench_scaling::run(a),
         Command::BenchRatios(a) => bench_ratios::run(a),
-        Command::Report(a) => report::run(a),
+        Command::Report(a) => report::run(a, no_cache),
         Command::Sweep(a) => sweep::run(a),
         Command::Stability(a) => stability::run(a),
         Command::Advise(a) => advise::run(a),

@@ -27,16 +27,14 @@ pub struct Args {
     /// Build the overview (index.html, README.md, summary.json) from the shards in OUT/shards/.
     #[arg(long)]
     pub merge: bool,
-    /// Study every scene again, even one whose folder already holds what its unchanged scene
-    /// file, these flags and this build produce (see OUT/SCENE/inputs.txt).
-    #[arg(long)]
-    pub no_cache: bool,
     #[command(flatten)]
     pub blowup: super::common::BlowupArg,
 }
 
-/// Runs the command.
-pub fn run(a: Args) -> Result<()> {
+/// Runs the command; `no_cache` (the global `--no-cache`) studies every scene again, even one
+/// whose folder already holds what its unchanged scene file, these flags and this build
+/// produce (see OUT/SCENE/inputs.txt).
+pub fn run(a: Args, no_cache: bool) -> Result<()> {
     super::common::check_out(&a.out)?;
     let generator = format!("springlab {} report", env!("CARGO_PKG_VERSION"));
     if a.merge {
@@ -59,7 +57,7 @@ pub fn run(a: Args) -> Result<()> {
             energy_terms: a.energy_terms,
             registry: springlab::method::Registry::builtin(),
             blowup_factor: a.blowup.value()?,
-            no_cache: a.no_cache,
+            no_cache,
         },
         shard: a.shard,
         generator,

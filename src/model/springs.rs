@@ -26,7 +26,7 @@ use std::sync::{Arc, OnceLock};
 ///
 /// After the first large evaluation the springs cache their particle incidence list; change
 /// the arrays only through [`Springs::push`] (which drops the cache), or build a new `Springs`.
-#[derive(Debug, Clone, Default)]
+#[derive(Clone, Default)]
 pub struct Springs {
     /// First particle of each spring.
     pub i: Vec<u32>,
@@ -45,6 +45,22 @@ pub struct Springs {
     /// first use by [`Springs::energy_at`].
     at: OnceLock<Option<Incidence>>,
     scratch: ScratchPool,
+}
+
+/// The springs as the scene defines them: caches and scratch buffers left out, so two
+/// descriptions of the same springs are equal whatever has been evaluated (the reference
+/// store and the kept solves key on it).
+impl std::fmt::Debug for Springs {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Springs")
+            .field("i", &self.i)
+            .field("j", &self.j)
+            .field("k", &self.k)
+            .field("l0", &self.l0)
+            .field("c", &self.c)
+            .field("any_damping", &self.any_damping)
+            .finish()
+    }
 }
 
 impl Springs {

@@ -2,6 +2,7 @@
 //! per-run CSV writers and the run summary, and the lock that keeps one writer per folder.
 
 mod atomic;
+pub mod digest;
 pub mod interrupt;
 mod lock;
 mod run_files;

@@ -11,42 +11,12 @@
 use super::generate::ReportOptions;
 use super::summary::SceneSummary;
 use crate::error::Result;
+use crate::output::digest::{digest, program_digest};
 use crate::scenario::Scenario;
-use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::Path;
-use std::sync::OnceLock;
 
 /// The digest file of a report folder.
 pub const INPUTS_FILE: &str = "inputs.txt";
-
-/// The running program's digest: a changed build never reuses an older build's folders.
-fn program_digest() -> &'static str {
-    static DIGEST: OnceLock<String> = OnceLock::new();
-    DIGEST.get_or_init(|| {
-        let bytes = std::env::current_exe()
-            .and_then(std::fs::read)
-            .unwrap_or_default();
-        // Without its own bytes the program cannot tell builds apart: a digest no folder
-        // holds, so nothing is reused.
-        if bytes.is_empty() {
-            return format!("unreadable-{}", std::process::id());
-        }
-        digest(&[&bytes])
-    })
-}
-
-/// A 128-bit digest of `parts` in hex (two independently seeded 64-bit hashes).
-fn digest(parts: &[&[u8]]) -> String {
-    let half = |seed: u64| {
-        let mut h = DefaultHasher::new();
-        seed.hash(&mut h);
-        for p in parts {
-            p.hash(&mut h);
-        }
-        h.finish()
-    };
-    format!("{:016x}{:016x}", half(1), half(2))
-}
 
 /// The text of a folder's digest file for `what` (a description of every input).
 fn inputs_text(what: &str) -> String {
@@ -92,20 +62,4 @@ pub fn reusable_scene(folder: &Path, inputs: &str) -> Option<SceneSummary> {
 pub fn write_inputs(folder: &Path, inputs: &str) -> Result<()> {
     crate::output::write_atomic(folder.join(INPUTS_FILE), inputs.as_bytes())?;
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    // Oracle: a digest is a function of its parts: equal parts give equal digests, and a
-    // change of one byte anywhere, or of where the parts split, gives another.
-    #[test]
-    fn digest_tells_inputs_apart() {
-        let a = digest(&[b"scene", b"opts"]);
-        assert_eq!(a, digest(&[b"scene", b"opts"]));
-        assert_ne!(a, digest(&[b"scene", b"optt"]));
-        assert_ne!(a, digest(&[b"scen", b"eopts"]));
-        assert_eq!(a.len(), 32);
-    }
 }

@@ -6,10 +6,8 @@
 //! Oracle: the shipped scene files themselves (`scenarios/bounce.toml`,
 //! `scenarios/bounce_penalty.toml`, `scenarios/rain_on_mesh.toml`).
 
-use std::process::Command;
-
 fn check(scene: &str) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
+    let out = crate::support::bin()
         .args([
             "check",
             &format!("{}/scenarios/{scene}", env!("CARGO_MANIFEST_DIR")),

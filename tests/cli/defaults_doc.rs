@@ -3,7 +3,6 @@
 //! code uses) against every default the documentation states for a flag.
 
 use std::collections::BTreeMap;
-use std::process::Command;
 
 const COMMANDS: [&str; 14] = [
     "run",
@@ -23,7 +22,7 @@ const COMMANDS: [&str; 14] = [
 ];
 
 fn help(cmd: &str) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
+    let out = crate::support::bin()
         .args([cmd, "--help"])
         .output()
         .unwrap();

@@ -358,7 +358,8 @@ fn a_report_onto_a_full_disk_keeps_every_earlier_scene_and_the_overview() {
         // A file-size limit (`ulimit -f`, in 512-byte blocks) far below the largest document:
         // writes beyond it fail as on a full disk (SIGXFSZ ignored, so they fail with EFBIG).
         let mut c = Command::new("sh");
-        c.arg("-c")
+        c.env("SPRINGLAB_NO_CACHE", "1")
+            .arg("-c")
             .arg("trap '' XFSZ; ulimit -f 16; exec \"$0\" \"$@\"")
             .arg(env!("CARGO_BIN_EXE_springlab"))
             .args(["report", "--quick", "--no-cache", "--scenarios"])

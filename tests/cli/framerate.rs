@@ -18,7 +18,6 @@
 
 use springlab::measure::framerate::{framerate, write_framerate, FramerateConfig};
 use springlab::scenario::Scenario;
-use std::process::Command;
 
 const CHAIN: &str = r#"
 [[chain]]
@@ -196,10 +195,7 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
     let out = tempfile::tempdir().unwrap();
     let mut args: Vec<String> = words[1..words.len() - 2].to_vec();
     args.extend(["--out".into(), out.path().display().to_string()]);
-    let st = Command::new(env!("CARGO_BIN_EXE_springlab"))
-        .args(&args)
-        .output()
-        .unwrap();
+    let st = crate::support::bin().args(&args).output().unwrap();
     assert!(
         st.status.success(),
         "{}",
@@ -231,10 +227,7 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
 }
 
 fn springlab(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
-        .args(args)
-        .output()
-        .unwrap();
+    let out = crate::support::bin().args(args).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(!err.contains("panicked"), "{args:?}: {err}");
     (out.status.success(), err)

@@ -15,7 +15,7 @@ fix = [\"top_left\", \"top_right\"]\n[run]\ndt = 0.001\nsteps = 50\n";
 const FINAL: [&str; 3] = ["trajectory.csv", "energy.csv", "summary.json"];
 
 fn springlab() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_springlab"))
+    crate::support::bin()
 }
 
 fn read_all(dir: &Path) -> Vec<Vec<u8>> {
@@ -226,6 +226,7 @@ fn a_failed_write_leaves_no_temporary_file() {
         "--out",
     ];
     let o = Command::new("sh")
+        .env("SPRINGLAB_NO_CACHE", "1")
         .arg("-c")
         .arg("trap '' XFSZ; ulimit -f 16; exec \"$0\" \"$@\"")
         .arg(env!("CARGO_BIN_EXE_springlab"))

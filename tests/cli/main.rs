@@ -14,6 +14,7 @@ mod measure_cli;
 mod output_lock;
 mod progress_budget;
 mod progress_lines;
+mod reference_store;
 mod report_browser;
 mod report_collision;
 mod report_commands;

@@ -27,7 +27,7 @@ fn scene(dir: &Path) -> PathBuf {
 }
 
 fn start(scene: &Path, out: &Path, steps: u64, every: u64) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_springlab"))
+    crate::support::bin()
         .arg("run")
         .arg(scene)
         .args(["-i", "symplectic_euler", "--steps", &steps.to_string()])
@@ -229,7 +229,7 @@ fn two_small_scenes(dir: &Path) -> PathBuf {
 }
 
 fn report_cmd(scenes: &Path, out: &Path, extra: &[&str]) -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_springlab"));
+    let mut c = crate::support::bin();
     c.args(["report", "--quick", "--scenarios"])
         .arg(scenes)
         .arg("--out")
@@ -288,7 +288,7 @@ fn shards_started_together_all_run_and_a_whole_report_still_excludes_them() {
 /// `run` with the given extra arguments (no `--every` unless among them), and an optional
 /// file-size limit (bytes) set in the child as `ulimit -f` would.
 fn run_sized(scene: &Path, out: &Path, steps: u64, extra: &[&str], fsize: Option<u64>) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_springlab"));
+    let mut c = crate::support::bin();
     c.arg("run")
         .arg(scene)
         .args(["-i", "symplectic_euler", "--steps", &steps.to_string()])

@@ -72,7 +72,7 @@ fn report_opens_in_headless_chromium() {
         )
         .unwrap();
     }
-    let st = Command::new(env!("CARGO_BIN_EXE_springlab"))
+    let st = crate::support::bin()
         .args(["report", "--quick", "--scenarios"])
         .arg(&scenes)
         .arg("--out")

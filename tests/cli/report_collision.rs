@@ -20,7 +20,7 @@ fn report(scenes: &[&str], out: &Path) {
         )
         .unwrap();
     }
-    let st = std::process::Command::new(env!("CARGO_BIN_EXE_springlab"))
+    let st = crate::support::bin()
         .args(["report", "--quick", "--scenarios"])
         .arg(&dir)
         .arg("--out")

@@ -7,10 +7,9 @@
 use serde_json::Value;
 use springlab::measure::command::split_words;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn springlab(args: &[String], cwd: &Path) {
-    let out = Command::new(env!("CARGO_BIN_EXE_springlab"))
+    let out = crate::support::bin()
         .args(args)
         .current_dir(cwd)
         .output()

@@ -7,7 +7,6 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::sync::OnceLock;
 
 /// The shipped scenes this test reports: an exact oscillator, a blow-up, a bounce, a chain
@@ -35,7 +34,7 @@ fn report_dir() -> &'static Path {
             )
             .unwrap();
         }
-        let st = Command::new(env!("CARGO_BIN_EXE_springlab"))
+        let st = crate::support::bin()
             .args(["report", "--quick", "--energy-terms", "--scenarios"])
             .arg(&scenes)
             .arg("--out")

@@ -6,11 +6,10 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Runs a quick report with `extra` flags; its stderr.
 fn report_with(scenes: &Path, out: &Path, extra: &[&str]) -> String {
-    let o = Command::new(env!("CARGO_BIN_EXE_springlab"))
+    let o = crate::support::bin()
         .args(["report", "--quick", "--scenarios"])
         .arg(scenes)
         .arg("--out")
@@ -169,7 +168,7 @@ fn shards_merged_give_the_unsharded_report() {
     report(&scenes, &whole);
     let sharded = tmp.path().join("sharded");
     let run = |extra: &[&str]| {
-        let o = Command::new(env!("CARGO_BIN_EXE_springlab"))
+        let o = crate::support::bin()
             .args(["report", "--quick", "--scenarios"])
             .arg(&scenes)
             .arg("--out")

@@ -2,9 +2,13 @@
 
 use std::process::Command;
 
-/// The `springlab` binary under test.
+/// The `springlab` binary under test, without the reference store: each test solves its own
+/// references, so no test's timing or progress depends on what another test stored (the
+/// store's own tests point `SPRINGLAB_CACHE_DIR` at a folder of their own and clear this).
 pub fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_springlab"))
+    let mut c = Command::new(env!("CARGO_BIN_EXE_springlab"));
+    c.env("SPRINGLAB_NO_CACHE", "1");
+    c
 }
 
 /// Runs `springlab ARGS`, asserts that it succeeded (showing its stderr when not) and returns

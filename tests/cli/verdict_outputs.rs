@@ -7,13 +7,10 @@
 
 use crate::support::ok;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 fn springlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_springlab"))
-        .args(args)
-        .output()
-        .unwrap()
+    crate::support::bin().args(args).output().unwrap()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> String {

@@ -22,7 +22,7 @@ use crate::model::{State, System};
 use rayon::prelude::*;
 
 /// The solver an ensemble member uses.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub(super) enum MemberSolver {
     /// DOP853 at this tolerance, giving up past this many attempted steps.
     Dop853 { rtol: f64, max_steps: u64 },
@@ -107,7 +107,14 @@ pub(super) fn ensemble(
     relative_tolerance: f64,
 ) -> Result<Made> {
     let key = format!("{sys:?}|{s0:?}|{start:?}|{end:?}|{solver:?}");
-    let made = KEPT.get_or_make(key, || make(sys, s0, start, end, solver))?;
+    let made = KEPT.get_or_make(key.clone(), || {
+        if let Some(made) = super::stored::load_ensemble(&key) {
+            return Ok(made);
+        }
+        let made = make(sys, s0, start, end, solver)?;
+        super::stored::save_ensemble(&key, &made);
+        Ok(made)
+    })?;
     Ok(made.map(|mut e| {
         e.tolerance = tolerance;
         e.relative_tolerance = relative_tolerance;

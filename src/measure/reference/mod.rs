@@ -24,6 +24,10 @@
 //! (`solution`, within a memory budget), and so is the fine-step hierarchy (`fine_kept`, its
 //! last two levels whole); a [`Reference`] samples it at the times of its grids (a whole sweep
 //! at once) and stores only positions there, so a new grid costs no new solve.
+//!
+//! Between commands, a computed reference and ensemble are kept in the reference store
+//! ([`store`], when in use): a later command asking for the same reference reads it back,
+//! the same bits, instead of solving.
 
 mod adaptive;
 mod contact_events;
@@ -37,6 +41,8 @@ pub mod finestep;
 pub mod period;
 mod rhs;
 mod solution;
+pub mod store;
+mod stored;
 mod tracked;
 pub mod uncertainty;
 
@@ -220,6 +226,30 @@ impl Reference {
         limit: Option<f64>,
     ) -> Result<Self> {
         let horizon = entries(grids).last().map_or(horizon, |e| e.t.max(horizon));
+        let key =
+            store::dir().map(|_| stored::reference_key(sys, s0, grids, horizon, solver, limit));
+        if let Some(r) = key
+            .as_deref()
+            .and_then(|k| stored::load_reference(k, limit))
+        {
+            return Ok(r);
+        }
+        let r = Self::solve_limited(sys, s0, grids, horizon, solver, limit)?;
+        if let Some(k) = &key {
+            stored::save_reference(k, &r);
+        }
+        Ok(r)
+    }
+
+    /// Solves the reference of [`Reference::compute_limited`] (the store not consulted).
+    fn solve_limited(
+        sys: &System,
+        s0: &State,
+        grids: &[TimeGrid],
+        horizon: f64,
+        solver: ReferenceSolver,
+        limit: Option<f64>,
+    ) -> Result<Self> {
         let tracked = tracked_component(sys, s0);
         let samples = grids
             .iter()

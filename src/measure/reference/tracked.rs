@@ -6,7 +6,7 @@ use crate::model::{State, System, Vec3};
 use serde::Serialize;
 
 /// The velocity component tracked for period and phase: particle and axis (0 = x).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 pub struct Tracked {
     /// Particle index.
     pub particle: usize,
