@@ -120,52 +120,42 @@ impl Springs {
         }
     }
 
-    /// Force of spring `s` on its first particle and the power its damper dissipates:
-    /// `n (k_eff (|d| − l0) + c n·(v_j − v_i))` with `n = d/|d|`, and zero at `|d| = 0`.
+    /// Force of spring `s` on its first particle and the power its damper dissipates
+    /// ([`spring_force`]).
     #[inline(always)]
     fn force<const DAMPED: bool>(&self, s: usize, x: &[Vec3], v: &[Vec3]) -> (Vec3, f64) {
         let (a, b) = (self.i[s] as usize, self.j[s] as usize);
-        let d = x[b] - x[a];
-        let len = d.norm();
-        if len == 0.0 {
-            // Coincident endpoints: k_eff d is the zero vector, the damper is skipped.
-            return (Vec3::zeros(), 0.0);
-        }
-        let n = d * (1.0 / len);
-        let mut mag = self.k[s] * (len - self.l0[s]);
-        let mut power = 0.0;
-        if DAMPED {
-            let vrel = (v[b] - v[a]).dot(&n);
-            let cv = self.c[s] * vrel;
-            mag += cv;
-            power = cv * vrel;
-        }
-        (n * mag, power)
+        spring_force::<DAMPED>(a, b, x, v, self.k[s], self.l0[s], self.c[s])
     }
 
-    /// Serial scatter; power summed per [`SPRING_CHUNK`] and then across chunks.
+    /// Serial scatter; power summed per [`SPRING_CHUNK`] and then across chunks. The spring
+    /// arrays are walked together, chunk by chunk, so only the particles are looked up.
     pub(crate) fn add_forces_serial<const DAMPED: bool>(
         &self,
         x: &[Vec3],
         v: &[Vec3],
         f: &mut [Vec3],
     ) -> f64 {
-        let m = self.len();
         let mut power = 0.0;
-        let mut lo = 0;
-        while lo < m {
-            let hi = (lo + SPRING_CHUNK).min(m);
+        for ((((i, j), k), l0), c) in self
+            .i
+            .chunks(SPRING_CHUNK)
+            .zip(self.j.chunks(SPRING_CHUNK))
+            .zip(self.k.chunks(SPRING_CHUNK))
+            .zip(self.l0.chunks(SPRING_CHUNK))
+            .zip(self.c.chunks(SPRING_CHUNK))
+        {
             let mut part = 0.0;
-            for s in lo..hi {
-                let (fs, p) = self.force::<DAMPED>(s, x, v);
+            for ((((&a, &b), &k), &l0), &c) in i.iter().zip(j).zip(k).zip(l0).zip(c) {
+                let (a, b) = (a as usize, b as usize);
+                let (fs, p) = spring_force::<DAMPED>(a, b, x, v, k, l0, c);
                 if DAMPED {
                     part += p;
                 }
-                f[self.i[s] as usize] += fs;
-                f[self.j[s] as usize] -= fs;
+                f[a] += fs;
+                f[b] -= fs;
             }
             power += part;
-            lo = hi;
         }
         power
     }
@@ -274,6 +264,37 @@ impl Springs {
             (Matrix3::identity() * k, Matrix3::zeros())
         }
     }
+}
+
+/// Force of the spring from particle `a` to particle `b` (effective stiffness `k`, rest length
+/// `l0`, damping `c`) on `a`, and the power its damper dissipates:
+/// `n (k (|d| − l0) + c n·(v_b − v_a))` with `d = x_b − x_a`, `n = d/|d|`, and zero at `|d| = 0`.
+#[inline(always)]
+fn spring_force<const DAMPED: bool>(
+    a: usize,
+    b: usize,
+    x: &[Vec3],
+    v: &[Vec3],
+    k: f64,
+    l0: f64,
+    c: f64,
+) -> (Vec3, f64) {
+    let d = x[b] - x[a];
+    let len = d.norm();
+    if len == 0.0 {
+        // Coincident endpoints: k_eff d is the zero vector, the damper is skipped.
+        return (Vec3::zeros(), 0.0);
+    }
+    let n = d * (1.0 / len);
+    let mut mag = k * (len - l0);
+    let mut power = 0.0;
+    if DAMPED {
+        let vrel = (v[b] - v[a]).dot(&n);
+        let cv = c * vrel;
+        mag += cv;
+        power = cv * vrel;
+    }
+    (n * mag, power)
 }
 
 impl ForceTerm for Springs {
