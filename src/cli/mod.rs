@@ -29,8 +29,8 @@ struct Cli {
     command: Command,
     /// Solve every reference afresh, neither reading nor writing the reference store
     /// (SPRINGLAB_CACHE_DIR, else the platform cache folder's springlab/references; the
-    /// environment variable SPRINGLAB_NO_CACHE does the same); `report` also studies every
-    /// scene again
+    /// environment variable SPRINGLAB_NO_CACHE turns the store off alone); `report` also
+    /// studies every scene again
     #[arg(long, global = true)]
     no_cache: bool,
 }
@@ -96,9 +96,9 @@ impl Command {
 /// Parses the command line, runs the command, and maps errors to a message and exit code 1.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
-    let no_cache =
-        cli.no_cache || std::env::var_os("SPRINGLAB_NO_CACHE").is_some_and(|v| !v.is_empty());
-    if !no_cache {
+    let no_store = std::env::var_os("SPRINGLAB_NO_CACHE").is_some_and(|v| !v.is_empty());
+    let no_cache = cli.no_cache;
+    if !no_cache && !no_store {
         springlab::measure::reference::store::use_dir(
             springlab::measure::reference::store::default_dir(),
         );
