@@ -152,12 +152,10 @@ impl Lin {
 pub fn modes(sys: &System, s0: &State) -> Modes {
     /// Most analyses kept.
     static KEPT: super::kept::Kept<Modes> = super::kept::Kept::new(64);
-    let made = KEPT.get_or_make::<std::convert::Infallible>(format!("{sys:?}|{s0:?}"), || {
+    let Ok(made) = KEPT.get_or_make::<std::convert::Infallible>(format!("{sys:?}|{s0:?}"), || {
         Ok(analyse(sys, s0))
     });
-    match made {
-        Ok(m) => m,
-    }
+    made
 }
 
 /// [`modes`], analysed afresh.

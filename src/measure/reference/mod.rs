@@ -217,6 +217,8 @@ impl Reference {
         Self::compute_limited(sys, s0, grids, horizon, solver, None)
     }
 
+    /// The reference of `sys` from `s0` on `grids`: read from the reference store when it
+    /// holds it ([`store`]), else computed, and then written there unless a closed form.
     fn compute_limited(
         sys: &System,
         s0: &State,
@@ -234,22 +236,6 @@ impl Reference {
         {
             return Ok(r);
         }
-        let r = Self::solve_limited(sys, s0, grids, horizon, solver, limit)?;
-        if let Some(k) = &key {
-            stored::save_reference(k, &r);
-        }
-        Ok(r)
-    }
-
-    /// Solves the reference of [`Reference::compute_limited`] (the store not consulted).
-    fn solve_limited(
-        sys: &System,
-        s0: &State,
-        grids: &[TimeGrid],
-        horizon: f64,
-        solver: ReferenceSolver,
-        limit: Option<f64>,
-    ) -> Result<Self> {
         let tracked = tracked_component(sys, s0);
         let samples = grids
             .iter()
@@ -308,6 +294,9 @@ impl Reference {
         }
         r.info.accuracy = r.info.uncertainty;
         r.info.motion_scale = r.motion_scale();
+        if let Some(k) = &key {
+            stored::save_reference(k, &r);
+        }
         Ok(r)
     }
 
