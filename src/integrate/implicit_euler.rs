@@ -4,9 +4,10 @@
 //!
 //! The step is the shared implicit core's stage itself ([`Newton`]): Newton stops at a root to
 //! the root tolerance, early there at 1 % of the step's own error estimate (see
-//! [`ImplicitSettings`](super::ImplicitSettings)), and backtracks when an update would raise the residual; each Newton iteration solves
-//! (M − h ∂f/∂v − h² ∂f/∂x) Δv = −G(v') by block-Jacobi-preconditioned CG, clamping compressed
-//! springs' negative stiffness when CG meets non-positive curvature.
+//! [`ImplicitSettings`](super::ImplicitSettings)); each Newton iteration solves
+//! ((1 + μ) M − h ∂f/∂v − h² ∂f/∂x) Δv = −G(v') by block-Jacobi-preconditioned CG, with the
+//! Levenberg–Marquardt shift μ = 0 unless compressed springs make the matrix indefinite, and
+//! steps along Δv by an Armijo line search on the stage's incremental potential.
 //! Order 1; A-stable and L-stable: on an undamped oscillator the amplitude shrinks by
 //! 1/√(1 + (hω)²) per step, for every h.
 

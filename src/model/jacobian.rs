@@ -29,6 +29,9 @@ pub struct Jacobian {
     /// drop: 0 is the exact Jacobian, 1 fills positive semi-definite blocks only, so the
     /// Newton matrix is SPD.
     pub clamp: f64,
+    /// Levenberg–Marquardt shift μ: the Newton matrix's mass term is (1 + μ) M, so that
+    /// M(1 + μ) − h ∂f/∂v − h² ∂f/∂x is positive definite where the unshifted one is not.
+    pub shift: f64,
     /// Per-pair Newton blocks h·kv + h²·kx, filled by [`Jacobian::prepare_newton`].
     newton_pair: Vec<Matrix3<f64>>,
     /// Per-particle Newton blocks m I − h·diag_v − h²·diag_x (identity for fixed particles).
@@ -63,6 +66,7 @@ impl Jacobian {
             diag_x: vec![Matrix3::zeros(); n],
             diag_v: vec![Matrix3::zeros(); n],
             clamp: 0.0,
+            shift: 0.0,
             newton_pair: vec![Matrix3::zeros(); m],
             newton_self: vec![Matrix3::zeros(); n],
             owners,
@@ -101,9 +105,10 @@ impl Jacobian {
                 .for_each(|(s, o)| pair(s, o));
         }
         let (dv, dx) = (&self.diag_v, &self.diag_x);
+        let grow = 1.0 + self.shift;
         each_particle(&mut self.newton_self, |i, o| {
             *o = if free[i] {
-                Matrix3::identity() * mass[i] - dv[i] * h - dx[i] * (h * h)
+                Matrix3::identity() * (mass[i] * grow) - dv[i] * h - dx[i] * (h * h)
             } else {
                 Matrix3::identity()
             };

@@ -143,8 +143,9 @@ pub struct ImplicitCost {
     /// Most Newton iterations any one step took (the hardest stage, against the cap
     /// [`crate::integrate::ImplicitSettings::max_newton`]).
     pub newton_max: u64,
-    /// Switches between clamped Newton and trust-region steps per step (stalled strategies).
-    pub switches_per_step: f64,
+    /// Newton iterations per step whose matrix carried a Levenberg–Marquardt shift (the exact
+    /// one was indefinite, or the last step overshot).
+    pub shifted_per_step: f64,
 }
 
 /// Steps the implicit method `method` `steps` times at `h` with the solver settings `set`
@@ -187,6 +188,6 @@ pub fn implicit_cost(
         factorizations_per_step: nw.factorizations() as f64 / n,
         force_evals_per_step: evals as f64 / n,
         newton_max,
-        switches_per_step: nw.strategy_switches as f64 / n,
+        shifted_per_step: nw.shifted_iterations as f64 / n,
     })
 }

@@ -1,9 +1,12 @@
-//! A backward-Euler stage on which clamped Newton stalls (a crumpled cloth at a game frame)
-//! still converges to a root of the stage's equations, by switching to trust-region steps and
-//! back. Oracle: the definition of backward Euler, M (v' − v) = h f(x + h v', v'), evaluated
-//! here with the model's own forces, independently of the solver's residual.
+//! A backward-Euler stage past a cloth's fold (a crumpled cloth at a game frame: compressed
+//! springs make the exact Newton matrix indefinite) converges to a root of the stage's
+//! equations through Levenberg–Marquardt-shifted Newton steps, and its twin before the fold (the
+//! same cloth stretched, every spring in tension) converges with no shift, in Newton's
+//! quadratic few. Oracle: the definition of backward Euler, M (v' − v) = h f(x + h v', v'),
+//! evaluated here with the model's own forces, independently of the solver's residual.
 
 use springlab::method::MethodOptions;
+use springlab::model::System;
 use springlab::{method, perf, Vec3};
 
 /// A fixed linear congruential generator (Knuth's MMIX constants): uniform in [−½, ½).
@@ -18,24 +21,25 @@ impl Lcg {
     }
 }
 
-#[test]
-fn crumpled_cloth_stage_converges_through_both_strategies() {
+/// One implicit-Euler stage of the 8×8 benchmark cloth at 1/60 s from its rest state scaled
+/// by `squeeze` in the plane, rumpled by ±`rumple` m and thrown at up to `throw` m/s per
+/// component;
+/// returns (Newton iterations, shifted iterations, max |v' − v − h M⁻¹f| / its scale).
+fn stage(squeeze: f64, rumple: f64, throw: f64) -> (u64, u64, f64) {
     let h = 1.0 / 60.0;
     let scene = perf::cloth(8);
     let sys = scene.build();
     let mut s = scene.initial_state();
-    // Squeezed to half its size in the plane, rumpled by ±5 cm and thrown at up to 1 m/s
-    // per component: many springs compressed, so the exact Newton matrix is indefinite.
     let mut rnd = Lcg(6364136223846793005u64.wrapping_add(1442695040888963407));
     for p in 0..s.len() {
+        s.x[p][0] *= squeeze;
+        s.x[p][2] *= squeeze;
         if !sys.free[p] {
             continue;
         }
-        s.x[p][0] *= 0.5;
-        s.x[p][2] *= 0.5;
-        s.x[p][1] += 0.1 * rnd.next();
+        s.x[p][1] += rumple * rnd.next();
         for k in 0..3 {
-            s.v[p][k] = 2.0 * rnd.next();
+            s.v[p][k] = 2.0 * throw * rnd.next();
         }
     }
     let (x0, v0) = (s.x.clone(), s.v.clone());
@@ -44,32 +48,62 @@ fn crumpled_cloth_stage_converges_through_both_strategies() {
         // Only the tight stop: the truncation-error stop would end the stage early.
         let set = &mut stepper.newton_mut().unwrap().settings;
         set.kappa = 0.0;
+        // A cloth squeezed to half its size starts far from the stage's root: the cap is
+        // raised so that the test measures convergence, not the default budget.
         set.max_newton = 200;
     }
     stepper.step(&sys, &mut s, h).expect("the stage converges");
     let nw = stepper.newton().unwrap();
-    assert!(
-        nw.strategy_switches >= 2,
-        "the stage should stall in both strategies (switches: {})",
-        nw.strategy_switches
+    let rel = backward_euler_defect(&sys, &x0, &v0, &s.x, &s.v, h);
+    println!(
+        "squeeze {squeeze}: Newton {} iterations, {} shifted; max |v' − v − h M⁻¹f| / scale = {rel:.3e}",
+        nw.newton_iterations, nw.shifted_iterations
     );
-    let mut f = vec![Vec3::zeros(); s.len()];
-    sys.forces(&s.x, &s.v, &mut f);
-    let mut scale = 0.0f64;
-    let mut worst = 0.0f64;
-    for p in 0..s.len() {
+    (nw.newton_iterations, nw.shifted_iterations, rel)
+}
+
+/// max |v' − v − h M⁻¹ f(x', v')| over the free particles, relative to the stage's velocity
+/// scale (the largest |v|, |v'|, h|f|/m component); also checks x' = x + h v'.
+fn backward_euler_defect(
+    sys: &System,
+    x0: &[Vec3],
+    v0: &[Vec3],
+    x: &[Vec3],
+    v: &[Vec3],
+    h: f64,
+) -> f64 {
+    let mut f = vec![Vec3::zeros(); x.len()];
+    sys.forces(x, v, &mut f);
+    let (mut scale, mut worst) = (0.0f64, 0.0f64);
+    for p in 0..x.len() {
         if !sys.free[p] {
             continue;
         }
-        assert!((s.x[p] - (x0[p] + s.v[p] * h)).amax() <= 1e-15 * (1.0 + x0[p].amax()));
-        let g = (s.v[p] - v0[p]) - f[p] * (h * sys.inv_mass[p]);
+        assert!((x[p] - (x0[p] + v[p] * h)).amax() <= 1e-15 * (1.0 + x0[p].amax()));
+        let g = (v[p] - v0[p]) - f[p] * (h * sys.inv_mass[p]);
         worst = worst.max(g.amax());
-        scale = scale.max(s.v[p].amax()).max(v0[p].amax());
+        scale = scale.max(v[p].amax()).max(v0[p].amax());
         scale = scale.max((f[p] * (h * sys.inv_mass[p])).amax());
     }
-    println!(
-        "Newton {} iterations, {} switches; max |v' − v − h M⁻¹f| = {worst:.3e} (scale {scale:.3})",
-        nw.newton_iterations, nw.strategy_switches
-    );
-    assert!(worst <= 1e-9 * scale, "residual {worst:e} at scale {scale}");
+    worst / scale
+}
+
+/// Past the fold: squeezed to half its size, rumpled by ±5 cm and thrown, many springs
+/// compressed.
+#[test]
+fn crumpled_cloth_stage_converges_through_shifted_steps() {
+    let (_, shifted, rel) = stage(0.5, 0.1, 1.0);
+    assert!(shifted >= 1, "the crumpled stage should need a shift");
+    assert!(rel <= 1e-9, "residual {rel:e} of the scale");
+}
+
+/// The twin before the fold: stretched by 2 % and at rest, every spring in tension, so the
+/// exact matrix is positive definite: no shift, and Newton's quadratic convergence reaches the tight
+/// tolerance in a few iterations.
+#[test]
+fn twin_stretched_cloth_stage_converges_unshifted_in_few_iterations() {
+    let (newton, shifted, rel) = stage(1.02, 0.0, 0.0);
+    assert_eq!(shifted, 0, "a stretched cloth needs no shift");
+    assert!(newton <= 8, "{newton} Newton iterations");
+    assert!(rel <= 1e-9, "residual {rel:e} of the scale");
 }

@@ -3,9 +3,11 @@
 //! springs), preconditioned by a block IC(0) factor of the clamped matrix (`ic0.rs`) or by
 //! A's inverse 3×3 diagonal blocks (block Jacobi).
 //!
-//! A compressed spring makes the exact Jacobian indefinite; [`solve_clamped`] then redoes the
-//! solve with more and more of the compressed springs' negative stiffness dropped (50 %,
-//! 87.5 %, 100 %: the last is SPD). Large systems run the products and vector updates in
+//! A compressed spring can make the exact matrix indefinite; [`solve_shifted`] then redoes the
+//! solve with the mass term raised past the curvature CG met (the Levenberg–Marquardt shift,
+//! `shift.rs`), until the matrix is positive definite; [`solve_clamped`], the linearly
+//! implicit method's solve, drops more and more of the compressed springs' negative stiffness
+//! instead (50 %, 87.5 %, 100 %: the last is SPD). Large systems run the products and vector updates in
 //! parallel over fixed chunks, and dot products sum fixed chunk partials in order, so results
 //! are bit-identical for any thread count.
 
@@ -13,15 +15,16 @@
 use super::direct::Factor;
 use super::ic0::Ic0;
 use super::settings::ImplicitSettings;
+use super::shift::{raised, MAX_SHIFTS};
+
+/// Fractions of compressed springs' indefinite stiffness dropped in successive attempts at
+/// one linearly implicit solve (see [`Jacobian::clamp`]).
+pub(super) const CLAMPS: [f64; 4] = [0.0, 0.5, 0.875, 1.0];
 use super::translation::translation_invariant;
 use crate::integrate::ensure_len;
 use crate::model::parallel::{dot, each_particle, each_particle2};
 use crate::model::{Jacobian, System, Vec3};
 use nalgebra::Matrix3;
-
-/// Fractions of compressed springs' indefinite stiffness dropped in successive attempts at
-/// one linear solve (see [`Jacobian::clamp`]).
-pub(super) const CLAMPS: [f64; 4] = [0.0, 0.5, 0.875, 1.0];
 
 /// Scratch of the preconditioned CG iteration.
 #[derive(Debug, Default)]
@@ -33,14 +36,9 @@ pub(super) struct Cg {
     ap: Vec<Vec3>,
     /// Chunk sums of the dot products.
     parts: Vec<f64>,
-    /// The quadratic model's value m(s) = −bᵀs + ½ sᵀAs at the returned step (its predicted
-    /// change of the incremental potential).
-    pub(super) model: f64,
-    /// The returned step's P-norm √(sᵀPs).
-    pub(super) step_norm: f64,
-    /// Trust-region solves: the radius used (set to max(‖s‖_P, √(bᵀP⁻¹b)) on the first
-    /// negative curvature of a solve called with an infinite radius).
-    pub(super) radius: f64,
+    /// The mass-relative curvature pᵀAp / pᵀMp of the direction on which the last solve met
+    /// non-positive curvature (−∞ where the product was not finite).
+    pub(super) curvature: f64,
 }
 
 /// The preconditioner of one CG solve.
@@ -61,25 +59,16 @@ pub(super) enum CgOutcome {
     Converged(usize),
     NegativeCurvature(usize),
     NotConverged(usize),
-    /// Trust-region solves: the step stopped on the boundary, along negative curvature or
-    /// because the next iterate would leave the region (Steihaug–Toint).
-    Boundary(usize),
 }
 
 impl Cg {
     /// Solves A x = b for the Newton matrix prepared in `jac` by CG preconditioned with
     /// `pre`, at most `max_it` iterations; x starts at zero, or on a translation-invariant
-    /// system at its exact translation part (see [`Cg::deflate`]; [`Cg::model`] and
-    /// [`Cg::step_norm`] then leave that part out). Stops at the relative tolerance
-    /// [`ImplicitSettings::cg_tol`] or when the residual's Σ |rᵢ|²/mᵢ falls to `abs_tol2`
-    /// (the inexact-Newton forcing; 0 for none).
-    ///
-    /// With `radius` = Some(Δ) it is Steihaug–Toint truncated CG (Nocedal & Wright Alg. 7.2)
-    /// in the preconditioner's norm: on non-positive curvature, or when an iterate would leave
-    /// ‖s‖_P ≤ Δ, it steps to the boundary and returns [`CgOutcome::Boundary`]; the model value
-    /// and ‖s‖_P are left in [`Cg::model`], [`Cg::step_norm`]. The P-norms follow the
-    /// recurrences of Conn, Gould & Toint (Trust-Region Methods, §7.5.1), with no extra vectors.
-    // One function because CG's vectors, the clamping of compressed springs and the deflation of translations act within one iteration.
+    /// system at its exact translation part (see [`Cg::deflate`]). Stops at the relative
+    /// tolerance [`ImplicitSettings::cg_tol`] or when the residual's Σ |rᵢ|²/mᵢ falls to
+    /// `abs_tol2` (the inexact-Newton forcing; 0 for none); on non-positive curvature it
+    /// stops with [`CgOutcome::NegativeCurvature`], the curvature met in [`Cg::curvature`].
+    // One function because CG's vectors and the deflation of translations act within one iteration.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn solve(
         &mut self,
@@ -91,7 +80,6 @@ impl Cg {
         mut pre: Precond<'_>,
         max_it: usize,
         abs_tol2: f64,
-        radius: Option<f64>,
     ) -> CgOutcome {
         let n = b.len();
         for buf in [&mut self.r, &mut self.z, &mut self.p, &mut self.ap] {
@@ -110,9 +98,8 @@ impl Cg {
             *xi = Vec3::zeros();
             *ri = if free[i] { b[i] } else { Vec3::zeros() };
         });
-        // Deflation of the translations (not in the trust region, whose norms assume x₀ = 0).
-        let deflate =
-            (radius.is_none() && translation_invariant(sys)).then(|| sys.mass.iter().sum::<f64>());
+        // Deflation of the translations.
+        let deflate = translation_invariant(sys).then(|| sys.mass.iter().sum::<f64>());
         if let Some(total) = deflate {
             // x₀ = Z (ZᵀAZ)⁻¹ Zᵀb: the uniform c = Σb / Σm, since A Z = M Z.
             let c = self.r.iter().sum::<Vec3>() / total;
@@ -127,11 +114,6 @@ impl Cg {
         self.p.copy_from_slice(&self.z);
         let mut rz = dot(&self.r, &self.z, &mut self.parts);
         let rz0 = rz;
-        // ‖x‖²_P, xᵀPp, ‖p‖²_P, and the model value m(x), all zero-started.
-        let (mut xx, mut xp, mut pp, mut model) = (0.0, 0.0, rz0, 0.0);
-        self.model = 0.0;
-        self.step_norm = 0.0;
-        self.radius = radius.unwrap_or(f64::INFINITY);
         if rz0 == 0.0 {
             return CgOutcome::Converged(0);
         }
@@ -143,26 +125,20 @@ impl Cg {
                 }
             });
             let pap = dot(&self.p, &self.ap, &mut self.parts);
-            if !pap.is_finite() || (pap <= 0.0 && radius.is_none()) {
+            if !pap.is_finite() || pap <= 0.0 {
+                let (p, mass) = (&self.p, &sys.mass);
+                let pmp: f64 = (0..n)
+                    .filter(|&i| free[i])
+                    .map(|i| mass[i] * p[i].norm_squared())
+                    .sum();
+                self.curvature = if pap.is_finite() && pmp > 0.0 {
+                    pap / pmp
+                } else {
+                    f64::NEG_INFINITY
+                };
                 return CgOutcome::NegativeCurvature(it);
             }
-            let mut alpha = rz / pap;
-            let xx_next = xx + 2.0 * alpha * xp + alpha * alpha * pp;
-            if radius.is_some() && (pap <= 0.0 || xx_next >= self.radius * self.radius) {
-                if self.radius == f64::INFINITY {
-                    self.radius = xx.sqrt().max(rz0.sqrt());
-                }
-                alpha = super::trust::to_boundary(xx, xp, pp, self.radius);
-                let p = &self.p;
-                each_particle(x, |i, xi| *xi += p[i] * alpha);
-                self.model = model - alpha * rz + 0.5 * alpha * alpha * pap;
-                self.step_norm = self.radius;
-                return CgOutcome::Boundary(it + 1);
-            }
-            xx = xx_next;
-            model -= 0.5 * alpha * rz;
-            self.model = model;
-            self.step_norm = xx.sqrt();
+            let alpha = rz / pap;
             let (p, ap) = (&self.p, &self.ap);
             each_particle2(x, &mut self.r, |i, xi, ri| {
                 *xi += p[i] * alpha;
@@ -183,8 +159,6 @@ impl Cg {
                 return CgOutcome::Converged(it + 1);
             }
             let beta = rz_new / rz;
-            xp = beta * (xp + alpha * pp);
-            pp = rz_new + beta * beta * pp;
             rz = rz_new;
             let z = &self.z;
             each_particle(&mut self.p, |i, pi| *pi = z[i] + *pi * beta);
@@ -225,8 +199,7 @@ impl Cg {
 /// block whose eigenvalues all exceed half the particle's mass `m` is inverted as is; one
 /// that does not (compressed springs' negative stiffness) has its eigenvalues raised to `m`,
 /// the mass term's own floor, before inverting. A near-singular block would otherwise give
-/// steps huge in max norm yet small in the preconditioner's norm, which the trust region
-/// measures.
+/// a preconditioner that is not positive definite, on which CG has no convergence theory.
 fn spd_block_inverse(d: &Matrix3<f64>, m: f64) -> Matrix3<f64> {
     if (d - Matrix3::identity() * (0.5 * m)).cholesky().is_some() {
         return d.try_inverse().unwrap_or_else(Matrix3::identity);
@@ -252,9 +225,9 @@ pub(super) struct Indefinite;
 /// then more and more clamped (see [`CLAMPS`]) while CG meets non-positive curvature.
 /// `rhs(jac, b)` writes the right-hand side for the Jacobian as filled (it may depend on it).
 /// A solve that runs out of CG iterations leaves its partial solution (the caller's residual
-/// check decides). Returns the CG iterations spent. With `radius` = Some(Δ) the exact
-/// Jacobian is solved by Steihaug–Toint CG (see [`Cg::solve`]) and nothing is clamped.
-/// With `ic0` = Some(factor), the clamped (SPD) matrix at (x, v) is factored by block IC(0)
+/// check decides). Returns the CG iterations spent. The linearly implicit method's solve:
+/// its matrix is the method, and dropping compressed springs' transverse stiffness is
+/// Baraff & Witkin's practice (Choi & Ko, SIGGRAPH 2002, §5). With `ic0` = Some(factor), the clamped (SPD) matrix at (x, v) is factored by block IC(0)
 /// first, and that factor preconditions every attempt instead of block Jacobi.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn solve_clamped(
@@ -270,14 +243,10 @@ pub(super) fn solve_clamped(
     b: &mut [Vec3],
     dv: &mut [Vec3],
     abs_tol2: f64,
-    radius: Option<f64>,
 ) -> Result<u64, Indefinite> {
     let mut spent = 0u64;
-    let clamps = if radius.is_some() {
-        &CLAMPS[..1]
-    } else {
-        &CLAMPS[..]
-    };
+    jac.shift = 0.0;
+    let clamps = &CLAMPS;
     if let Some(f) = ic0.as_deref_mut() {
         jac.clamp = 1.0;
         sys.jacobian(x, v, jac);
@@ -301,12 +270,66 @@ pub(super) fn solve_clamped(
             },
             set.max_cg,
             abs_tol2,
-            radius,
         ) {
-            CgOutcome::Converged(it) | CgOutcome::Boundary(it) => return Ok(spent + it as u64),
-            CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
+            CgOutcome::Converged(it) | CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
             CgOutcome::NegativeCurvature(it) if attempt + 1 < clamps.len() => spent += it as u64,
             CgOutcome::NegativeCurvature(_) => break,
+        }
+    }
+    Err(Indefinite)
+}
+
+/// Fills `jac` at (x, v) and solves A dv = b for the Newton matrix A at step `h` with the
+/// Levenberg–Marquardt shift `jac.shift` (`shift.rs`), raising the shift past the curvature
+/// CG meets until A is positive definite; the shift used stays in `jac.shift`.
+/// `rhs(jac, b)` writes the right-hand side for the Jacobian as filled (it may depend on it).
+/// A solve that runs out of CG iterations leaves its partial solution (the caller's residual
+/// check decides). Returns the CG iterations spent. With `ic0` = Some(factor), the clamped
+/// (SPD) matrix at (x, v), with the same shift, is factored by block IC(0) first, and that
+/// factor preconditions every attempt instead of block Jacobi.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn solve_shifted(
+    cg: &mut Cg,
+    mut ic0: Option<&mut Ic0>,
+    jac: &mut Jacobian,
+    sys: &System,
+    x: &[Vec3],
+    v: &[Vec3],
+    h: f64,
+    set: &ImplicitSettings,
+    mut rhs: impl FnMut(&Jacobian, &mut [Vec3]),
+    b: &mut [Vec3],
+    dv: &mut [Vec3],
+    abs_tol2: f64,
+) -> Result<u64, Indefinite> {
+    let mut spent = 0u64;
+    for attempt in 0..MAX_SHIFTS {
+        if let Some(f) = ic0.as_deref_mut() {
+            jac.clamp = 1.0;
+            sys.jacobian(x, v, jac);
+            jac.prepare_newton(&sys.mass, &sys.free, h);
+            f.factor(jac, &sys.free);
+        }
+        // The exact Jacobian (the shift enters only the prepared mass blocks).
+        if attempt == 0 || ic0.is_some() {
+            jac.clamp = 0.0;
+            sys.jacobian(x, v, jac);
+        }
+        jac.prepare_newton(&sys.mass, &sys.free, h);
+        rhs(jac, b);
+        let pre = match ic0.as_deref() {
+            Some(f) => Precond::Ic0(f),
+            None => Precond::BlockJacobi,
+        };
+        match cg.solve(jac, sys, b, dv, set, pre, set.max_cg, abs_tol2) {
+            CgOutcome::Converged(it) | CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
+            CgOutcome::NegativeCurvature(it) => {
+                spent += it as u64;
+                if !cg.curvature.is_finite() {
+                    break;
+                }
+                jac.shift = raised(jac.shift, cg.curvature);
+            }
         }
     }
     Err(Indefinite)
@@ -326,25 +349,35 @@ pub(super) mod tests {
         h: f64,
         clamp: f64,
     ) -> (System, Jacobian, DMatrix<f64>, Vec<usize>) {
-        let scene = crate::scenario::Scenario::from_toml_str(
-            "[world]\ngravity=[0.0,-9.81,0.0]\n[[cloth]]\norigin=[0.0,0.0,0.0]\nsize=[1.0,1.0]\n\
-             count=[5,5]\nmass=0.001\nstiffness=200.0\ndamping=0.002\nfix=[\"top_left\",\"top_right\"]\n",
-            "cloth.toml",
-        )
-        .unwrap();
-        let sys = scene.build();
-        let mut s = scene.initial_state();
-        for (p, x) in s.x.iter_mut().enumerate() {
-            x[2] += 0.05 * ((p * 7 % 5) as f64 - 2.0);
-            x[0] *= 0.6;
-        }
+        let sys = crumpled_scene().build();
+        let x = crumpled_state();
         let mut jac = sys.new_jacobian();
         jac.clamp = clamp;
-        sys.jacobian(&s.x, &s.v, &mut jac);
+        sys.jacobian(&x, &vec![Vec3::zeros(); x.len()], &mut jac);
         jac.prepare_newton(&sys.mass, &sys.free, h);
         let dofs: Vec<usize> = (0..3 * sys.len()).filter(|&d| sys.free[d / 3]).collect();
         let dense = dense_newton(&jac, &sys.free, &dofs);
         (sys, jac, dense, dofs)
+    }
+
+    /// The crumpled cloth's positions: the 5×5 cloth's initial state squeezed to 60 % along
+    /// x and rumpled by ±10 cm along z.
+    fn crumpled_state() -> Vec<Vec3> {
+        let mut x = crumpled_scene().initial_state().x;
+        for (p, x) in x.iter_mut().enumerate() {
+            x[2] += 0.05 * ((p * 7 % 5) as f64 - 2.0);
+            x[0] *= 0.6;
+        }
+        x
+    }
+
+    fn crumpled_scene() -> crate::scenario::Scenario {
+        crate::scenario::Scenario::from_toml_str(
+            "[world]\ngravity=[0.0,-9.81,0.0]\n[[cloth]]\norigin=[0.0,0.0,0.0]\nsize=[1.0,1.0]\n\
+             count=[5,5]\nmass=0.001\nstiffness=200.0\ndamping=0.002\nfix=[\"top_left\",\"top_right\"]\n",
+            "cloth.toml",
+        )
+        .unwrap()
     }
 
     /// The Newton matrix prepared in `jac` on the coordinates `dofs`, assembled densely column
@@ -380,86 +413,91 @@ pub(super) mod tests {
         DVector::from_iterator(dofs.len(), dofs.iter().map(|&d| v[d / 3][d % 3]))
     }
 
-    fn solve(sys: &System, jac: &Jacobian, b: &[Vec3], radius: f64) -> (Cg, CgOutcome, Vec<Vec3>) {
-        let set = ImplicitSettings {
+    fn set() -> ImplicitSettings {
+        ImplicitSettings {
             cg_tol: 1e-14,
             ..ImplicitSettings::default()
-        };
-        let mut cg = Cg::default();
+        }
+    }
+
+    /// Positive definite matrix (compressed springs clamped): CG's solution is the dense
+    /// Cholesky solve's.
+    #[test]
+    fn cg_on_a_positive_definite_matrix_is_the_dense_solve() {
+        let (sys, jac, dense, dofs) = crumpled(1.0 / 60.0, 1.0);
+        let b = rhs(sys.len());
+        let want = dense
+            .cholesky()
+            .expect("clamped matrix is SPD")
+            .solve(&flat(&b, &dofs));
         let mut x = vec![Vec3::zeros(); b.len()];
-        let out = cg.solve(
-            jac,
-            sys,
-            b,
+        let out = Cg::default().solve(
+            &jac,
+            &sys,
+            &b,
             &mut x,
-            &set,
+            &set(),
             Precond::BlockJacobi,
             500,
             0.0,
-            Some(radius),
         );
-        (cg, out, x)
-    }
-
-    /// Positive definite model, radius far away: Steihaug's step is the Newton step.
-    #[test]
-    fn steihaug_inside_the_radius_is_the_newton_step() {
-        let (sys, jac, dense, dofs) = crumpled(1.0 / 60.0, 1.0);
-        let b = rhs(sys.len());
-        let bd = flat(&b, &dofs);
-        let want = dense
-            .clone()
-            .cholesky()
-            .expect("clamped matrix is SPD")
-            .solve(&bd);
-        let (cg, out, x) = solve(&sys, &jac, &b, 1e30);
         assert!(matches!(out, CgOutcome::Converged(_)));
-        let s = flat(&x, &dofs);
-        assert!((&s - &want).amax() <= 1e-9 * want.amax());
-        let m = -bd.dot(&s) + 0.5 * s.dot(&(&dense * &s));
-        assert!(
-            (cg.model - m).abs() <= 1e-9 * m.abs(),
-            "{} vs {m}",
-            cg.model
-        );
+        assert!((flat(&x, &dofs) - &want).amax() <= 1e-9 * want.amax());
     }
 
-    /// Indefinite model (exact Jacobian of compressed springs at a long step): the step stops
-    /// on the boundary, ‖s‖_P = Δ, and the model value reported is the model's.
+    /// Indefinite matrix (the exact Jacobian of compressed springs at a long step): the
+    /// curvature CG reports is a Rayleigh quotient pᵀAp/pᵀMp, so it lies between the lowest
+    /// and highest eigenvalues of M⁻¹A (computed densely); the shifted solve ends on a shift
+    /// that makes A + μM positive definite, and its step is the dense solve of that matrix.
     #[test]
-    fn steihaug_on_negative_curvature_stops_on_the_boundary() {
-        let (sys, jac, dense, dofs) = crumpled(0.2, 0.0);
-        let lowest = dense.clone().symmetric_eigen().eigenvalues.min();
+    fn an_indefinite_matrix_is_shifted_until_positive_definite() {
+        let h = 0.2;
+        let (sys, _, dense, dofs) = crumpled(h, 0.0);
+        let mass =
+            nalgebra::DVector::from_iterator(dofs.len(), dofs.iter().map(|&d| sys.mass[d / 3]));
+        let inv_sqrt_m = mass.map(|m| 1.0 / m.sqrt());
+        let scaled = DMatrix::from_fn(dofs.len(), dofs.len(), |i, j| {
+            dense[(i, j)] * inv_sqrt_m[i] * inv_sqrt_m[j]
+        });
+        let eig = scaled.symmetric_eigen().eigenvalues;
         assert!(
-            lowest < 0.0,
-            "the test needs an indefinite matrix: {lowest}"
+            eig.min() < 0.0,
+            "the test needs an indefinite matrix: {}",
+            eig.min()
         );
         let b = rhs(sys.len());
-        let bd = flat(&b, &dofs);
-        // Far beyond the Newton-step scale (|b|/m ≈ 1 m/s): only following the negative
-        // curvature reaches it.
-        let radius = 1e3;
-        let (cg, out, x) = solve(&sys, &jac, &b, radius);
-        assert!(matches!(out, CgOutcome::Boundary(_)));
-        let pnorm2: f64 = (0..sys.len())
-            .filter(|&p| sys.free[p])
-            .map(|p| {
-                let blk = cg.diag_inv[p].try_inverse().unwrap();
-                x[p].dot(&(blk * x[p]))
-            })
-            .sum();
+        let mut jac = sys.new_jacobian();
+        let mut cg = Cg::default();
+        let mut x = vec![Vec3::zeros(); b.len()];
+        let state = crumpled_state();
+        let mut bb = b.clone();
+        solve_shifted(
+            &mut cg,
+            None,
+            &mut jac,
+            &sys,
+            &state,
+            &vec![Vec3::zeros(); b.len()],
+            h,
+            &set(),
+            |_, _| {},
+            &mut bb,
+            &mut x,
+            0.0,
+        )
+        .expect("a shift makes it positive definite");
+        assert!(cg.curvature <= 0.0 && cg.curvature >= eig.min() - 1e-9 * eig.amax());
+        let mu = jac.shift;
         assert!(
-            (pnorm2.sqrt() - radius).abs() <= 1e-9 * radius,
-            "{}",
-            pnorm2.sqrt()
+            mu > -eig.min(),
+            "shift {mu} must pass the lowest curvature {}",
+            eig.min()
         );
-        let s = flat(&x, &dofs);
-        let m = -bd.dot(&s) + 0.5 * s.dot(&(&dense * &s));
-        assert!(
-            (cg.model - m).abs() <= 1e-9 * m.abs(),
-            "{} vs {m}",
-            cg.model
-        );
-        assert!(m < 0.0, "the boundary step must lower the model: {m}");
+        let shifted = &dense + DMatrix::from_diagonal(&(mass * mu));
+        let want = shifted
+            .cholesky()
+            .expect("the shifted matrix is SPD")
+            .solve(&flat(&b, &dofs));
+        assert!((flat(&x, &dofs) - &want).amax() <= 1e-8 * want.amax());
     }
 }

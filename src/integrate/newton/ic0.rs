@@ -306,7 +306,7 @@ mod tests {
         };
         let run = |pre: Precond<'_>| {
             let mut x = vec![Vec3::zeros(); n];
-            let out = Cg::default().solve(&jac, &sys, &b, &mut x, &set, pre, 500, 0.0, None);
+            let out = Cg::default().solve(&jac, &sys, &b, &mut x, &set, pre, 500, 0.0);
             let CgOutcome::Converged(it) = out else {
                 panic!("CG did not converge");
             };

@@ -7,6 +7,7 @@
 //! translation-invariant system the solution is shifted to keep linear momentum exactly
 //! (`momentum.rs`).
 
+use super::linsolve::Indefiniteness;
 use super::Newton;
 use crate::error::{Error, Result};
 use crate::model::{System, Vec3};
@@ -45,7 +46,7 @@ impl Newton {
             &mut self.r,
             &mut self.dv,
             0.0,
-            None,
+            Indefiniteness::Clamp,
         );
         self.jac = Some(jac);
         self.cg_iterations += solved.map_err(|_| ())?;

@@ -2,9 +2,9 @@
 //! configured [`LinearSolver`], to the inexact-Newton tolerance the Newton loop sets.
 //!
 //! [`LinearSolver::BlockJacobiCg`] (the default) is matrix-free CG preconditioned by the
-//! inverse 3×3 diagonal blocks; CG runs on the exact matrix first and on more and more
-//! clamped ones where it meets non-positive curvature ([`solve_clamped`]), or Steihaug–Toint
-//! in the trust region. [`LinearSolver::BlockIc0Cg`] is the same solve preconditioned by a
+//! inverse 3×3 diagonal blocks; CG runs on the exact matrix with the stage's
+//! Levenberg–Marquardt shift, raised where it meets non-positive curvature ([`solve_shifted`]).
+//! [`LinearSolver::BlockIc0Cg`] is the same solve preconditioned by a
 //! block incomplete Cholesky factor IC(0) of the *clamped* (SPD) Newton matrix at the current
 //! iterate, refactored at every Newton iteration on a pattern kept per topology (`ic0.rs`).
 //! [`LinearSolver::Cholesky`] is a modified Newton with a Krylov correction: a sparse
@@ -36,12 +36,12 @@
 //! at 100²); for the Newton methods at 100² and 316², where the cost lies, neither wins
 //! throughout: block Jacobi is a tenth ahead on implicit Euler at 316², IC(0) ahead on bdf2 at
 //! 100², and elsewhere the two runs of one solver differ as much as the solvers do. Block
-//! Jacobi is the default: no slower there, with no factor to build per Newton iteration. Neither runs the 316² cloth's 3 s at 1/60 (`springlab bench-ratios
-//! --no-rapier --implicit-methods implicit_euler --implicit-sizes 316 --implicit-steps 180
-//! --rounds 1 --implicit-solver S`): past its fold the stage stalls above the root
-//! tolerance, with block Jacobi at frame 20 under the default cap of 50 Newton iterations (and
-//! at frame 67 with `--implicit-max-newton 200`), with IC(0) at frame 21; the step is then
-//! reported as failed, never accepted off its root. The sparse Cholesky lost
+//! Jacobi is the default: no slower there, with no factor to build per Newton iteration.
+//! Neither completes the 316² cloth's 3 s at 1/60 (`springlab bench-ratios --no-rapier
+//! --implicit-methods implicit_euler --implicit-sizes 316 --implicit-steps 180 --rounds 1`):
+//! with the shifted Newton block Jacobi stops at frame 64, a stage crawling along a fold's
+//! valley under the default cap of 50 Newton iterations; the step is then reported as
+//! failed, never accepted off its root. The sparse Cholesky lost
 //! everywhere: on 100² (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took
 //! ≈ 35 ms and one triangular solve pair ≈ 7 ms, 277 ms per step against block Jacobi's
 //! 41 ms in the same run; on 32², 9.5 against 6.0 ms. Algebraic multigrid was not built: its
@@ -49,7 +49,7 @@
 //! here, so AMG could only lower the constant, as IC(0) does, and the table shows a fourfold
 //! lower constant buying nothing on the large cloths.
 
-use super::cg::{solve_clamped, Cg, Indefinite};
+use super::cg::{solve_clamped, solve_shifted, Cg, Indefinite};
 #[cfg(feature = "direct-solver")]
 use super::cg::{CgOutcome, Precond};
 #[cfg(feature = "direct-solver")]
@@ -57,6 +57,15 @@ use super::direct::Factor;
 use super::ic0::Ic0;
 use super::settings::{ImplicitSettings, LinearSolver};
 use crate::model::{Jacobian, System, Vec3};
+
+/// What a solve does where the exact matrix is indefinite.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Indefiniteness {
+    /// Raise the Levenberg–Marquardt shift `jac.shift` (a Newton direction, `shift.rs`).
+    Shift,
+    /// Drop compressed springs' negative stiffness (the linearly implicit method's matrix).
+    Clamp,
+}
 
 /// Scratch and state of the linear solves: CG vectors and the reusable factors.
 #[derive(Debug, Default)]
@@ -78,11 +87,6 @@ impl LinearSolve {
     pub(super) fn invalidate(&mut self) {
         #[cfg(feature = "direct-solver")]
         self.factor.invalidate();
-    }
-
-    /// The last trust-region solve's (model value m(s), ‖s‖_P, radius used), see [`Cg::solve`].
-    pub(super) fn trust_step(&self) -> (f64, f64, f64) {
-        (self.cg.model, self.cg.step_norm, self.cg.radius)
     }
 
     /// Fills `jac` at (x, v) with the given clamp and prepares the Newton matrix for step h.
@@ -114,9 +118,8 @@ impl LinearSolve {
     /// of iterations leaves its partial solution (the caller's residual check decides).
     /// Returns the linear iterations spent (CG iterations; a direct solve counts one).
     /// `abs_tol2`: CG may stop once Σ |rᵢ|²/mᵢ of its residual is below it (0: never).
-    /// `radius`: Some(Δ) for a trust-region (Steihaug–Toint) step of the block-Jacobi or IC(0)
-    /// solver, whose model value and P-norm [`LinearSolve::trust_step`] then reports; the
-    /// Cholesky solver ignores it.
+    /// The block-Jacobi and IC(0) solvers solve the matrix shifted by `jac.shift` and raise
+    /// the shift until it is positive definite (`shift.rs`); the Cholesky solver projects.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn solve(
         &mut self,
@@ -130,7 +133,7 @@ impl LinearSolve {
         b: &mut [Vec3],
         dv: &mut [Vec3],
         abs_tol2: f64,
-        radius: Option<f64>,
+        indefinite: Indefiniteness,
     ) -> Result<u64, Indefinite> {
         if matches!(
             set.solver,
@@ -142,7 +145,11 @@ impl LinearSolve {
             } else {
                 None
             };
-            return solve_clamped(
+            let solve = match indefinite {
+                Indefiniteness::Shift => solve_shifted,
+                Indefiniteness::Clamp => solve_clamped,
+            };
+            return solve(
                 &mut self.cg,
                 ic0,
                 jac,
@@ -155,11 +162,10 @@ impl LinearSolve {
                 b,
                 dv,
                 abs_tol2,
-                radius,
             );
         }
         #[cfg(feature = "direct-solver")]
-        return self.solve_factored(jac, sys, x, v, h, set, rhs, b, dv, abs_tol2);
+        return self.solve_factored(jac, sys, x, v, h, set, rhs, b, dv, abs_tol2, indefinite);
         #[cfg(not(feature = "direct-solver"))]
         unreachable!("the CG solvers are the only ones without the direct-solver feature")
     }
@@ -179,12 +185,17 @@ impl LinearSolve {
         b: &mut [Vec3],
         dv: &mut [Vec3],
         abs_tol2: f64,
+        indefinite: Indefiniteness,
     ) -> Result<u64, Indefinite> {
-        // The matrix-free solve, which clamps what it can and reports the rest: the fallback
+        // The matrix-free shifted solve: the fallback
         // wherever no factor can be built.
+        let fallback = match indefinite {
+            Indefiniteness::Shift => solve_shifted,
+            Indefiniteness::Clamp => solve_clamped,
+        };
         macro_rules! clamped {
             () => {
-                solve_clamped(
+                fallback(
                     &mut self.cg,
                     None,
                     jac,
@@ -197,7 +208,6 @@ impl LinearSolve {
                     b,
                     dv,
                     abs_tol2,
-                    None,
                 )
             };
         }
@@ -205,7 +215,7 @@ impl LinearSolve {
         if !self.factor.is_factored() || self.factor_h != h {
             if self.refactor(jac, sys, x, v, h).is_err() {
                 // Not SPD even clamped (a force term with an indefinite Jacobian of its own):
-                // the matrix-free solve, which clamps what it can and reports the rest.
+                // the matrix-free shifted solve.
                 return clamped!();
             }
             fresh = true;
@@ -220,12 +230,8 @@ impl LinearSolve {
                 set.refactor_after
             };
             let pre = Precond::Factor(&mut self.factor);
-            match self
-                .cg
-                .solve(jac, sys, b, dv, set, pre, cap, abs_tol2, None)
-            {
-                // No trust radius is given here, so CG never stops on a boundary.
-                CgOutcome::Converged(it) | CgOutcome::Boundary(it) => return Ok(spent + it as u64),
+            match self.cg.solve(jac, sys, b, dv, set, pre, cap, abs_tol2) {
+                CgOutcome::Converged(it) => return Ok(spent + it as u64),
                 CgOutcome::NotConverged(it) if !fresh => spent += it as u64,
                 CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
                 CgOutcome::NegativeCurvature(it) => {

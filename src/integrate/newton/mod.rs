@@ -19,12 +19,17 @@
 //! hω ≫ 1 it exceeds the error by about hω and would accept iterates far from the root (two free
 //! particles of 1 and 2 kg at hω = 12 gained 45 % momentum). On a free system (`momentum.rs`) every
 //! iterate's momentum balance is zeroed, and CG deflates the translations, so linear momentum is
-//! kept to round-off at any tolerance. Newton backtracks when an update would raise the residual
-//! (or, for a clamped direction, the stage's incremental potential). Where the clamped iteration
-//! stalls (the residual has not halved in six iterations: near a root where the exact Jacobian is
-//! indefinite, as past the 316² cloth's fold), the stage takes Steihaug–Toint trust-region steps on
-//! the exact Jacobian (see `trust.rs`), which follow negative curvature instead of clamping it, and
-//! goes back to clamped Newton where those stall in turn. The linear solves are inexact
+//! kept to round-off at any tolerance.
+//!
+//! Globalisation: for conservative forces the stage is the minimisation of its incremental
+//! potential Φ(v') = ½ (v' − v̂)ᵀM(v' − v̂) + U(x̂ + β v') + β D(v') (`potential.rs`; the
+//! dampers enter as their dissipation potential D with directions frozen at the iterate), whose
+//! gradient is G. Every Newton direction solves the exact Newton matrix with a
+//! Levenberg–Marquardt shift (1 + μ)M, μ = 0 until CG meets non-positive curvature and raised
+//! past it then (`shift.rs`), so it is always a descent direction of Φ; the step along it is
+//! Armijo's on Φ (`backtrack`), judged by the residual only where Φ's change sinks into its
+//! round-off. Near a minimum whose Hessian is positive definite the shift falls to 0 and the
+//! steps are Newton's own (quadratic convergence). The linear solves are inexact
 //! (Eisenstat–Walker forcing, never tighter than half the error-based stop needs); the solver is
 //! chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured choice).
 
@@ -38,13 +43,13 @@ mod momentum;
 mod pattern;
 mod potential;
 mod settings;
+mod shift;
 mod translation;
-mod trust;
 
 use crate::error::{Error, Result};
 use crate::integrate::ensure_len;
 use crate::model::{Jacobian, System, Vec3};
-use linsolve::LinearSolve;
+use linsolve::{Indefiniteness, LinearSolve};
 use potential::{potential, PotentialScratch};
 pub use settings::{ImplicitSettings, LinearSolver};
 
@@ -74,9 +79,9 @@ pub struct Newton {
     pub error_limited_steps: u64,
     /// Newton updates shortened by the line search.
     pub damped_updates: u64,
-    /// Switches between clamped Newton and trust-region steps, each on a stall of the
-    /// strategy running (see `trust::Stall`): how often a stage was hard.
-    pub strategy_switches: u64,
+    /// Newton iterations whose matrix carried a Levenberg–Marquardt shift (the exact one was
+    /// indefinite, or the last step overshot; see `shift.rs`): how often a stage was hard.
+    pub shifted_iterations: u64,
     jac: Option<Jacobian>,
     f: Vec<Vec3>,
     xn: Vec<Vec3>,
@@ -114,6 +119,9 @@ const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
 /// ([`ImplicitSettings::root_tol`]), not above: the next iterate must meet that tolerance in
 /// max norm, which a residual at the tolerance itself in RMS would often miss.
 const ROOT_FLOOR: f64 = 0.1;
+
+/// Armijo's sufficient-decrease constant c₁ (Nocedal & Wright §3.1: 10⁻⁴ is usual).
+const ARMIJO: f64 = 1e-4;
 
 /// Largest component magnitude over all particles (the max norm of a velocity or position field).
 pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
@@ -219,11 +227,17 @@ impl Newton {
         }
     }
 
-    /// Backtracking on an interior Newton step `self.dv` from `self.vbase`: a folding cloth
-    /// makes the Jacobian a poor model, and a full update can raise the residual; halve it
-    /// until GᵀM⁻¹G falls, or the stage's incremental potential does (the Newton direction is a
-    /// descent direction for it, not for the residual); after `max_halvings` the last trial is
-    /// taken. Updates `res` to the accepted iterate's; returns (α, force evaluations).
+    /// Backtracking by halves from the full step α·`self.dv` (α = 1, ½, ¼, …): a trial is
+    /// taken once the residual merit GᵀM⁻¹G falls, or the stage's incremental potential Φ
+    /// (damping directions frozen at the base `self.vbase`, so that ∇Φ there is exactly the
+    /// residual G) falls by Armijo's margin, Φ(α) ≤ Φ(0) + c₁ α Gᵀd (Nocedal & Wright,
+    /// Alg. 3.1), by more than Φ's own round-off. The shifted Newton matrix is positive
+    /// definite, so the direction descends on Φ and some α passes; the residual test keeps
+    /// the iterates near the floor of a stiff valley that curves (a spinning stiff body),
+    /// where Φ alone accepts steps far up its walls that spoil the next linearisation. `gd` =
+    /// Gᵀd. After `max_halvings` trials the last is taken. Updates `res` to the accepted
+    /// iterate's; returns (α, force evaluations).
+    #[allow(clippy::too_many_arguments)]
     fn backtrack(
         &mut self,
         sys: &System,
@@ -232,26 +246,32 @@ impl Newton {
         h: f64,
         v_scale0: f64,
         res: &mut Residual,
+        gd: f64,
     ) -> (f64, u64) {
         let mut evals = 0;
         let mut alpha = 1.0;
-        let mut phi_base = f64::NAN; // the base's potential, computed only if needed
-        for halving in 0..=self.settings.max_halvings {
+        // The base's potential and its round-off, computed only if needed.
+        let mut base: Option<(f64, f64)> = None;
+        for trial_no in 0..=self.settings.max_halvings {
             let trial = self.trial(sys, x0, v0, h, v_scale0, alpha);
             evals += 1;
-            let mut done = trial.merit <= res.merit
-                || !trial.merit.is_finite()
-                || halving == self.settings.max_halvings;
-            if !done {
-                if phi_base.is_nan() {
-                    phi_base = self.base_potential(sys, x0, v0, h);
-                    evals += 1;
-                }
-                done = potential(sys, x0, v0, &self.vn, h, &mut self.pot) < phi_base;
-                evals += 1; // each potential evaluates the dampers' power: a force pass
+            let mut done = trial.merit <= res.merit || trial_no == self.settings.max_halvings;
+            if !done && trial.merit.is_finite() {
+                let (phi0, noise) = match base {
+                    Some(b) => b,
+                    None => {
+                        evals += 1;
+                        *base.insert(self.base_potential(sys, x0, v0, h))
+                    }
+                };
+                // Each potential evaluates the dampers' power: a force pass.
+                let (phi, _) = potential(sys, x0, v0, &self.vn, h, &mut self.pot);
+                evals += 1;
+                let change = phi - phi0;
+                done = change < -noise && change <= ARMIJO * alpha * gd;
             }
             if done {
-                if halving > 0 {
+                if trial_no > 0 {
                     self.damped_updates += 1;
                 }
                 *res = trial;
@@ -278,79 +298,19 @@ impl Newton {
         self.residual(sys, x0, v0, h, v_scale0)
     }
 
-    /// The incremental potential at `self.vbase`, freezing the damping directions there.
-    fn base_potential(&mut self, sys: &System, x0: &[Vec3], v0: &[Vec3], h: f64) -> f64 {
+    /// The incremental potential at `self.vbase`, freezing the damping directions there, and
+    /// its round-off.
+    fn base_potential(&mut self, sys: &System, x0: &[Vec3], v0: &[Vec3], h: f64) -> (f64, f64) {
         for p in 0..x0.len() {
             self.pot.x_frozen[p] = x0[p] + self.vbase[p] * h;
         }
         potential(sys, x0, v0, &self.vbase, h, &mut self.pot)
     }
 
-    /// One trust-region step along `self.dv` from `self.vbase` (N&W Alg. 4.1, with Nocedal &
-    /// Yuan's backtracking on rejection, "Combining trust region and line search", 1998): the
-    /// trial τs, τ = 1, ¼, ¹⁄₁₆, …, is taken at the first τ whose ratio ρ of the incremental
-    /// potential's actual to the model's predicted decrease reaches [`trust::ETA`], or whose
-    /// residual merit falls (near convergence Φ's differences sink into its round-off, the
-    /// residual's do not). `model` = m(s), `gs` = Gᵀs (so sᵀAs = 2(m(s) − Gᵀs)). Updates the
-    /// radius and `res`; returns the force evaluations and whether a step was taken (if not,
-    /// the base is restored with its residual in `self.r`, `res`).
-    #[allow(clippy::too_many_arguments)]
-    fn trust_region_step(
-        &mut self,
-        sys: &System,
-        x0: &[Vec3],
-        v0: &[Vec3],
-        h: f64,
-        v_scale0: f64,
-        res: &mut Residual,
-        model: f64,
-        gs: f64,
-        radius: &mut f64,
-        step_norm: f64,
-    ) -> (u64, bool) {
-        let phi_base = self.base_potential(sys, x0, v0, h);
-        let mut evals = 1;
-        let s_as = 2.0 * (model - gs);
-        let on_boundary = step_norm >= *radius * (1.0 - 1e-12);
-        let mut tau = 1.0;
-        for _ in 0..=self.settings.max_halvings {
-            let trial = self.trial(sys, x0, v0, h, v_scale0, tau);
-            let phi = potential(sys, x0, v0, &self.vn, h, &mut self.pot);
-            evals += 2;
-            let pred = tau * gs + 0.5 * tau * tau * s_as;
-            let rho = if pred < 0.0 {
-                (phi - phi_base) / pred
-            } else {
-                f64::NEG_INFINITY
-            };
-            let finite = trial.merit.is_finite() && phi.is_finite();
-            let accept = finite && (rho >= trust::ETA || trial.merit <= res.merit);
-            if accept {
-                // A step taken on the residual alone keeps the radius (no evidence either way).
-                let rho = if rho < trust::ETA { 0.25 } else { rho };
-                *radius = if tau < 1.0 {
-                    tau * step_norm
-                } else {
-                    trust::update_radius(*radius, step_norm, rho, on_boundary)
-                };
-                if tau < 1.0 {
-                    self.damped_updates += 1;
-                }
-                *res = trial;
-                return (evals, true);
-            }
-            tau *= 0.25;
-        }
-        *radius = tau * step_norm;
-        self.vn.copy_from_slice(&self.vbase);
-        *res = self.residual(sys, x0, v0, h, v_scale0);
-        (evals + 1, false)
-    }
-
     /// Solves the backward-Euler stage from (x̂, v̂) = (`x0`, `v0`) with step `h` (β above);
     /// the result is in [`Newton::x`], [`Newton::v`]. Returns the dissipated power at the
     /// solution and the force evaluations made. `who` names the method in errors.
-    // One function because the iteration's state (iterate, residual, strategy, forcing, stop tests) is shared by every branch of the loop; its parts (line search, trust region, stops) live in their own modules.
+    // One function because the iteration's state (iterate, residual, shift, forcing, stop tests) is shared by every branch of the loop; its parts (line search, shift, linear solve) live in their own functions and modules.
     pub(crate) fn solve(
         &mut self,
         sys: &System,
@@ -375,6 +335,7 @@ impl Newton {
             self.vn.copy_from_slice(v0);
         }
         let mut jac = self.take_jacobian(sys);
+        jac.shift = 0.0;
         let v_scale0 = max_abs(v0);
         // Errors are built only on failure: a step must not allocate.
         // Err(true): non-finite residual; Err(false): no convergence.
@@ -390,15 +351,6 @@ impl Newton {
         };
         let mut res = self.residual(sys, x0, v0, h, v_scale0);
         let mut prev_merit = f64::INFINITY;
-        // Trust radius (P-norm) of the Steihaug–Toint solves. The stage starts with clamped
-        // Newton and backtracking (fast while far from the solution). Where that stalls, the
-        // clamped iteration may be circling a point where the exact Jacobian is indefinite:
-        // the stage then runs Steihaug–Toint trust-region steps on the exact Jacobian,
-        // starting from the last linear step's size; where those stall in turn (radii far
-        // below the distance to the root), it goes back to clamped Newton (see `trust::Stall`).
-        let mut radius = f64::INFINITY;
-        let mut trust_mode = false;
-        let mut stall = trust::Stall::new();
         evals += 1;
         if guessed {
             // Keep the linearly implicit start only where it beats v̂: on a folding cloth the
@@ -454,15 +406,6 @@ impl Newton {
             if iter == self.settings.max_newton {
                 break;
             }
-            if stall.stalled(res.merit) {
-                self.strategy_switches += 1;
-                trust_mode = !trust_mode;
-                radius = if trust_mode {
-                    self.lin.trust_step().1.max(f64::MIN_POSITIVE)
-                } else {
-                    f64::INFINITY
-                };
-            }
             self.newton_iterations += 1;
             for p in 0..n {
                 self.r[p] = -self.r[p];
@@ -500,7 +443,7 @@ impl Newton {
                 &mut rhs,
                 &mut self.dv,
                 abs_tol2,
-                trust_mode.then_some(radius),
+                Indefiniteness::Shift,
             );
             self.r = rhs;
             match solved {
@@ -508,39 +451,19 @@ impl Newton {
                 Err(_) => {
                     self.jac = Some(jac);
                     return Err(Error::Step(format!(
-                        "{who}: Newton matrix is not positive definite even after clamping"
+                        "{who}: Newton matrix is not positive definite at any shift"
                     )));
                 }
             }
-            let (model, step_norm, used_radius) = self.lin.trust_step();
+            if jac.shift > 0.0 {
+                self.shifted_iterations += 1;
+            }
             self.vbase.copy_from_slice(&self.vn);
-            let alpha = if trust_mode {
-                radius = used_radius;
-                // Gᵀs: the right-hand side holds −G.
-                let gs: f64 = -(0..n).map(|p| self.r[p].dot(&self.dv[p])).sum::<f64>();
-                let (e, taken) = self.trust_region_step(
-                    sys,
-                    x0,
-                    v0,
-                    h,
-                    v_scale0,
-                    &mut res,
-                    model,
-                    gs,
-                    &mut radius,
-                    step_norm,
-                );
-                evals += e;
-                if !taken {
-                    small_update = false;
-                    continue;
-                }
-                1.0
-            } else {
-                let (alpha, e) = self.backtrack(sys, x0, v0, h, v_scale0, &mut res);
-                evals += e;
-                alpha
-            };
+            // Gᵀd: the right-hand side holds −G.
+            let gd: f64 = -(0..n).map(|p| self.r[p].dot(&self.dv[p])).sum::<f64>();
+            let (alpha, e) = self.backtrack(sys, x0, v0, h, v_scale0, &mut res, gd);
+            evals += e;
+            jac.shift = shift::after_step(jac.shift, alpha);
             // Converged when the update is below the tolerance or the round-off floor.
             small_update = alpha * max_abs(&self.dv)
                 <= self.settings.newton_tol * v_scale0.max(max_abs(&self.vn)) + x_floor;

@@ -28,8 +28,9 @@ pub struct ImplicitSettings {
     pub cg_tol: f64,
     /// CG iterations before giving up on one linear solve.
     pub max_cg: usize,
-    /// Halvings of a Newton update tried when it would raise the residual (line search on
-    /// GᵀM⁻¹G); the last trial is taken if none lowers it.
+    /// Halvings of a Newton update the line search (on the residual merit or, by Armijo's
+    /// rule, the incremental potential) tries after the full step; the last trial is taken
+    /// if none passes.
     pub max_halvings: usize,
     /// Largest inexact-Newton forcing η: each linear solve stops once its residual is below
     /// η |G| (Eisenstat–Walker; smaller η as Newton converges) or half the error-based stop.
