@@ -103,8 +103,7 @@ impl Stepper for Rattle {
             &mut s.x,
             &mut s.v,
             h,
-            set.tol,
-            set.max_sweeps,
+            &set,
         )
         .map_err(|_| failed("position"))?;
         // Predicted end-of-step velocity for velocity-dependent forces (first order).
@@ -117,16 +116,8 @@ impl Stepper for Rattle {
             s.v[p] += self.a[p] * (0.5 * h);
         }
         let scale = s.v.iter().map(|v| v.amax()).fold(0.0, f64::max);
-        self.sweeps += velocities(
-            &sys.constraints,
-            &sys.inv_mass,
-            &s.x,
-            &mut s.v,
-            set.tol,
-            scale,
-            set.max_sweeps,
-        )
-        .map_err(|_| failed("velocity"))?;
+        self.sweeps += velocities(&sys.constraints, &sys.inv_mass, &s.x, &mut s.v, scale, &set)
+            .map_err(|_| failed("velocity"))?;
         self.cached = true;
         s.t += h;
         Ok(StepStats {

@@ -3,6 +3,7 @@
 //! (Andersen 1983), each by Gauss–Seidel sweeps of exact one-constraint Newton updates, run
 //! until every constraint holds to a relative tolerance.
 
+use super::RattleSettings;
 use crate::model::{DistanceConstraint, Vec3};
 
 /// The constraint iteration did not converge in the allowed sweeps.
@@ -11,9 +12,8 @@ pub(crate) struct NotConverged;
 
 /// Position stage: moves `x` (and `v` by the same displacement / h) along the constraint
 /// directions `dir` of the start of the step, x_i += w_i δ n, x_j −= w_j δ n, until every
-/// ||x_j − x_i| − L| ≤ `tol` · L. Each update is Newton's on σ = (|d|² − L²)/2 along n.
-/// Returns the sweeps made.
-#[allow(clippy::too_many_arguments)]
+/// ||x_j − x_i| − L| ≤ `set.tol` · L, in at most `set.max_sweeps` sweeps. Each update is
+/// Newton's on σ = (|d|² − L²)/2 along n. Returns the sweeps made.
 pub(crate) fn positions(
     cons: &[DistanceConstraint],
     dir: &[Vec3],
@@ -21,9 +21,9 @@ pub(crate) fn positions(
     x: &mut [Vec3],
     v: &mut [Vec3],
     h: f64,
-    tol: f64,
-    max_sweeps: usize,
+    set: &RattleSettings,
 ) -> Result<u64, NotConverged> {
+    let RattleSettings { tol, max_sweeps } = *set;
     for sweep in 0..max_sweeps {
         let mut converged = true;
         for (c, n) in cons.iter().zip(dir) {
@@ -55,18 +55,17 @@ pub(crate) fn positions(
 }
 
 /// Velocity stage: removes from `v` the relative velocity along each constraint at the new
-/// positions `x` (v_i += w_i μ d, v_j −= w_j μ d), until every |d̂·(v_j − v_i)| ≤ `tol` ·
-/// `scale`. Returns the sweeps made.
-#[allow(clippy::too_many_arguments)]
+/// positions `x` (v_i += w_i μ d, v_j −= w_j μ d), until every |d̂·(v_j − v_i)| ≤ `set.tol` ·
+/// `scale`, in at most `set.max_sweeps` sweeps. Returns the sweeps made.
 pub(crate) fn velocities(
     cons: &[DistanceConstraint],
     inv_mass: &[f64],
     x: &[Vec3],
     v: &mut [Vec3],
-    tol: f64,
     scale: f64,
-    max_sweeps: usize,
+    set: &RattleSettings,
 ) -> Result<u64, NotConverged> {
+    let RattleSettings { tol, max_sweeps } = *set;
     for sweep in 0..max_sweeps {
         let mut converged = true;
         for c in cons {
