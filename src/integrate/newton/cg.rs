@@ -14,7 +14,7 @@
 #[cfg(feature = "direct-solver")]
 use super::direct::Factor;
 use super::ic0::Ic0;
-use super::settings::ImplicitSettings;
+use super::linsolve::LinearProblem;
 use super::shift::{raised, MAX_SHIFTS};
 
 /// Fractions of compressed springs' indefinite stiffness dropped in successive attempts at
@@ -54,6 +54,19 @@ pub(super) enum Precond<'a> {
     Ic0(&'a Ic0),
 }
 
+/// When one CG solve stops: the iteration cap, the relative tolerance on the preconditioned
+/// residual rᵀz, and the absolute one on Σ |rᵢ|²/mᵢ (the inexact-Newton forcing; 0 for none).
+/// Each caller sets the three together, from the settings and the Newton loop's forcing.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct CgStop {
+    /// Most iterations.
+    pub(super) max_it: usize,
+    /// Stop once rᵀz ≤ `rel_tol`² × its start value.
+    pub(super) rel_tol: f64,
+    /// Stop once Σ |rᵢ|²/mᵢ ≤ `abs_tol2` (0: never).
+    pub(super) abs_tol2: f64,
+}
+
 /// How one CG solve ended (with its iteration count).
 pub(super) enum CgOutcome {
     Converged(usize),
@@ -63,24 +76,25 @@ pub(super) enum CgOutcome {
 
 impl Cg {
     /// Solves A x = b for the Newton matrix prepared in `jac` by CG preconditioned with
-    /// `pre`, at most `max_it` iterations; x starts at zero, or on a translation-invariant
+    /// `pre`, at most `stop.max_it` iterations; x starts at zero, or on a translation-invariant
     /// system at its exact translation part (see [`Cg::deflate`]). Stops at the relative
-    /// tolerance [`ImplicitSettings::cg_tol`] or when the residual's Σ |rᵢ|²/mᵢ falls to
-    /// `abs_tol2` (the inexact-Newton forcing; 0 for none); on non-positive curvature it
-    /// stops with [`CgOutcome::NegativeCurvature`], the curvature met in [`Cg::curvature`].
-    // One function because CG's vectors and the deflation of translations act within one iteration.
-    #[allow(clippy::too_many_arguments)]
+    /// tolerance `stop.rel_tol` or when the residual's Σ |rᵢ|²/mᵢ falls to `stop.abs_tol2`;
+    /// on non-positive curvature it stops with [`CgOutcome::NegativeCurvature`], the
+    /// curvature met in [`Cg::curvature`].
     pub(super) fn solve(
         &mut self,
         jac: &Jacobian,
         sys: &System,
         b: &[Vec3],
         x: &mut [Vec3],
-        set: &ImplicitSettings,
         mut pre: Precond<'_>,
-        max_it: usize,
-        abs_tol2: f64,
+        stop: CgStop,
     ) -> CgOutcome {
+        let CgStop {
+            max_it,
+            rel_tol,
+            abs_tol2,
+        } = stop;
         let n = b.len();
         for buf in [&mut self.r, &mut self.z, &mut self.p, &mut self.ap] {
             ensure_len(buf, n);
@@ -155,7 +169,7 @@ impl Cg {
             self.precondition(&mut pre, free);
             self.deflate(deflate, &sys.mass);
             let rz_new = dot(&self.r, &self.z, &mut self.parts);
-            if rz_new <= set.cg_tol * set.cg_tol * rz0 {
+            if rz_new <= rel_tol * rel_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
             }
             let beta = rz_new / rz;
@@ -221,29 +235,25 @@ fn spd_block_inverse(d: &Matrix3<f64>, m: f64) -> Matrix3<f64> {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Indefinite;
 
-/// Fills `jac` at (x, v), prepares A for step `h` and solves A dv = b: exact Jacobian first,
-/// then more and more clamped (see [`CLAMPS`]) while CG meets non-positive curvature.
-/// `rhs(jac, b)` writes the right-hand side for the Jacobian as filled (it may depend on it).
-/// A solve that runs out of CG iterations leaves its partial solution (the caller's residual
-/// check decides). Returns the CG iterations spent. The linearly implicit method's solve:
-/// its matrix is the method, and dropping compressed springs' transverse stiffness is
-/// Baraff & Witkin's practice (Choi & Ko, SIGGRAPH 2002, §5). With `ic0` = Some(factor), the clamped (SPD) matrix at (x, v) is factored by block IC(0)
-/// first, and that factor preconditions every attempt instead of block Jacobi.
-#[allow(clippy::too_many_arguments)]
+/// Fills `jac` at `prob`'s (x, v), prepares A for its step h and solves A dv = b: exact
+/// Jacobian first, then more and more clamped (see [`CLAMPS`]) while CG meets non-positive
+/// curvature. `rhs(jac, b)` writes the right-hand side for the Jacobian as filled (it may
+/// depend on it). A solve that runs out of CG iterations leaves its partial solution (the
+/// caller's residual check decides). Returns the CG iterations spent. The linearly implicit
+/// method's solve: its matrix is the method, and dropping compressed springs' transverse
+/// stiffness is Baraff & Witkin's practice (Choi & Ko, SIGGRAPH 2002, §5). With `ic0` =
+/// Some(factor), the clamped (SPD) matrix at (x, v) is factored by block IC(0) first, and
+/// that factor preconditions every attempt instead of block Jacobi.
 pub(super) fn solve_clamped(
     cg: &mut Cg,
     mut ic0: Option<&mut Ic0>,
     jac: &mut Jacobian,
-    sys: &System,
-    x: &[Vec3],
-    v: &[Vec3],
-    h: f64,
-    set: &ImplicitSettings,
+    prob: &LinearProblem<'_>,
     mut rhs: impl FnMut(&Jacobian, &mut [Vec3]),
     b: &mut [Vec3],
     dv: &mut [Vec3],
-    abs_tol2: f64,
 ) -> Result<u64, Indefinite> {
+    let LinearProblem { sys, x, v, h, .. } = *prob;
     let mut spent = 0u64;
     jac.shift = 0.0;
     let clamps = &CLAMPS;
@@ -258,19 +268,11 @@ pub(super) fn solve_clamped(
         sys.jacobian(x, v, jac);
         jac.prepare_newton(&sys.mass, &sys.free, h);
         rhs(jac, b);
-        match cg.solve(
-            jac,
-            sys,
-            b,
-            dv,
-            set,
-            match ic0.as_deref() {
-                Some(f) => Precond::Ic0(f),
-                None => Precond::BlockJacobi,
-            },
-            set.max_cg,
-            abs_tol2,
-        ) {
+        let pre = match ic0.as_deref() {
+            Some(f) => Precond::Ic0(f),
+            None => Precond::BlockJacobi,
+        };
+        match cg.solve(jac, sys, b, dv, pre, prob.cg_stop(prob.set.max_cg)) {
             CgOutcome::Converged(it) | CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
             CgOutcome::NegativeCurvature(it) if attempt + 1 < clamps.len() => spent += it as u64,
             CgOutcome::NegativeCurvature(_) => break,
@@ -279,29 +281,24 @@ pub(super) fn solve_clamped(
     Err(Indefinite)
 }
 
-/// Fills `jac` at (x, v) and solves A dv = b for the Newton matrix A at step `h` with the
-/// Levenberg–Marquardt shift `jac.shift` (`shift.rs`), raising the shift past the curvature
-/// CG meets until A is positive definite; the shift used stays in `jac.shift`.
+/// Fills `jac` at `prob`'s (x, v) and solves A dv = b for the Newton matrix A at its step h
+/// with the Levenberg–Marquardt shift `jac.shift` (`shift.rs`), raising the shift past the
+/// curvature CG meets until A is positive definite; the shift used stays in `jac.shift`.
 /// `rhs(jac, b)` writes the right-hand side for the Jacobian as filled (it may depend on it).
 /// A solve that runs out of CG iterations leaves its partial solution (the caller's residual
 /// check decides). Returns the CG iterations spent. With `ic0` = Some(factor), the clamped
 /// (SPD) matrix at (x, v), with the same shift, is factored by block IC(0) first, and that
 /// factor preconditions every attempt instead of block Jacobi.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn solve_shifted(
     cg: &mut Cg,
     mut ic0: Option<&mut Ic0>,
     jac: &mut Jacobian,
-    sys: &System,
-    x: &[Vec3],
-    v: &[Vec3],
-    h: f64,
-    set: &ImplicitSettings,
+    prob: &LinearProblem<'_>,
     mut rhs: impl FnMut(&Jacobian, &mut [Vec3]),
     b: &mut [Vec3],
     dv: &mut [Vec3],
-    abs_tol2: f64,
 ) -> Result<u64, Indefinite> {
+    let LinearProblem { sys, x, v, h, .. } = *prob;
     let mut spent = 0u64;
     for attempt in 0..MAX_SHIFTS {
         if let Some(f) = ic0.as_deref_mut() {
@@ -321,7 +318,7 @@ pub(super) fn solve_shifted(
             Some(f) => Precond::Ic0(f),
             None => Precond::BlockJacobi,
         };
-        match cg.solve(jac, sys, b, dv, set, pre, set.max_cg, abs_tol2) {
+        match cg.solve(jac, sys, b, dv, pre, prob.cg_stop(prob.set.max_cg)) {
             CgOutcome::Converged(it) | CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
             CgOutcome::NegativeCurvature(it) => {
                 spent += it as u64;
@@ -341,6 +338,7 @@ pub(super) mod tests {
     //! product CG uses; nalgebra's dense Cholesky solve and eigenvalues of it; the quadratic
     //! model −bᵀs + ½ sᵀAs evaluated directly; the P-norm from the preconditioner's blocks.
     use super::*;
+    use crate::integrate::newton::settings::ImplicitSettings;
     use nalgebra::{DMatrix, DVector};
 
     /// A crumpled 5×5 cloth (compressed springs), its Newton matrix at step `h` with `clamp`,
@@ -431,16 +429,12 @@ pub(super) mod tests {
             .expect("clamped matrix is SPD")
             .solve(&flat(&b, &dofs));
         let mut x = vec![Vec3::zeros(); b.len()];
-        let out = Cg::default().solve(
-            &jac,
-            &sys,
-            &b,
-            &mut x,
-            &set(),
-            Precond::BlockJacobi,
-            500,
-            0.0,
-        );
+        let stop = CgStop {
+            max_it: 500,
+            rel_tol: set().cg_tol,
+            abs_tol2: 0.0,
+        };
+        let out = Cg::default().solve(&jac, &sys, &b, &mut x, Precond::BlockJacobi, stop);
         assert!(matches!(out, CgOutcome::Converged(_)));
         assert!((flat(&x, &dofs) - &want).amax() <= 1e-9 * want.amax());
     }
@@ -471,21 +465,17 @@ pub(super) mod tests {
         let mut x = vec![Vec3::zeros(); b.len()];
         let state = crumpled_state();
         let mut bb = b.clone();
-        solve_shifted(
-            &mut cg,
-            None,
-            &mut jac,
-            &sys,
-            &state,
-            &vec![Vec3::zeros(); b.len()],
+        let v = vec![Vec3::zeros(); b.len()];
+        let prob = LinearProblem {
+            sys: &sys,
+            x: &state,
+            v: &v,
             h,
-            &set(),
-            |_, _| {},
-            &mut bb,
-            &mut x,
-            0.0,
-        )
-        .expect("a shift makes it positive definite");
+            set: &set(),
+            abs_tol2: 0.0,
+        };
+        solve_shifted(&mut cg, None, &mut jac, &prob, |_, _| {}, &mut bb, &mut x)
+            .expect("a shift makes it positive definite");
         assert!(cg.curvature <= 0.0 && cg.curvature >= eig.min() - 1e-9 * eig.amax());
         let mu = jac.shift;
         assert!(

@@ -216,7 +216,7 @@ mod tests {
     //! the dense solve of the clamped system to CG tolerance, and P = L Lᵀ must be SPD
     //! (rᵀ P⁻¹ r > 0).
     use super::super::cg::tests::{crumpled, dense_newton as dense, flat};
-    use super::super::cg::{Cg, CgOutcome, Precond};
+    use super::super::cg::{Cg, CgOutcome, CgStop, Precond};
     use super::super::ImplicitSettings;
     use super::*;
 
@@ -306,7 +306,12 @@ mod tests {
         };
         let run = |pre: Precond<'_>| {
             let mut x = vec![Vec3::zeros(); n];
-            let out = Cg::default().solve(&jac, &sys, &b, &mut x, &set, pre, 500, 0.0);
+            let stop = CgStop {
+                max_it: 500,
+                rel_tol: set.cg_tol,
+                abs_tol2: 0.0,
+            };
+            let out = Cg::default().solve(&jac, &sys, &b, &mut x, pre, stop);
             let CgOutcome::Converged(it) = out else {
                 panic!("CG did not converge");
             };

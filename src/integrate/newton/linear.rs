@@ -7,7 +7,7 @@
 //! translation-invariant system the solution is shifted to keep linear momentum exactly
 //! (`momentum.rs`).
 
-use super::linsolve::Indefiniteness;
+use super::linsolve::{Indefiniteness, LinearProblem};
 use super::Newton;
 use crate::error::{Error, Result};
 use crate::model::{System, Vec3};
@@ -35,17 +35,20 @@ impl Newton {
             }
         };
         self.newton_iterations += 1;
+        let prob = LinearProblem {
+            sys,
+            x: x0,
+            v: v0,
+            h,
+            set: &self.settings,
+            abs_tol2: 0.0,
+        };
         let solved = self.lin.solve(
             &mut jac,
-            sys,
-            x0,
-            v0,
-            h,
-            &self.settings,
+            &prob,
             rhs,
             &mut self.r,
             &mut self.dv,
-            0.0,
             Indefiniteness::Clamp,
         );
         self.jac = Some(jac);

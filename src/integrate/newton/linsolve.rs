@@ -49,7 +49,7 @@
 //! here, so AMG could only lower the constant, as IC(0) does, and the table shows a fourfold
 //! lower constant buying nothing on the large cloths.
 
-use super::cg::{solve_clamped, solve_shifted, Cg, Indefinite};
+use super::cg::{solve_clamped, solve_shifted, Cg, CgStop, Indefinite};
 #[cfg(feature = "direct-solver")]
 use super::cg::{CgOutcome, Precond};
 #[cfg(feature = "direct-solver")]
@@ -65,6 +65,36 @@ pub(super) enum Indefiniteness {
     Shift,
     /// Drop compressed springs' negative stiffness (the linearly implicit method's matrix).
     Clamp,
+}
+
+/// One system A Δv = b of the Newton matrix: the iterate (x, v) at which the Jacobian is
+/// taken, the step h, the solver settings and the inexact-Newton stop. Every layer of the
+/// solve (the solver choice, the factored, shifted and clamped solves) reads all of them.
+#[derive(Clone, Copy)]
+pub(super) struct LinearProblem<'a> {
+    /// The system whose Newton matrix it is.
+    pub(super) sys: &'a System,
+    /// Positions at which the Jacobian is taken.
+    pub(super) x: &'a [Vec3],
+    /// Velocities at which the Jacobian is taken.
+    pub(super) v: &'a [Vec3],
+    /// The stage's step (β).
+    pub(super) h: f64,
+    /// Solver choice, iteration caps and CG tolerance.
+    pub(super) set: &'a ImplicitSettings,
+    /// CG may stop once Σ |rᵢ|²/mᵢ of its residual is below it (0: never).
+    pub(super) abs_tol2: f64,
+}
+
+impl LinearProblem<'_> {
+    /// CG's stop on this problem with at most `max_it` iterations.
+    pub(super) fn cg_stop(&self, max_it: usize) -> CgStop {
+        CgStop {
+            max_it,
+            rel_tol: self.set.cg_tol,
+            abs_tol2: self.abs_tol2,
+        }
+    }
 }
 
 /// Scratch and state of the linear solves: CG vectors and the reusable factors.
@@ -89,52 +119,43 @@ impl LinearSolve {
         self.factor.invalidate();
     }
 
-    /// Fills `jac` at (x, v) with the given clamp and prepares the Newton matrix for step h.
+    /// Fills `jac` at `prob`'s (x, v) with the given clamp and prepares the Newton matrix for
+    /// its step h.
     #[cfg(feature = "direct-solver")]
-    fn fill(jac: &mut Jacobian, sys: &System, x: &[Vec3], v: &[Vec3], h: f64, clamp: f64) {
+    fn fill(jac: &mut Jacobian, prob: &LinearProblem<'_>, clamp: f64) {
+        let LinearProblem { sys, x, v, h, .. } = *prob;
         jac.clamp = clamp;
         sys.jacobian(x, v, jac);
         jac.prepare_newton(&sys.mass, &sys.free, h);
     }
 
-    /// Factors the clamped Newton matrix at (x, v).
+    /// Factors the clamped Newton matrix at `prob`'s (x, v).
     #[cfg(feature = "direct-solver")]
-    fn refactor(
-        &mut self,
-        jac: &mut Jacobian,
-        sys: &System,
-        x: &[Vec3],
-        v: &[Vec3],
-        h: f64,
-    ) -> Result<(), Indefinite> {
-        Self::fill(jac, sys, x, v, h, 1.0);
+    fn refactor(&mut self, jac: &mut Jacobian, prob: &LinearProblem<'_>) -> Result<(), Indefinite> {
+        Self::fill(jac, prob, 1.0);
         self.factorizations += 1;
-        self.factor_h = h;
-        self.factor.factor(jac, &sys.free).map_err(|_| Indefinite)
+        self.factor_h = prob.h;
+        self.factor
+            .factor(jac, &prob.sys.free)
+            .map_err(|_| Indefinite)
     }
 
-    /// Solves A dv = b for the Newton matrix at (x, v) with step `h`; `rhs(jac, b)` writes the
-    /// right-hand side for the Jacobian as filled (it may depend on it). A solve that runs out
-    /// of iterations leaves its partial solution (the caller's residual check decides).
-    /// Returns the linear iterations spent (CG iterations; a direct solve counts one).
-    /// `abs_tol2`: CG may stop once Σ |rᵢ|²/mᵢ of its residual is below it (0: never).
-    /// The block-Jacobi and IC(0) solvers solve the matrix shifted by `jac.shift` and raise
-    /// the shift until it is positive definite (`shift.rs`); the Cholesky solver projects.
-    #[allow(clippy::too_many_arguments)]
+    /// Solves A dv = b for the Newton matrix of `prob`; `rhs(jac, b)` writes the right-hand
+    /// side for the Jacobian as filled (it may depend on it). A solve that runs out of
+    /// iterations leaves its partial solution (the caller's residual check decides). Returns
+    /// the linear iterations spent (CG iterations; a direct solve counts one). The
+    /// block-Jacobi and IC(0) solvers solve the matrix shifted by `jac.shift` and raise the
+    /// shift until it is positive definite (`shift.rs`); the Cholesky solver projects.
     pub(super) fn solve(
         &mut self,
         jac: &mut Jacobian,
-        sys: &System,
-        x: &[Vec3],
-        v: &[Vec3],
-        h: f64,
-        set: &ImplicitSettings,
+        prob: &LinearProblem<'_>,
         rhs: impl FnMut(&Jacobian, &mut [Vec3]),
         b: &mut [Vec3],
         dv: &mut [Vec3],
-        abs_tol2: f64,
         indefinite: Indefiniteness,
     ) -> Result<u64, Indefinite> {
+        let set = prob.set;
         if matches!(
             set.solver,
             LinearSolver::BlockJacobiCg | LinearSolver::BlockIc0Cg
@@ -149,44 +170,26 @@ impl LinearSolve {
                 Indefiniteness::Shift => solve_shifted,
                 Indefiniteness::Clamp => solve_clamped,
             };
-            return solve(
-                &mut self.cg,
-                ic0,
-                jac,
-                sys,
-                x,
-                v,
-                h,
-                set,
-                rhs,
-                b,
-                dv,
-                abs_tol2,
-            );
+            return solve(&mut self.cg, ic0, jac, prob, rhs, b, dv);
         }
         #[cfg(feature = "direct-solver")]
-        return self.solve_factored(jac, sys, x, v, h, set, rhs, b, dv, abs_tol2, indefinite);
+        return self.solve_factored(jac, prob, rhs, b, dv, indefinite);
         #[cfg(not(feature = "direct-solver"))]
         unreachable!("the CG solvers are the only ones without the direct-solver feature")
     }
 
     /// [`LinearSolver::Cholesky`]'s solve (module docs).
     #[cfg(feature = "direct-solver")]
-    #[allow(clippy::too_many_arguments)]
     fn solve_factored(
         &mut self,
         jac: &mut Jacobian,
-        sys: &System,
-        x: &[Vec3],
-        v: &[Vec3],
-        h: f64,
-        set: &ImplicitSettings,
+        prob: &LinearProblem<'_>,
         mut rhs: impl FnMut(&Jacobian, &mut [Vec3]),
         b: &mut [Vec3],
         dv: &mut [Vec3],
-        abs_tol2: f64,
         indefinite: Indefiniteness,
     ) -> Result<u64, Indefinite> {
+        let (sys, h, set) = (prob.sys, prob.h, prob.set);
         // The matrix-free shifted solve: the fallback
         // wherever no factor can be built.
         let fallback = match indefinite {
@@ -195,25 +198,12 @@ impl LinearSolve {
         };
         macro_rules! clamped {
             () => {
-                fallback(
-                    &mut self.cg,
-                    None,
-                    jac,
-                    sys,
-                    x,
-                    v,
-                    h,
-                    set,
-                    rhs,
-                    b,
-                    dv,
-                    abs_tol2,
-                )
+                fallback(&mut self.cg, None, jac, prob, rhs, b, dv)
             };
         }
         let mut fresh = false;
         if !self.factor.is_factored() || self.factor_h != h {
-            if self.refactor(jac, sys, x, v, h).is_err() {
+            if self.refactor(jac, prob).is_err() {
                 // Not SPD even clamped (a force term with an indefinite Jacobian of its own):
                 // the matrix-free shifted solve.
                 return clamped!();
@@ -222,7 +212,7 @@ impl LinearSolve {
         }
         let mut spent = 0u64;
         loop {
-            Self::fill(jac, sys, x, v, h, 0.0);
+            Self::fill(jac, prob, 0.0);
             rhs(jac, b);
             let cap = if fresh {
                 set.max_cg
@@ -230,7 +220,7 @@ impl LinearSolve {
                 set.refactor_after
             };
             let pre = Precond::Factor(&mut self.factor);
-            match self.cg.solve(jac, sys, b, dv, set, pre, cap, abs_tol2) {
+            match self.cg.solve(jac, sys, b, dv, pre, prob.cg_stop(cap)) {
                 CgOutcome::Converged(it) => return Ok(spent + it as u64),
                 CgOutcome::NotConverged(it) if !fresh => spent += it as u64,
                 CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
@@ -239,11 +229,11 @@ impl LinearSolve {
                     // with a factor at this iterate.
                     spent += it as u64;
                     if !fresh {
-                        if self.refactor(jac, sys, x, v, h).is_err() {
+                        if self.refactor(jac, prob).is_err() {
                             return clamped!();
                         }
                     } else {
-                        Self::fill(jac, sys, x, v, h, 1.0);
+                        Self::fill(jac, prob, 1.0);
                     }
                     rhs(jac, b);
                     self.factor.solve(&sys.free, b, dv);
@@ -251,7 +241,7 @@ impl LinearSolve {
                 }
             }
             // The stale factor preconditions poorly: refactor here and solve again.
-            if self.refactor(jac, sys, x, v, h).is_err() {
+            if self.refactor(jac, prob).is_err() {
                 return clamped!();
             }
             fresh = true;

@@ -37,6 +37,7 @@ mod cg;
 #[cfg(feature = "direct-solver")]
 mod direct;
 mod ic0;
+mod line_search;
 mod linear;
 mod linsolve;
 mod momentum;
@@ -44,14 +45,16 @@ mod pattern;
 mod potential;
 mod settings;
 mod shift;
+mod stage;
 mod translation;
 
 use crate::error::{Error, Result};
 use crate::integrate::ensure_len;
 use crate::model::{Jacobian, System, Vec3};
-use linsolve::{Indefiniteness, LinearSolve};
-use potential::{potential, PotentialScratch};
+use linsolve::{Indefiniteness, LinearProblem, LinearSolve};
+use potential::PotentialScratch;
 pub use settings::{ImplicitSettings, LinearSolver};
+use stage::Stage;
 
 /// Which Newton stop an implicit method may use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,9 +123,6 @@ const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
 /// max norm, which a residual at the tolerance itself in RMS would often miss.
 const ROOT_FLOOR: f64 = 0.1;
 
-/// Armijo's sufficient-decrease constant c₁ (Nocedal & Wright §3.1: 10⁻⁴ is usual).
-const ARMIJO: f64 = 1e-4;
-
 /// Largest component magnitude over all particles (the max norm of a velocity or position field).
 pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
     v.iter().map(|c| c.amax()).fold(0.0, f64::max)
@@ -187,14 +187,8 @@ impl Newton {
     /// Sets x' = x̂ + β v', evaluates the forces there and G(v') = M (v' − v̂) − β f(x', v')
     /// into `self.r`; the max norm counts only what is above the force evaluation's own
     /// rounding floor at each particle.
-    fn residual(
-        &mut self,
-        sys: &System,
-        x0: &[Vec3],
-        v0: &[Vec3],
-        h: f64,
-        v_scale0: f64,
-    ) -> Residual {
+    fn residual(&mut self, st: &Stage<'_>) -> Residual {
+        let Stage { sys, x0, v0, h, .. } = *st;
         for p in 0..x0.len() {
             self.xn[p] = x0[p] + self.vn[p] * h;
         }
@@ -207,7 +201,7 @@ impl Newton {
         let (mut max, mut merit) = (0.0f64, 0.0f64);
         // Gravity's kick β|g| is part of the scale: a body resting on a contact has no net force.
         let kick = sys.gravity.map_or(0.0, |g| g.amax() * h);
-        let mut scale = v_scale0.max(max_abs(&self.vn)).max(kick);
+        let mut scale = st.v_scale0.max(max_abs(&self.vn)).max(kick);
         for p in 0..x0.len() {
             if sys.free[p] {
                 self.r[p] = (self.vn[p] - v0[p]) * sys.mass[p] - self.f[p] * h;
@@ -227,90 +221,9 @@ impl Newton {
         }
     }
 
-    /// Backtracking by halves from the full step α·`self.dv` (α = 1, ½, ¼, …): a trial is
-    /// taken once the residual merit GᵀM⁻¹G falls, or the stage's incremental potential Φ
-    /// (damping directions frozen at the base `self.vbase`, so that ∇Φ there is exactly the
-    /// residual G) falls by Armijo's margin, Φ(α) ≤ Φ(0) + c₁ α Gᵀd (Nocedal & Wright,
-    /// Alg. 3.1), by more than Φ's own round-off. The shifted Newton matrix is positive
-    /// definite, so the direction descends on Φ and some α passes; the residual test keeps
-    /// the iterates near the floor of a stiff valley that curves (a spinning stiff body),
-    /// where Φ alone accepts steps far up its walls that spoil the next linearisation. `gd` =
-    /// Gᵀd. After `max_halvings` trials the last is taken. Updates `res` to the accepted
-    /// iterate's; returns (α, force evaluations).
-    #[allow(clippy::too_many_arguments)]
-    fn backtrack(
-        &mut self,
-        sys: &System,
-        x0: &[Vec3],
-        v0: &[Vec3],
-        h: f64,
-        v_scale0: f64,
-        res: &mut Residual,
-        gd: f64,
-    ) -> (f64, u64) {
-        let mut evals = 0;
-        let mut alpha = 1.0;
-        // The base's potential and its round-off, computed only if needed.
-        let mut base: Option<(f64, f64)> = None;
-        for trial_no in 0..=self.settings.max_halvings {
-            let trial = self.trial(sys, x0, v0, h, v_scale0, alpha);
-            evals += 1;
-            let mut done = trial.merit <= res.merit || trial_no == self.settings.max_halvings;
-            if !done && trial.merit.is_finite() {
-                let (phi0, noise) = match base {
-                    Some(b) => b,
-                    None => {
-                        evals += 1;
-                        *base.insert(self.base_potential(sys, x0, v0, h))
-                    }
-                };
-                // Each potential evaluates the dampers' power: a force pass.
-                let (phi, _) = potential(sys, x0, v0, &self.vn, h, &mut self.pot);
-                evals += 1;
-                let change = phi - phi0;
-                done = change < -noise && change <= ARMIJO * alpha * gd;
-            }
-            if done {
-                if trial_no > 0 {
-                    self.damped_updates += 1;
-                }
-                *res = trial;
-                break;
-            }
-            alpha *= 0.5;
-        }
-        (alpha, evals)
-    }
-
-    /// A line-search trial: v' = `self.vbase` + t·`self.dv`, and the residual there.
-    fn trial(
-        &mut self,
-        sys: &System,
-        x0: &[Vec3],
-        v0: &[Vec3],
-        h: f64,
-        v_scale0: f64,
-        t: f64,
-    ) -> Residual {
-        for p in 0..x0.len() {
-            self.vn[p] = self.vbase[p] + self.dv[p] * t;
-        }
-        self.residual(sys, x0, v0, h, v_scale0)
-    }
-
-    /// The incremental potential at `self.vbase`, freezing the damping directions there, and
-    /// its round-off.
-    fn base_potential(&mut self, sys: &System, x0: &[Vec3], v0: &[Vec3], h: f64) -> (f64, f64) {
-        for p in 0..x0.len() {
-            self.pot.x_frozen[p] = x0[p] + self.vbase[p] * h;
-        }
-        potential(sys, x0, v0, &self.vbase, h, &mut self.pot)
-    }
-
     /// Solves the backward-Euler stage from (x̂, v̂) = (`x0`, `v0`) with step `h` (β above);
     /// the result is in [`Newton::x`], [`Newton::v`]. Returns the dissipated power at the
     /// solution and the force evaluations made. `who` names the method in errors.
-    // One function because the iteration's state (iterate, residual, shift, forcing, stop tests) is shared by every branch of the loop; its parts (line search, shift, linear solve) live in their own functions and modules.
     pub(crate) fn solve(
         &mut self,
         sys: &System,
@@ -320,88 +233,88 @@ impl Newton {
         stop: Stop,
         who: &'static str,
     ) -> Result<(f64, u64)> {
-        let n = x0.len();
         self.prepare(sys);
-        // Start: the first-order methods at v̂; the second-order ones at the linearly implicit
-        // solution (Jacobian at the base), exact for linear forces, so that at hω ≫ 1 Newton
-        // stays on the base's side of a spring's anchor instead of jumping to a root where
-        // |d| folds the force law (found on the anchored spring at hω = 31.6).
-        let mut evals = 0u64;
-        let guessed = stop == Stop::SecondOrder && {
-            evals += 1;
-            self.linearized(sys, x0, v0, h).is_ok()
-        };
-        if !guessed {
-            self.vn.copy_from_slice(v0);
-        }
-        let mut jac = self.take_jacobian(sys);
-        jac.shift = 0.0;
-        let v_scale0 = max_abs(v0);
-        // Errors are built only on failure: a step must not allocate.
-        // Err(true): non-finite residual; Err(false): no convergence.
-        let mut result: std::result::Result<f64, bool> = Err(false);
-        // Round-off floor: positions carry ε|x| absolute error, i.e. ε|x|/h in velocity.
-        let x_floor = 16.0 * f64::EPSILON * max_abs(x0) / h;
-        let mut small_update = false;
-        let free_mass: f64 = (0..n).filter(|&p| sys.free[p]).map(|p| sys.mass[p]).sum();
-        let free_mass = if free_mass > 0.0 { free_mass } else { 1.0 };
         let kappa = match stop {
             Stop::FirstOrder => self.settings.kappa,
             Stop::SecondOrder => self.settings.kappa * self.settings.kappa,
         };
-        let mut res = self.residual(sys, x0, v0, h, v_scale0);
-        let mut prev_merit = f64::INFINITY;
+        let st = Stage::new(sys, x0, v0, h, kappa);
+        let (mut res, mut evals) = self.start(&st, stop);
+        let mut jac = self.take_jacobian(sys);
+        jac.shift = 0.0;
+        let solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
+        self.jac = Some(jac);
+        let power = solved.map_err(|failure| failure.error(who, self.settings.max_newton))?;
+        Ok((power, evals))
+    }
+
+    /// Sets the first iterate and the error estimate's predictor; returns the residual there
+    /// and the force evaluations made. The first-order methods start at v̂; the second-order
+    /// ones at the linearly implicit solution (Jacobian at the base), exact for linear forces,
+    /// so that at hω ≫ 1 Newton stays on the base's side of a spring's anchor instead of
+    /// jumping to a root where |d| folds the force law (found on the anchored spring at
+    /// hω = 31.6).
+    fn start(&mut self, st: &Stage<'_>, stop: Stop) -> (Residual, u64) {
+        let mut evals = 0u64;
+        let guessed = stop == Stop::SecondOrder && {
+            evals += 1;
+            self.linearized(st.sys, st.x0, st.v0, st.h).is_ok()
+        };
+        if !guessed {
+            self.vn.copy_from_slice(st.v0);
+        }
+        let mut res = self.residual(st);
         evals += 1;
         if guessed {
             // Keep the linearly implicit start only where it beats v̂: on a folding cloth the
             // start-of-step linearisation can be far off.
             self.vbase.copy_from_slice(&self.vn);
-            self.vn.copy_from_slice(v0);
-            let at_base = self.residual(sys, x0, v0, h, v_scale0);
+            self.vn.copy_from_slice(st.v0);
+            let at_base = self.residual(st);
             evals += 1;
             if at_base.merit <= res.merit || !res.merit.is_finite() {
                 res = at_base;
-                for p in 0..n {
-                    self.vpred[p] = self.vn[p] - self.r[p] * sys.inv_mass[p];
-                }
+                self.predict(st);
             } else {
                 self.vn.copy_from_slice(&self.vbase);
-                res = self.residual(sys, x0, v0, h, v_scale0);
+                res = self.residual(st);
                 evals += 1;
             }
         } else {
             // The explicit predictor v0 + h M⁻¹ f(x0 + h v0, v0) is first order, so ½|v' − v_pred|
             // estimates backward Euler's local error in velocity at no extra force evaluation.
             // (From v' rather than v̂: the same predictor where the momentum shift moved v'.)
-            for p in 0..n {
-                self.vpred[p] = self.vn[p] - self.r[p] * sys.inv_mass[p];
-            }
+            self.predict(st);
         }
+        (res, evals)
+    }
+
+    /// The explicit predictor from the current iterate and its residual: v' − M⁻¹G.
+    fn predict(&mut self, st: &Stage<'_>) {
+        for p in 0..st.x0.len() {
+            self.vpred[p] = self.vn[p] - self.r[p] * st.sys.inv_mass[p];
+        }
+    }
+
+    /// Newton's iteration from the iterate `res` describes until a stop accepts it; returns
+    /// the dissipated power there. Counts its force evaluations into `evals`.
+    fn iterate(
+        &mut self,
+        st: &Stage<'_>,
+        jac: &mut Jacobian,
+        res: &mut Residual,
+        evals: &mut u64,
+    ) -> std::result::Result<f64, Failure> {
+        let n = st.x0.len();
+        let mut small_update = false;
+        let mut prev_merit = f64::INFINITY;
         for iter in 0..=self.settings.max_newton {
             if !res.max.is_finite() || !res.merit.is_finite() {
-                result = Err(true);
-                break;
+                return Err(Failure::NonFinite);
             }
-            let tight = res.max <= self.settings.newton_tol * res.scale || res.scale == 0.0;
-            // Mass-weighted RMS norms (velocity units) for the error-based stop: a max norm
-            // would let a few particles at a pinned corner decide for the whole cloth.
-            let mut lte2 = 0.0;
-            for p in 0..n {
-                if sys.free[p] {
-                    lte2 += sys.mass[p] * (self.vn[p] - self.vpred[p]).norm_squared();
-                }
-            }
-            let lte = 0.5 * (lte2 / free_mass).sqrt();
-            let res_rms = (res.merit / free_mass).sqrt();
-            let root = res_rms <= self.settings.root_tol * res.scale || tight;
-            let loose = iter > 0 && kappa > 0.0 && res_rms <= kappa * lte;
-            // The cheap stops only where the stage meets the root tolerance (module docs).
-            if tight || (root && (small_update || loose || iter == self.settings.max_newton)) {
-                if loose && !tight && !small_update {
-                    self.error_limited_steps += 1;
-                }
-                result = Ok(res.power);
-                break;
+            let lte = self.error_estimate(st);
+            if self.accepts(st, res, lte, iter, small_update) {
+                return Ok(res.power);
             }
             if iter == self.settings.max_newton {
                 break;
@@ -410,75 +323,145 @@ impl Newton {
             for p in 0..n {
                 self.r[p] = -self.r[p];
             }
-            // Inexact Newton (Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19, 1982): the
-            // linear residual need only fall to η |G| with Eisenstat & Walker's forcing
-            // η = min(η_max, 0.9 (|G|/|G_prev|)²) (SIAM J. Sci. Comput. 17, 1996, choice 2),
-            // and never below half the error-based stop's target, which it would oversolve.
-            let eta = if prev_merit.is_finite() {
-                (0.9 * res.merit / prev_merit).min(self.settings.forcing)
-            } else {
-                self.settings.forcing
-            };
+            let abs_tol2 = self.linear_tolerance(st, res, lte, prev_merit);
             prev_merit = res.merit;
-            // The error-based floor, never above a tenth of the root tolerance (in RMS), which
-            // the next iterate must meet in max norm.
-            let target2 = if kappa > 0.0 {
-                (0.5 * kappa * lte)
-                    .min(ROOT_FLOOR * self.settings.root_tol * res.scale)
-                    .powi(2)
-                    * free_mass
-            } else {
-                0.0
-            };
-            let abs_tol2 = target2.max(eta * eta * res.merit);
-            let mut rhs = std::mem::take(&mut self.r);
-            let solved = self.lin.solve(
-                &mut jac,
-                sys,
-                &self.xn,
-                &self.vn,
-                h,
-                &self.settings,
-                |_, _| {},
-                &mut rhs,
-                &mut self.dv,
-                abs_tol2,
-                Indefiniteness::Shift,
-            );
-            self.r = rhs;
-            match solved {
-                Ok(it) => self.cg_iterations += it,
-                Err(_) => {
-                    self.jac = Some(jac);
-                    return Err(Error::Step(format!(
-                        "{who}: Newton matrix is not positive definite at any shift"
-                    )));
-                }
-            }
-            if jac.shift > 0.0 {
-                self.shifted_iterations += 1;
-            }
+            self.direction(st, jac, abs_tol2)?;
             self.vbase.copy_from_slice(&self.vn);
             // Gᵀd: the right-hand side holds −G.
             let gd: f64 = -(0..n).map(|p| self.r[p].dot(&self.dv[p])).sum::<f64>();
-            let (alpha, e) = self.backtrack(sys, x0, v0, h, v_scale0, &mut res, gd);
-            evals += e;
+            let (alpha, e) = self.backtrack(st, res, gd);
+            *evals += e;
             jac.shift = shift::after_step(jac.shift, alpha);
             // Converged when the update is below the tolerance or the round-off floor.
             small_update = alpha * max_abs(&self.dv)
-                <= self.settings.newton_tol * v_scale0.max(max_abs(&self.vn)) + x_floor;
+                <= self.settings.newton_tol * st.v_scale0.max(max_abs(&self.vn)) + st.x_floor;
         }
-        self.jac = Some(jac);
-        let power = result.map_err(|non_finite| {
-            Error::Step(if non_finite {
-                format!("{who}: non-finite residual in Newton iteration")
-            } else {
-                format!(
-                    "{who}: Newton did not converge in {} iterations",
-                    self.settings.max_newton
-                )
-            })
-        })?;
-        Ok((power, evals))
+        Err(Failure::NoConvergence)
+    }
+
+    /// The stage's first-order error estimate ½|v' − v_pred| in the mass-weighted RMS norm
+    /// (velocity units): a max norm would let a few particles at a pinned corner decide for
+    /// the whole cloth.
+    fn error_estimate(&self, st: &Stage<'_>) -> f64 {
+        let sys = st.sys;
+        let mut lte2 = 0.0;
+        for p in 0..st.x0.len() {
+            if sys.free[p] {
+                lte2 += sys.mass[p] * (self.vn[p] - self.vpred[p]).norm_squared();
+            }
+        }
+        0.5 * (lte2 / st.free_mass).sqrt()
+    }
+
+    /// Whether the iterate `res` describes ends the stage: at `newton_tol`, or at the root
+    /// tolerance with a small last update, a residual under κ × `lte`, or the iteration cap
+    /// (module docs). Counts the stops on the error estimate.
+    fn accepts(
+        &mut self,
+        st: &Stage<'_>,
+        res: &Residual,
+        lte: f64,
+        iter: usize,
+        small_update: bool,
+    ) -> bool {
+        let set = &self.settings;
+        let tight = res.max <= set.newton_tol * res.scale || res.scale == 0.0;
+        let res_rms = (res.merit / st.free_mass).sqrt();
+        let root = res_rms <= set.root_tol * res.scale || tight;
+        let loose = iter > 0 && st.kappa > 0.0 && res_rms <= st.kappa * lte;
+        // The cheap stops only where the stage meets the root tolerance (module docs).
+        if tight || (root && (small_update || loose || iter == set.max_newton)) {
+            if loose && !tight && !small_update {
+                self.error_limited_steps += 1;
+            }
+            return true;
+        }
+        false
+    }
+
+    /// The linear solve's stop Σ |rᵢ|²/mᵢ ≤ the returned value, given the residual `res`,
+    /// the error estimate `lte` and the previous iterate's merit `prev_merit`. Inexact Newton
+    /// (Dembo, Eisenstat & Steihaug, SIAM J. Numer. Anal. 19, 1982): the linear residual need
+    /// only fall to η |G| with Eisenstat & Walker's forcing η = min(η_max, 0.9 (|G|/|G_prev|)²)
+    /// (SIAM J. Sci. Comput. 17, 1996, choice 2), and never below half the error-based stop's
+    /// target, which it would oversolve.
+    fn linear_tolerance(&self, st: &Stage<'_>, res: &Residual, lte: f64, prev_merit: f64) -> f64 {
+        let set = &self.settings;
+        let eta = if prev_merit.is_finite() {
+            (0.9 * res.merit / prev_merit).min(set.forcing)
+        } else {
+            set.forcing
+        };
+        // The error-based floor, never above a tenth of the root tolerance (in RMS), which
+        // the next iterate must meet in max norm.
+        let target2 = if st.kappa > 0.0 {
+            (0.5 * st.kappa * lte)
+                .min(ROOT_FLOOR * set.root_tol * res.scale)
+                .powi(2)
+                * st.free_mass
+        } else {
+            0.0
+        };
+        target2.max(eta * eta * res.merit)
+    }
+
+    /// Solves the shifted Newton matrix at the iterate for the direction `self.dv` from the
+    /// right-hand side −G in `self.r`, to `abs_tol2`; counts the linear and shifted iterations.
+    fn direction(
+        &mut self,
+        st: &Stage<'_>,
+        jac: &mut Jacobian,
+        abs_tol2: f64,
+    ) -> std::result::Result<(), Failure> {
+        let mut rhs = std::mem::take(&mut self.r);
+        let prob = LinearProblem {
+            sys: st.sys,
+            x: &self.xn,
+            v: &self.vn,
+            h: st.h,
+            set: &self.settings,
+            abs_tol2,
+        };
+        let solved = self.lin.solve(
+            jac,
+            &prob,
+            |_, _| {},
+            &mut rhs,
+            &mut self.dv,
+            Indefiniteness::Shift,
+        );
+        self.r = rhs;
+        self.cg_iterations += solved.map_err(|_| Failure::Indefinite)?;
+        if jac.shift > 0.0 {
+            self.shifted_iterations += 1;
+        }
+        Ok(())
+    }
+}
+
+/// Why a stage was not solved. The error is built from it only on failure: a step must not
+/// allocate.
+#[derive(Debug, Clone, Copy)]
+enum Failure {
+    /// A residual was not finite.
+    NonFinite,
+    /// No stop accepted an iterate within the iteration cap.
+    NoConvergence,
+    /// No shift made the Newton matrix positive definite.
+    Indefinite,
+}
+
+impl Failure {
+    /// The step error for the method `who`, whose iteration cap is `max_newton`.
+    fn error(self, who: &str, max_newton: usize) -> Error {
+        Error::Step(match self {
+            Failure::NonFinite => format!("{who}: non-finite residual in Newton iteration"),
+            Failure::NoConvergence => {
+                format!("{who}: Newton did not converge in {max_newton} iterations")
+            }
+            Failure::Indefinite => {
+                format!("{who}: Newton matrix is not positive definite at any shift")
+            }
+        })
     }
 }
