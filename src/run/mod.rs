@@ -2,6 +2,7 @@
 
 pub mod cost;
 mod energy;
+mod frame_loop;
 mod observer;
 pub mod progress;
 pub mod runaway;

@@ -2,14 +2,14 @@
 
 use super::cost::{CostModel, Work};
 use super::energy::EnergyRecord;
+use super::frame_loop::Loop;
 use super::observer::Observer;
 use super::scale::energy_scale;
-use super::verdict::{Rule, Verdict, DEFAULT_BLOWUP_FACTOR};
-use crate::error::{Error, Result};
+use super::verdict::{Verdict, DEFAULT_BLOWUP_FACTOR};
+use crate::error::Result;
 use crate::integrate::Stepper;
-use crate::model::{Impulse, State, System};
+use crate::model::{State, System};
 use serde::Serialize;
-use std::time::Instant;
 
 /// How long to run, with which frame step and substeps, and when to call a run unstable.
 ///
@@ -160,78 +160,12 @@ pub struct RunOutcome {
     pub final_state: State,
 }
 
-struct Loop<'a> {
-    sys: &'a System,
-    stepper: &'a mut dyn Stepper,
-    work: Work,
-    dissipated: f64,
-    /// Energy the contact stage created (booked apart; it stays in the mechanical terms).
-    created: f64,
-    wall: f64,
-    /// Positions and velocities before the step, kept only when the scene has a contact stage.
-    x0: Vec<crate::model::Vec3>,
-    v0: Vec<crate::model::Vec3>,
-}
-
-impl Loop<'_> {
-    fn step(&mut self, s: &mut State, h: f64) -> Result<()> {
-        let t0 = Instant::now();
-        let newton_before = self.newton_counts();
-        if self.sys.post_step.is_some() {
-            self.x0.clone_from(&s.x);
-            self.v0.clone_from(&s.v);
-        }
-        // A step that fails still did its work: the step and its Newton and linear iterations
-        // (the implicit core's counters) are counted before the error goes up; its force
-        // evaluations are in the stats it never returns, so the count leaves them out.
-        let stepped = self.stepper.step(self.sys, s, h);
-        let (newton, linear) = self.newton_counts();
-        let w = &mut self.work;
-        w.steps += 1;
-        w.newton_iterations += newton.saturating_sub(newton_before.0);
-        w.linear_iterations += linear.saturating_sub(newton_before.1);
-        let stats = stepped?;
-        w.force_evals += stats.force_evals;
-        w.link_updates += stats.link_updates;
-        w.engine_seconds += stats.engine_seconds;
-        // Contact stage (obstacles only): resolve contacts after the accepted step, before the
-        // energy account; what it removes joins `dissipated`, and a changed state resets the
-        // stepper's history. The stage books losses and gains apart: energy it created stays
-        // in the mechanical terms, where the verdict sees it as a gain, and is listed in `created`.
-        if let Some(c) = self
-            .sys
-            .post_step
-            .as_ref()
-            .filter(|_| !self.stepper.handles_contacts())
-        {
-            let cs = c.apply(self.sys, &self.x0, &self.v0, s, h);
-            self.work.contact_passes += 1;
-            self.dissipated += cs.dissipated;
-            self.created += cs.created;
-            if cs.changed {
-                self.stepper.reset();
-            }
-        }
-        self.wall += t0.elapsed().as_secs_f64();
-        self.dissipated += stats.dissipated;
-        Ok(())
-    }
-
-    /// The implicit core's Newton and linear iteration counters so far (0 without one).
-    fn newton_counts(&self) -> (u64, u64) {
-        self.stepper
-            .newton()
-            .map_or((0, 0), |n| (n.newton_iterations, n.cg_iterations))
-    }
-}
-
 /// Runs `stepper` on `sys` from `s0` for `plan`, feeding `obs` once per frame. A numerical
 /// blow-up is a [`Status::Unstable`] outcome (its step is the frame, its time the substep's
 /// end), not an error; errors are only the observers' (I/O).
 ///
 /// Impulses take effect when the scene's [`crate::model::Events`] says, relative to the
 /// frames of `plan.dt`; `steps_done` counts frames, and the cost counts every substep.
-// One function because the frame loop owns the stepper, the contact stage, impulses, energy accounts and the verdict together; each is a call, the loop is their order.
 pub fn run(
     sys: &System,
     stepper: &mut dyn Stepper,
@@ -242,117 +176,30 @@ pub fn run(
     let scale = energy_scale(sys, &s0, plan.duration());
     let mut s = s0;
     let mut prev = s.clone();
-    let mut injected = 0.0;
     let initial = EnergyRecord::new(sys.state_energy(&s), 0.0, 0.0);
     let mut last = initial;
     obs.observe(0, &s, &initial)?;
     stepper.reset();
-    let n = if stepper.splits_frames() {
-        1
-    } else {
-        plan.substeps.max(1)
-    };
-    // The step of a substep, computed as a caller running at dt / n would: bit-identical.
-    let h = if n == 1 { plan.dt } else { plan.dt / n as f64 };
-    let impulses: Vec<Impulse> = sys
-        .impulses
-        .iter()
-        .map(|im| Impulse {
-            time: sys.events.applied_at(im.time, plan.dt),
-            ..*im
-        })
-        .collect();
-    let mut lp = Loop {
-        sys,
-        stepper,
-        work: Work::default(),
-        dissipated: 0.0,
-        created: 0.0,
-        wall: 0.0,
-        x0: Vec::new(),
-        v0: Vec::new(),
-    };
-    let eps = 1e-9 * h;
-    let mut next_imp = 0;
-    let mut status = Status::Ok;
-    let mut verdict = Verdict::new(initial.total, scale, plan.blowup_factor);
+    let verdict = Verdict::new(initial.total, scale, plan.blowup_factor);
+    let mut lp = Loop::new(sys, stepper, plan, verdict);
     let mut done = 0;
     for frame in 0..plan.steps {
         prev.clone_from(&s);
-        let mut rec = last;
-        // `keep`: the frame is written; `stop`: no frame follows it.
-        let (mut keep, mut stop) = (true, false);
-        for m in frame * n..(frame + 1) * n {
-            let t_end = (m + 1) as f64 * h;
-            let imp_at_start = next_imp;
-            let mut failure = None;
-            while next_imp < impulses.len() && impulses[next_imp].time < t_end - eps {
-                let im = impulses[next_imp];
-                if im.time > s.t + eps {
-                    let hi = im.time - s.t;
-                    if let Err(e) = lp.step(&mut s, hi) {
-                        failure = Some(e);
-                        break;
-                    }
-                }
-                let p = im.particle;
-                let before = s.v[p].norm_squared();
-                s.v[p] += im.delta_v;
-                injected += 0.5 * sys.mass[p] * (s.v[p].norm_squared() - before);
-                lp.stepper.reset();
-                next_imp += 1;
-            }
-            let split = next_imp > imp_at_start;
-            if failure.is_none() && t_end - s.t > eps {
-                // An unsplit step is exactly `h`: t_end − t would differ from it by round-off
-                // and make history-keeping methods (position Verlet) restart.
-                let hs = if split { t_end - s.t } else { h };
-                if let Err(e) = lp.step(&mut s, hs) {
-                    failure = Some(e);
-                }
-            }
-            s.t = t_end;
-            rec = EnergyRecord::new(sys.state_energy(&s), lp.dissipated, injected)
-                .with_created(lp.created);
-            let fired = match failure {
-                // A step that failed (an implicit solve that did not converge) left no state
-                // worth writing: it ends the run like a divergence.
-                Some(Error::Step(why)) => Some((Rule::Diverged, verdict.failed_step(&last, &why))),
-                Some(other) => return Err(other),
-                None => verdict.step(&s, &rec).map(|f| (f.rule, f.reason)),
-            };
-            if let Some((rule, reason)) = fired {
-                if status.is_ok() {
-                    status = Status::Unstable {
-                        step: frame + 1,
-                        time: t_end,
-                        reason,
-                    };
-                }
-                let fatal = matches!(rule, Rule::Diverged | Rule::Cap);
-                if rule == Rule::Diverged || plan.stop_at_verdict {
-                    keep = false;
-                }
-                stop |= fatal || plan.stop_at_verdict;
-                if !keep {
-                    break;
-                }
-            }
-        }
-        if !keep {
+        let end = lp.frame(&mut s, frame, &last)?;
+        if !end.keep {
             std::mem::swap(&mut s, &mut prev);
             break;
         }
-        last = rec;
+        last = end.rec;
         done = frame + 1;
-        obs.observe(done, &s, &rec)?;
-        if stop || obs.seen_enough() {
+        obs.observe(done, &s, &end.rec)?;
+        if end.stop || obs.seen_enough() {
             break;
         }
     }
     obs.finish(done, &s, &last)?;
     Ok(RunOutcome {
-        status,
+        status: lp.status,
         steps_done: done,
         force_evals: lp.work.force_evals,
         wall_seconds: lp.wall,
