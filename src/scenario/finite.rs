@@ -3,8 +3,8 @@
 
 use super::checker::Checker;
 use super::Scenario;
-use crate::error::{num, Result};
-use crate::model::Vec3;
+use crate::error::{num, Error, Result};
+use crate::model::{State, System, Vec3};
 
 /// The field a particle comes from: `particle[k]`, or the `chain[k]`/`cloth[k]` that made it.
 fn particle_field(scene: &Scenario, p: usize) -> String {
@@ -31,30 +31,50 @@ fn spring_field(scene: &Scenario, s: usize) -> String {
     }
 }
 
+/// A vector as the errors print it.
+fn v3(v: &Vec3) -> String {
+    format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
+}
+
+/// The field an error about particle `p`'s `what` names, and the prefix that says which
+/// particle of a block it is (empty for a `particle[k]`).
+fn at(scene: &Scenario, p: usize, what: &str) -> (String, String) {
+    let f = particle_field(scene, p);
+    if p < scene.raw.particle.len() {
+        (format!("{f}.{what}"), String::new())
+    } else {
+        (f, format!("its particle {p}: "))
+    }
+}
+
 /// Refuses a scene whose initial state f64 cannot hold: a position whose squared distance
 /// from the origin overflows (every distance and energy would be infinite or NaN), an
 /// infinite kinetic, gravitational or elastic energy, an infinite force, or a spring whose
 /// two ends coincide while its rest length is not zero (it has no direction to act along).
 /// The error names the field that holds the value at fault. `scene` comes without its
 /// obstacles (contact forces are not part of the check).
-// Long because each check names its own field in its error; the checks share one pass over the scene.
 pub(super) fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
-    let v3 = |v: &Vec3| format!("({}, {}, {})", num(v.x), num(v.y), num(v.z));
-    let at = |p: usize, what: &str| {
-        let f = particle_field(scene, p);
-        if p < scene.raw.particle.len() {
-            (format!("{f}.{what}"), String::new())
-        } else {
-            (f, format!("its particle {p}: "))
-        }
+    check_particles(ck, scene)?;
+    check_spring_ends(ck, scene)?;
+    let built = Built {
+        ck,
+        scene,
+        sys: scene.build(),
+        s0: scene.initial_state(),
     };
+    built.check_energy()?;
+    built.check_forces()
+}
+
+/// Each particle's position within f64's reach and its kinetic energy finite.
+fn check_particles(ck: &Checker, scene: &Scenario) -> Result<()> {
     for (p, q) in scene.particles.iter().enumerate() {
         if !q.position.norm_squared().is_finite() {
-            let (f, who) = at(p, "position");
+            let (f, who) = at(scene, p, "position");
             return Err(ck.err(f, format!("{who}the position {} m is too far from the origin for f64: its squared length overflows, so distances and energies would be infinite or NaN (keep every coordinate below 1e154 m)", v3(&q.position))));
         }
         if !q.fixed && !(q.mass * q.velocity.norm_squared()).is_finite() {
-            let (f, who) = at(p, "velocity");
+            let (f, who) = at(scene, p, "velocity");
             return Err(ck.err(
                 f,
                 format!(
@@ -65,6 +85,11 @@ pub(super) fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
             ));
         }
     }
+    Ok(())
+}
+
+/// No `[[spring]]` whose two ends coincide while its rest length is not zero.
+fn check_spring_ends(ck: &Checker, scene: &Scenario) -> Result<()> {
     for (k, s) in scene
         .springs
         .iter()
@@ -80,34 +105,56 @@ pub(super) fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
             ));
         }
     }
-    let sys = scene.build();
-    let s0 = scene.initial_state();
-    let sp = &sys.springs;
-    let length = |s: usize| (s0.x[sp.j[s] as usize] - s0.x[sp.i[s] as usize]).norm();
-    let spring_at_fault = || {
-        (0..sp.len()).find(|&s| {
-            let stretch = length(s) - sp.l0[s];
-            !(0.5 * sp.k[s] * stretch * stretch).is_finite()
-        })
-    };
-    let spring_err = |s: usize, what: &str| {
-        let l = length(s);
-        let field = format!("{}.stiffness", spring_field(scene, s));
-        ck.err(field, format!("the {what} of spring {s} (particles {} and {}), stiffness {} N/m at length {} m and rest length {} m, is not finite in f64", sp.i[s], sp.j[s], num(sp.k[s]), num(l), num(sp.l0[s])))
-    };
-    let e = sys.energy(&s0.x, &s0.v);
-    if !e.gravity.is_finite() {
-        return Err(ck.err(
-            "world.gravity",
-            format!(
-                "the initial gravitational energy Σ m g·x of the scene is {} J, not finite in f64",
-                num(e.gravity)
-            ),
-        ));
+    Ok(())
+}
+
+/// The scene built, with its initial state: what the energy and force checks evaluate, and
+/// what their errors name.
+struct Built<'a> {
+    ck: &'a Checker<'a>,
+    scene: &'a Scenario,
+    sys: System,
+    s0: State,
+}
+
+impl Built<'_> {
+    /// The length of spring `s` in the initial state.
+    fn length(&self, s: usize) -> f64 {
+        let sp = &self.sys.springs;
+        (self.s0.x[sp.j[s] as usize] - self.s0.x[sp.i[s] as usize]).norm()
     }
-    if !e.elastic.is_finite() {
-        if let Some(s) = spring_at_fault() {
-            return Err(spring_err(s, "energy ½k(l - l0)²"));
+
+    /// The error naming spring `s`'s stiffness for its `what` that is not finite.
+    fn spring_err(&self, s: usize, what: &str) -> Error {
+        let sp = &self.sys.springs;
+        let l = self.length(s);
+        let field = format!("{}.stiffness", spring_field(self.scene, s));
+        self.ck.err(field, format!("the {what} of spring {s} (particles {} and {}), stiffness {} N/m at length {} m and rest length {} m, is not finite in f64", sp.i[s], sp.j[s], num(sp.k[s]), num(l), num(sp.l0[s])))
+    }
+
+    /// The initial gravitational and elastic energies finite; an infinite elastic energy
+    /// is blamed on the spring or constraint that holds it.
+    fn check_energy(&self) -> Result<()> {
+        let (ck, sys, s0, sp) = (self.ck, &self.sys, &self.s0, &self.sys.springs);
+        let e = sys.energy(&s0.x, &s0.v);
+        if !e.gravity.is_finite() {
+            return Err(ck.err(
+                "world.gravity",
+                format!(
+                    "the initial gravitational energy Σ m g·x of the scene is {} J, not finite in f64",
+                    num(e.gravity)
+                ),
+            ));
+        }
+        if e.elastic.is_finite() {
+            return Ok(());
+        }
+        let spring_at_fault = (0..sp.len()).find(|&s| {
+            let stretch = self.length(s) - sp.l0[s];
+            !(0.5 * sp.k[s] * stretch * stretch).is_finite()
+        });
+        if let Some(s) = spring_at_fault {
+            return Err(self.spring_err(s, "energy ½k(l - l0)²"));
         }
         if let Some(k) = sys
             .constraints
@@ -119,23 +166,33 @@ pub(super) fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
                 "the initial elastic energy ½·stretch²/compliance is not finite in f64",
             ));
         }
-        return Err(ck.err(
+        Err(ck.err(
             "(scene)",
             format!(
                 "the initial elastic energy of the scene is {} J, not finite in f64",
                 num(e.elastic)
             ),
-        ));
+        ))
     }
-    let mut f = vec![Vec3::zeros(); sys.len()];
-    sys.forces(&s0.x, &s0.v, &mut f);
-    if let Some(p) = f
-        .iter()
-        .position(|fi| !(fi.x.is_finite() && fi.y.is_finite() && fi.z.is_finite()))
-    {
+
+    /// Every initial force finite; one that is not is blamed on a spring, gravity or the
+    /// particle's position.
+    fn check_forces(&self) -> Result<()> {
+        let (ck, scene, sys, s0, sp) =
+            (self.ck, self.scene, &self.sys, &self.s0, &self.sys.springs);
+        let mut f = vec![Vec3::zeros(); sys.len()];
+        sys.forces(&s0.x, &s0.v, &mut f);
+        let Some(p) = f
+            .iter()
+            .position(|fi| !(fi.x.is_finite() && fi.y.is_finite() && fi.z.is_finite()))
+        else {
+            return Ok(());
+        };
         // The elastic energy was finite, so a spring at fault is one whose force overflows.
-        if let Some(s) = (0..sp.len()).find(|&s| !(sp.k[s] * (length(s) - sp.l0[s])).is_finite()) {
-            return Err(spring_err(s, "force k(l - l0)"));
+        if let Some(s) =
+            (0..sp.len()).find(|&s| !(sp.k[s] * (self.length(s) - sp.l0[s])).is_finite())
+        {
+            return Err(self.spring_err(s, "force k(l - l0)"));
         }
         let q = &scene.particles[p];
         if let Some(g) = scene.gravity.filter(|g| !(q.mass * g.norm()).is_finite()) {
@@ -148,14 +205,13 @@ pub(super) fn check_finite(ck: &Checker, scene: &Scenario) -> Result<()> {
                 ),
             ));
         }
-        let (field, who) = at(p, "position");
-        return Err(ck.err(
+        let (field, who) = at(scene, p, "position");
+        Err(ck.err(
             field,
             format!(
                 "{who}the initial force on particle {p} is {} N, not finite in f64",
                 v3(&f[p])
             ),
-        ));
+        ))
     }
-    Ok(())
 }
