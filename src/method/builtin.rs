@@ -70,8 +70,22 @@ pub fn methods() -> Vec<Method> {
     all
 }
 
-// Long because it is a table: one entry per method, each its facts and constructor.
+/// The built-in methods in report order: one entry per method, each its facts and
+/// constructor.
 fn table() -> Vec<Method> {
+    [
+        euler_and_implicit(),
+        runge_kutta_and_verlet(),
+        constrained_and_exact(),
+        engines(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// Euler's explicit and symplectic forms, and the implicit methods.
+fn euler_and_implicit() -> Vec<Method> {
     vec![
         Method::new(
             MethodInfo::native(
@@ -127,6 +141,12 @@ fn table() -> Vec<Method> {
             },
             |_| Box::new(Bdf2::default()),
         ),
+    ]
+}
+
+/// The explicit Runge–Kutta and Störmer–Verlet methods.
+fn runge_kutta_and_verlet() -> Vec<Method> {
+    vec![
         Method::new(
             MethodInfo::native(
                 "rk2",
@@ -159,6 +179,12 @@ fn table() -> Vec<Method> {
             ),
             |_| Box::new(PositionVerlet::default()),
         ),
+    ]
+}
+
+/// The constraint methods and the closed form.
+fn constrained_and_exact() -> Vec<Method> {
+    vec![
         Method::new(
             MethodInfo {
                 options: &[ITERATIONS],
@@ -208,6 +234,12 @@ fn table() -> Vec<Method> {
             },
             |_| Box::new(Analytic::default()),
         ),
+    ]
+}
+
+/// The Rapier engines.
+fn engines() -> Vec<Method> {
+    vec![
         Method::new(
             engine(
                 IMPULSE,
