@@ -279,21 +279,41 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
     })
 }
 
-/// The answer of a study's documents; `hz` the scene's game rate, `framerate_left_out` the
-/// methods the frame-rate table left out for time. Without an advice or a
-/// frame-rate table the missing half says why (`advice_note`, `framerate_note`).
-#[allow(clippy::too_many_arguments)]
+/// The study's documents an answer reads: the comparison, the advice and the frame-rate
+/// table, each missing one with why, and the methods the table left out for time. Bundled
+/// because a study hands them over together.
+#[derive(Debug, Clone, Copy)]
+pub struct Measured<'a> {
+    /// The comparison at the scene's step.
+    pub compared: &'a CompareResult,
+    /// The advice, when measured.
+    pub advice: Option<&'a Advice>,
+    /// Why there is no advice.
+    pub advice_note: Option<&'a str>,
+    /// The frame-rate table, when measured.
+    pub framerate: Option<&'a Framerate>,
+    /// Why there is no frame-rate table.
+    pub framerate_note: Option<&'a str>,
+    /// The methods the frame-rate table left out for time.
+    pub framerate_left_out: &'a [String],
+}
+
+/// The answer of a study's documents `measured`; `hz` the scene's game rate. Without an
+/// advice or a frame-rate table the missing half says why (`advice_note`, `framerate_note`).
 pub fn answer(
     registry: &Registry,
-    compared: &CompareResult,
-    advice: Option<&Advice>,
-    advice_note: Option<&str>,
-    framerate: Option<&Framerate>,
-    framerate_note: Option<&str>,
-    framerate_left_out: &[String],
+    measured: &Measured<'_>,
     hz: f64,
     scenario: &str,
 ) -> Result<Answer> {
+    let Measured {
+        compared,
+        advice,
+        advice_note,
+        framerate,
+        framerate_note,
+        framerate_left_out,
+    } = *measured;
     let position = compared.position_tolerance.value;
     let free_step = match advice {
         Some(a) => free_step(registry, a, compared),

@@ -113,46 +113,6 @@ pub struct CompareResult {
     pub ensemble: Option<Ensemble>,
 }
 
-/// The methods of `names` whose runs fit `budget` (s, summed), cheapest first by their probed
-/// price per frame ([`super::probe::seconds_per_frame`]: a frame's `frame_substeps` are inside
-/// it, so `steps` frames cost `steps` times it); the rest go to `skipped` with the figures.
-/// Order is kept. Returns the kept methods and their projected cost (s) together.
-#[allow(clippy::too_many_arguments)]
-fn within_budget(
-    sys: &crate::model::System,
-    s0: &crate::model::State,
-    cfg: &CompareConfig,
-    names: Vec<String>,
-    dt: f64,
-    steps: u64,
-    budget: f64,
-    skipped: &mut Vec<(String, String)>,
-) -> Result<(Vec<String>, f64)> {
-    use super::probe::split_by_budget;
-    let costs: Vec<_> = names
-        .iter()
-        .map(|m| projected_cost(sys, s0, cfg, m, dt, steps))
-        .collect();
-    let unit = if cfg.frame_substeps.is_some() {
-        "frame"
-    } else {
-        "step"
-    };
-    let price: Vec<(String, f64)> = names
-        .iter()
-        .cloned()
-        .zip(costs.iter().map(|c| c.projected))
-        .collect();
-    let (kept, left) = split_by_budget(names, &costs, budget, "its run", unit);
-    skipped.extend(left);
-    let spent = price
-        .iter()
-        .filter(|(n, _)| kept.contains(n))
-        .map(|(_, c)| c)
-        .sum();
-    Ok((kept, spent))
-}
-
 /// The modelled cost the budget projects for method `name`'s run of `steps` frames of `dt`
 /// under `cfg` (its frame substeps included once): the price per frame and `steps` times it.
 /// A method that cannot be probed costs nothing here; its run reports why.
@@ -170,9 +130,11 @@ pub fn projected_cost(
         &cfg.registry,
         &cfg.options,
         name,
-        dt,
-        steps,
-        cfg.frame_substeps,
+        super::probe::Framing {
+            dt,
+            frames: steps,
+            substeps: cfg.frame_substeps,
+        },
     )
     .unwrap_or(0.0);
     super::probe::Cost {
@@ -185,8 +147,18 @@ pub fn projected_cost(
 /// enough to describe it, far fewer than a run's grid would store.
 pub const NOTHING_COMPARED_SAMPLES: u64 = 64;
 
+/// The runs a comparison makes: the scene's system and start, the settings, and the frames
+/// (`steps` of `dt`). Bundled because pricing, tracing and running every method's run read
+/// the same five.
+struct Runs<'a> {
+    sys: &'a crate::model::System,
+    s0: &'a crate::model::State,
+    cfg: &'a CompareConfig,
+    dt: f64,
+    steps: u64,
+}
+
 /// Runs the comparison.
-// Long because every method's run shares one reference, judge and settings, and the document gathers all of them with its command.
 pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     let sys = scene.build();
     let s0 = scene.initial_state();
@@ -194,36 +166,18 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     if let Some(n) = cfg.frame_substeps {
         Timing::substeps_within("--substeps", steps, n)?;
     }
-    // Default: the scene's own [run].methods next to every engine, else everything.
-    let asked: Vec<String> = if cfg.methods.is_empty() && !scene.run.methods.is_empty() {
-        let ext = cfg.registry.engine_names().into_iter().map(String::from);
-        scene.run.methods.iter().cloned().chain(ext).collect()
-    } else {
-        cfg.methods.clone()
+    let runs = Runs {
+        sys: &sys,
+        s0: &s0,
+        cfg,
+        dt,
+        steps,
     };
+    let asked = asked_methods(scene, cfg);
     let (names, mut skipped) = applicable(&cfg.registry, &sys, &asked, &cfg.options)?;
     let grid = run_grid(dt, steps, sys.len());
     let horizon = grid.time(steps);
-    // The budget covers the reference too: refused at once when its projection alone passes
-    // the budget; the runs share what it leaves, and the reference may spend what they leave.
-    let (names, limit) = match cfg.budget_seconds {
-        Some(b) => {
-            super::probe::check_budget(b)?;
-            let p = super::reference::cost::check(&sys, &s0, &[grid], horizon, b)?;
-            let left = b - p.seconds;
-            let first = skipped.len();
-            let (kept, runs) = within_budget(&sys, &s0, cfg, names, dt, steps, left, &mut skipped)?;
-            for (_, why) in &mut skipped[first..] {
-                why.push_str(&format!(
-                    " (the budget of {} s less about {} s for the reference)",
-                    super::probe::sig3(b),
-                    super::probe::sig3(p.seconds)
-                ));
-            }
-            (kept, Some(b - runs))
-        }
-        None => (names, None),
-    };
+    let (names, limit) = runs.budgeted(names, &mut skipped, grid, horizon)?;
     // With no run left to compare, the reference is only described: a few samples do.
     let grid = if names.is_empty() {
         super::grid::TimeGrid::new(dt, steps, NOTHING_COMPARED_SAMPLES)
@@ -238,81 +192,9 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
     );
     let on = scene_grid(scene, sys.len(), horizon)?;
     reference.add_ensemble(&sys, &s0, position_tolerance.value, on)?;
-    let trace = cfg.trace.then(|| TraceSpec {
-        tracked: longest_paths(
-            &reference,
-            &sys.free,
-            if scene.blocks.is_empty() { 2 } else { 1 },
-        ),
-        stride: steps.div_ceil(cfg.series_points.max(1)).max(1),
-        snapshot_steps: if scene.blocks.is_empty() {
-            Vec::new()
-        } else {
-            vec![0, steps / 3, 2 * steps / 3, steps]
-        },
-        frame_stride: if sys.len() > 1 {
-            playback_stride(dt, steps)
-        } else {
-            0
-        },
-    });
-    let set = CaseSettings {
-        registry: cfg.registry.clone(),
-        options: cfg.options.clone(),
-        blowup_factor: cfg.blowup_factor,
-        series_points: cfg.series_points,
-        repeat_short: true,
-        trace,
-        contacts: true,
-        substeps: cfg.frame_substeps,
-        stop: None,
-    };
-    let pb = crate::run::progress_bar(
-        names.len() as u64,
-        &format!("compare {}", scene.name),
-        cfg.progress,
-    );
-    let runs: Vec<Result<CaseResult>> = names
-        .par_iter()
-        .map(|n| {
-            let r = run_case(&sys, &s0, &reference, 0, n, &set);
-            pb.inc(1);
-            r
-        })
-        .collect();
-    pb.finish_and_clear();
-    let mut entries: Vec<CompareEntry> = Vec::new();
-    for r in runs {
-        let r = r?;
-        entries.push(CompareEntry {
-            method: r.method.clone(),
-            status: r.status.label().to_string(),
-            skip_reason: None,
-            result: Some(r),
-        });
-    }
-    for (n, why) in skipped {
-        entries.push(CompareEntry {
-            method: n,
-            status: "skipped".into(),
-            skip_reason: Some(why),
-            result: None,
-        });
-    }
-    let listed = asked_or_all(&cfg.registry, &asked);
-    let command = CommandLine::new("compare", &scene.source)
-        .flag("dt", dt)
-        .flag("duration", grid.time(steps))
-        .list("methods", &listed)
-        .flag_opt("substeps", cfg.frame_substeps)
-        .method_options(&cfg.registry, &listed, &cfg.options)
-        .flag("blowup-factor", cfg.blowup_factor)
-        .flag("series-points", cfg.series_points)
-        .switch("trace", cfg.trace)
-        .flag_opt("budget", cfg.budget_seconds)
-        .render();
+    let entries = runs.entries(scene, &reference, &names, skipped)?;
     Ok(CompareResult {
-        command,
+        command: command_line(scene, cfg, &asked, dt, grid.time(steps)),
         scenario: scene.name.clone(),
         position_tolerance,
         ensemble: reference.ensemble.clone(),
@@ -326,6 +208,188 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         frame_substeps: cfg.frame_substeps,
         entries,
     })
+}
+
+/// The methods asked: by default the scene's own `[run].methods` next to every engine, else
+/// every method.
+fn asked_methods(scene: &Scenario, cfg: &CompareConfig) -> Vec<String> {
+    if cfg.methods.is_empty() && !scene.run.methods.is_empty() {
+        let ext = cfg.registry.engine_names().into_iter().map(String::from);
+        scene.run.methods.iter().cloned().chain(ext).collect()
+    } else {
+        cfg.methods.clone()
+    }
+}
+
+/// The command that re-creates a comparison of `scene` under `cfg` with the methods `asked`,
+/// at step `dt` over `duration` (s).
+fn command_line(
+    scene: &Scenario,
+    cfg: &CompareConfig,
+    asked: &[String],
+    dt: f64,
+    duration: f64,
+) -> String {
+    let listed = asked_or_all(&cfg.registry, asked);
+    CommandLine::new("compare", &scene.source)
+        .flag("dt", dt)
+        .flag("duration", duration)
+        .list("methods", &listed)
+        .flag_opt("substeps", cfg.frame_substeps)
+        .method_options(&cfg.registry, &listed, &cfg.options)
+        .flag("blowup-factor", cfg.blowup_factor)
+        .flag("series-points", cfg.series_points)
+        .switch("trace", cfg.trace)
+        .flag_opt("budget", cfg.budget_seconds)
+        .render()
+}
+
+impl Runs<'_> {
+    /// The methods of `names` within the budget, if there is one, and the reference's step
+    /// limit (`grid` over `horizon`). The budget covers the reference too: refused at once
+    /// when its projection alone passes the budget; the runs share what it leaves, and the
+    /// reference may spend what they leave. The methods left out go to `skipped`.
+    fn budgeted(
+        &self,
+        names: Vec<String>,
+        skipped: &mut Vec<(String, String)>,
+        grid: super::grid::TimeGrid,
+        horizon: f64,
+    ) -> Result<(Vec<String>, Option<f64>)> {
+        let Some(b) = self.cfg.budget_seconds else {
+            return Ok((names, None));
+        };
+        super::probe::check_budget(b)?;
+        let p = super::reference::cost::check(self.sys, self.s0, &[grid], horizon, b)?;
+        let left = b - p.seconds;
+        let first = skipped.len();
+        let (kept, runs) = self.within_budget(names, left, skipped)?;
+        for (_, why) in &mut skipped[first..] {
+            why.push_str(&format!(
+                " (the budget of {} s less about {} s for the reference)",
+                super::probe::sig3(b),
+                super::probe::sig3(p.seconds)
+            ));
+        }
+        Ok((kept, Some(b - runs)))
+    }
+
+    /// The methods of `names` whose runs fit `budget` (s, summed), cheapest first by their
+    /// probed price per frame ([`super::probe::seconds_per_frame`]: a frame's
+    /// `frame_substeps` are inside it, so `steps` frames cost `steps` times it); the rest go
+    /// to `skipped` with the figures. Order is kept. Returns the kept methods and their
+    /// projected cost (s) together.
+    fn within_budget(
+        &self,
+        names: Vec<String>,
+        budget: f64,
+        skipped: &mut Vec<(String, String)>,
+    ) -> Result<(Vec<String>, f64)> {
+        use super::probe::split_by_budget;
+        let costs: Vec<_> = names
+            .iter()
+            .map(|m| projected_cost(self.sys, self.s0, self.cfg, m, self.dt, self.steps))
+            .collect();
+        let unit = if self.cfg.frame_substeps.is_some() {
+            "frame"
+        } else {
+            "step"
+        };
+        let price: Vec<(String, f64)> = names
+            .iter()
+            .cloned()
+            .zip(costs.iter().map(|c| c.projected))
+            .collect();
+        let (kept, left) = split_by_budget(names, &costs, budget, "its run", unit);
+        skipped.extend(left);
+        let spent = price
+            .iter()
+            .filter(|(n, _)| kept.contains(n))
+            .map(|(_, c)| c)
+            .sum();
+        Ok((kept, spent))
+    }
+
+    /// What to record of each run for pictures, when asked: the longest paths of the
+    /// `reference`, snapshots of a scene with blocks, playback frames of a scene of many
+    /// particles.
+    fn trace(&self, scene: &Scenario, reference: &Reference) -> Option<TraceSpec> {
+        let (cfg, steps) = (self.cfg, self.steps);
+        cfg.trace.then(|| TraceSpec {
+            tracked: longest_paths(
+                reference,
+                &self.sys.free,
+                if scene.blocks.is_empty() { 2 } else { 1 },
+            ),
+            stride: steps.div_ceil(cfg.series_points.max(1)).max(1),
+            snapshot_steps: if scene.blocks.is_empty() {
+                Vec::new()
+            } else {
+                vec![0, steps / 3, 2 * steps / 3, steps]
+            },
+            frame_stride: if self.sys.len() > 1 {
+                playback_stride(self.dt, steps)
+            } else {
+                0
+            },
+        })
+    }
+
+    /// Runs the methods `names` against `reference` (in parallel) and lists their entries,
+    /// then those `skipped` with why.
+    fn entries(
+        &self,
+        scene: &Scenario,
+        reference: &Reference,
+        names: &[String],
+        skipped: Vec<(String, String)>,
+    ) -> Result<Vec<CompareEntry>> {
+        let cfg = self.cfg;
+        let set = CaseSettings {
+            registry: cfg.registry.clone(),
+            options: cfg.options.clone(),
+            blowup_factor: cfg.blowup_factor,
+            series_points: cfg.series_points,
+            repeat_short: true,
+            trace: self.trace(scene, reference),
+            contacts: true,
+            substeps: cfg.frame_substeps,
+            stop: None,
+        };
+        let pb = crate::run::progress_bar(
+            names.len() as u64,
+            &format!("compare {}", scene.name),
+            cfg.progress,
+        );
+        let runs: Vec<Result<CaseResult>> = names
+            .par_iter()
+            .map(|n| {
+                let r = run_case(self.sys, self.s0, reference, 0, n, &set);
+                pb.inc(1);
+                r
+            })
+            .collect();
+        pb.finish_and_clear();
+        let mut entries: Vec<CompareEntry> = Vec::new();
+        for r in runs {
+            let r = r?;
+            entries.push(CompareEntry {
+                method: r.method.clone(),
+                status: r.status.label().to_string(),
+                skip_reason: None,
+                result: Some(r),
+            });
+        }
+        for (n, why) in skipped {
+            entries.push(CompareEntry {
+                method: n,
+                status: "skipped".into(),
+                skip_reason: Some(why),
+                result: None,
+            });
+        }
+        Ok(entries)
+    }
 }
 
 /// The header of `compare.csv`.

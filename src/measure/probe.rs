@@ -30,27 +30,46 @@ pub fn seconds_per_step(
     dt: f64,
     steps: u64,
 ) -> Option<f64> {
-    seconds_per_frame(sys, s0, registry, options, name, dt, steps, None)
+    let framing = Framing {
+        dt,
+        frames: steps,
+        substeps: None,
+    };
+    seconds_per_frame(sys, s0, registry, options, name, framing)
 }
 
-/// Modelled seconds per frame of method `name` in a run of `frames` frames of `dt`, each split
-/// into `substeps` the way the run splits it ([`crate::measure::case::frame_setup`]): a native
+/// How a run is framed: the frame step, the number of frames and the substeps each frame is
+/// split into. Bundled because a frame's price depends on all three together.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Framing {
+    /// Frame step (s).
+    pub dt: f64,
+    /// Frames of the run.
+    pub frames: u64,
+    /// Substeps per frame (None: one step per frame, and the options' engine substeps).
+    pub substeps: Option<u64>,
+}
+
+/// Modelled seconds per frame of method `name` in a run `framing`: its frames of `dt`, each
+/// split into `substeps` the way the run splits it ([`crate::measure::case::frame_setup`]): a native
 /// method's `substeps` steps of `dt / substeps`, counted over about [`PROBE_STEPS`] of them; an
 /// engine's one frame with that many solver substeps, priced by its cost model (and the
 /// runner's step, [`crate::run::cost::CostModel`], as the run books it). Either way the
 /// frame's substeps are inside the price, so a run of F frames projects to F times it: the
 /// figure the run then books. `None` as for [`seconds_per_step`].
-#[allow(clippy::too_many_arguments)]
 pub fn seconds_per_frame(
     sys: &System,
     s0: &State,
     registry: &Registry,
     options: &MethodOptions,
     name: &str,
-    dt: f64,
-    frames: u64,
-    substeps: Option<u64>,
+    framing: Framing,
 ) -> Option<f64> {
+    let Framing {
+        dt,
+        frames,
+        substeps,
+    } = framing;
     let n = substeps.unwrap_or(1).max(1);
     let mut options = options.clone();
     if substeps.is_some() {

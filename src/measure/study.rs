@@ -240,14 +240,17 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let (framerate, framerate_note, framerate_left_out) =
         study_framerate(scene, cfg, &compared, &probed_out, &mut notes)?;
     lap(&mut seconds.framerate);
+    let measured = super::answer::Measured {
+        compared: &compared,
+        advice: advice.as_ref(),
+        advice_note: advice_note.as_deref(),
+        framerate: framerate.as_ref(),
+        framerate_note: framerate_note.as_deref(),
+        framerate_left_out: &framerate_left_out,
+    };
     let answer = super::answer::answer(
         &cfg.registry,
-        &compared,
-        advice.as_ref(),
-        advice_note.as_deref(),
-        framerate.as_ref(),
-        framerate_note.as_deref(),
-        &framerate_left_out,
+        &measured,
         scene.run.hz.unwrap_or(super::answer::GAME_HZ),
         &scene.name,
     )?;

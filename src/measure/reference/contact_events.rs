@@ -37,17 +37,28 @@ fn indicator(st: &mut RhsState<'_>, y: &[f64], ev: Event, d0: &[Vec3]) -> f64 {
     }
 }
 
+/// A candidate event: the bracket (start, end) it lies in and the event.
+type Candidate = (f64, f64, Event);
+
 /// The earliest contact event in the solver's last accepted step, with the time just before
 /// it (bisected to round-off on the dense output); None when the step is event-free.
-// One function because the event candidates, their indicator signs and the bisection on the dense output are one search over the same accepted step.
 pub(super) fn find_event(st: &mut RhsState<'_>, solver: &mut Dop853) -> Option<(f64, Event)> {
+    let n = st.sys().len();
+    let mut y = vec![0.0; 6 * n];
+    let d0 = slide_directions(st, solver)?;
+    solver.prepare_dense(&mut |t, yy, dy| st.eval(t, yy, dy));
+    let mut cands = impact_candidates(st, solver, &mut y)?;
+    held_candidates(st, solver, &d0, &mut cands)?;
+    earliest(st, solver, cands, &d0, &mut y)
+}
+
+/// Sliding directions at the step start (zero for particles not sliding, or slower than the
+/// speed floor).
+fn slide_directions(st: &RhsState<'_>, solver: &Dop853) -> Option<Vec<Vec3>> {
     let sys = st.sys();
     let n = sys.len();
-    let (t0, t1) = (solver.t_old, solver.t);
-    let mut y = vec![0.0; 6 * n];
-    // Sliding directions at the step start.
-    let d0: Vec<Vec3> = {
-        let model = st.contact.as_ref()?;
+    let model = st.contact.as_ref()?;
+    Some(
         (0..n)
             .map(|p| match model.modes[p] {
                 Mode::Slide(k) => {
@@ -62,89 +73,135 @@ pub(super) fn find_event(st: &mut RhsState<'_>, solver: &mut Dop853) -> Option<(
                 }
                 _ => Vec3::zeros(),
             })
-            .collect()
-    };
-    solver.prepare_dense(&mut |t, yy, dy| st.eval(t, yy, dy));
-    let mut cands: Vec<(f64, f64, Event)> = Vec::new();
-    // Impacts: gaps at interior checks (and the end), first bracket per particle.
-    {
-        let model = st.contact.as_ref()?;
-        let mut done = vec![false; n];
-        for m in 1..=IMPACT_CHECKS {
-            let tb = t0 + (t1 - t0) * m as f64 / IMPACT_CHECKS as f64;
-            let ta = t0 + (t1 - t0) * (m - 1) as f64 / IMPACT_CHECKS as f64;
-            solver.dense(tb, &mut y);
-            for p in 0..n {
-                if !sys.free[p] || done[p] {
-                    continue;
-                }
-                let (x, _) = get(&y, n, p);
-                let held = model.held_on(p);
-                let mut hit = None;
-                model
-                    .contacts
-                    .set
-                    .for_each_near(&x, sys.radius[p], -model.delta, |c| {
-                        if Some(c.obstacle) != held && hit.is_none() {
-                            hit = Some(c.obstacle);
-                        }
-                    });
-                if let Some(k) = hit {
-                    done[p] = true;
-                    cands.push((ta, tb, Event::Impact(p, k)));
-                }
+            .collect(),
+    )
+}
+
+/// Impacts: gaps at interior checks of the step (and its end) on the dense output, the first
+/// bracket per particle; `y` is scratch space for the dense output.
+fn impact_candidates(st: &RhsState<'_>, solver: &Dop853, y: &mut [f64]) -> Option<Vec<Candidate>> {
+    let sys = st.sys();
+    let n = sys.len();
+    let (t0, t1) = (solver.t_old, solver.t);
+    let model = st.contact.as_ref()?;
+    let mut cands = Vec::new();
+    let mut done = vec![false; n];
+    for m in 1..=IMPACT_CHECKS {
+        let tb = t0 + (t1 - t0) * m as f64 / IMPACT_CHECKS as f64;
+        let ta = t0 + (t1 - t0) * (m - 1) as f64 / IMPACT_CHECKS as f64;
+        solver.dense(tb, y);
+        for p in 0..n {
+            if !sys.free[p] || done[p] {
+                continue;
+            }
+            let (x, _) = get(y, n, p);
+            let held = model.held_on(p);
+            let mut hit = None;
+            model
+                .contacts
+                .set
+                .for_each_near(&x, sys.radius[p], -model.delta, |c| {
+                    if Some(c.obstacle) != held && hit.is_none() {
+                        hit = Some(c.obstacle);
+                    }
+                });
+            if let Some(k) = hit {
+                done[p] = true;
+                cands.push((ta, tb, Event::Impact(p, k)));
             }
         }
     }
-    // Held particles: release, stop, slip at the step end.
+    Some(cands)
+}
+
+/// Held particles: release, stop and slip, judged at the step end; `d0` are the sliding
+/// directions at the step start.
+fn held_candidates(
+    st: &mut RhsState<'_>,
+    solver: &Dop853,
+    d0: &[Vec3],
+    cands: &mut Vec<Candidate>,
+) -> Option<()> {
+    let (t0, t1) = (solver.t_old, solver.t);
     let modes = st.contact.as_ref()?.modes.clone();
     if modes.iter().any(|m| *m != Mode::Free) {
         let y1 = solver.y.clone();
-        let floor = st.contact.as_ref()?.speed_floor;
         for (p, mode) in modes.iter().enumerate() {
             match mode {
                 Mode::Free => continue,
                 Mode::Slide(_) => {
-                    let model = st.contact.as_ref()?;
-                    let (x, v) = get(&y1, n, p);
-                    let k = model.held_on(p)?;
-                    let nrm = model.contacts.set.query(k, &x, sys.radius[p]).normal;
-                    let v_t = v - nrm * v.dot(&nrm);
-                    let q = 3 * n + 3 * p;
-                    let f = solver.derivative();
-                    let a = Vec3::new(f[q], f[q + 1], f[q + 2]);
-                    let moving = model.moving[p];
-                    if v_t.norm() >= floor {
-                        st.contact.as_mut()?.moving[p] = true;
-                    }
-                    if v_t.dot(&d0[p]) < 0.0 {
-                        cands.push((t0, t1, Event::Stop(p)));
-                    } else if v_t.norm() < floor
-                        && a.dot(&v_t) < 0.0
-                        && (moving || {
-                            let a_free = st.free_accelerations(&y1);
-                            let m = st.contact.as_ref()?;
-                            let h = m.held(p, k, &x, &v, &a_free[p]);
-                            h.a_t.norm() <= h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS)
-                        })
-                    {
-                        // Decelerated to rest at the step end (the step was landed there). A
-                        // particle set sliding from rest is not stopped before it has moved
-                        // (at the slip threshold it would stop and slip again forever).
-                        cands.push((t1, t1, Event::Stop(p)));
+                    if let Some(c) = slide_stop(st, solver, &y1, p, d0[p])? {
+                        cands.push(c);
                     }
                 }
                 Mode::Stick(_) => {
-                    if indicator(st, &y1, Event::Slip(p), &d0) < 0.0 {
+                    if indicator(st, &y1, Event::Slip(p), d0) < 0.0 {
                         cands.push((t0, t1, Event::Slip(p)));
                     }
                 }
             }
-            if indicator(st, &y1, Event::Release(p), &d0) < 0.0 {
+            if indicator(st, &y1, Event::Release(p), d0) < 0.0 {
                 cands.push((t0, t1, Event::Release(p)));
             }
         }
     }
+    Some(())
+}
+
+/// A stop of sliding particle `p` in the step ending at state `y1` (Some(None): none);
+/// `d0` is its sliding direction at the step start. Marks the particle moving once it has.
+fn slide_stop(
+    st: &mut RhsState<'_>,
+    solver: &Dop853,
+    y1: &[f64],
+    p: usize,
+    d0: Vec3,
+) -> Option<Option<Candidate>> {
+    let sys = st.sys();
+    let n = sys.len();
+    let (t0, t1) = (solver.t_old, solver.t);
+    let model = st.contact.as_ref()?;
+    let floor = model.speed_floor;
+    let (x, v) = get(y1, n, p);
+    let k = model.held_on(p)?;
+    let nrm = model.contacts.set.query(k, &x, sys.radius[p]).normal;
+    let v_t = v - nrm * v.dot(&nrm);
+    let q = 3 * n + 3 * p;
+    let f = solver.derivative();
+    let a = Vec3::new(f[q], f[q + 1], f[q + 2]);
+    let moving = model.moving[p];
+    if v_t.norm() >= floor {
+        st.contact.as_mut()?.moving[p] = true;
+    }
+    if v_t.dot(&d0) < 0.0 {
+        return Some(Some((t0, t1, Event::Stop(p))));
+    }
+    if v_t.norm() < floor
+        && a.dot(&v_t) < 0.0
+        && (moving || {
+            let a_free = st.free_accelerations(y1);
+            let m = st.contact.as_ref()?;
+            let h = m.held(p, k, &x, &v, &a_free[p]);
+            h.a_t.norm() <= h.mu * h.push * (1.0 + STICK_SLIP_HYSTERESIS)
+        })
+    {
+        // Decelerated to rest at the step end (the step was landed there). A particle set
+        // sliding from rest is not stopped before it has moved (at the slip threshold it
+        // would stop and slip again forever).
+        return Some(Some((t1, t1, Event::Stop(p))));
+    }
+    Some(None)
+}
+
+/// The earliest of the candidate events, each bisected on the dense output to the time just
+/// before it; `y` is scratch space for the dense output.
+fn earliest(
+    st: &mut RhsState<'_>,
+    solver: &Dop853,
+    cands: Vec<Candidate>,
+    d0: &[Vec3],
+    y: &mut [f64],
+) -> Option<(f64, Event)> {
     let mut best: Option<(f64, Event)> = None;
     for (mut a, mut b, ev) in cands {
         if best.is_some_and(|(tb, _)| tb <= a) {
@@ -156,8 +213,8 @@ pub(super) fn find_event(st: &mut RhsState<'_>, solver: &mut Dop853) -> Option<(
                 if m <= a || m >= b {
                     break;
                 }
-                solver.dense(m, &mut y);
-                if indicator(st, &y, ev, &d0) < 0.0 {
+                solver.dense(m, y);
+                if indicator(st, y, ev, d0) < 0.0 {
                     b = m;
                 } else {
                     a = m;

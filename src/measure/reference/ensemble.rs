@@ -12,8 +12,8 @@
 //! Members run in parallel, each sequentially, so the result is the same bits whatever the
 //! thread count. Cost: about [`ENSEMBLE_SIZE`] / 1.8 main solves of work.
 
-use super::adaptive::solve;
 use super::adaptive::REFERENCE_TOL;
+use super::adaptive::{solve, SolveSpec};
 use super::rhs::unpack_x;
 use super::uncertainty::{LOOSE_FACTOR, PERTURBATION};
 use crate::error::Result;
@@ -56,14 +56,17 @@ fn member(
     let mut acc = Accumulator::default();
     match solver {
         MemberSolver::Dop853 { rtol, max_steps } => {
-            let done = solve(
+            let spec = SolveSpec {
                 sys,
                 s0,
                 times,
-                end,
+                horizon: end,
                 rtol,
-                None,
-                Some(max_steps),
+                tracked: None,
+                max_steps: Some(max_steps),
+            };
+            let done = solve(
+                &spec,
                 &mut |_, y| {
                     // The state vector is positions then velocities ([`super::rhs::pack`]).
                     let (x, v) = (unpack_x(y, n), unpack_x(&y[3 * n..], n));
@@ -96,7 +99,6 @@ static KEPT: crate::measure::kept::Kept<Made> = crate::measure::kept::Kept::new(
 /// with position tolerance `tolerance` (m) and `relative_tolerance`; None when fewer than three
 /// members finished (a spread needs them), with the reason. Made once per scene, window and
 /// member solver in a process ([`KEPT`]).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn ensemble(
     sys: &System,
     s0: &State,

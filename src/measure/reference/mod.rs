@@ -52,7 +52,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{Analytic, Stepper};
 use crate::measure::observables::position_error;
 use crate::model::{State, System, Vec3};
-use adaptive::{length_scale, solve};
+use adaptive::{length_scale, solve, SolveSpec};
 use rhs::unpack_x;
 use serde::Serialize;
 
@@ -680,17 +680,16 @@ impl Reference {
         let n = sys.len();
         let horizon = self.info.horizon;
         let mut main: Vec<Vec<Vec3>> = vec![Vec::new(); times.len()];
-        let out = solve(
+        let spec = SolveSpec {
             sys,
             s0,
             times,
             horizon,
-            REFERENCE_TOL,
-            self.tracked,
-            limit.map(|l| l.steps),
-            &mut |i, y| main[i] = unpack_x(y, n),
-            None,
-        )?;
+            rtol: REFERENCE_TOL,
+            tracked: self.tracked,
+            max_steps: limit.map(|l| l.steps),
+        };
+        let out = solve(&spec, &mut |i, y| main[i] = unpack_x(y, n), None)?;
         let Some(out) = out else {
             return Err(limit.map_or_else(
                 || Error::Step("reference (DOP853): stopped without a step limit".into()),
@@ -698,17 +697,15 @@ impl Reference {
             ));
         };
         self.motion = out.motion;
-        let comp = uncertainty::companions(
-            sys,
-            s0,
-            times,
-            horizon,
-            REFERENCE_TOL,
-            &main,
-            floor,
-            self.motion_scale(),
-            uncertainty::COMPANION_WORK_FACTOR * (out.stats.steps + out.stats.rejected).max(100),
-        )?;
+        let companion = SolveSpec {
+            tracked: None,
+            max_steps: Some(
+                uncertainty::COMPANION_WORK_FACTOR
+                    * (out.stats.steps + out.stats.rejected).max(100),
+            ),
+            ..spec
+        };
+        let comp = uncertainty::companions(&companion, &main, floor, self.motion_scale())?;
         Ok((main, out, comp))
     }
 

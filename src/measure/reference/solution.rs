@@ -13,7 +13,7 @@
 //! dense output would pass [`TRACK_BYTES`] is not kept; the cache remembers that, and such a
 //! scene's references solve on their grids as before.
 
-use super::adaptive::{solve, SolveOut};
+use super::adaptive::{solve, SolveOut, SolveSpec};
 use super::dense::DenseTrack;
 use super::tracked::Tracked;
 use super::uncertainty::{perturbed, COMPANION_WORK_FACTOR, LOOSE_FACTOR};
@@ -116,17 +116,16 @@ fn solve_kept(
     let tracked_solve = |start: &State, tol: f64, track_v: Option<Tracked>, steps: Option<u64>| {
         let y = super::rhs::pack(&start.x, &start.v);
         let mut track = DenseTrack::new(n, &y, TRACK_BYTES);
-        let done = solve(
+        let spec = SolveSpec {
             sys,
-            start,
-            &[],
+            s0: start,
+            times: &[],
             horizon,
-            tol,
-            track_v,
-            steps,
-            &mut |_, _| {},
-            Some(&mut track),
-        )?;
+            rtol: tol,
+            tracked: track_v,
+            max_steps: steps,
+        };
+        let done = solve(&spec, &mut |_, _| {}, Some(&mut track))?;
         Ok::<_, crate::error::Error>((done, track))
     };
     let (out, main) = tracked_solve(s0, rtol, tracked, limit.map(|l| l.steps))?;

@@ -21,7 +21,7 @@
 //! (the looser one takes ≈ 100^(1/8) ≈ 1.8× fewer steps), about one main solve of wall time
 //! on two cores.
 
-use super::adaptive::{length_scale, positions, solve};
+use super::adaptive::{length_scale, positions, solve, SolveSpec};
 use crate::error::Result;
 use crate::measure::observables::position_error;
 use crate::model::{State, System, Vec3};
@@ -80,25 +80,13 @@ pub(super) fn perturbed_with(
     s
 }
 
-fn distances(
-    sys: &System,
-    s0: &State,
-    times: &[f64],
-    horizon: f64,
-    rtol: f64,
-    main: &[Vec<Vec3>],
-    max_steps: u64,
-) -> Result<Option<Vec<f64>>> {
-    let n = sys.len();
-    let mut d = vec![0.0; times.len()];
+/// Distances (m) of the solve `spec` to the main solve's positions `main` at its times; None
+/// when it gave up over its step budget.
+fn distances(spec: &SolveSpec<'_>, main: &[Vec<Vec3>]) -> Result<Option<Vec<f64>>> {
+    let n = spec.sys.len();
+    let mut d = vec![0.0; spec.times.len()];
     let done = solve(
-        sys,
-        s0,
-        times,
-        horizon,
-        rtol,
-        None,
-        Some(max_steps),
+        spec,
         &mut |i, y| {
             d[i] = position_error(&positions(y, n), &main[i]);
         },
@@ -107,36 +95,23 @@ fn distances(
     Ok(done.map(|_| d))
 }
 
-/// Runs both companions of a main solve at tolerance `rtol` whose positions at `times` are
-/// `main`; `floor` is the round-off floor (m) and `motion` the motion scale (m).
-#[allow(clippy::too_many_arguments)]
+/// Runs both companions of a main solve whose positions at `spec.times` are `main`: `spec` is
+/// the main solve's request with the companions' step budget and no tracked component;
+/// `floor` is the round-off floor (m) and `motion` the motion scale (m).
 pub(super) fn companions(
-    sys: &System,
-    s0: &State,
-    times: &[f64],
-    horizon: f64,
-    rtol: f64,
+    spec: &SolveSpec<'_>,
     main: &[Vec<Vec3>],
     floor: f64,
     motion: f64,
-    max_steps: u64,
 ) -> Result<Companions> {
-    let sp = perturbed(sys, s0);
-    let (loose, pert) = rayon::join(
-        || {
-            distances(
-                sys,
-                s0,
-                times,
-                horizon,
-                rtol * LOOSE_FACTOR,
-                main,
-                max_steps,
-            )
-        },
-        || distances(sys, &sp, times, horizon, rtol, main, max_steps),
-    );
-    Ok(judge(times, loose?, pert?, floor, motion))
+    let sp = perturbed(spec.sys, spec.s0);
+    let loose = SolveSpec {
+        rtol: spec.rtol * LOOSE_FACTOR,
+        ..*spec
+    };
+    let pert = SolveSpec { s0: &sp, ..*spec };
+    let (loose, pert) = rayon::join(|| distances(&loose, main), || distances(&pert, main));
+    Ok(judge(spec.times, loose?, pert?, floor, motion))
 }
 
 /// The companions' verdict from their distances to the main solve at `times` (None: that

@@ -293,32 +293,35 @@ pub fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) 
             x1 += extra;
         }
     }
+    let gated = Gated {
+        pts: &pts,
+        marks: &marks,
+        guides: &guides,
+    };
     match (p.x.log, p.y.log) {
-        (false, false) => draw_in(area, p, &pts, &marks, &guides, x0..x1, y0..y1),
-        (false, true) => draw_in(area, p, &pts, &marks, &guides, x0..x1, (y0..y1).log_scale()),
-        (true, false) => draw_in(area, p, &pts, &marks, &guides, (x0..x1).log_scale(), y0..y1),
-        (true, true) => draw_in(
-            area,
-            p,
-            &pts,
-            &marks,
-            &guides,
-            (x0..x1).log_scale(),
-            (y0..y1).log_scale(),
-        ),
+        (false, false) => draw_in(area, p, &gated, x0..x1, y0..y1),
+        (false, true) => draw_in(area, p, &gated, x0..x1, (y0..y1).log_scale()),
+        (true, false) => draw_in(area, p, &gated, (x0..x1).log_scale(), y0..y1),
+        (true, true) => draw_in(area, p, &gated, (x0..x1).log_scale(), (y0..y1).log_scale()),
     }
 }
 
-/// Draws panel `p` into `area`: its series `pts`, the blow-up markers `marks` and the guide
-/// lines `guides` over the ranges `xr` × `yr`.
+/// A panel's points through the finite gate, in the panel's order: its series, their blow-up
+/// markers (placed) and its guide lines. Bundled because they are drawn together, one entry
+/// per series or guide of the panel.
+struct Gated<'a> {
+    pts: &'a [Vec<(f64, f64)>],
+    marks: &'a [Option<(f64, f64)>],
+    guides: &'a [Vec<(f64, f64)>],
+}
+
+/// Draws panel `p` into `area`: its series, blow-up markers and guide lines as `gated` holds
+/// them, over the ranges `xr` × `yr`.
 // Long because plotters' chart builder, mesh, series and legend calls share one drawing area.
-#[allow(clippy::too_many_arguments)]
 fn draw_in<DB, X, Y>(
     area: &DrawingArea<DB, Shift>,
     p: &Panel,
-    pts: &[Vec<(f64, f64)>],
-    marks: &[Option<(f64, f64)>],
-    guides: &[Vec<(f64, f64)>],
+    gated: &Gated<'_>,
     xr: X,
     yr: Y,
 ) -> Result<()>
@@ -329,6 +332,7 @@ where
     X::CoordDescType: ValueFormatter<f64>,
     Y::CoordDescType: ValueFormatter<f64>,
 {
+    let Gated { pts, marks, guides } = *gated;
     let mut chart = ChartBuilder::on(area)
         .caption(&p.title, (FONT, 17))
         .margin(12)
