@@ -3,8 +3,8 @@
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::Result;
-use springlab::measure::advise::{advise, write_advice, AdviseConfig};
-use std::path::PathBuf;
+use springlab::measure::advise::{advise, write_advice, Advice, AdviseConfig};
+use std::path::{Path, PathBuf};
 
 /// Flags of `springlab advise`.
 #[derive(Debug, clap::Args)]
@@ -55,7 +55,6 @@ pub struct Args {
 }
 
 /// Runs the command.
-// Long because it prints the advice's tables (pick, alternatives, frame rates) line by line.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     a.m.method_options.check_read_by(&a.m.methods)?;
@@ -96,9 +95,21 @@ pub fn run(a: Args) -> Result<()> {
     let _lock = springlab::output::lock_dir(&dir)?;
     let adv = advise(&scene, &cfg)?;
     let f = write_advice(&dir, &adv)?;
+    print_pick(&scene.name, &adv);
+    print_alternatives(&adv);
+    print_frame_rates(&adv);
+    super::common::print_written(&f);
+    if a.write_expect {
+        write_expect(&a.scenario, &adv, game_hz)?;
+    }
+    Ok(())
+}
+
+/// Prints how the advice was judged and what it picked, with the pick's cost.
+fn print_pick(scene: &str, adv: &Advice) {
     println!(
         "{}: judged by {} (bound {} {}; position tolerance {} m: {})",
-        scene.name,
+        scene,
         adv.metric.name(),
         fmt_opt(Some(adv.tolerance)),
         adv.metric.unit(),
@@ -116,7 +127,7 @@ pub fn run(a: Args) -> Result<()> {
             };
             println!(
                 "{}: use {n} at dt = {} s (predicted error {}, verified {})",
-                scene.name,
+                scene,
                 fmt_opt(adv.dt),
                 fmt_opt(adv.predicted_error),
                 fmt_opt(adv.verified_error),
@@ -133,10 +144,15 @@ pub fn run(a: Args) -> Result<()> {
         }
         None => println!(
             "{}: no candidate meets it on the steps tried (down to {} s)",
-            scene.name,
+            scene,
             fmt_opt(adv.grid.first().copied())
         ),
     }
+}
+
+/// Prints the table of verified candidates, then the methods that cannot answer and the
+/// candidates the screen left out.
+fn print_alternatives(adv: &Advice) {
     println!(
         "{:<22} {:>12} {:>12} {:>14} {:>12} {:>12} {:>12}",
         "alternative", "modelled s/s", "wall s/s", "evals/s", "dt", "predicted", "verified"
@@ -159,6 +175,10 @@ pub fn run(a: Args) -> Result<()> {
     for s in &adv.screened {
         println!("{:<22} {}", s.method, s.reason);
     }
+}
+
+/// Prints the game view: per frame rate, the best method and each method's substeps.
+fn print_frame_rates(adv: &Advice) {
     for fr in &adv.frame_rates {
         println!(
             "{:>5} Hz: best {} (by modelled s per simulated s); {}",
@@ -176,29 +196,31 @@ pub fn run(a: Args) -> Result<()> {
                 .join(", ")
         );
     }
-    super::common::print_written(&f);
-    if a.write_expect {
-        let spec = match game_hz {
-            Some(hz) => springlab::measure::expect_answer::game_rate_table(&adv, hz).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "--write-expect: no method meets the bound at {} Hz (the scene's frame rate, or --hz), so there is no game-rate answer to hold {} to",
-                    springlab::error::num(hz),
-                    a.scenario.display()
-                )
-            })?,
-            None => springlab::measure::advise::expect_table(&adv).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "--write-expect: no candidate met the bound, so there is no answer to hold {} to",
-                    a.scenario.display()
-                )
-            })?,
-        };
-        let path = springlab::scenario::append_expect::append_expect(
-            &a.scenario,
-            &spec,
-            &format!("The answer verified by: {}", adv.command),
-        )?;
-        println!("appended an [expect] table to {}", path.display());
-    }
+}
+
+/// Appends the advised answer to the scenario file as an [expect] table: the game-rate answer
+/// at `game_hz` when there is one, else the free step.
+fn write_expect(scenario: &Path, adv: &Advice, game_hz: Option<f64>) -> Result<()> {
+    let spec = match game_hz {
+        Some(hz) => springlab::measure::expect_answer::game_rate_table(adv, hz).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--write-expect: no method meets the bound at {} Hz (the scene's frame rate, or --hz), so there is no game-rate answer to hold {} to",
+                springlab::error::num(hz),
+                scenario.display()
+            )
+        })?,
+        None => springlab::measure::advise::expect_table(adv).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--write-expect: no candidate met the bound, so there is no answer to hold {} to",
+                scenario.display()
+            )
+        })?,
+    };
+    let path = springlab::scenario::append_expect::append_expect(
+        scenario,
+        &spec,
+        &format!("The answer verified by: {}", adv.command),
+    )?;
+    println!("appended an [expect] table to {}", path.display());
     Ok(())
 }

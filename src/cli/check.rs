@@ -29,7 +29,6 @@ fn left_out(total: usize, shown: usize) {
 }
 
 /// Runs the command.
-// Long because it prints every active term and obstacle of the scene, one line each.
 pub fn run(a: Args) -> Result<()> {
     let scene = load(&a.scenario)?;
     // The scene's own [run] step and length, when it gives them, are held to what `run`
@@ -51,6 +50,34 @@ pub fn run(a: Args) -> Result<()> {
     if !scene.description.is_empty() {
         println!("  {}", scene.description);
     }
+    print_lists(&scene, &sys, limit);
+    if let Some(t) = &own_run {
+        println!("run: dt = {} s, {} steps ({} s)", t.dt, t.steps, t.duration);
+    }
+    println!(
+        "answers: tolerance {}; at a free step and at {} Hz",
+        match scene.run.tolerance {
+            Some(t) => format!("{t} m ([run] tolerance)"),
+            None => format!(
+                "{} % of the motion scale (the reference measures it when a command runs)",
+                springlab::measure::tolerance::RELATIVE_TOLERANCE * 100.0
+            ),
+        },
+        scene.run.hz.unwrap_or(springlab::measure::answer::GAME_HZ)
+    );
+    print_collision(&scene, limit);
+    println!("active terms: {}", sys.active_terms().join(", "));
+    print_methods(&sys);
+    print_expect(&scene);
+    Ok(())
+}
+
+/// Lists the particles, springs, constraints and impulses, each list cut at `limit` entries.
+fn print_lists(
+    scene: &springlab::scenario::Scenario,
+    sys: &springlab::model::System,
+    limit: usize,
+) {
     println!(
         "particles: {} ({} free, {} fixed)",
         scene.particles.len(),
@@ -102,26 +129,14 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     left_out(sys.impulses.len(), limit);
-    if let Some(t) = &own_run {
-        println!("run: dt = {} s, {} steps ({} s)", t.dt, t.steps, t.duration);
-    }
-    println!(
-        "answers: tolerance {}; at a free step and at {} Hz",
-        match scene.run.tolerance {
-            Some(t) => format!("{t} m ([run] tolerance)"),
-            None => format!(
-                "{} % of the motion scale (the reference measures it when a command runs)",
-                springlab::measure::tolerance::RELATIVE_TOLERANCE * 100.0
-            ),
-        },
-        scene.run.hz.unwrap_or(springlab::measure::answer::GAME_HZ)
-    );
-    print_collision(&scene, limit);
-    println!("active terms: {}", sys.active_terms().join(", "));
+}
+
+/// Names the methods that apply to the scene and why each other one does not.
+fn print_methods(sys: &springlab::model::System) {
     let mut applicable = Vec::new();
     let mut refused = Vec::new();
     for m in springlab::method::Registry::builtin().iter() {
-        match m.create(&Default::default()).check(&sys) {
+        match m.create(&Default::default()).check(sys) {
             Ok(()) => applicable.push(m.info.name),
             Err(why) => refused.push((m.info.name, why)),
         }
@@ -133,18 +148,22 @@ pub fn run(a: Args) -> Result<()> {
     for (name, why) in refused {
         println!("  not {name}: {why}");
     }
-    if let Some(e) = &scene.expect {
-        use springlab::measure::expect::{describe, expectations};
-        println!("expect: {} (`springlab expect` measures it)", describe(e));
-        let list = expectations(e);
-        if list.is_empty() {
-            println!("  (no checks: the run only has to complete)");
-        }
-        for x in list {
-            println!("  {x}");
-        }
+}
+
+/// Shows the scene's [expect] table and the checks it holds the scene to, when it has one.
+fn print_expect(scene: &springlab::scenario::Scenario) {
+    use springlab::measure::expect::{describe, expectations};
+    let Some(e) = &scene.expect else {
+        return;
+    };
+    println!("expect: {} (`springlab expect` measures it)", describe(e));
+    let list = expectations(e);
+    if list.is_empty() {
+        println!("  (no checks: the run only has to complete)");
     }
-    Ok(())
+    for x in list {
+        println!("  {x}");
+    }
 }
 
 /// A vector as `(x, y, z)`.

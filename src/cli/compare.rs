@@ -3,7 +3,7 @@
 use super::common::load;
 use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::Result;
-use springlab::measure::compare::{compare, write_compare, CompareConfig};
+use springlab::measure::compare::{compare, write_compare, CompareConfig, CompareResult};
 use std::path::PathBuf;
 
 /// Flags of `springlab compare`.
@@ -33,7 +33,6 @@ pub struct Args {
 }
 
 /// Runs the command.
-// Long because it prints the comparison table and its notes line by line after writing the files.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     a.m.method_options.check_read_by(&a.m.methods)?;
@@ -62,6 +61,15 @@ pub fn run(a: Args) -> Result<()> {
         "{}: dt = {} s, {} steps{split}, reference {}",
         scene.name, res.dt, res.steps, res.reference.kind
     );
+    print_table(&res);
+    print_ensemble(&res);
+    super::common::print_written(&files);
+    Ok(())
+}
+
+/// Prints one line per method: status, errors, energy, strain and cost, with when and why an
+/// unstable run blew up and why a method was skipped.
+fn print_table(res: &CompareResult) {
     println!(
         "{:<22} {:<9} {:>11} {:>11} {:>11} {:>11} {:>11} {:>10} {:>11} {:>11}",
         "method",
@@ -107,42 +115,46 @@ pub fn run(a: Args) -> Result<()> {
             ),
         }
     }
-    if let Some(en) = &res.ensemble {
-        println!(
+}
+
+/// Prints, past the predictability horizon, each method's observables that lie outside the
+/// reference ensemble's spread.
+fn print_ensemble(res: &CompareResult) {
+    let Some(en) = &res.ensemble else {
+        return;
+    };
+    println!(
             "past the predictability horizon (t ≥ {} s), against an ensemble of {} references (position tolerance {} m: {}):",
             fmt_opt(Some(en.start)),
             en.members.len(),
             fmt_opt(Some(res.position_tolerance.value)),
             res.position_tolerance.source
         );
-        for e in &res.entries {
-            let Some(stats) = e
-                .result
-                .as_ref()
-                .and_then(|r| r.metrics.as_ref())
-                .and_then(|m| m.statistics.as_ref())
-            else {
-                continue;
-            };
-            let off: Vec<String> = stats
-                .iter()
-                .filter(|(_, s)| !s.consistent)
-                .map(|(k, s)| {
-                    format!(
-                        "{k} {} (ensemble {} ± {})",
-                        fmt_opt(Some(s.run_mean)),
-                        fmt_opt(Some(s.ensemble_mean)),
-                        fmt_opt(Some(s.ensemble_spread))
-                    )
-                })
-                .collect();
-            if off.is_empty() {
-                println!("{:<22} consistent on every observable", e.method);
-            } else {
-                println!("{:<22} inconsistent: {}", e.method, off.join("; "));
-            }
+    for e in &res.entries {
+        let Some(stats) = e
+            .result
+            .as_ref()
+            .and_then(|r| r.metrics.as_ref())
+            .and_then(|m| m.statistics.as_ref())
+        else {
+            continue;
+        };
+        let off: Vec<String> = stats
+            .iter()
+            .filter(|(_, s)| !s.consistent)
+            .map(|(k, s)| {
+                format!(
+                    "{k} {} (ensemble {} ± {})",
+                    fmt_opt(Some(s.run_mean)),
+                    fmt_opt(Some(s.ensemble_mean)),
+                    fmt_opt(Some(s.ensemble_spread))
+                )
+            })
+            .collect();
+        if off.is_empty() {
+            println!("{:<22} consistent on every observable", e.method);
+        } else {
+            println!("{:<22} inconsistent: {}", e.method, off.join("; "));
         }
     }
-    super::common::print_written(&files);
-    Ok(())
 }

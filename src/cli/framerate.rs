@@ -4,7 +4,7 @@
 use super::common::load;
 use anyhow::Result;
 use springlab::measure::framerate::{
-    framerate, write_framerate, FramerateConfig, DEFAULT_MAX_SUBSTEPS,
+    framerate, write_framerate, Framerate, FramerateConfig, DEFAULT_MAX_SUBSTEPS,
 };
 use std::path::{Path, PathBuf};
 
@@ -52,7 +52,6 @@ pub struct Args {
 }
 
 /// Runs the command.
-// Long because it prints the frame-rate table (one line per method and rate) and its notes after writing the files.
 pub fn run(a: Args) -> Result<()> {
     if let Some(out) = &a.out {
         super::common::check_out(out)?;
@@ -101,6 +100,25 @@ pub fn run(a: Args) -> Result<()> {
     if let Some(n) = &fr.metric_note {
         println!("  {n}");
     }
+    print_table(&fr);
+    for e in fr.entries.iter().filter(|e| e.fewest.is_none()) {
+        if let Some(note) = &e.fewest_note {
+            println!("{} at {} Hz: {note}", e.method, e.hz);
+        }
+    }
+    if let Some(note) = &fr.reference_note {
+        println!("note: {note}");
+    }
+    for (n, why) in &fr.skipped {
+        println!("skipped {n}: {why}");
+    }
+    super::common::print_written(&files);
+    Ok(())
+}
+
+/// Prints one line per method and rate: the run at one substep, the fewest substeps that meet
+/// the bound with that run's error and cost per frame.
+fn print_table(fr: &Framerate) {
     println!(
         "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>12} {:>10}",
         "method",
@@ -146,17 +164,4 @@ pub fn run(a: Args) -> Result<()> {
             evals
         );
     }
-    for e in fr.entries.iter().filter(|e| e.fewest.is_none()) {
-        if let Some(note) = &e.fewest_note {
-            println!("{} at {} Hz: {note}", e.method, e.hz);
-        }
-    }
-    if let Some(note) = &fr.reference_note {
-        println!("note: {note}");
-    }
-    for (n, why) in &fr.skipped {
-        println!("skipped {n}: {why}");
-    }
-    super::common::print_written(&files);
-    Ok(())
 }

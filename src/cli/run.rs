@@ -34,7 +34,6 @@ pub struct Args {
 }
 
 /// Runs the command.
-// Long because it prints the run's summary lines after writing its files; each line is one fact of the run.
 pub fn run(a: Args) -> Result<()> {
     if let Some(out) = &a.out {
         super::common::check_out(out)?;
@@ -94,11 +93,7 @@ pub fn run(a: Args) -> Result<()> {
     let contacts = metrics.as_ref().map(|m| m.report());
     if let Some(r) = &contacts {
         springlab::measure::contacts::write_report(&dir, r)?;
-        println!(
-            "contacts ({}): {} events ({} open), restitution {:.4} measured vs {:.4} expected (mean of {} impacts), max penetration {:.3e} m, {} tunnelling",
-            r.response, r.events_total, r.open_contacts, r.restitution.mean, r.expected_restitution.mean,
-            r.restitution.count, r.penetration_max(), r.tunnelling_count
-        );
+        print_contacts(r);
     }
     // Quality observables as compare reports them: none for a run that is not ok.
     let finished = out.status.is_ok() && out.steps_done == plan.steps;
@@ -123,10 +118,28 @@ pub fn run(a: Args) -> Result<()> {
         ..RunSummary::new(&scene.name, &name, plan.dt, plan.steps, &out)
     };
     write_run(&dir, &summary)?;
+    print_run(&summary, &out);
+    println!("wrote {}", dir.display());
+    Ok(())
+}
+
+/// Prints the collision metrics of a scene with obstacles.
+fn print_contacts(r: &springlab::measure::contacts::ContactReport) {
     println!(
-        "{} with {name}: dt = {} s per frame, {substeps} substep(s) per frame, {} frames, {} force evaluations, {:.3} ms modelled, {:.3} ms stepping ({:.3e} s per frame)",
-        scene.name,
-        plan.dt,
+        "contacts ({}): {} events ({} open), restitution {:.4} measured vs {:.4} expected (mean of {} impacts), max penetration {:.3e} m, {} tunnelling",
+        r.response, r.events_total, r.open_contacts, r.restitution.mean, r.expected_restitution.mean,
+        r.restitution.count, r.penetration_max(), r.tunnelling_count
+    );
+}
+
+/// Prints the run's summary lines: steps and cost, status, energy account and quality.
+fn print_run(summary: &RunSummary, out: &springlab::run::RunOutcome) {
+    println!(
+        "{} with {}: dt = {} s per frame, {} substep(s) per frame, {} frames, {} force evaluations, {:.3} ms modelled, {:.3} ms stepping ({:.3e} s per frame)",
+        summary.scenario,
+        summary.method,
+        summary.dt,
+        summary.substeps,
         out.steps_done,
         out.force_evals,
         out.modelled_seconds * 1e3,
@@ -149,7 +162,7 @@ pub fn run(a: Args) -> Result<()> {
         ),
         None => format!(
             "change — (stopped after {} of {} frames)",
-            out.steps_done, plan.steps
+            out.steps_done, summary.steps
         ),
     };
     println!(
@@ -163,6 +176,4 @@ pub fn run(a: Args) -> Result<()> {
         fmt_opt(summary.energy_drift_rate),
         fmt_opt(summary.rest_jitter)
     );
-    println!("wrote {}", dir.display());
-    Ok(())
 }

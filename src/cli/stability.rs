@@ -5,10 +5,12 @@ use super::measure_common::{fmt_opt, MeasureArgs};
 use anyhow::{bail, Result};
 use springlab::error::num;
 use springlab::measure::stability::{
-    analyse, stability_map, write_stability, MapConfig, StabilityConfig, MAP_HEADER,
+    analyse, stability_map, write_stability, MapConfig, StabilityConfig, StabilityReport,
+    MAP_HEADER,
 };
 use springlab::output::write_atomic;
-use std::path::PathBuf;
+use springlab::scenario::Scenario;
+use std::path::{Path, PathBuf};
 
 /// Flags of `springlab stability`.
 #[derive(Debug, clap::Args)]
@@ -47,7 +49,6 @@ pub struct Args {
 }
 
 /// Runs the command.
-// Long because it prints the stability table and its notes line by line after writing the file.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
     a.m.method_options.check_read_by(&a.m.methods)?;
@@ -58,6 +59,33 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     let blowup_factor = a.blowup.value()?;
+    check_map_args(&a)?;
+    let cfg = StabilityConfig {
+        methods: a.m.methods.clone(),
+        options: a.m.options(),
+        horizon: a.horizon,
+        blowup_factor,
+        theory_only: a.theory_only,
+        empirical_where_no_theory: a.empirical_where_no_theory,
+        progress: true,
+        budget_seconds: Some(a.budget.budget),
+        ..Default::default()
+    };
+    let dir = a.m.out_dir(&scene.name, "stability");
+    let _lock = springlab::output::lock_dir(&dir)?;
+    let rep = analyse(&scene, &cfg)?;
+    let mut files = vec![write_stability(&dir, &rep)?];
+    print_report(&scene.name, &rep);
+    if a.map {
+        files.push(write_map(&scene, &a, blowup_factor, &dir)?);
+    }
+    super::common::print_written(&files);
+    Ok(())
+}
+
+/// Checks the map's scales and steps: stiffness scales and steps finite and > 0, damping
+/// scales finite and ≥ 0.
+fn check_map_args(a: &Args) -> Result<()> {
     for v in &a.stiffness_scales {
         if !(v.is_finite() && *v > 0.0) {
             bail!(
@@ -79,24 +107,15 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
-    let cfg = StabilityConfig {
-        methods: a.m.methods.clone(),
-        options: a.m.options(),
-        horizon: a.horizon,
-        blowup_factor,
-        theory_only: a.theory_only,
-        empirical_where_no_theory: a.empirical_where_no_theory,
-        progress: true,
-        budget_seconds: Some(a.budget.budget),
-        ..Default::default()
-    };
-    let dir = a.m.out_dir(&scene.name, "stability");
-    let _lock = springlab::output::lock_dir(&dir)?;
-    let rep = analyse(&scene, &cfg)?;
-    let mut files = vec![write_stability(&dir, &rep)?];
+    Ok(())
+}
+
+/// Prints the stability table (verdict, largest stable step, hω and what decided it), then
+/// the skipped methods, each method's statement and its notes.
+fn print_report(scene: &str, rep: &StabilityReport) {
     println!(
         "{}: ω_max = {:.6} rad/s ({})",
-        scene.name, rep.omega_max, rep.modes.found_by
+        scene, rep.omega_max, rep.modes.found_by
     );
     println!(
         "{:<22} {:<24} {:>12} {:>9} {:<22}",
@@ -123,30 +142,31 @@ pub fn run(a: Args) -> Result<()> {
             println!("{:<22} note: {note}", i.method);
         }
     }
-    if a.map {
-        let mut mc = MapConfig {
-            methods: a.m.methods.clone(),
-            options: a.m.options(),
-            blowup_factor,
-            progress: true,
-            ..Default::default()
-        };
-        if !a.damping_scales.is_empty() {
-            mc.damping_scales = a.damping_scales.clone();
-        }
-        if !a.stiffness_scales.is_empty() {
-            mc.stiffness_scales = a.stiffness_scales.clone();
-        }
-        mc.dts = a.dts.clone();
-        let rows = stability_map(&scene, &mc)?;
-        let mut csv = String::from(MAP_HEADER);
-        csv.push('\n');
-        for r in &rows {
-            csv.push_str(&r.csv_line());
-            csv.push('\n');
-        }
-        files.push(write_atomic(dir.join("stability_map.csv"), csv.as_bytes())?);
+}
+
+/// Sweeps stiffness × dt (at each damping scale) for the methods asked for and writes the rows to
+/// `stability_map.csv` in `dir`; returns the file written.
+fn write_map(scene: &Scenario, a: &Args, blowup_factor: f64, dir: &Path) -> Result<PathBuf> {
+    let mut mc = MapConfig {
+        methods: a.m.methods.clone(),
+        options: a.m.options(),
+        blowup_factor,
+        progress: true,
+        ..Default::default()
+    };
+    if !a.damping_scales.is_empty() {
+        mc.damping_scales = a.damping_scales.clone();
     }
-    super::common::print_written(&files);
-    Ok(())
+    if !a.stiffness_scales.is_empty() {
+        mc.stiffness_scales = a.stiffness_scales.clone();
+    }
+    mc.dts = a.dts.clone();
+    let rows = stability_map(scene, &mc)?;
+    let mut csv = String::from(MAP_HEADER);
+    csv.push('\n');
+    for r in &rows {
+        csv.push_str(&r.csv_line());
+        csv.push('\n');
+    }
+    Ok(write_atomic(dir.join("stability_map.csv"), csv.as_bytes())?)
 }

@@ -4,9 +4,8 @@
 //! before the overview, so an interrupted run leaves every earlier file whole.
 
 use super::charts;
-use super::data::ChartCsv;
-use super::html::{index_page, scene_page, Figure};
-use super::plots;
+use super::figures::write_figures;
+use super::html::{index_page, scene_page};
 use super::summary::{scene_summary, Document, SceneSummary, Summary};
 use crate::error::{Error, Result};
 use crate::measure::study::{study, SceneStudy, StudyConfig};
@@ -50,12 +49,6 @@ pub fn scenario_files(dir: &Path) -> Result<Vec<PathBuf>> {
         .collect();
     files.sort();
     Ok(files)
-}
-
-fn write_chart(dir: &Path, stem: &str, svg: Result<String>, data: &dyn ChartCsv) -> Result<()> {
-    write_atomic(dir.join(format!("{stem}.csv")), &data.to_csv()?)?;
-    write_atomic(dir.join(format!("{stem}.svg")), svg?.as_bytes())?;
-    Ok(())
 }
 
 /// Writes a study's documents into sub-folders of `dir` with the commands' writers (same
@@ -117,107 +110,59 @@ pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
     Ok(docs)
 }
 
+/// Writes the frame-rate section's charts into `dir`, each as SVG beside its CSV: error
+/// against cost per frame at the game rate, and error and cost against the frame rate.
+fn write_framerate_charts(
+    dir: &Path,
+    s: &SceneStudy,
+    fr: &crate::measure::framerate::Framerate,
+    registry: &Registry,
+) -> Result<()> {
+    let game = &s.answer.game_rate;
+    let points = crate::measure::engine_fare::game_points(fr, game.hz, registry);
+    write_atomic(
+        dir.join(super::summary::GAME_RATE_CHART)
+            .with_extension("csv"),
+        super::game_rate::chart_csv(&points, game).as_bytes(),
+    )?;
+    write_atomic(
+        dir.join(super::summary::GAME_RATE_CHART),
+        super::game_rate::chart(&points, game)?.as_bytes(),
+    )?;
+    write_atomic(
+        dir.join("framerate.csv"),
+        super::framerate::chart_csv(fr).as_bytes(),
+    )?;
+    write_atomic(
+        dir.join("framerate.svg"),
+        super::framerate::chart(fr)?.as_bytes(),
+    )?;
+    Ok(())
+}
+
 /// Writes one scene's documents, charts and page under `out/<scene>/` and returns its summary.
 /// The folder is staged and swapped in whole ([`Transaction`]): it never keeps a file of an
 /// earlier report that this one did not write, and a scene that fails or is killed while being
 /// written leaves its earlier folder as it was.
-// Long because it lists the scene page's figures in page order, each a chart write and its caption.
 pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Result<SceneSummary> {
     let mut tx = Transaction::new(&opts.out)?;
     let dir = tx.stage_dir(&s.scenario)?;
     let docs = write_documents(&dir, s)?;
-    let link = |k: &str| format!("Document: <code>{k}</code>.");
-    let mut figs = Vec::new();
-    let mut fig = |stem: &str, title: &str, caption: String| {
-        figs.push(Figure {
-            stem: stem.into(),
-            title: title.into(),
-            caption,
-        })
-    };
-    let e = charts::energy(s, opts.energy_terms);
-    write_chart(&dir, "energy", plots::energy(&e), &e)?;
-    fig("energy", "Energy over time", format!("The total energy account per method; flat is right. A run that blew up stops at its × marker. {}", link("compare/summary.json")));
-    let ee = charts::energy_error(s);
-    write_chart(&dir, "energy_error", plots::energy_error(&ee), &ee)?;
-    fig(
-        "energy_error",
-        "Relative energy error",
-        format!(
-            "|E(t) − E(0)| relative to {}, log scale. {}",
-            ee.scale_note,
-            link("compare/summary.json")
-        ),
-    );
-    let pe = charts::position_error(s);
-    write_chart(&dir, "position_error", plots::position_error(&pe), &pe)?;
-    fig(
-        "position_error",
-        "Position error against the reference",
-        format!(
-            "Largest distance of any particle from the reference ({}), log scale. {}",
-            pe.reference,
-            link("compare/summary.json")
-        ),
-    );
     // The frame-rate section says itself what it left out; the rest are page notes.
     let (framerate_notes, mut notes): (Vec<String>, Vec<String>) = s
         .notes
         .iter()
         .cloned()
         .partition(|n| n.starts_with(crate::measure::study::FRAMERATE_NOTE_PREFIX));
-    if let Some(c) = charts::convergence(s) {
-        write_chart(&dir, "convergence", plots::convergence(&c), &c)?;
-        fig("convergence", "Convergence", format!("Largest position error against the step, log-log, against the reference ({}); the legend gives each method's observed order as the sweep fitted it on its asymptotic range (none when that range was not reached), dashed lines are reference slopes. Blow-ups are marked at the coarsest unstable step. {}", c.reference, link("sweep/summary.json, sweep/sweep.csv")));
-    }
-    if let Some(w) = charts::work_precision(s) {
-        write_chart(&dir, "work_precision", plots::work_precision(&w), &w)?;
-        fig("work_precision", "Work against precision", format!("The same sweep as cost: lower-left is better. Each engine (Rapier, not swept) is one point: its comparison run at the scene's step, same duration and error. Modelled time is the runs' counted work priced per item, the same on every run (the measured wall times are in timing.json); force evaluations count one kind of that work (an engine has none, so it is absent from that panel). {}", link("sweep/sweep.csv")));
-    } else if s.sweep.is_some() {
-        notes.push("Work against precision: no run of the step-size sweep stayed stable, so there is nothing to plot.".to_string());
-    }
     let plane = charts::main_plane(s, scene.raw.world.gravity);
-    let p = charts::paths(s, plane);
-    write_chart(&dir, "paths", plots::paths(&p), &p)?;
-    fig("paths", "Trajectories", format!("Paths of the most-travelled free particle(s) in the {}{}-plane (vertical: the axis gravity acts along, if any; else the plane where the motion spreads most). {}", p.axes[0], p.axes[1], link("compare/summary.json")));
-    if let Some(sn) = charts::snapshots(s, &scene.blocks, plane) {
-        write_chart(&dir, "snapshots", plots::snapshots(&sn), &sn)?;
-        fig("snapshots", "Snapshots", "The chain or cloth at a few instants (light to dark), one panel per method at the same scale.".into());
-    }
-    if let Some(c) = charts::collision(s) {
-        write_chart(&dir, "collision", plots::collision(&c), &c)?;
-        fig("collision", "Collision", format!("Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact. {}", link("compare/contacts.json")));
-        if let Some(i) = charts::impacts(s) {
-            write_chart(&dir, "impacts", plots::impacts(&i), &i)?;
-            fig("impacts", "Restitution per impact", format!("Left: measured restitution e = v_out/|v_in| of every impact faster than the run's summary floor, against its approach speed, with the expected e (dashed: the obstacle's; for penalty contacts the contact equation's with gravity, which varies with speed). Right: measured − expected per impact over time. At most {} impacts per method. {}", charts::MAX_IMPACT_POINTS, link("compare/contacts.json")));
-        }
-    } else {
-        notes.push("Collision validation: this scene has no obstacles.".to_string());
-    }
+    let figures = write_figures(&dir, scene, s, opts.energy_terms, plane)?;
+    notes.extend(figures.notes);
     notes.push("Costs on this page are modelled: each run's counted work (force evaluations, solver iterations, link updates, contact passes; an engine's frames from what it builds) priced per item, the same on every run. Measured wall times vary from run to run, so they are kept apart, in the scene's timing.json (one for all its folders); every other number is reproducible bit for bit from the command beside its document.".into());
     let mut sections = Vec::new();
     sections.extend(super::collision_table::section(s));
     match &s.framerate {
         Some(fr) => {
-            let game = &s.answer.game_rate;
-            let points = crate::measure::engine_fare::game_points(fr, game.hz, &opts.registry);
-            write_atomic(
-                dir.join(super::summary::GAME_RATE_CHART)
-                    .with_extension("csv"),
-                super::game_rate::chart_csv(&points, game).as_bytes(),
-            )?;
-            write_atomic(
-                dir.join(super::summary::GAME_RATE_CHART),
-                super::game_rate::chart(&points, game)?.as_bytes(),
-            )?;
-            write_atomic(
-                dir.join("framerate.csv"),
-                super::framerate::chart_csv(fr).as_bytes(),
-            )?;
-            write_atomic(
-                dir.join("framerate.svg"),
-                super::framerate::chart(fr)?.as_bytes(),
-            )?;
+            write_framerate_charts(&dir, s, fr, &opts.registry)?;
             sections.push(super::framerate::section(
                 fr,
                 s.framerate_note.as_deref(),
@@ -247,7 +192,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     sum.file = super::overview::file_key(&scene.source);
     write_atomic(
         dir.join("index.html"),
-        scene_page(&sum, s, &figs, &sections, &notes).as_bytes(),
+        scene_page(&sum, s, &figures.figures, &sections, &notes).as_bytes(),
     )?;
     crate::output::write_document(
         dir.join("results.json"),

@@ -11,6 +11,7 @@ pub mod build;
 mod charts;
 mod collision_table;
 pub mod data;
+mod figures;
 mod finite;
 mod framerate;
 mod game_rate;

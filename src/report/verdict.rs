@@ -193,37 +193,44 @@ pub fn front_row(s: &SceneSummary) -> FrontRow {
     }
 }
 
-/// The paragraph for one scene.
-// Long because the paragraph is written sentence by sentence, each from one field of the summary.
+/// The paragraph for one scene: its sentences in order, each from one part of the summary.
 pub fn verdict(s: &SceneSummary) -> String {
-    let mut out = Vec::new();
-    if let Some(p) = pick_sentence(s) {
-        out.push(p);
-    }
-    match s.answer.as_ref().map(|a| a.free_step.metric) {
-        Some(Metric::Impacts) => out.push("On this bouncing scene accuracy is judged by apex heights, bounce by bounce, against the reference's, not by position at equal times: a bounce a little early or late would dominate that (about twice the impact speed times the lag) while reaching the right height.".into()),
-        Some(Metric::Statistics) => out.push("This scene is chaotic: past the reference's predictability horizon position error measures the chaos, not the method, so each run is judged there by its time-mean centre of mass, radius of gyration, kinetic energy and strain against an ensemble of references.".into()),
-        _ => {}
-    }
     let bs = &s.methods;
-    let unstable: Vec<String> = bs
-        .iter()
-        .filter(|b| !b.status.is_ok())
-        .map(|b| {
-            format!(
-                "{} (t = {} s: {})",
-                b.method,
-                cell(b.blowup_time, 3),
-                b.blowup_reason.as_deref().unwrap_or("unstable")
-            )
-        })
-        .collect();
+    [
+        pick_sentence(s),
+        judged_by_sentence(s).map(String::from),
+        Some(accuracy_sentence(s)),
+        blew_up_sentence(bs),
+        drift_sentence(bs),
+        stable_steps_sentence(bs),
+        restitution_sentence(bs),
+        tunnelling_sentence(bs),
+        not_applicable_sentence(s),
+    ]
+    .into_iter()
+    .flatten()
+    .collect::<Vec<_>>()
+    .join(" ")
+}
+
+/// What accuracy is judged by, on a scene where it is not position at equal times.
+fn judged_by_sentence(s: &SceneSummary) -> Option<&'static str> {
+    match s.answer.as_ref().map(|a| a.free_step.metric) {
+        Some(Metric::Impacts) => Some("On this bouncing scene accuracy is judged by apex heights, bounce by bounce, against the reference's, not by position at equal times: a bounce a little early or late would dominate that (about twice the impact speed times the lag) while reaching the right height."),
+        Some(Metric::Statistics) => Some("This scene is chaotic: past the reference's predictability horizon position error measures the chaos, not the method, so each run is judged there by its time-mean centre of mass, radius of gyration, kinetic energy and strain against an ensemble of references."),
+        _ => None,
+    }
+}
+
+/// The most and least accurate methods that ran to the end at the scene's step.
+fn accuracy_sentence(s: &SceneSummary) -> String {
     let mut first = format!(
         "At dt = {} over {} s",
         dt_words(s.dt),
         cell(Some(s.duration), 3)
     );
-    let mut acc: Vec<(&str, f64)> = bs
+    let mut acc: Vec<(&str, f64)> = s
+        .methods
         .iter()
         .filter(|b| b.status.is_ok() && b.order != crate::method::Order::Exact)
         .filter_map(|b| b.max_position_error.map(|e| (b.method.as_str(), e)))
@@ -249,30 +256,54 @@ pub fn verdict(s: &SceneSummary) -> String {
         }
         _ => first += ", no method ran to the end.",
     }
-    out.push(first);
-    if !unstable.is_empty() {
-        out.push(format!("Blew up: {}.", unstable.join("; ")));
-    }
+    first
+}
+
+/// The runs that blew up, with when and why.
+fn blew_up_sentence(bs: &[MethodRow]) -> Option<String> {
+    let unstable: Vec<String> = bs
+        .iter()
+        .filter(|b| !b.status.is_ok())
+        .map(|b| {
+            format!(
+                "{} (t = {} s: {})",
+                b.method,
+                cell(b.blowup_time, 3),
+                b.blowup_reason.as_deref().unwrap_or("unstable")
+            )
+        })
+        .collect();
+    (!unstable.is_empty()).then(|| format!("Blew up: {}.", unstable.join("; ")))
+}
+
+/// The largest energy drift of a run that ended, when it passes 1 % of the energy scale.
+fn drift_sentence(bs: &[MethodRow]) -> Option<String> {
     let drift = bs
         .iter()
         .filter(|b| b.status.is_ok())
         .filter_map(|b| b.max_energy_drift.map(|d| (b, d)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
-    if let Some((b, d)) = drift.filter(|(_, d)| *d > 0.01) {
-        out.push(format!(
+    drift.filter(|(_, d)| *d > 0.01).map(|(b, d)| {
+        format!(
             "{} moves its energy account by up to {} of the scene's energy scale.",
             b.method,
             pct(d)
-        ));
-    }
+        )
+    })
+}
+
+/// Each analysed method's stable step.
+fn stable_steps_sentence(bs: &[MethodRow]) -> Option<String> {
     let lims: Vec<String> = bs
         .iter()
         .filter(|b| b.stability.is_some())
         .map(|b| format!("{} {}", b.method, limit_words(b)))
         .collect();
-    if !lims.is_empty() {
-        out.push(format!("Stable steps: {}.", lims.join("; ")));
-    }
+    (!lims.is_empty()).then(|| format!("Stable steps: {}.", lims.join("; ")))
+}
+
+/// Each method's measured restitution beside the specified one.
+fn restitution_sentence(bs: &[MethodRow]) -> Option<String> {
     let contacts: Vec<String> = bs
         .iter()
         .filter_map(|b| match (b.restitution_measured, b.restitution_expected) {
@@ -285,22 +316,25 @@ pub fn verdict(s: &SceneSummary) -> String {
             _ => None,
         })
         .collect();
-    if !contacts.is_empty() {
-        out.push(format!("Measured restitution: {}.", contacts.join("; ")));
-    }
+    (!contacts.is_empty()).then(|| format!("Measured restitution: {}.", contacts.join("; ")))
+}
+
+/// The methods with paths through an obstacle, and how many each.
+fn tunnelling_sentence(bs: &[MethodRow]) -> Option<String> {
     let tunnel: Vec<String> = bs
         .iter()
         .filter(|b| b.tunnelling.is_some_and(|t| t > 0))
         .map(|b| format!("{} ({})", b.method, b.tunnelling.unwrap_or(0)))
         .collect();
-    if !tunnel.is_empty() {
-        out.push(format!("Paths through an obstacle: {}.", tunnel.join(", ")));
-    }
-    if !s.skipped.is_empty() {
+    (!tunnel.is_empty()).then(|| format!("Paths through an obstacle: {}.", tunnel.join(", ")))
+}
+
+/// The methods that do not apply to the scene.
+fn not_applicable_sentence(s: &SceneSummary) -> Option<String> {
+    (!s.skipped.is_empty()).then(|| {
         let names: Vec<&str> = s.skipped.iter().map(|(n, _)| n.as_str()).collect();
-        out.push(format!("Not applicable here: {}.", names.join(", ")));
-    }
-    out.join(" ")
+        format!("Not applicable here: {}.", names.join(", "))
+    })
 }
 
 #[cfg(test)]
