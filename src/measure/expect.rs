@@ -194,7 +194,7 @@ pub fn check_scene(scene: &Scenario, label: &str, budget: Option<f64>) -> Result
         });
     }
     if let Some(limit) = e.max_position_error {
-        let measured = position_error(&res, e.frame_dt, &failed, &value);
+        let measured = position_error(&res, e.frame_dt, &failed, metrics.as_ref());
         checks.push(numeric(
             "max_position_error",
             format!("max_position_error ≤ {} m", crate::error::num(limit)),
@@ -227,12 +227,12 @@ type Measured = std::result::Result<(f64, String), String>;
 
 /// The position error the `[expect]` run is held to (its frame step `frame_dt`): over the
 /// reference's predictable horizon when that ends before the run (`failed`: why the run has no
-/// number; `value`: a metric of the run that has one).
+/// number; `metrics`: the run's, when it has them).
 fn position_error(
     res: &super::compare::CompareResult,
     frame_dt: f64,
     failed: &Option<String>,
-    value: &dyn Fn(&dyn Fn(&super::Metrics) -> f64) -> Measured,
+    metrics: Option<&super::Metrics>,
 ) -> Measured {
     let horizon = res
         .reference
@@ -240,21 +240,22 @@ fn position_error(
         .filter(|h| *h < res.duration);
     match (horizon, failed) {
         (_, Some(why)) => Err(why.clone()),
-        (None, None) => value(&|m| m.error_max),
         (Some(h), None) if h < frame_dt => Err(format!(
             "—, the reference is not predictable past t = {} s, shorter than one frame",
             sig3(h)
         )),
-        (Some(h), None) => value(&|m| m.error_max_predictable).map(|(x, _)| {
-            (
-                x,
+        (horizon, None) => match (horizon, metrics) {
+            (_, None) => Err("—, no metrics".into()),
+            (None, Some(m)) => Ok((m.error_max, String::new())),
+            (Some(h), Some(m)) => Ok((
+                m.error_max_predictable,
                 format!(
                     " (up to t = {} s: the reference is predictable only that far of {} s)",
                     sig3(h),
                     sig3(res.duration)
                 ),
-            )
-        }),
+            )),
+        },
     }
 }
 

@@ -470,6 +470,9 @@ fn reference_note(info: &ReferenceInfo, tolerance: f64) -> Option<String> {
     })
 }
 
+/// A method left out of the table, with why.
+type Skipped = (String, String);
+
 /// The methods the table searches (every applicable one but closed forms unless asked for,
 /// within the budget) and those left out, with why.
 fn methods_of(
@@ -477,7 +480,7 @@ fn methods_of(
     s0: &crate::model::State,
     cfg: &FramerateConfig,
     frames: &[u64],
-) -> Result<(Vec<String>, Vec<(String, String)>)> {
+) -> Result<(Vec<String>, Vec<Skipped>)> {
     let (mut names, mut skipped) = applicable(&cfg.registry, sys, &cfg.methods, &cfg.options)?;
     if cfg.methods.is_empty() {
         // Closed forms solve special scenes exactly; they are not a frame-rate choice.
