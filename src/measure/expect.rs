@@ -116,7 +116,7 @@ fn config(e: &Expect, budget: Option<f64>) -> CompareConfig {
 fn numeric(
     label: &str,
     expectation: String,
-    measured: std::result::Result<(f64, String), String>,
+    measured: Measured,
     limit: f64,
 ) -> (String, String, Option<String>) {
     match measured {
@@ -175,7 +175,7 @@ pub fn check_scene(scene: &Scenario, label: &str, budget: Option<f64>) -> Result
     };
     let failed = not_ok(&case);
     let metrics = case.as_ref().and_then(|c| c.metrics.clone());
-    let value = |f: &dyn Fn(&super::Metrics) -> f64| -> std::result::Result<(f64, String), String> {
+    let value = |f: &dyn Fn(&super::Metrics) -> f64| -> Measured {
         match (&failed, &metrics) {
             (Some(why), _) => Err(why.clone()),
             (None, Some(m)) => Ok((f(m), String::new())),
@@ -194,29 +194,7 @@ pub fn check_scene(scene: &Scenario, label: &str, budget: Option<f64>) -> Result
         });
     }
     if let Some(limit) = e.max_position_error {
-        let horizon = res
-            .reference
-            .predictability_horizon
-            .filter(|h| *h < res.duration);
-        let measured = match (horizon, &failed) {
-            (_, Some(why)) => Err(why.clone()),
-            (None, None) => value(&|m| m.error_max),
-            (Some(h), None) if h < e.frame_dt => Err(format!(
-                "—, the reference is not predictable past t = {} s, shorter than one frame",
-                sig3(h)
-            )),
-            (Some(h), None) => match &metrics {
-                Some(m) => Ok((
-                    m.error_max_predictable,
-                    format!(
-                        " (up to t = {} s: the reference is predictable only that far of {} s)",
-                        sig3(h),
-                        sig3(res.duration)
-                    ),
-                )),
-                None => Err("—, no metrics".into()),
-            },
-        };
+        let measured = position_error(&res, e.frame_dt, &failed, metrics.as_ref());
         checks.push(numeric(
             "max_position_error",
             format!("max_position_error ≤ {} m", crate::error::num(limit)),
@@ -240,7 +218,51 @@ pub fn check_scene(scene: &Scenario, label: &str, budget: Option<f64>) -> Result
             limit,
         ));
     }
-    Ok(checks
+    Ok(rows_of(label, checks))
+}
+
+/// What a number of an expectation's run is: the number and a note beside it, or why there is
+/// none.
+type Measured = std::result::Result<(f64, String), String>;
+
+/// The position error the `[expect]` run is held to (its frame step `frame_dt`): over the
+/// reference's predictable horizon when that ends before the run (`failed`: why the run has no
+/// number; `metrics`: the run's, when it has them).
+fn position_error(
+    res: &super::compare::CompareResult,
+    frame_dt: f64,
+    failed: &Option<String>,
+    metrics: Option<&super::Metrics>,
+) -> Measured {
+    let horizon = res
+        .reference
+        .predictability_horizon
+        .filter(|h| *h < res.duration);
+    match (horizon, failed) {
+        (_, Some(why)) => Err(why.clone()),
+        (Some(h), None) if h < frame_dt => Err(format!(
+            "—, the reference is not predictable past t = {} s, shorter than one frame",
+            sig3(h)
+        )),
+        (horizon, None) => match (horizon, metrics) {
+            (_, None) => Err("—, no metrics".into()),
+            (None, Some(m)) => Ok((m.error_max, String::new())),
+            (Some(h), Some(m)) => Ok((
+                m.error_max_predictable,
+                format!(
+                    " (up to t = {} s: the reference is predictable only that far of {} s)",
+                    sig3(h),
+                    sig3(res.duration)
+                ),
+            )),
+        },
+    }
+}
+
+/// The rows of scene `label` from its checks (expectation, measured, failure), each named by
+/// its expectation's first word.
+fn rows_of(label: &str, checks: Vec<(String, String, Option<String>)>) -> Vec<ExpectRow> {
+    checks
         .into_iter()
         .map(|(expectation, measured, failure)| ExpectRow {
             scene: label.to_string(),
@@ -252,7 +274,7 @@ pub fn check_scene(scene: &Scenario, label: &str, budget: Option<f64>) -> Result
             failure,
             skipped: false,
         })
-        .collect())
+        .collect()
 }
 
 /// Text with the five XML special characters escaped, for attribute values and content.

@@ -110,16 +110,9 @@ fn list(v: &[f64]) -> String {
         .join(", ")
 }
 
-/// Fits the order from (dt, error, stable, floor) points: `floor` is that point's measurement
-/// floor and `saturation` the error above which a point is not asymptotic (both in m);
-/// `expected` is the method's theoretical order, if it has one.
-// Long because the asymptotic window's choice and the fit's acceptance tests share the points and their floors.
-pub fn fit_order(
-    points: &[(f64, f64, bool, f64)],
-    saturation: f64,
-    expected: Option<f64>,
-) -> OrderFit {
-    let mut f = OrderFit {
+/// The fit before any window is chosen: no order, nothing counted.
+fn empty_fit() -> OrderFit {
+    OrderFit {
         observed_order: None,
         r_squared: None,
         max_residual_decades: None,
@@ -132,7 +125,16 @@ pub fn fit_order(
         local_slopes: Vec::new(),
         reason: None,
         note: None,
-    };
+    }
+}
+
+/// The (dt, error) points usable for a fit, ascending in dt; the unstable, floored and
+/// saturated ones counted in `f`.
+fn usable_points(
+    points: &[(f64, f64, bool, f64)],
+    saturation: f64,
+    f: &mut OrderFit,
+) -> Vec<(f64, f64)> {
     let mut pts: Vec<(f64, f64)> = Vec::new();
     for &(dt, e, ok, floor) in points {
         if !ok {
@@ -146,6 +148,52 @@ pub fn fit_order(
         }
     }
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pts
+}
+
+/// Why the finest three of the usable points (`finest` their smallest dt; `x`, `y` their
+/// log10 dt and error, `slopes` the local slopes) are not an asymptotic start, if they are not.
+fn small_end_problem(
+    f: &OrderFit,
+    finest: f64,
+    x: &[f64],
+    y: &[f64],
+    slopes: &[f64],
+) -> Option<(FitReason, String)> {
+    if !(y[1] > y[0] && y[2] > y[1]) {
+        let note = format!(
+            "asymptotic range not reached: the error does not fall at every refinement of the finest three steps (local slopes {}; finest step {finest:.3e} s)",
+            list(&slopes[..2])
+        );
+        return Some((FitReason::NotMonotone, note));
+    }
+    if (slopes[1] - slopes[0]).abs() > SLOPE_TOL {
+        let note = format!(
+            "asymptotic range not reached: local slopes {} (finest first) still change by more than {SLOPE_TOL} at the finest step {finest:.3e} s",
+            list(&f.local_slopes)
+        );
+        return Some((FitReason::SlopesNotSteady, note));
+    }
+    let (s3, _, r3, _) = lsq(&x[..3], &y[..3]);
+    if r3 < MIN_R2 || s3 < MIN_ORDER {
+        let note = format!(
+            "no convergence at the small-step end: the finest three steps fit slope {s3:.2} with R² {r3:.3} (need slope ≥ {MIN_ORDER} and R² ≥ {MIN_R2}); finest step {finest:.3e} s"
+        );
+        return Some((FitReason::NoConvergence, note));
+    }
+    None
+}
+
+/// Fits the order from (dt, error, stable, floor) points: `floor` is that point's measurement
+/// floor and `saturation` the error above which a point is not asymptotic (both in m);
+/// `expected` is the method's theoretical order, if it has one.
+pub fn fit_order(
+    points: &[(f64, f64, bool, f64)],
+    saturation: f64,
+    expected: Option<f64>,
+) -> OrderFit {
+    let mut f = empty_fit();
+    let pts = usable_points(points, saturation, &mut f);
     f.excluded_preasymptotic = pts.len();
     let x: Vec<f64> = pts.iter().map(|p| p.0.log10()).collect();
     let y: Vec<f64> = pts.iter().map(|p| p.1.log10()).collect();
@@ -166,28 +214,8 @@ pub fn fit_order(
         return f;
     }
     let finest = pts[0].0;
-    if !(y[1] > y[0] && y[2] > y[1]) {
-        let note = format!(
-            "asymptotic range not reached: the error does not fall at every refinement of the finest three steps (local slopes {}; finest step {finest:.3e} s)",
-            list(&slopes[..2])
-        );
-        fail(&mut f, FitReason::NotMonotone, note);
-        return f;
-    }
-    if (slopes[1] - slopes[0]).abs() > SLOPE_TOL {
-        let note = format!(
-            "asymptotic range not reached: local slopes {} (finest first) still change by more than {SLOPE_TOL} at the finest step {finest:.3e} s",
-            list(&f.local_slopes)
-        );
-        fail(&mut f, FitReason::SlopesNotSteady, note);
-        return f;
-    }
-    let (s3, _, r3, _) = lsq(&x[..3], &y[..3]);
-    if r3 < MIN_R2 || s3 < MIN_ORDER {
-        let note = format!(
-            "no convergence at the small-step end: the finest three steps fit slope {s3:.2} with R² {r3:.3} (need slope ≥ {MIN_ORDER} and R² ≥ {MIN_R2}); finest step {finest:.3e} s"
-        );
-        fail(&mut f, FitReason::NoConvergence, note);
+    if let Some((r, note)) = small_end_problem(&f, finest, &x, &y, &slopes) {
+        fail(&mut f, r, note);
         return f;
     }
     let mut len = 3;

@@ -159,7 +159,6 @@ pub fn modes(sys: &System, s0: &State) -> Modes {
 }
 
 /// [`modes`], analysed afresh.
-// Long because the linearisation, the mass-weighted eigen-solve and the damping projection share the assembled matrices.
 fn analyse(sys: &System, s0: &State) -> Modes {
     let lin = Lin::new(sys, s0);
     let dofs = 3 * lin.free.len();
@@ -174,102 +173,114 @@ fn analyse(sys: &System, s0: &State) -> Modes {
         };
     }
     if dofs <= DENSE_LIMIT {
-        let (k, c) = lin.dense();
-        let eig = SymmetricEigen::new(k);
-        let q = &eig.eigenvectors;
-        let cm = q.transpose() * c * q;
-        let wmax2 = eig.eigenvalues.iter().fold(0.0f64, |a, &b| a.max(b));
-        let cmax = (0..dofs).map(|i| cm[(i, i)].abs()).fold(0.0, f64::max);
-        let mut off: f64 = 0.0;
-        for i in 0..dofs {
-            for j in 0..dofs {
-                if i != j {
-                    off = off.max(cm[(i, j)].abs());
-                }
-            }
-        }
-        let tiny = 1e-10 * wmax2.max(f64::MIN_POSITIVE);
-        let mut negative = 0;
-        let mut list: Vec<Mode> = Vec::new();
-        for i in 0..dofs {
-            let (w2, d) = (eig.eigenvalues[i], cm[(i, i)].max(0.0));
-            if w2 < -tiny {
-                negative += 1;
-                continue;
-            }
-            let w2 = w2.max(0.0);
-            if w2 <= tiny && d <= 1e-12 * cmax.max(f64::MIN_POSITIVE) {
-                continue;
-            }
-            let m = Mode {
-                omega2: if w2 <= tiny { 0.0 } else { w2 },
-                damping: d,
-            };
-            let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
-            if !list
-                .iter()
-                .any(|o| same(o.omega2, m.omega2) && same(o.damping, m.damping))
-            {
-                list.push(m);
-            }
-        }
-        list.sort_by(|a, b| {
-            a.omega2
-                .total_cmp(&b.omega2)
-                .then(a.damping.total_cmp(&b.damping))
-        });
-        Modes {
-            modes: list,
-            omega_max: wmax2.max(0.0).sqrt(),
-            found_by: format!("dense symmetric eigen-decomposition of the mass-normalised stiffness ({dofs} coordinates), linearised at the initial state"),
-            damping_coupling: Some(if cmax > 0.0 { off / cmax } else { 0.0 }),
-            negative_modes: negative,
-            dofs,
-        }
+        dense_modes(&lin, dofs)
     } else {
-        // Power iteration from a fixed, deterministic start vector.
-        let n = lin.free.len();
-        let mut x: Vec<Vec3> = (0..n)
-            .map(|i| {
-                Vec3::new(
-                    1.0 + (i % 7) as f64,
-                    1.0 + (i % 5) as f64 * 0.5,
-                    1.0 + (i % 3) as f64 * 0.25,
-                )
-            })
-            .collect();
-        let mut y = vec![Vec3::zeros(); n];
-        let norm = |v: &[Vec3]| v.iter().map(|a| a.norm_squared()).sum::<f64>().sqrt();
-        let mut lambda = 0.0;
-        let mut iters = 0;
-        for it in 0..3000 {
-            let nx = norm(&x);
-            x.iter_mut().for_each(|v| *v /= nx);
-            lin.apply(&x, &mut y, false);
-            let rq: f64 = x.iter().zip(&y).map(|(a, b)| a.dot(b)).sum();
-            iters = it + 1;
-            let done = it > 20 && (rq - lambda).abs() <= 1e-10 * rq.abs();
-            lambda = rq;
-            std::mem::swap(&mut x, &mut y);
-            if done {
-                break;
+        power_modes(&lin, dofs)
+    }
+}
+
+/// Every distinct mode of `lin` (`dofs` coordinates) by a dense symmetric eigen-solve of the
+/// mass-normalised stiffness, with the damping projected on the eigenvectors.
+fn dense_modes(lin: &Lin, dofs: usize) -> Modes {
+    let (k, c) = lin.dense();
+    let eig = SymmetricEigen::new(k);
+    let q = &eig.eigenvectors;
+    let cm = q.transpose() * c * q;
+    let wmax2 = eig.eigenvalues.iter().fold(0.0f64, |a, &b| a.max(b));
+    let cmax = (0..dofs).map(|i| cm[(i, i)].abs()).fold(0.0, f64::max);
+    let mut off: f64 = 0.0;
+    for i in 0..dofs {
+        for j in 0..dofs {
+            if i != j {
+                off = off.max(cm[(i, j)].abs());
             }
         }
+    }
+    let tiny = 1e-10 * wmax2.max(f64::MIN_POSITIVE);
+    let mut negative = 0;
+    let mut list: Vec<Mode> = Vec::new();
+    for i in 0..dofs {
+        let (w2, d) = (eig.eigenvalues[i], cm[(i, i)].max(0.0));
+        if w2 < -tiny {
+            negative += 1;
+            continue;
+        }
+        let w2 = w2.max(0.0);
+        if w2 <= tiny && d <= 1e-12 * cmax.max(f64::MIN_POSITIVE) {
+            continue;
+        }
+        let m = Mode {
+            omega2: if w2 <= tiny { 0.0 } else { w2 },
+            damping: d,
+        };
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+        if !list
+            .iter()
+            .any(|o| same(o.omega2, m.omega2) && same(o.damping, m.damping))
+        {
+            list.push(m);
+        }
+    }
+    list.sort_by(|a, b| {
+        a.omega2
+            .total_cmp(&b.omega2)
+            .then(a.damping.total_cmp(&b.damping))
+    });
+    Modes {
+        modes: list,
+        omega_max: wmax2.max(0.0).sqrt(),
+        found_by: format!("dense symmetric eigen-decomposition of the mass-normalised stiffness ({dofs} coordinates), linearised at the initial state"),
+        damping_coupling: Some(if cmax > 0.0 { off / cmax } else { 0.0 }),
+        negative_modes: negative,
+        dofs,
+    }
+}
+
+/// The highest mode of `lin` (`dofs` coordinates) by power iteration on the sparse
+/// mass-normalised stiffness, for systems too big for the dense solve.
+fn power_modes(lin: &Lin, dofs: usize) -> Modes {
+    // Power iteration from a fixed, deterministic start vector.
+    let n = lin.free.len();
+    let mut x: Vec<Vec3> = (0..n)
+        .map(|i| {
+            Vec3::new(
+                1.0 + (i % 7) as f64,
+                1.0 + (i % 5) as f64 * 0.5,
+                1.0 + (i % 3) as f64 * 0.25,
+            )
+        })
+        .collect();
+    let mut y = vec![Vec3::zeros(); n];
+    let norm = |v: &[Vec3]| v.iter().map(|a| a.norm_squared()).sum::<f64>().sqrt();
+    let mut lambda = 0.0;
+    let mut iters = 0;
+    for it in 0..3000 {
         let nx = norm(&x);
         x.iter_mut().for_each(|v| *v /= nx);
-        lin.apply(&x, &mut y, true);
-        let c: f64 = x.iter().zip(&y).map(|(a, b)| a.dot(b)).sum();
-        let w2 = lambda.max(0.0);
-        Modes {
-            modes: vec![Mode {
-                omega2: w2,
-                damping: c.max(0.0),
-            }],
-            omega_max: w2.sqrt(),
-            found_by: format!("power iteration on the sparse mass-normalised stiffness ({dofs} coordinates, {iters} iterations): highest mode only, linearised at the initial state"),
-            damping_coupling: None,
-            negative_modes: 0,
-            dofs,
+        lin.apply(&x, &mut y, false);
+        let rq: f64 = x.iter().zip(&y).map(|(a, b)| a.dot(b)).sum();
+        iters = it + 1;
+        let done = it > 20 && (rq - lambda).abs() <= 1e-10 * rq.abs();
+        lambda = rq;
+        std::mem::swap(&mut x, &mut y);
+        if done {
+            break;
         }
+    }
+    let nx = norm(&x);
+    x.iter_mut().for_each(|v| *v /= nx);
+    lin.apply(&x, &mut y, true);
+    let c: f64 = x.iter().zip(&y).map(|(a, b)| a.dot(b)).sum();
+    let w2 = lambda.max(0.0);
+    Modes {
+        modes: vec![Mode {
+            omega2: w2,
+            damping: c.max(0.0),
+        }],
+        omega_max: w2.sqrt(),
+        found_by: format!("power iteration on the sparse mass-normalised stiffness ({dofs} coordinates, {iters} iterations): highest mode only, linearised at the initial state"),
+        damping_coupling: None,
+        negative_modes: 0,
+        dofs,
     }
 }

@@ -532,7 +532,6 @@ fn method_probe(
 /// solver substep: its compare run used `options.substeps`), and every engine compare left
 /// out (`probed_out`: its probe's time per step) under the same rule. Returns the table, why
 /// there is none, and the methods left out for time.
-// Long because the frame-rate table's method list, budget and notes depend on the comparison's runs together.
 fn study_framerate(
     scene: &Scenario,
     cfg: &StudyConfig,
@@ -541,54 +540,33 @@ fn study_framerate(
     notes: &mut Vec<String>,
 ) -> Result<(Option<Framerate>, Option<String>, Vec<String>)> {
     let game = scene.run.hz.unwrap_or(super::answer::GAME_HZ);
-    let mut rates: Vec<f64> = if cfg.quick {
-        vec![]
-    } else {
-        super::framerate::DEFAULT_RATES.to_vec()
-    };
-    if !rates.contains(&game) {
-        rates.push(game);
-        rates.sort_by(f64::total_cmp);
-    }
     let max_substeps = if cfg.quick { 4 } else { FRAMERATE_MAX_SUBSTEPS };
     let duration = crate::scenario::Timing::duration(scene, None)?;
-    // A frame longer than the run cannot be a frame of it.
-    let too_long: Vec<f64> = rates
-        .iter()
-        .copied()
-        .filter(|&hz| 1.0 / hz > duration)
-        .collect();
-    if !too_long.is_empty() {
-        rates.retain(|hz| !too_long.contains(hz));
-        notes.push(format!(
-            "{FRAMERATE_NOTE_PREFIX} leave out {} Hz: a frame is longer than the run's {} s.",
-            too_long
-                .iter()
-                .map(|hz| crate::error::significant(*hz, 3))
-                .collect::<Vec<_>>()
-                .join(", "),
-            crate::error::significant(duration, 3)
+    let rates = framerate_rates(cfg, game, duration, notes);
+    if !rates.contains(&game) {
+        return Ok((
+            None,
+            Some(format!(
+                "the game rate's frame is longer than the run's {duration} s"
+            )),
+            Vec::new(),
         ));
-        if !rates.contains(&game) {
-            return Ok((
-                None,
-                Some(format!(
-                    "the game rate's frame is longer than the run's {duration} s"
-                )),
-                Vec::new(),
-            ));
-        }
     }
     let frames: f64 = rates
         .iter()
         .map(|&hz| super::framerate::frames_at(duration, hz) as f64)
         .sum();
-    let worst = super::framerate::worst_case_substeps(frames, max_substeps);
-    // Engines are searched at the game rate only: the row a game programmer compares.
-    let worst_engine = super::framerate::worst_case_substeps(
-        super::framerate::frames_at(duration, game) as f64,
+    let budget = FrameBudget {
+        game,
+        rate_count: rates.len(),
         max_substeps,
-    );
+        worst: super::framerate::worst_case_substeps(frames, max_substeps),
+        // Engines are searched at the game rate only: the row a game programmer compares.
+        worst_engine: super::framerate::worst_case_substeps(
+            super::framerate::frames_at(duration, game) as f64,
+            max_substeps,
+        ),
+    };
     let ran = compared
         .entries
         .iter()
@@ -596,43 +574,7 @@ fn study_framerate(
         .map(|r| (&r.method, r.modelled_seconds / r.steps_done.max(1) as f64));
     let probed = probed_out.iter().map(|(n, s)| (n, *s));
     let measured: Vec<(&String, f64)> = ran.chain(probed).collect();
-    let (mut chosen, mut left_out) = (Vec::new(), Vec::new());
-    for (name, per_step) in measured {
-        let Ok(info) = cfg.registry.info(name) else {
-            continue;
-        };
-        if info.order == crate::method::Order::Exact {
-            continue;
-        }
-        let per_substep = if info.engine {
-            per_step / cfg.options.substeps.max(1) as f64
-        } else {
-            per_step
-        };
-        let projected = per_substep * if info.engine { worst_engine } else { worst };
-        // Every engine is a Rapier row: each gets the engine budget.
-        let budget = if info.engine {
-            FRAMERATE_ENGINE_SECONDS
-        } else {
-            FRAMERATE_METHOD_SECONDS
-        };
-        if projected > budget {
-            left_out.push(name.clone());
-            notes.push(format!(
-                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {}) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
-                per_substep * 1e3,
-                if info.engine {
-                    format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))
-                } else {
-                    "step".into()
-                },
-                if probed_out.iter().any(|(n, _)| n == name) { "from the scene" } else { "from its compare run" },
-                if info.engine { format!("{} Hz", crate::error::significant(game, 3)) } else { format!("{} rates", rates.len()) },
-            ));
-        } else {
-            chosen.push(name.clone());
-        }
-    }
+    let (mut chosen, left_out) = within_frame_budget(cfg, &measured, probed_out, &budget, notes);
     // An engine that cannot run the scene is listed in the section with compare's reason.
     chosen.extend(
         compared
@@ -666,4 +608,112 @@ fn study_framerate(
         },
     )?;
     Ok((Some(fr), None, left_out))
+}
+
+/// The study's frame rates over a run of `duration` s: the default ones (none when quick) and
+/// the `game` rate, less those whose frame is longer than the run (said in `notes`).
+fn framerate_rates(
+    cfg: &StudyConfig,
+    game: f64,
+    duration: f64,
+    notes: &mut Vec<String>,
+) -> Vec<f64> {
+    let mut rates: Vec<f64> = if cfg.quick {
+        vec![]
+    } else {
+        super::framerate::DEFAULT_RATES.to_vec()
+    };
+    if !rates.contains(&game) {
+        rates.push(game);
+        rates.sort_by(f64::total_cmp);
+    }
+    // A frame longer than the run cannot be a frame of it.
+    let too_long: Vec<f64> = rates
+        .iter()
+        .copied()
+        .filter(|&hz| 1.0 / hz > duration)
+        .collect();
+    if !too_long.is_empty() {
+        rates.retain(|hz| !too_long.contains(hz));
+        notes.push(format!(
+            "{FRAMERATE_NOTE_PREFIX} leave out {} Hz: a frame is longer than the run's {} s.",
+            too_long
+                .iter()
+                .map(|hz| crate::error::significant(*hz, 3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            crate::error::significant(duration, 3)
+        ));
+    }
+    rates
+}
+
+/// What the study's frame-rate search of one method is projected to take.
+struct FrameBudget {
+    /// The game's frame rate (Hz), the one engines are searched at.
+    game: f64,
+    /// How many rates a native method is searched at.
+    rate_count: usize,
+    /// Largest substep count searched.
+    max_substeps: u64,
+    /// Substeps of a worst-case search over every rate.
+    worst: f64,
+    /// Substeps of a worst-case search at the game rate alone (an engine's).
+    worst_engine: f64,
+}
+
+/// Of the `measured` methods (name, modelled seconds per step; `probed_out` those priced from
+/// the scene), those whose worst-case search fits its budget and those left out, each of these
+/// with a note in `notes`. Closed forms and unknown methods are in neither.
+fn within_frame_budget(
+    cfg: &StudyConfig,
+    measured: &[(&String, f64)],
+    probed_out: &[(String, f64)],
+    fb: &FrameBudget,
+    notes: &mut Vec<String>,
+) -> (Vec<String>, Vec<String>) {
+    let (game, max_substeps) = (fb.game, fb.max_substeps);
+    let (mut chosen, mut left_out) = (Vec::new(), Vec::new());
+    for &(name, per_step) in measured {
+        let Ok(info) = cfg.registry.info(name) else {
+            continue;
+        };
+        if info.order == crate::method::Order::Exact {
+            continue;
+        }
+        let per_substep = if info.engine {
+            per_step / cfg.options.substeps.max(1) as f64
+        } else {
+            per_step
+        };
+        let projected = per_substep
+            * if info.engine {
+                fb.worst_engine
+            } else {
+                fb.worst
+            };
+        // Every engine is a Rapier row: each gets the engine budget.
+        let budget = if info.engine {
+            FRAMERATE_ENGINE_SECONDS
+        } else {
+            FRAMERATE_METHOD_SECONDS
+        };
+        if projected > budget {
+            left_out.push(name.clone());
+            notes.push(format!(
+                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {}) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
+                per_substep * 1e3,
+                if info.engine {
+                    format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))
+                } else {
+                    "step".into()
+                },
+                if probed_out.iter().any(|(n, _)| n == name) { "from the scene" } else { "from its compare run" },
+                if info.engine { format!("{} Hz", crate::error::significant(game, 3)) } else { format!("{} rates", fb.rate_count) },
+            ));
+        } else {
+            chosen.push(name.clone());
+        }
+    }
+    (chosen, left_out)
 }

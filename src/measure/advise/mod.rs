@@ -23,6 +23,7 @@ pub mod cost;
 pub mod frames;
 pub mod screen;
 mod search;
+mod timing;
 mod verify;
 mod waves;
 
@@ -37,7 +38,7 @@ use verify::{Answer, Ctx};
 pub use waves::FIRST_WAVE;
 use waves::{run_waves, settle};
 
-use super::case::{CaseResult, CaseSettings, TimedRun, TimingRule, WallTimes};
+use super::case::{CaseResult, CaseSettings, TimingRule, WallTimes};
 use super::reference::ReferenceInfo;
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
@@ -45,7 +46,6 @@ use crate::measure::tolerance::{Judge, Metric, Tolerance};
 use crate::method::Registry;
 use crate::scenario::Scenario;
 use cost::{force_evals_per_second, rank, CostKey};
-use frames::FramePlan;
 use serde::Serialize;
 
 /// One candidate's recommendation.
@@ -268,16 +268,9 @@ pub fn check_config(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
     step_grid_of(scene, cfg)
 }
 
-/// Runs the advice: the candidates priced, then run in waves (the cheapest verified first,
-/// the dear ones screened against them: `waves`), the grid extended downwards while nothing
-/// meets the bound and the runs stay affordable, the frame-rate view, the timing and the pick.
-// Long because timing and ranking share the candidates' chosen runs and the frame view; the
-// waves, the screen and the grid's extension are modules of their own.
-pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
-    let (horizon, grid) = check_config(scene, cfg)?;
-    let sys = scene.build();
-    let (names, mut unable) = candidates((scene, &sys), cfg, &grid)?;
-    let set = CaseSettings {
+/// The settings of advice's runs: no series, no repeats, the step varied, not the substeps.
+fn case_settings(cfg: &AdviseConfig) -> CaseSettings {
+    CaseSettings {
         registry: cfg.registry.clone(),
         options: cfg.options.clone(),
         blowup_factor: cfg.blowup_factor,
@@ -288,7 +281,44 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         contacts: false,
         substeps: None,
         stop: None,
-    };
+    }
+}
+
+/// The command that re-creates the advice on `scene` over `horizon` s.
+fn command_line(scene: &Scenario, cfg: &AdviseConfig, horizon: f64) -> String {
+    // The methods as asked: none asked means advice's default set (closed forms left out with
+    // a reason), which listing every name would change.
+    let asked = &cfg.methods;
+    super::command::CommandLine::new("advise", &scene.source)
+        .flag_opt("tolerance", cfg.tolerance)
+        .flag_opt("metric", cfg.metric.map(Metric::name))
+        .flag("horizon", horizon)
+        .list("methods", asked)
+        .flag("safety", cfg.safety)
+        .flag("points", cfg.points)
+        .flag_opt("dt-min", cfg.dt_min)
+        .flag_opt("dt-max", cfg.dt_max)
+        .flag("substeps", cfg.options.substeps)
+        .method_options(&cfg.registry, asked, &cfg.options)
+        .flag("blowup-factor", cfg.blowup_factor)
+        .switch("no-frame-rates", !cfg.frame_rates)
+        .flag_opt("hz", cfg.game_hz)
+        .flag_opt("budget", cfg.budget_seconds)
+        .flag_opt(
+            "screen",
+            (cfg.screen_factor != SCREEN_FACTOR).then_some(cfg.screen_factor),
+        )
+        .render()
+}
+
+/// Runs the advice: the candidates priced, then run in waves (the cheapest verified first,
+/// the dear ones screened against them: `waves`), the grid extended downwards while nothing
+/// meets the bound and the runs stay affordable, the frame-rate view, the timing and the pick.
+pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
+    let (horizon, grid) = check_config(scene, cfg)?;
+    let sys = scene.build();
+    let (names, mut unable) = candidates((scene, &sys), cfg, &grid)?;
+    let set = case_settings(cfg);
     let priced = {
         let _stage = crate::run::progress_stage(
             format!("advise {}: modelled costs", scene.name),
@@ -316,77 +346,10 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .judge
         .clone()
         .expect("decided by the first reference");
-    let names: Vec<String> = answers.iter().map(|a| a.name.clone()).collect();
-    let plan = FramePlan::new(
-        horizon,
-        &answers.iter().map(|a| a.verify_dt).collect::<Vec<_>>(),
-        rates,
-    );
-    let frame_runs: Vec<CaseResult> = (0..rates.len())
-        .flat_map(|fi| {
-            answers
-                .iter()
-                .flat_map(move |a| [a.frames[fi].0.clone(), a.frames[fi].1.clone()])
-        })
-        .collect();
-    let mut view = plan.entries(&cfg.registry, &names, &frame_runs, &judge, &scene.name)?;
-    // Timing: every chosen run and each frame rate's best entry, once each, interleaved on
-    // this thread after all accuracy runs.
-    let run_of = |c: &CaseResult| TimedRun {
-        method: c.method.clone(),
-        dt: c.dt,
-        steps: c.steps,
-        substeps: None,
-    };
-    let wanted: Vec<(TimedRun, f64)> = answers
-        .iter()
-        .map(|a| (run_of(&a.chosen), a.chosen.wall_seconds))
-        .chain(plan.timed_runs(&view))
-        .collect();
-    let timed = {
-        let _stage =
-            crate::run::progress_stage(format!("advise {}: timing", scene.name), cfg.progress);
-        cost::time_once(&sys, &scene.initial_state(), &wanted, &set, &cfg.timing)?
-    };
-    let timing_of = |r: &TimedRun| timed.of(r);
-    let choices: Vec<Choice> = answers
-        .iter()
-        .map(|a| {
-            Choice::new(
-                &cfg.registry,
-                &a.chosen,
-                a.predicted,
-                &judge,
-                timing_of(&run_of(&a.chosen)),
-            )
-        })
-        .collect::<Result<_>>()?;
+    let (choices, view) = timing::timed_view(&ctx, &answers, &judge)?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
-    plan.apply_timings(&mut view, &timing_of);
     let pick = alternatives.first().cloned();
-    // The methods as asked: none asked means advice's default set (closed forms left out with
-    // a reason), which listing every name would change.
-    let asked = &cfg.methods;
-    let command = super::command::CommandLine::new("advise", &scene.source)
-        .flag_opt("tolerance", cfg.tolerance)
-        .flag_opt("metric", cfg.metric.map(Metric::name))
-        .flag("horizon", horizon)
-        .list("methods", asked)
-        .flag("safety", cfg.safety)
-        .flag("points", cfg.points)
-        .flag_opt("dt-min", cfg.dt_min)
-        .flag_opt("dt-max", cfg.dt_max)
-        .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, asked, &cfg.options)
-        .flag("blowup-factor", cfg.blowup_factor)
-        .switch("no-frame-rates", !cfg.frame_rates)
-        .flag_opt("hz", cfg.game_hz)
-        .flag_opt("budget", cfg.budget_seconds)
-        .flag_opt(
-            "screen",
-            (cfg.screen_factor != SCREEN_FACTOR).then_some(cfg.screen_factor),
-        )
-        .render();
+    let command = command_line(scene, cfg, horizon);
     Ok(Advice {
         command,
         scenario: scene.name.clone(),

@@ -269,6 +269,70 @@ pub(super) fn converging(row: &[CaseResult], judge: &Judge) -> bool {
         .is_some_and(|e0| errors.iter().flatten().all(|&e| e0 <= e))
 }
 
+/// The grid below the current one: its finest step, the ratio of its largest step to it,
+/// the finest step of the next grid below, and whether runs down to that step stay affordable.
+struct Below {
+    /// The current grid's finest step (s).
+    finest: f64,
+    /// The current grid's largest step over its finest.
+    span: f64,
+    /// The next grid's finest step (s): the span again below, at most [`EXTENSION_FACTOR`].
+    next_min: f64,
+    /// Whether runs down to `next_min` stay within [`EXTENSION_PARTICLE_STEPS`] and the step
+    /// limit.
+    affordable: bool,
+}
+
+impl Below {
+    /// The grid below `grid` for a scene of `particles` particles over `horizon` s.
+    fn of(grid: &[(f64, u64)], particles: usize, horizon: f64) -> Below {
+        let finest = grid.iter().map(|g| g.0).fold(f64::INFINITY, f64::min);
+        let span = grid.iter().map(|g| g.0).fold(0.0, f64::max) / finest;
+        let next_min = finest / span.min(EXTENSION_FACTOR);
+        let affordable = particles as f64 * horizon / next_min <= EXTENSION_PARTICLE_STEPS
+            && crate::scenario::Timing::steps_within("--dt-min", next_min, horizon).is_ok();
+        Below {
+            finest,
+            span,
+            next_min,
+            affordable,
+        }
+    }
+}
+
+/// The runs of every method in `going` at every grid step of `steps`, method by method.
+fn grid_jobs(going: &[String], steps: &[(f64, u64)], max_samples: u64) -> Vec<(String, TimeGrid)> {
+    going
+        .iter()
+        .flat_map(|n| {
+            steps
+                .iter()
+                .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
+        })
+        .collect()
+}
+
+/// The prediction of each row of runs `done` over `horizon` s, or why its method cannot meet
+/// the bound.
+fn predict_rows(
+    done: &[Row],
+    horizon: f64,
+    max_samples: u64,
+    judge: &Judge,
+    cfg: &AdviseConfig,
+) -> (Vec<Prediction>, Vec<Unable>) {
+    let (mut predictions, mut missed) = (Vec::new(), Vec::new());
+    for (n, row) in done {
+        match predict_row(n, row, (horizon, max_samples), judge, cfg.safety) {
+            Ok(p) => predictions.push(p),
+            Err(errors) => {
+                missed.push((n.clone(), unable_reason(&errors, judge.bound, cfg.safety)))
+            }
+        }
+    }
+    (predictions, missed)
+}
+
 /// When nothing met the bound on `grid` (every candidate's `rows` run in full), extends the
 /// grid downwards (at most [`GRID_EXTENSIONS`] times, within [`EXTENSION_PARTICLE_STEPS`]) for
 /// the candidates still converging, while nothing is predicted; `cant` holds why each
@@ -292,11 +356,12 @@ pub(super) fn extend(
             .judge
             .clone()
             .expect("decided by the first reference");
-        let finest = grid.iter().map(|g| g.0).fold(f64::INFINITY, f64::min);
-        let span = grid.iter().map(|g| g.0).fold(0.0, f64::max) / finest;
-        let next_min = finest / span.min(EXTENSION_FACTOR);
-        let affordable = sys.len() as f64 * horizon / next_min <= EXTENSION_PARTICLE_STEPS
-            && crate::scenario::Timing::steps_within("--dt-min", next_min, horizon).is_ok();
+        let Below {
+            finest,
+            span,
+            next_min,
+            affordable,
+        } = Below::of(&grid, sys.len(), horizon);
         let going: Vec<String> = rows
             .iter()
             .filter(|(_, r)| converging(r, &judge))
@@ -338,14 +403,7 @@ pub(super) fn extend(
             if steps.is_empty() {
                 continue;
             }
-            let jobs: Vec<(String, TimeGrid)> = going
-                .iter()
-                .flat_map(|n| {
-                    steps
-                        .iter()
-                        .map(move |&(dt, s)| (n.clone(), TimeGrid::new(dt, s, max_samples)))
-                })
-                .collect();
+            let jobs = grid_jobs(&going, &steps, max_samples);
             let (info, cases) = run_grids(
                 scene,
                 cfg,
@@ -359,15 +417,7 @@ pub(super) fn extend(
             for ((_, row), r) in done.iter_mut().zip(cases.chunks(steps.len())) {
                 row.splice(0..0, r.iter().cloned());
             }
-            let (mut predictions, mut missed) = (Vec::new(), Vec::new());
-            for (n, row) in &done {
-                match predict_row(n, row, (horizon, max_samples), &judge, cfg.safety) {
-                    Ok(p) => predictions.push(p),
-                    Err(errors) => {
-                        missed.push((n.clone(), unable_reason(&errors, judge.bound, cfg.safety)))
-                    }
-                }
-            }
+            let (predictions, missed) = predict_rows(&done, horizon, max_samples, &judge, cfg);
             cant = missed;
             if !predictions.is_empty() {
                 return Ok(Some(Extended {

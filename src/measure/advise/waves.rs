@@ -122,6 +122,28 @@ impl Found {
         self.runs[i].iter().flatten().cloned().collect()
     }
 
+    /// What the waves found, against the grid's `reference`: the steps run and each
+    /// candidate's runs.
+    fn into_waves(self, priced: &[Priced], grid: &[(f64, u64)], reference: ReferenceInfo) -> Waves {
+        let n = priced.len();
+        let tried = grid
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| self.runs.iter().any(|r| r[*k].is_some()))
+            .map(|(_, g)| g.0)
+            .collect();
+        let rows = (0..n)
+            .filter(|&i| self.runs[i].iter().any(Option::is_some))
+            .map(|i| (priced[i].name.clone(), self.row(i)))
+            .collect();
+        Waves {
+            reference,
+            fates: self.fates,
+            tried,
+            rows,
+        }
+    }
+
     /// The grid steps of candidate `i` not yet run whose modelled cost is within `limit`
     /// (s/s; None: every one).
     fn missing(&self, i: usize, p: &Priced, limit: Option<f64>) -> Vec<(usize, usize)> {
@@ -249,15 +271,7 @@ pub(super) fn run_waves(
         preds: vec![None; n],
         fates: vec![None; n],
     };
-    let orders: Vec<u32> = priced
-        .iter()
-        .map(|p| {
-            cfg.registry
-                .info(&p.name)
-                .map_or(0, |m| m.order.finite().unwrap_or(u32::MAX))
-        })
-        .collect();
-    let mut pending = by_floor(priced, &orders);
+    let mut pending = by_floor(priced, &orders_of(cfg, priced));
     let mut basis: Option<Basis> = None;
     // Where the reference is a kept solve (or a closed form: no solver step or evaluation),
     // verifying a wave resamples it: each wave is verified at once, and the screen holds the
@@ -272,11 +286,7 @@ pub(super) fn run_waves(
             .as_ref()
             .map(|b| cfg.screen_factor * b.modelled_per_second);
         if let (Some(l), Some(b)) = (limit, &basis) {
-            for &i in pending.iter().filter(|&&i| priced[i].floor > l) {
-                let s = Screened::not_run(&priced[i], b);
-                found.fates[i] = Some(Fate::Screened(Box::new(s)));
-            }
-            pending.retain(|&i| priced[i].floor <= l);
+            screen_out(priced, &mut pending, l, b, &mut found);
         }
         let fresh = next_wave(priced, &pending, basis.is_some());
         pending.retain(|i| !fresh.contains(i));
@@ -319,29 +329,56 @@ pub(super) fn run_waves(
         }
     }
     if !verify_each {
-        let idx: Vec<usize> = (0..n).filter(|&i| found.preds[i].is_some()).collect();
-        let preds: Vec<Prediction> = idx.iter().filter_map(|&i| found.preds[i].clone()).collect();
-        let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
-        for (&i, a) in idx.iter().zip(answers) {
-            found.fates[i] = Some(Fate::Answered(Box::new(a)));
-        }
+        verify_together(ctx, max_samples, decided, &mut found)?;
     }
-    let tried = grid
+    Ok(found.into_waves(priced, grid, reference.info))
+}
+
+/// The registry's order of accuracy of each candidate (`u32::MAX` for exact, 0 unknown), for
+/// the floor order's ties.
+fn orders_of(cfg: &AdviseConfig, priced: &[Priced]) -> Vec<u32> {
+    priced
         .iter()
-        .enumerate()
-        .filter(|(k, _)| found.runs.iter().any(|r| r[*k].is_some()))
-        .map(|(_, g)| g.0)
-        .collect();
-    let rows = (0..n)
-        .filter(|&i| found.runs[i].iter().any(Option::is_some))
-        .map(|i| (priced[i].name.clone(), found.row(i)))
-        .collect();
-    Ok(Waves {
-        reference: reference.info,
-        fates: found.fates,
-        tried,
-        rows,
-    })
+        .map(|p| {
+            cfg.registry
+                .info(&p.name)
+                .map_or(0, |m| m.order.finite().unwrap_or(u32::MAX))
+        })
+        .collect()
+}
+
+/// Screens out of `pending` every candidate whose floor is above `limit` (s/s), the screen
+/// held to `basis`, recording each one's fate in `found`.
+fn screen_out(
+    priced: &[Priced],
+    pending: &mut Vec<usize>,
+    limit: f64,
+    basis: &Basis,
+    found: &mut Found,
+) {
+    for &i in pending.iter().filter(|&&i| priced[i].floor > limit) {
+        let s = Screened::not_run(&priced[i], basis);
+        found.fates[i] = Some(Fate::Screened(Box::new(s)));
+    }
+    pending.retain(|&i| priced[i].floor <= limit);
+}
+
+/// Verifies every candidate with a prediction at once, after the last wave (a reference that
+/// is not kept is solved once for them all).
+fn verify_together(
+    ctx: &Ctx,
+    max_samples: u64,
+    decided: &mut Decided,
+    found: &mut Found,
+) -> Result<()> {
+    let n = found.preds.len();
+    let idx: Vec<usize> = (0..n).filter(|&i| found.preds[i].is_some()).collect();
+    let preds: Vec<Prediction> = idx.iter().filter_map(|&i| found.preds[i].clone()).collect();
+    let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
+    for (&i, a) in idx.iter().zip(answers) {
+        found.fates[i] = Some(Fate::Answered(Box::new(a)));
+    }
+    Ok(())
 }
 
 /// The fate of a candidate whose grid runs (`errors`: step and error, finest first) missed

@@ -17,18 +17,20 @@
 //! except `wall_seconds_per_frame` and `timing`; which methods a budget admits is decided on
 //! modelled seconds ([`crate::run::cost`]), so it is reproducible too.
 
+mod rate;
 mod rows;
 pub mod search;
 mod timing;
 mod write;
 
+use rate::RateSearch;
 pub use rows::{FrameRun, RateEntry, RowKind};
 pub use timing::FRAMERATE_TIMING;
 
 pub use write::{write_framerate, FRAMERATE_HEADER};
 
 use super::advise::cost::force_evals_per_second;
-use super::case::{applicable, run_case, CaseResult, CaseSettings, TimingRule, WallTimes};
+use super::case::{applicable, CaseResult, CaseSettings, TimingRule, WallTimes};
 use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -427,30 +429,106 @@ fn search_starts(
     crate::measure::stability::theory_limits(&cfg.registry, &cfg.options, sys, s0, names)
 }
 
+/// The command that re-creates a table of `names` (and the `skipped` methods) on `scene` over
+/// `duration` s.
+fn command_line(
+    scene: &Scenario,
+    cfg: &FramerateConfig,
+    names: &[String],
+    skipped: &[(String, String)],
+    duration: f64,
+) -> String {
+    let listed: Vec<String> = names
+        .iter()
+        .chain(skipped.iter().map(|s| &s.0))
+        .cloned()
+        .collect();
+    CommandLine::new("framerate", &scene.source)
+        .list("hz", &cfg.rates)
+        .list("engine-hz", cfg.engine_rates.as_deref().unwrap_or(&[]))
+        .flag_opt("tolerance", cfg.tolerance)
+        .flag_opt("metric", cfg.metric.map(Metric::name))
+        .list("methods", &listed)
+        .flag("duration", duration)
+        .flag("max-substeps", cfg.max_substeps)
+        .flag_opt("cost-cap", cfg.cost_cap)
+        .method_options(&cfg.registry, &listed, &cfg.options)
+        .flag("blowup-factor", cfg.blowup_factor)
+        .flag_opt("budget", cfg.budget_seconds)
+        .render()
+}
+
+/// Why no run can be verified, when the reference `info`'s own uncertainty over a run with no
+/// predictability horizon exceeds the position `tolerance` (m).
+fn reference_note(info: &ReferenceInfo, tolerance: f64) -> Option<String> {
+    let u = info.uncertainty;
+    (info.predictability_horizon.is_none() && u > tolerance).then(|| {
+        format!(
+            "the reference's own uncertainty over the run is {u:.2e} m, above the tolerance {} m: no run can be verified to it",
+            tolerance
+        )
+    })
+}
+
+/// A method left out of the table, with why.
+type Skipped = (String, String);
+
+/// The methods the table searches (every applicable one but closed forms unless asked for,
+/// within the budget) and those left out, with why.
+fn methods_of(
+    sys: &crate::model::System,
+    s0: &crate::model::State,
+    cfg: &FramerateConfig,
+    frames: &[u64],
+) -> Result<(Vec<String>, Vec<Skipped>)> {
+    let (mut names, mut skipped) = applicable(&cfg.registry, sys, &cfg.methods, &cfg.options)?;
+    if cfg.methods.is_empty() {
+        // Closed forms solve special scenes exactly; they are not a frame-rate choice.
+        names.retain(|n| cfg.registry.info(n).is_ok_and(|m| m.order != Order::Exact));
+    }
+    if let Some(b) = cfg.budget_seconds {
+        names = within_budget(sys, s0, cfg, names, frames, b, &mut skipped)?;
+    }
+    Ok((names, skipped))
+}
+
+/// Each rate's frame grid (`frames` frames of 1/hz), its samples held to the memory budget
+/// of a reference of `particles` particles.
+fn frame_grids(cfg: &FramerateConfig, frames: &[u64], particles: usize) -> Vec<TimeGrid> {
+    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, cfg.rates.len(), particles);
+    cfg.rates
+        .iter()
+        .zip(frames)
+        .map(|(hz, &n)| TimeGrid::new(1.0 / hz, n, max_samples))
+        .collect()
+}
+
+/// The settings of the table's runs: no series, no repeats (the timing comes after), the
+/// substeps set per run.
+fn case_settings(cfg: &FramerateConfig) -> CaseSettings {
+    CaseSettings {
+        registry: cfg.registry.clone(),
+        options: cfg.options.clone(),
+        blowup_factor: cfg.blowup_factor,
+        series_points: 0,
+        repeat_short: false,
+        trace: None,
+        contacts: false,
+        substeps: None,
+        stop: None,
+    }
+}
+
 /// Measures every method at every frame rate: per method and rate, the fewest substeps that
 /// meet the tolerance.
-// Long because the per-rate search runs as one parallel closure over the shared reference, judge and settings; its validation and notes are separate functions.
 pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     check(cfg)?;
     let sys = scene.build();
     let s0 = scene.initial_state();
     let duration = crate::scenario::Timing::duration(scene, cfg.duration)?;
     let frames = frames_per_rate(scene, cfg, duration)?;
-    let (mut names, mut skipped) = applicable(&cfg.registry, &sys, &cfg.methods, &cfg.options)?;
-    if cfg.methods.is_empty() {
-        // Closed forms solve special scenes exactly; they are not a frame-rate choice.
-        names.retain(|n| cfg.registry.info(n).is_ok_and(|m| m.order != Order::Exact));
-    }
-    if let Some(b) = cfg.budget_seconds {
-        names = within_budget(&sys, &s0, cfg, names, &frames, b, &mut skipped)?;
-    }
-    let max_samples = max_samples_for(DEFAULT_BUDGET_BYTES, cfg.rates.len(), sys.len());
-    let grids: Vec<TimeGrid> = cfg
-        .rates
-        .iter()
-        .zip(&frames)
-        .map(|(hz, &n)| TimeGrid::new(1.0 / hz, n, max_samples))
-        .collect();
+    let (names, skipped) = methods_of(&sys, &s0, cfg, &frames)?;
+    let grids = frame_grids(cfg, &frames, sys.len());
     let horizon = grids.iter().map(|g| g.time(g.steps)).fold(0.0, f64::max);
     let stage = crate::run::progress_stage(
         format!("framerate {}: reference and judge", scene.name),
@@ -466,17 +544,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         &s0,
         cfg.ensemble.as_ref(),
     )?;
-    let set = CaseSettings {
-        registry: cfg.registry.clone(),
-        options: cfg.options.clone(),
-        blowup_factor: cfg.blowup_factor,
-        series_points: 0,
-        repeat_short: false,
-        trace: None,
-        contacts: false,
-        substeps: None,
-        stop: None,
-    };
+    let set = case_settings(cfg);
     let floors: Vec<Option<f64>> = (0..cfg.rates.len())
         .map(|r| frame_event_floor(scene, &reference, r))
         .collect::<Result<_>>()?;
@@ -492,58 +560,25 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     );
     let particles = sys.len().max(1) as f64;
     let starts = search_starts(cfg, &sys, &s0, &names)?;
+    let search = RateSearch {
+        cfg,
+        sys: &sys,
+        s0: &s0,
+        reference: &reference,
+        judge: &judge,
+        set: &set,
+        names: &names,
+        frames: &frames,
+        floors: &floors,
+        starts: &starts,
+        particles,
+    };
     let searched: Vec<Result<RateEntry>> = jobs
         .par_iter()
         .map(|&(b, r)| {
-            let name = &names[b];
-            let mut runs: Vec<(u64, CaseResult)> = Vec::new();
-            let mut trial = |n: u64| -> Result<Option<bool>> {
-                if let Some(cap) = cfg.cost_cap {
-                    if n > 1 && particles * frames[r] as f64 * n as f64 > cap {
-                        return Ok(None);
-                    }
-                }
-                // One substep is the table's row, shown whole; any other count only has to
-                // pass or fail (a pass is shown, and never stops early).
-                let s = CaseSettings {
-                    substeps: Some(n),
-                    stop: (n > 1).then(|| judge.position_stop()).flatten(),
-                    ..set.clone()
-                };
-                let c = run_case(&sys, &s0, &reference, r, name, &s)?;
-                let ok = judge.meets(&c);
-                runs.push((n, c));
-                Ok(Some(ok))
-            };
-            let start = starts[b].map_or(1, |h| (1.0 / (cfg.rates[r] * h)).ceil() as u64);
-            let found = search::fewest_substeps_from(start, cfg.max_substeps, &mut trial)?;
-            let of = |n: u64| {
-                runs.iter()
-                    .find(|(m, _)| *m == n)
-                    .map(|(_, c)| c)
-                    .expect("every tried count has its run")
-            };
-            let one = frame_run(cfg, of(1), 1, &judge)?;
-            let fewest = match found.fewest {
-                Some(n) => Some(frame_run(cfg, of(n), n, &judge)?),
-                None => None,
-            };
-            let largest = found.tried.iter().map(|t| t.0).max().unwrap_or(1);
-            let fewest_note = fewest
-                .is_none()
-                .then(|| no_fewest_note(cfg, largest, floors[r], judge.tolerance.value));
+            let entry = search.entry(b, r)?;
             pb.inc(1);
-            Ok(RateEntry {
-                method: name.clone(),
-                hz: cfg.rates[r],
-                frame_dt: 1.0 / cfg.rates[r],
-                frames: frames[r],
-                one_substep: one,
-                fewest,
-                fewest_note,
-                frame_event_floor: floors[r],
-                tried: found.tried,
-            })
+            Ok(entry)
         })
         .collect();
     pb.finish_and_clear();
@@ -555,33 +590,8 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
             timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
         }
     }
-    let listed: Vec<String> = names
-        .iter()
-        .chain(skipped.iter().map(|s| &s.0))
-        .cloned()
-        .collect();
-    let command = CommandLine::new("framerate", &scene.source)
-        .list("hz", &cfg.rates)
-        .list("engine-hz", cfg.engine_rates.as_deref().unwrap_or(&[]))
-        .flag_opt("tolerance", cfg.tolerance)
-        .flag_opt("metric", cfg.metric.map(Metric::name))
-        .list("methods", &listed)
-        .flag("duration", duration)
-        .flag("max-substeps", cfg.max_substeps)
-        .flag_opt("cost-cap", cfg.cost_cap)
-        .method_options(&cfg.registry, &listed, &cfg.options)
-        .flag("blowup-factor", cfg.blowup_factor)
-        .flag_opt("budget", cfg.budget_seconds)
-        .render();
-    let u = reference.info.uncertainty;
-    let reference_note = (reference.info.predictability_horizon.is_none()
-        && u > judge.tolerance.value)
-        .then(|| {
-            format!(
-                "the reference's own uncertainty over the run is {u:.2e} m, above the tolerance {} m: no run can be verified to it",
-                judge.tolerance.value
-            )
-        });
+    let command = command_line(scene, cfg, &names, &skipped, duration);
+    let reference_note = reference_note(&reference.info, judge.tolerance.value);
     Ok(Framerate {
         reference_note,
         command,

@@ -166,9 +166,124 @@ fn scaled(scene: &Scenario, ks: f64, cs: f64) -> Scenario {
     s
 }
 
+/// The cells of the map, method by method, stiffness scale by stiffness scale, damping
+/// scale by damping scale, step by step: (method, stiffness scale, damping scale, step).
+/// Steps given as hω are divided by `w0`, the unscaled scene's ω_max.
+fn cells_of(cfg: &MapConfig, names: &[String], w0: f64) -> Vec<(String, f64, f64, f64)> {
+    let mut cells = Vec::new();
+    for name in names {
+        for &ks in &cfg.stiffness_scales {
+            for &cs in &cfg.damping_scales {
+                if cfg.dts.is_empty() {
+                    for &hw in &cfg.h_omega {
+                        cells.push((name.clone(), ks, cs, hw / w0));
+                    }
+                } else {
+                    for &dt in &cfg.dts {
+                        cells.push((name.clone(), ks, cs, dt));
+                    }
+                }
+            }
+        }
+    }
+    cells
+}
+
+/// What every cell of the map shares: the unscaled scene, the modes of each scaled one and
+/// each method's theory there.
+struct MapCells<'a> {
+    /// The unscaled scene.
+    scene: &'a Scenario,
+    /// The map's options.
+    cfg: &'a MapConfig,
+    /// The unscaled scene's initial state, seeded per cell.
+    s0: &'a State,
+    /// The unscaled scene's ω_max (1 where it has none): the fallback of a scaled one.
+    w0: f64,
+    /// The methods mapped, by name.
+    names: &'a [String],
+    /// The methods mapped.
+    methods: &'a [&'a Method],
+    /// Each (stiffness scale, damping scale) pair with the modes of its scaled scene.
+    pairs: &'a [(f64, f64, Modes)],
+    /// Per method, per pair: the theory's verdict and limit, where linear theory applies.
+    theory: &'a [Vec<Option<Limit>>],
+}
+
+impl MapCells<'_> {
+    /// The cell of method `name` at stiffness scale `ks`, damping scale `cs` and step `dt`:
+    /// its seeded run and, where linear theory applies, its spectral radius, then the verdict.
+    fn row(&self, name: &str, ks: f64, cs: f64, dt: f64) -> Result<MapRow> {
+        let cfg = self.cfg;
+        let pi = self
+            .pairs
+            .iter()
+            .position(|p| p.0 == ks && p.1 == cs)
+            .expect("pair");
+        let ms = &self.pairs[pi].2;
+        let ni = self.names.iter().position(|n| n == name).expect("name");
+        let th = self.theory[ni][pi];
+        let w = if ms.omega_max > 0.0 {
+            ms.omega_max
+        } else {
+            self.w0
+        };
+        let sc = scaled(self.scene, ks, cs);
+        let sys = sc.build();
+        let steps = ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64)
+            .clamp(MAP_MIN_STEPS, MAP_MAX_STEPS);
+        let method = self.methods[ni];
+        let mut stepper = method.create(&cfg.options);
+        let plan = RunPlan {
+            dt,
+            steps,
+            substeps: 1,
+            blowup_factor: cfg.blowup_factor,
+            stop_at_verdict: true,
+        };
+        let out = run(
+            &sys,
+            stepper.as_mut(),
+            seeded(&sys, self.s0),
+            &plan,
+            &mut NoObserver,
+        )?;
+        let run_stable = out.status.is_ok();
+        let radius = |ms: &Modes| {
+            ms.modes
+                .iter()
+                .map(|&m| rho(method, &cfg.options, m, dt))
+                .fold(0.0, f64::max)
+        };
+        let rho_max = th.map(|_| radius(ms));
+        let theory_stable = th.map(|t| match t {
+            (Verdict::UnconditionallyStable, _) => true,
+            (Verdict::StableBelow, Some(limit)) => dt <= limit,
+            _ => false,
+        });
+        let rho_end = || radius(&modes(&sys, &out.final_state));
+        let (stable, decided_by, note) =
+            decide(theory_stable.zip(rho_max), run_stable, steps, rho_end);
+        Ok(MapRow {
+            method: name.to_string(),
+            stiffness_scale: ks,
+            damping_scale: cs,
+            dt,
+            omega_max: ms.omega_max,
+            h_omega: dt * ms.omega_max,
+            spectral_radius: rho_max.map(|r| if r.is_finite() { r } else { f64::MAX }),
+            theory_max_dt: th.and_then(|t| t.1),
+            theory_verdict: th.map(|t| t.0),
+            stable,
+            run_stable,
+            decided_by,
+            note,
+        })
+    }
+}
+
 /// Sweeps stiffness × damping × dt: empirical stability of each cell with the theoretical
 /// spectral radius and boundary alongside. Cells run in parallel, collected in order.
-// Long because each cell's theory and run share the scaled scene; the scaling and the seeding are separate functions.
 pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let sys0 = scene.build();
     let s0 = scene.initial_state();
@@ -185,22 +300,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
         .filter(|m| m.info.stability != StabilityTheory::Unconditional)
         .collect();
     let names: Vec<String> = methods.iter().map(|m| m.info.name.to_string()).collect();
-    let mut cells = Vec::new();
-    for name in &names {
-        for &ks in &cfg.stiffness_scales {
-            for &cs in &cfg.damping_scales {
-                if cfg.dts.is_empty() {
-                    for &hw in &cfg.h_omega {
-                        cells.push((name.clone(), ks, cs, hw / w0));
-                    }
-                } else {
-                    for &dt in &cfg.dts {
-                        cells.push((name.clone(), ks, cs, dt));
-                    }
-                }
-            }
-        }
-    }
+    let cells = cells_of(cfg, &names, w0);
     // Modal analysis once per (stiffness, damping) pair.
     let mut pairs: Vec<(f64, f64, Modes)> = Vec::new();
     for &ks in &cfg.stiffness_scales {
@@ -221,6 +321,16 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 .collect()
         })
         .collect();
+    let shared = MapCells {
+        scene,
+        cfg,
+        s0: &s0,
+        w0,
+        names: &names,
+        methods: &methods,
+        pairs: &pairs,
+        theory: &theory,
+    };
     let pb = crate::run::progress_bar(
         cells.len() as u64,
         &format!("stability map {}", scene.name),
@@ -229,66 +339,9 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let rows: Vec<Result<MapRow>> = cells
         .par_iter()
         .map(|(name, ks, cs, dt)| {
-            let pi = pairs
-                .iter()
-                .position(|p| p.0 == *ks && p.1 == *cs)
-                .expect("pair");
-            let ms = &pairs[pi].2;
-            let ni = names.iter().position(|n| n == name).expect("name");
-            let th = theory[ni][pi];
-            let w = if ms.omega_max > 0.0 { ms.omega_max } else { w0 };
-            let sc = scaled(scene, *ks, *cs);
-            let sys = sc.build();
-            let steps = ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64)
-                .clamp(MAP_MIN_STEPS, MAP_MAX_STEPS);
-            let method = methods[ni];
-            let mut stepper = method.create(&cfg.options);
-            let plan = RunPlan {
-                dt: *dt,
-                steps,
-                substeps: 1,
-                blowup_factor: cfg.blowup_factor,
-                stop_at_verdict: true,
-            };
-            let out = run(
-                &sys,
-                stepper.as_mut(),
-                seeded(&sys, &s0),
-                &plan,
-                &mut NoObserver,
-            )?;
-            let run_stable = out.status.is_ok();
-            let radius = |ms: &Modes| {
-                ms.modes
-                    .iter()
-                    .map(|&m| rho(method, &cfg.options, m, *dt))
-                    .fold(0.0, f64::max)
-            };
-            let rho_max = th.map(|_| radius(ms));
-            let theory_stable = th.map(|t| match t {
-                (Verdict::UnconditionallyStable, _) => true,
-                (Verdict::StableBelow, Some(limit)) => *dt <= limit,
-                _ => false,
-            });
-            let rho_end = || radius(&modes(&sys, &out.final_state));
-            let (stable, decided_by, note) =
-                decide(theory_stable.zip(rho_max), run_stable, steps, rho_end);
+            let row = shared.row(name, *ks, *cs, *dt)?;
             pb.inc(1);
-            Ok(MapRow {
-                method: name.clone(),
-                stiffness_scale: *ks,
-                damping_scale: *cs,
-                dt: *dt,
-                omega_max: ms.omega_max,
-                h_omega: dt * ms.omega_max,
-                spectral_radius: rho_max.map(|r| if r.is_finite() { r } else { f64::MAX }),
-                theory_max_dt: th.and_then(|t| t.1),
-                theory_verdict: th.map(|t| t.0),
-                stable,
-                run_stable,
-                decided_by,
-                note,
-            })
+            Ok(row)
         })
         .collect();
     pb.finish_and_clear();

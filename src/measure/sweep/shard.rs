@@ -118,9 +118,56 @@ fn read_rows(path: &Path) -> Result<Vec<SweepRow>> {
     Ok(rows)
 }
 
+/// Shard directory `d`'s `shard.json` (and its path) with the rows of its `sweep.csv`, one
+/// per case it lists.
+fn read_shard(d: &Path) -> Result<(PathBuf, ShardFile, Vec<SweepRow>)> {
+    let sp = d.join("shard.json");
+    let text = std::fs::read_to_string(&sp).map_err(|source| Error::Read {
+        file: sp.clone(),
+        source,
+    })?;
+    let sf: ShardFile = serde_json::from_str(&text)
+        .map_err(|e| Error::invalid(&sp, "(document)", e.to_string()))?;
+    let rows = read_rows(&d.join("sweep.csv"))?;
+    if rows.len() != sf.cases.len() {
+        return Err(Error::invalid(
+            d.join("sweep.csv"),
+            "(rows)",
+            format!(
+                "{} rows but shard.json lists {} cases",
+                rows.len(),
+                sf.cases.len()
+            ),
+        ));
+    }
+    Ok((sp, sf, rows))
+}
+
+/// Refuses shard `sf` (read from `sp`) unless it belongs to the sweep of the first shard `f`
+/// and agrees with it on the shard count.
+fn check_same_sweep(f: &ShardFile, sf: &ShardFile, sp: &Path) -> Result<()> {
+    if f.plan != sf.plan || f.reference != sf.reference || f.floors != sf.floors {
+        return Err(Error::invalid(
+            sp,
+            "plan",
+            "this shard belongs to a different sweep (plan, reference or grid differ)",
+        ));
+    }
+    if f.shard.count != sf.shard.count {
+        return Err(Error::invalid(
+            sp,
+            "shard.count",
+            format!(
+                "{} but the first shard says {}",
+                sf.shard.count, f.shard.count
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Joins the shard directories of one sweep into the full result (rows in case order and
 /// the summary); errors name the directory and what does not match.
-// Long because merging checks every shard against the plan before joining their rows; each check names the shard at fault.
 pub fn merge(dirs: &[PathBuf]) -> Result<SweepResult> {
     if dirs.is_empty() {
         return Err(Error::option("merge", "give at least one shard directory"));
@@ -129,50 +176,14 @@ pub fn merge(dirs: &[PathBuf]) -> Result<SweepResult> {
     let mut slots: Vec<Option<SweepRow>> = Vec::new();
     let mut seen: Vec<bool> = Vec::new();
     for d in dirs {
-        let sp = d.join("shard.json");
-        let text = std::fs::read_to_string(&sp).map_err(|source| Error::Read {
-            file: sp.clone(),
-            source,
-        })?;
-        let sf: ShardFile = serde_json::from_str(&text)
-            .map_err(|e| Error::invalid(&sp, "(document)", e.to_string()))?;
-        let rows = read_rows(&d.join("sweep.csv"))?;
-        if rows.len() != sf.cases.len() {
-            return Err(Error::invalid(
-                d.join("sweep.csv"),
-                "(rows)",
-                format!(
-                    "{} rows but shard.json lists {} cases",
-                    rows.len(),
-                    sf.cases.len()
-                ),
-            ));
-        }
+        let (sp, sf, rows) = read_shard(d)?;
         match &first {
             None => {
                 slots = vec![None; sf.plan.case_count()];
                 seen = vec![false; sf.shard.count];
                 first = Some(sf.clone());
             }
-            Some(f) => {
-                if f.plan != sf.plan || f.reference != sf.reference || f.floors != sf.floors {
-                    return Err(Error::invalid(
-                        &sp,
-                        "plan",
-                        "this shard belongs to a different sweep (plan, reference or grid differ)",
-                    ));
-                }
-                if f.shard.count != sf.shard.count {
-                    return Err(Error::invalid(
-                        &sp,
-                        "shard.count",
-                        format!(
-                            "{} but the first shard says {}",
-                            sf.shard.count, f.shard.count
-                        ),
-                    ));
-                }
-            }
+            Some(f) => check_same_sweep(f, &sf, &sp)?,
         }
         if std::mem::replace(&mut seen[sf.shard.index], true) {
             return Err(Error::invalid(
