@@ -65,7 +65,6 @@ pub fn empirical_limit(
 /// As [`empirical_limit`], each trial booked on `work` ([`super::work::SearchWork`]): a trial
 /// that would take the search past its allowance is not run, and the search ends with what it
 /// found, saying so in [`Empirical::stopped`].
-// Long because the bracketing and the bisection share the trial closure and its stop.
 pub fn empirical_limit_within(
     sys: &System,
     s0: &State,

@@ -317,7 +317,6 @@ struct Gated<'a> {
 
 /// Draws panel `p` into `area`: its series, blow-up markers and guide lines as `gated` holds
 /// them, over the ranges `xr` × `yr`.
-// Long because plotters' chart builder, mesh, series and legend calls share one drawing area.
 fn draw_in<DB, X, Y>(
     area: &DrawingArea<DB, Shift>,
     p: &Panel,
