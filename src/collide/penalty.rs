@@ -80,6 +80,9 @@ impl ForceTerm for Penalty {
     fn name(&self) -> &'static str {
         "penalty_contacts"
     }
+    fn kind(&self) -> crate::model::TermKind {
+        crate::model::TermKind::PenaltyContacts
+    }
     fn field(&self) -> &'static str {
         "collision.stiffness"
     }

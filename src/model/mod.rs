@@ -18,4 +18,4 @@ pub use springs::Springs;
 pub use state::{State, Vec3};
 pub use steps::{covering_steps, whole_steps};
 pub use system::{DistanceConstraint, Energy, Impulse, System};
-pub use term::{Drag, EnergyKind, ForceTerm, Gravity};
+pub use term::{Drag, EnergyKind, ForceTerm, Gravity, TermKind};

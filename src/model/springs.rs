@@ -301,6 +301,9 @@ impl ForceTerm for Springs {
     fn field(&self) -> &'static str {
         "stiffness and damping of [[spring]], [[chain]] or [[cloth]]"
     }
+    fn kind(&self) -> super::term::TermKind {
+        super::term::TermKind::Springs
+    }
     fn name(&self) -> &'static str {
         if self.any_damping {
             "springs+dampers"

@@ -18,10 +18,27 @@ pub enum EnergyKind {
     None,
 }
 
+/// What a force term is: how backends and solvers tell terms apart (the name is for people).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TermKind {
+    /// The scene's springs and dampers.
+    Springs,
+    /// Uniform gravity.
+    Gravity,
+    /// Linear air drag.
+    Drag,
+    /// Penalty contacts with obstacles.
+    PenaltyContacts,
+    /// A linear test mode (the stability theory's single-frequency system).
+    LinearMode,
+}
+
 /// One term of the force model.
 pub trait ForceTerm: Send + Sync + std::fmt::Debug {
     /// Short name shown by `springlab check`.
     fn name(&self) -> &'static str;
+    /// What the term is, for code that treats terms differently.
+    fn kind(&self) -> TermKind;
     /// The scene field that sets the term, named when the term makes a solve fail.
     fn field(&self) -> &'static str;
     /// Where the term's potential energy is accounted.
@@ -49,6 +66,9 @@ pub struct Gravity {
 impl ForceTerm for Gravity {
     fn name(&self) -> &'static str {
         "gravity"
+    }
+    fn kind(&self) -> TermKind {
+        TermKind::Gravity
     }
     fn field(&self) -> &'static str {
         "world.gravity"
@@ -78,6 +98,9 @@ pub struct Drag {
 impl ForceTerm for Drag {
     fn name(&self) -> &'static str {
         "drag"
+    }
+    fn kind(&self) -> TermKind {
+        TermKind::Drag
     }
     fn field(&self) -> &'static str {
         "world.drag"

@@ -39,7 +39,10 @@ impl GridCloth {
     pub fn of(sys: &System, nx: usize, ny: usize) -> Option<Self> {
         let n = sys.len();
         // Springs and gravity only: no drag, rods, kicks, contact stage or other force term.
-        let only_gravity = sys.terms.iter().all(|t| t.name() == "gravity");
+        let only_gravity = sys
+            .terms
+            .iter()
+            .all(|t| t.kind() == crate::model::TermKind::Gravity);
         if nx < 2
             || ny < 2
             || nx.checked_mul(ny) != Some(n)

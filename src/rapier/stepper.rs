@@ -5,7 +5,7 @@ use super::user_forces::{is_user_force, UserForces};
 use super::world::{align_axial, build, set_step, Built, Mode};
 use crate::error::Result;
 use crate::integrate::{StepStats, Stepper};
-use crate::model::{State, System, Vec3};
+use crate::model::{State, System, TermKind, Vec3};
 
 /// Rapier 0.36 (f64) stepping a scene; `dt` is Rapier's frame step, `substeps` its
 /// `num_solver_iterations`.
@@ -126,8 +126,10 @@ impl Stepper for RapierStepper {
         if let Some(t) = sys
             .terms
             .iter()
+            .find(|t| {
+                !matches!(t.kind(), TermKind::Gravity | TermKind::Drag) && !is_user_force(t.kind())
+            })
             .map(|t| t.name())
-            .find(|n| *n != "gravity" && *n != "drag" && !is_user_force(n))
         {
             return Err(format!(
                 "the Rapier methods map springs, constraints, gravity, drag and penalty contacts; the force term '{t}' has no Rapier equivalent yet"

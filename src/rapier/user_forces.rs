@@ -17,21 +17,21 @@
 //! carry no drag.
 
 use super::convert::{to_glam, to_na};
-use crate::model::{ForceTerm, System, Vec3};
+use crate::model::{ForceTerm, System, TermKind, Vec3};
 use rapier3d_f64::prelude::{RigidBodyHandle, RigidBodySet};
 
-/// Names of the force terms this module applies.
-pub const USER_FORCE_TERMS: [&str; 1] = ["penalty_contacts"];
+/// The kinds of force term this module applies.
+pub const USER_FORCE_TERMS: [TermKind; 1] = [TermKind::PenaltyContacts];
 
-/// Whether the term called `name` is applied as a user force.
-pub fn is_user_force(name: &str) -> bool {
-    USER_FORCE_TERMS.contains(&name)
+/// Whether a term of kind `kind` is applied as a user force.
+pub fn is_user_force(kind: TermKind) -> bool {
+    USER_FORCE_TERMS.contains(&kind)
 }
 
 /// Whether `sys` carries a term applied as a user force (its obstacles are then not Rapier
 /// colliders: the term is the contact).
 pub fn any(sys: &System) -> bool {
-    sys.terms.iter().any(|t| is_user_force(t.name()))
+    sys.terms.iter().any(|t| is_user_force(t.kind()))
 }
 
 /// Scratch of the user forces (allocated once per world).
@@ -48,7 +48,7 @@ impl UserForces {
     fn terms(sys: &System) -> impl Iterator<Item = &dyn ForceTerm> {
         sys.terms
             .iter()
-            .filter(|t| is_user_force(t.name()))
+            .filter(|t| is_user_force(t.kind()))
             .map(|t| t.as_ref())
     }
 

@@ -13,7 +13,7 @@ pub(super) fn translation_invariant(sys: &System) -> bool {
         && sys.drag.is_none()
         && match sys.terms.as_slice() {
             [] => true,
-            [only] => sys.gravity.is_some() && only.name() == "gravity",
+            [only] => sys.gravity.is_some() && only.kind() == crate::model::TermKind::Gravity,
             _ => false,
         }
 }

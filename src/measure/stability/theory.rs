@@ -27,6 +27,9 @@ impl ForceTerm for LinearMode {
     fn name(&self) -> &'static str {
         "linear_mode"
     }
+    fn kind(&self) -> crate::model::TermKind {
+        crate::model::TermKind::LinearMode
+    }
     fn field(&self) -> &'static str {
         "the linearised mode"
     }

@@ -4,7 +4,7 @@
 use super::mapping::{soft_plan, SoftPlan};
 use crate::error::{Error, Result};
 use crate::integrate::{StepStats, Stepper};
-use crate::model::{State, System, Vec3};
+use crate::model::{State, System, TermKind, Vec3};
 use crate::rapier::convert::{to_glam, to_na};
 use crate::rapier::stepper::{contact_loss, damping_power};
 use crate::rapier::user_forces::is_user_force;
@@ -173,10 +173,10 @@ impl Stepper for SoftStepper {
         if let Some(t) = sys
             .terms
             .iter()
-            .map(|t| t.name())
-            .find(|n| *n != "gravity" && *n != "drag")
+            .find(|t| !matches!(t.kind(), TermKind::Gravity | TermKind::Drag))
         {
-            return Err(if is_user_force(t) {
+            let (kind, t) = (t.kind(), t.name());
+            return Err(if is_user_force(kind) {
                 format!("the soft bodies meet obstacles through Rapier's contacts; the force term '{t}' (a penalty contact) is applied as a held user force by rapier_impulse only")
             } else {
                 format!("the soft-body methods map springs, compliant rods, gravity and drag; the force term '{t}' has no Rapier equivalent")
