@@ -290,6 +290,25 @@ impl Default for CaseSettings {
     }
 }
 
+impl CaseSettings {
+    /// The settings of a measuring command's runs with these methods: no series, no repeats
+    /// (the command times its chosen runs itself), no trace, no collision metrics, one step
+    /// per frame, every run whole. Commands change the fields they measure differently.
+    pub fn measuring(registry: Registry, options: MethodOptions, blowup_factor: f64) -> Self {
+        CaseSettings {
+            registry,
+            options,
+            blowup_factor,
+            series_points: 0,
+            repeat_short: false,
+            trace: None,
+            contacts: false,
+            substeps: None,
+            stop: None,
+        }
+    }
+}
+
 /// Runs `name` on grid `grid` of `reference` (the grid's dt and steps), ended early under
 /// [`CaseSettings::stop`].
 pub fn run_case(

@@ -346,15 +346,12 @@ impl Runs<'_> {
     ) -> Result<Vec<CompareEntry>> {
         let cfg = self.cfg;
         let set = CaseSettings {
-            registry: cfg.registry.clone(),
-            options: cfg.options.clone(),
-            blowup_factor: cfg.blowup_factor,
             series_points: cfg.series_points,
             repeat_short: true,
             trace: self.trace(scene, reference),
             contacts: true,
             substeps: cfg.frame_substeps,
-            stop: None,
+            ..CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
         };
         let pb = crate::run::progress_bar(
             names.len() as u64,

@@ -16,10 +16,6 @@ use super::direct::Factor;
 use super::ic0::Ic0;
 use super::linsolve::LinearProblem;
 use super::shift::{raised, MAX_SHIFTS};
-
-/// Fractions of compressed springs' indefinite stiffness dropped in successive attempts at
-/// one linearly implicit solve (see [`Jacobian::clamp`]).
-pub(super) const CLAMPS: [f64; 4] = [0.0, 0.5, 0.875, 1.0];
 use super::translation::translation_invariant;
 use crate::integrate::ensure_len;
 use crate::model::parallel::{dot, each_particle, each_particle2};
@@ -230,6 +226,28 @@ fn spd_block_inverse(d: &Matrix3<f64>, m: f64) -> Matrix3<f64> {
     e.eigenvectors * Matrix3::from_diagonal(&inv) * e.eigenvectors.transpose()
 }
 
+/// Fractions of compressed springs' indefinite stiffness dropped in successive attempts at
+/// one linearly implicit solve (see [`Jacobian::clamp`]).
+pub(super) const CLAMPS: [f64; 4] = [0.0, 0.5, 0.875, 1.0];
+
+/// Factors by block IC(0) the fully clamped (SPD) Newton matrix at `prob`'s (x, v), with
+/// `jac`'s shift: the preconditioner of the attempts that follow. Leaves `jac` filled clamped.
+fn factor_clamped(f: &mut Ic0, jac: &mut Jacobian, prob: &LinearProblem<'_>) {
+    let LinearProblem { sys, x, v, h, .. } = *prob;
+    jac.clamp = 1.0;
+    sys.jacobian(x, v, jac);
+    jac.prepare_newton(&sys.mass, &sys.free, h);
+    f.factor(jac, &sys.free);
+}
+
+/// The preconditioner of an attempt: the IC(0) factor if there is one, else block Jacobi.
+fn precond(ic0: Option<&Ic0>) -> Precond<'_> {
+    match ic0 {
+        Some(f) => Precond::Ic0(f),
+        None => Precond::BlockJacobi,
+    }
+}
+
 /// The Newton matrix could not be made positive definite even with every compressed spring's
 /// negative stiffness dropped (a force term with an indefinite Jacobian of its own).
 #[derive(Debug, Clone, Copy)]
@@ -256,25 +274,18 @@ pub(super) fn solve_clamped(
     let LinearProblem { sys, x, v, h, .. } = *prob;
     let mut spent = 0u64;
     jac.shift = 0.0;
-    let clamps = &CLAMPS;
     if let Some(f) = ic0.as_deref_mut() {
-        jac.clamp = 1.0;
-        sys.jacobian(x, v, jac);
-        jac.prepare_newton(&sys.mass, &sys.free, h);
-        f.factor(jac, &sys.free);
+        factor_clamped(f, jac, prob);
     }
-    for (attempt, &clamp) in clamps.iter().enumerate() {
+    for (attempt, &clamp) in CLAMPS.iter().enumerate() {
         jac.clamp = clamp;
         sys.jacobian(x, v, jac);
         jac.prepare_newton(&sys.mass, &sys.free, h);
         rhs(jac, b);
-        let pre = match ic0.as_deref() {
-            Some(f) => Precond::Ic0(f),
-            None => Precond::BlockJacobi,
-        };
+        let pre = precond(ic0.as_deref());
         match cg.solve(jac, sys, b, dv, pre, prob.cg_stop(prob.set.max_cg)) {
             CgOutcome::Converged(it) | CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
-            CgOutcome::NegativeCurvature(it) if attempt + 1 < clamps.len() => spent += it as u64,
+            CgOutcome::NegativeCurvature(it) if attempt + 1 < CLAMPS.len() => spent += it as u64,
             CgOutcome::NegativeCurvature(_) => break,
         }
     }
@@ -302,10 +313,7 @@ pub(super) fn solve_shifted(
     let mut spent = 0u64;
     for attempt in 0..MAX_SHIFTS {
         if let Some(f) = ic0.as_deref_mut() {
-            jac.clamp = 1.0;
-            sys.jacobian(x, v, jac);
-            jac.prepare_newton(&sys.mass, &sys.free, h);
-            f.factor(jac, &sys.free);
+            factor_clamped(f, jac, prob);
         }
         // The exact Jacobian (the shift enters only the prepared mass blocks).
         if attempt == 0 || ic0.is_some() {
@@ -314,10 +322,7 @@ pub(super) fn solve_shifted(
         }
         jac.prepare_newton(&sys.mass, &sys.free, h);
         rhs(jac, b);
-        let pre = match ic0.as_deref() {
-            Some(f) => Precond::Ic0(f),
-            None => Precond::BlockJacobi,
-        };
+        let pre = precond(ic0.as_deref());
         match cg.solve(jac, sys, b, dv, pre, prob.cg_stop(prob.set.max_cg)) {
             CgOutcome::Converged(it) | CgOutcome::NotConverged(it) => return Ok(spent + it as u64),
             CgOutcome::NegativeCurvature(it) => {

@@ -270,18 +270,8 @@ pub fn check_config(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
 
 /// The settings of advice's runs: no series, no repeats, the step varied, not the substeps.
 fn case_settings(cfg: &AdviseConfig) -> CaseSettings {
-    CaseSettings {
-        registry: cfg.registry.clone(),
-        options: cfg.options.clone(),
-        blowup_factor: cfg.blowup_factor,
-        series_points: 0,
-        // Advice times its candidates' runs itself, after the accuracy runs.
-        repeat_short: false,
-        trace: None,
-        contacts: false,
-        substeps: None,
-        stop: None,
-    }
+    // Advice times its candidates' runs itself, after the accuracy runs.
+    CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
 }
 
 /// The command that re-creates the advice on `scene` over `horizon` s.

@@ -506,17 +506,7 @@ fn frame_grids(cfg: &FramerateConfig, frames: &[u64], particles: usize) -> Vec<T
 /// The settings of the table's runs: no series, no repeats (the timing comes after), the
 /// substeps set per run.
 fn case_settings(cfg: &FramerateConfig) -> CaseSettings {
-    CaseSettings {
-        registry: cfg.registry.clone(),
-        options: cfg.options.clone(),
-        blowup_factor: cfg.blowup_factor,
-        series_points: 0,
-        repeat_short: false,
-        trace: None,
-        contacts: false,
-        substeps: None,
-        stop: None,
-    }
+    CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
 }
 
 /// Measures every method at every frame rate: per method and rate, the fewest substeps that

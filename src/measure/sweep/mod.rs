@@ -184,15 +184,8 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
         .collect();
     let saturation = 0.1 * scale;
     let set = CaseSettings {
-        registry: cfg.registry.clone(),
-        options: cfg.options.clone(),
-        blowup_factor: cfg.blowup_factor,
-        series_points: 0,
         repeat_short: cfg.repeat_short,
-        trace: None,
-        contacts: false,
-        substeps: None,
-        stop: None,
+        ..CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
     };
     let mut pending: Vec<usize> = owned
         .iter()
