@@ -562,6 +562,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         floors: &floors,
         starts: &starts,
         particles,
+        guided: scene.collision.is_none() && scene.impulses.is_empty(),
     };
     let searched: Vec<Result<RateEntry>> = jobs
         .par_iter()

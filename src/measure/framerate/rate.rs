@@ -34,6 +34,9 @@ pub(super) struct RateSearch<'a> {
     pub(super) starts: &'a [Option<f64>],
     /// Particles of the scene (at least 1), for the cost cap in particle-steps.
     pub(super) particles: f64,
+    /// Whether the search may predict counts from the runs' errors ([`search`]): a smooth
+    /// scene, without obstacles or kicks.
+    pub(super) guided: bool,
 }
 
 impl RateSearch<'_> {
@@ -44,7 +47,7 @@ impl RateSearch<'_> {
         let judge = self.judge;
         let name = &self.names[b];
         let mut runs: Vec<(u64, CaseResult)> = Vec::new();
-        let mut trial = |n: u64| -> Result<Option<bool>> {
+        let mut trial = |n: u64| -> Result<Option<search::Probe>> {
             if let Some(cap) = cfg.cost_cap {
                 if n > 1 && self.particles * self.frames[r] as f64 * n as f64 > cap {
                     return Ok(None);
@@ -58,12 +61,16 @@ impl RateSearch<'_> {
                 ..self.set.clone()
             };
             let c = run_case(self.sys, self.s0, self.reference, r, name, &s)?;
-            let ok = judge.meets(&c);
+            let probe = search::Probe {
+                passes: judge.meets(&c),
+                excess: judge.error(&c).map(|e| e / judge.bound),
+                blew_up: c.unstable_time,
+            };
             runs.push((n, c));
-            Ok(Some(ok))
+            Ok(Some(probe))
         };
         let start = self.starts[b].map_or(1, |h| (1.0 / (cfg.rates[r] * h)).ceil() as u64);
-        let found = search::fewest_substeps_from(start, cfg.max_substeps, &mut trial)?;
+        let found = search::fewest_substeps_from(start, cfg.max_substeps, self.guided, &mut trial)?;
         let of = |n: u64| {
             runs.iter()
                 .find(|(m, _)| *m == n)
