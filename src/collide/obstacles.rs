@@ -118,6 +118,76 @@ pub struct ObstacleSet {
     bounded: Vec<usize>,
     /// The bounded obstacles' AABBs, the BVH's leaves, in the order of `bounded`.
     aabbs: Vec<Aabb>,
+    /// Per obstacle, a cheap lower bound on a point's distance to it.
+    bounds: Vec<Bound>,
+}
+
+/// A lower bound on a point's distance to an obstacle, a few flops against a parry query's
+/// hundreds: a query whose bound already clears the reach by [`BOUND_SLACK`] cannot find a
+/// contact and is skipped, so every answer is the one the query would give.
+#[derive(Debug, Clone, Copy)]
+enum Bound {
+    /// A half-space: the signed distance n·(p − o), exact (n unit, outward).
+    Plane { normal: Vec3, origin: Vec3 },
+    /// A sphere holding the obstacle (the ball itself for a sphere): |p − c| − r, exact
+    /// outside a ball and below the distance outside any shape it holds.
+    Sphere { center: Vec3, radius: f64 },
+}
+
+/// Relative margin (× (1 + |p| + the obstacle's extent) m) by which a bound must clear a
+/// reach before a query is skipped: far above the round-off by which a parry projection's
+/// distance can differ from the bound's.
+const BOUND_SLACK: f64 = 1e-9;
+
+impl Bound {
+    /// The bound of `shape` at `pose`.
+    fn of(shape: &SharedShape, pose: &Pose) -> Self {
+        if let Some(hs) = shape.as_halfspace() {
+            return Bound::Plane {
+                normal: from_g(pose.rotation * hs.normal),
+                origin: from_g(pose.translation),
+            };
+        }
+        if let Some(b) = shape.as_ball() {
+            return Bound::Sphere {
+                center: from_g(pose.translation),
+                radius: b.radius,
+            };
+        }
+        let aabb = shape.compute_aabb(pose);
+        Bound::Sphere {
+            center: from_g(aabb.center()),
+            radius: from_g(aabb.half_extents()).norm(),
+        }
+    }
+
+    /// The lower bound at `p`, and the slack it must clear a reach by.
+    fn at(&self, p: &Vec3) -> (f64, f64) {
+        let (d, extent) = match self {
+            Bound::Plane { normal, origin } => (normal.dot(&(p - origin)), origin.amax()),
+            Bound::Sphere { center, radius } => {
+                ((p - center).norm() - radius, center.amax() + radius)
+            }
+        };
+        (d, BOUND_SLACK * (1.0 + p.amax() + extent))
+    }
+
+    /// True when no point of the segment `p0 → p1` comes within the slack of the obstacle,
+    /// so no ray cast along it can hit.
+    fn misses(&self, p0: &Vec3, p1: &Vec3) -> bool {
+        match self {
+            Bound::Plane { .. } => {
+                let ((d0, s0), (d1, s1)) = (self.at(p0), self.at(p1));
+                d0 > s0 && d1 > s1
+            }
+            Bound::Sphere { center, .. } => {
+                let d = p1 - p0;
+                let t = ((center - p0).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+                let (gap, slack) = self.at(&(p0 + d * t));
+                gap > slack + BOUND_SLACK * (1.0 + p0.amax() + p1.amax())
+            }
+        }
+    }
 }
 
 /// Bounded obstacles from which the broad phase walks the BVH; fewer are scanned in order,
@@ -206,6 +276,10 @@ impl ObstacleSet {
                 unbounded.push(k);
             }
         }
+        let bounds = obstacles
+            .iter()
+            .map(|o| Bound::of(&o.shape, &o.pose))
+            .collect();
         let bvh = if aabbs.is_empty() {
             Bvh::new()
         } else {
@@ -217,7 +291,15 @@ impl ObstacleSet {
             bvh,
             bounded,
             aabbs,
+            bounds,
         }
+    }
+
+    /// True when particle `p` with `reach` (radius plus margin) clearly cannot touch obstacle
+    /// `k` by its bound: its query would find a gap above the margin.
+    fn clearly_apart(&self, k: usize, p: &Vec3, reach: f64) -> bool {
+        let (d, slack) = self.bounds[k].at(p);
+        d > reach + slack
     }
 
     /// The bounded obstacles whose AABB meets `aabb` (touching counts), in obstacle order,
@@ -321,6 +403,9 @@ impl ObstacleSet {
     pub fn for_each_near(&self, p: &Vec3, radius: f64, margin: f64, mut f: impl FnMut(Contact)) {
         let reach = radius + margin.max(0.0);
         for &k in &self.unbounded {
+            if self.clearly_apart(k, p, reach) {
+                continue;
+            }
             let c = self.query(k, p, radius);
             if c.gap < margin {
                 f(c);
@@ -339,6 +424,9 @@ impl ObstacleSet {
             None => &self.bounded[..],
         };
         for &k in near {
+            if self.clearly_apart(k, p, reach) {
+                continue;
+            }
             let c = self.query(k, p, radius);
             if c.gap < margin {
                 f(c);
@@ -376,6 +464,9 @@ impl ObstacleSet {
         let ray = Ray::new(to_g(p0), to_g(&d));
         let mut best: Option<SweepHit> = None;
         let test = |k: usize, best: &mut Option<SweepHit>| {
+            if self.bounds[k].misses(p0, p1) {
+                return;
+            }
             let o = &self.obstacles[k];
             count_query();
             let Some(hit) = o
@@ -488,5 +579,70 @@ mod tests {
             out[0], 1,
             "only the half-space, whose box parry makes all of space"
         );
+    }
+
+    // Oracle: parry's own answers. Wherever a bound rules a query out, the query finds the
+    // particle farther than its reach; wherever it rules a ray cast out, the cast hits nothing
+    // on the segment. Points run from deep inside to far outside every shape, tilted, and
+    // right at the reach (the slack's edge). Twin: points on or near each surface are not
+    // ruled out (the bound skips nothing it must not, and still skips the far ones).
+    #[test]
+    fn a_bound_rules_out_only_what_the_query_would() {
+        let def = |shape| ObstacleDef {
+            shape,
+            restitution: 0.0,
+            friction: 0.0,
+        };
+        let set = ObstacleSet::build(&[
+            def(ShapeDef::Plane {
+                point: Vec3::new(0.1, -0.2, 0.3),
+                normal: Vec3::new(0.2, 1.0, -0.1),
+            }),
+            def(ShapeDef::Sphere {
+                center: Vec3::new(1.0, 0.5, -0.5),
+                radius: 0.7,
+            }),
+            def(ShapeDef::Box {
+                center: Vec3::new(-1.0, 0.3, 0.2),
+                half_extents: Vec3::new(0.3, 0.25, 0.5),
+                rotation: Vec3::new(0.1, 0.4, 0.2),
+            }),
+            def(ShapeDef::Capsule {
+                a: Vec3::new(0.0, 1.0, 1.0),
+                b: Vec3::new(0.5, 1.5, 1.2),
+                radius: 0.2,
+            }),
+        ]);
+        let (mut skipped, mut near_kept) = (0, 0usize);
+        for i in 0..4000 {
+            let f = i as f64;
+            let p = Vec3::new(
+                (f * 0.7311).sin() * 2.5,
+                (f * 0.5127).cos() * 2.0,
+                (f * 0.9173).sin() * 2.5,
+            );
+            let q = p + Vec3::new((f * 0.31).cos(), (f * 0.17).sin(), (f * 0.23).cos()) * 0.4;
+            for k in 0..set.len() {
+                let radius = 0.01 * (i % 3) as f64;
+                let exact = set.query(k, &p, radius);
+                for reach in [radius, radius + 0.05, exact.distance.max(0.0)] {
+                    if set.clearly_apart(k, &p, reach) {
+                        skipped += 1;
+                        assert!(exact.distance > reach, "obstacle {k} at {p:?}");
+                    }
+                }
+                // On the surface: the query's own closest point is never ruled out.
+                assert!(!set.clearly_apart(k, &exact.point, 0.0), "obstacle {k}");
+                near_kept += 1;
+                if set.bounds[k].misses(&p, &q) {
+                    let o = &set.obstacles[k];
+                    let ray = Ray::new(to_g(&p), to_g(&(q - p)));
+                    let hit = o.shape.cast_ray(&o.pose, &ray, 1.0, true);
+                    assert!(hit.is_none_or(|t| t <= 0.0), "obstacle {k}: {p:?} → {q:?}");
+                }
+            }
+        }
+        assert!(skipped > 10_000, "only {skipped} queries ruled out");
+        assert_eq!(near_kept, 4000 * set.len());
     }
 }
