@@ -49,15 +49,50 @@ pub enum ShapeDef {
     },
 }
 
-impl ShapeDef {
-    /// The shape's name as written in scene files.
-    pub fn kind(&self) -> &'static str {
+/// Which kind of shape an obstacle is, as a value (documents spell it as scene files do).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShapeKind {
+    /// A half-space.
+    Plane,
+    /// A ball.
+    Sphere,
+    /// An oriented box.
+    Box,
+    /// A capsule.
+    Capsule,
+    /// A triangle mesh.
+    Mesh,
+}
+
+impl ShapeKind {
+    /// The name as written in scene files.
+    pub fn name(self) -> &'static str {
         match self {
-            ShapeDef::Plane { .. } => "plane",
-            ShapeDef::Sphere { .. } => "sphere",
-            ShapeDef::Box { .. } => "box",
-            ShapeDef::Capsule { .. } => "capsule",
-            ShapeDef::Mesh { .. } => "mesh",
+            ShapeKind::Plane => "plane",
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Box => "box",
+            ShapeKind::Capsule => "capsule",
+            ShapeKind::Mesh => "mesh",
+        }
+    }
+}
+
+impl std::fmt::Display for ShapeKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl ShapeDef {
+    /// The shape's kind.
+    pub fn kind(&self) -> ShapeKind {
+        match self {
+            ShapeDef::Plane { .. } => ShapeKind::Plane,
+            ShapeDef::Sphere { .. } => ShapeKind::Sphere,
+            ShapeDef::Box { .. } => ShapeKind::Box,
+            ShapeDef::Capsule { .. } => ShapeKind::Capsule,
+            ShapeDef::Mesh { .. } => ShapeKind::Mesh,
         }
     }
 }
@@ -108,14 +143,49 @@ pub enum Response {
     Projection,
 }
 
+/// Which contact response a scene uses, without its settings (documents spell it as scene
+/// files do).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ResponseKind {
+    /// [`Response::Impulse`].
+    Impulse,
+    /// [`Response::Penalty`].
+    Penalty,
+    /// [`Response::Projection`].
+    Projection,
+}
+
+impl ResponseKind {
+    /// The name as written in scene files.
+    pub fn name(self) -> &'static str {
+        match self {
+            ResponseKind::Impulse => "impulse",
+            ResponseKind::Penalty => "penalty",
+            ResponseKind::Projection => "projection",
+        }
+    }
+}
+
+impl std::fmt::Display for ResponseKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
 impl Response {
+    /// The response's kind.
+    pub fn kind(&self) -> ResponseKind {
+        match self {
+            Response::Impulse => ResponseKind::Impulse,
+            Response::Penalty { .. } => ResponseKind::Penalty,
+            Response::Projection => ResponseKind::Projection,
+        }
+    }
+
     /// The response's name as written in scene files.
     pub fn name(&self) -> &'static str {
-        match self {
-            Response::Impulse => "impulse",
-            Response::Penalty { .. } => "penalty",
-            Response::Projection => "projection",
-        }
+        self.kind().name()
     }
 }
 

@@ -16,7 +16,7 @@ pub use contacts::{of, ContactStep, Contacts};
 pub use counter::{build_count, query_count};
 pub use def::{
     damping_ratio_for_restitution, restitution_for_damping_ratio, CollisionSetup, ObstacleDef,
-    PenaltyDamping, Response, ShapeDef,
+    PenaltyDamping, Response, ResponseKind, ShapeDef, ShapeKind,
 };
 pub use impact::{penalty_impact, PenaltyImpact, STEPS_PER_HALF_PERIOD};
 pub use obstacles::{Contact, Obstacle, ObstacleSet, SweepHit, SHEET_CLEARANCE};

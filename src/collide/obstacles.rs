@@ -35,8 +35,8 @@ pub struct Obstacle {
     pub restitution: f64,
     /// Coulomb friction coefficient.
     pub friction: f64,
-    /// Shape name (`plane`, `sphere`, ...).
-    pub kind: &'static str,
+    /// Shape kind.
+    pub kind: super::def::ShapeKind,
     /// An open mesh: a two-sided thin sheet with no inside (see [`super::mesh`]).
     pub two_sided: bool,
 }

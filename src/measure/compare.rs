@@ -72,13 +72,51 @@ impl Default for CompareConfig {
     }
 }
 
+/// A compare line's status: its run's, or that it was skipped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EntryStatus {
+    /// The run finished stable.
+    Ok,
+    /// The run grew without bound, or its step failed.
+    Unstable,
+    /// The method did not run (the line says why).
+    Skipped,
+}
+
+impl EntryStatus {
+    /// `ok`, `unstable` or `skipped`, as documents spell it.
+    pub fn label(self) -> &'static str {
+        match self {
+            EntryStatus::Ok => "ok",
+            EntryStatus::Unstable => "unstable",
+            EntryStatus::Skipped => "skipped",
+        }
+    }
+}
+
+impl From<crate::run::RunStatus> for EntryStatus {
+    fn from(s: crate::run::RunStatus) -> Self {
+        match s {
+            crate::run::RunStatus::Ok => EntryStatus::Ok,
+            crate::run::RunStatus::Unstable => EntryStatus::Unstable,
+        }
+    }
+}
+
+impl std::fmt::Display for EntryStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.label())
+    }
+}
+
 /// One method's line: a result, or why it was skipped.
 #[derive(Debug, Clone, Serialize)]
 pub struct CompareEntry {
     /// Method name.
     pub method: String,
     /// `ok`, `unstable` or `skipped`.
-    pub status: String,
+    pub status: EntryStatus,
     /// Why it was skipped.
     pub skip_reason: Option<String>,
     /// The run, unless skipped.
@@ -372,7 +410,7 @@ impl Runs<'_> {
             let r = r?;
             entries.push(CompareEntry {
                 method: r.method.clone(),
-                status: r.status.label().to_string(),
+                status: r.status.into(),
                 skip_reason: None,
                 result: Some(r),
             });
@@ -380,7 +418,7 @@ impl Runs<'_> {
         for (n, why) in skipped {
             entries.push(CompareEntry {
                 method: n,
-                status: "skipped".into(),
+                status: EntryStatus::Skipped,
                 skip_reason: Some(why),
                 result: None,
             });
@@ -464,7 +502,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 cells.push(csv_text(r.unstable_reason.as_deref().unwrap_or("")));
             }
         }
-        cells.push(res.reference.kind.clone());
+        cells.push(res.reference.kind.name().to_string());
         debug_assert_eq!(cells.len(), COMPARE_HEADER.split(',').count());
         csv.push_str(&cells.join(","));
         csv.push('\n');

@@ -59,9 +59,9 @@ impl Difference {
     pub fn shown_by(&self, method: &str) -> bool {
         self.methods.contains(&method)
     }
-    /// Whether it applies to a scene with contact response `response` (`"penalty"`, …).
-    pub fn applies_to(&self, response: &str) -> bool {
-        self.penalty == (response == "penalty")
+    /// Whether it applies to a scene with contact response `response`.
+    pub fn applies_to(&self, response: crate::collide::ResponseKind) -> bool {
+        self.penalty == (response == crate::collide::ResponseKind::Penalty)
     }
 }
 

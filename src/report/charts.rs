@@ -83,9 +83,17 @@ pub fn energy_error(s: &SceneStudy) -> EnergyErrorData {
 /// Position error per method, leaving out the run of the method that is the reference itself
 /// (the closed form's own run: zero error, nothing to plot).
 pub fn position_error(s: &SceneStudy) -> PositionErrorData {
+    let registry = crate::method::Registry::builtin();
+    let closed_form =
+        s.compare.reference.kind == crate::measure::reference::ReferenceKind::Analytic;
     PositionErrorData {
         series: runs(s)
-            .filter(|run| run.method != s.compare.reference.kind)
+            .filter(|run| {
+                !(closed_form
+                    && registry
+                        .info(&run.method)
+                        .is_ok_and(|m| m.order == crate::method::Order::Exact))
+            })
             .map(|run| time_series(run, |se, k| se.position_error[k]))
             .collect(),
         reference: super::summary::reference_words(s),

@@ -116,11 +116,11 @@ fn rapier_differences(runs: &[(&CaseResult, &ContactReport)]) -> String {
     if !runs.iter().any(|(r, _)| differences::is_rapier(&r.method)) {
         return String::new();
     }
-    let response = runs.first().map_or("", |(_, c)| c.response);
+    let response = runs.first().map(|(_, c)| c.response);
     let mut items = String::new();
     for d in differences::DIFFERENCES
         .iter()
-        .filter(|d| d.applies_to(response))
+        .filter(|d| response.is_some_and(|r| d.applies_to(r)))
     {
         let figures: Vec<String> = runs
             .iter()

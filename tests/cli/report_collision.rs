@@ -80,7 +80,7 @@ fn the_bounce_page_shows_each_impact_against_theory_and_rapiers_differences() {
     for d in &springlab::rapier::DIFFERENCES {
         assert_eq!(
             page.contains(d.title),
-            d.applies_to("impulse"),
+            d.applies_to(springlab::collide::ResponseKind::Impulse),
             "{}",
             d.title
         );

@@ -37,7 +37,7 @@ fn observed_orders_match_theory() {
     let list: Vec<&str> = names.iter().map(|n| n.0).collect();
     let res = run_sweep(&scene, &config(&list)).unwrap();
     let sum = res.summary.unwrap();
-    assert_eq!(sum.reference.kind, "analytic");
+    assert_eq!(sum.reference.kind.name(), "analytic");
     let mut report = String::new();
     for (name, p) in names {
         let s = sum.methods.iter().find(|s| s.method == name).unwrap();

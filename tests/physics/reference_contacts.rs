@@ -75,7 +75,7 @@ fn reference_matches_the_exact_bounce_and_grades_rk4_like_it() {
     let (y0, r, e, g) = (1.1, 0.1, 0.5, 9.81);
     let grid = TimeGrid::new(1e-4, 20_000, 4000);
     let reference = Reference::compute(&sys, &s0, &[grid], grid.time(grid.steps)).unwrap();
-    assert_eq!(reference.info.kind, "dop853");
+    assert_eq!(reference.info.kind.name(), "dop853");
     assert!(reference.info.impacts > 5, "{:?}", reference.info);
     let exact = |n: u64| Vec3::new(0.0, bounce_height(grid.time(n), y0, r, e, g), 0.0);
     let mut ref_gap: f64 = 0.0;

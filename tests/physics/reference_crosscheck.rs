@@ -84,7 +84,7 @@ fn dop853_reference_agrees_with_ode_solvers_dopri5_on_a_swinging_chain() {
     let s0 = sc.initial_state();
     let grid = TimeGrid::new(dt, steps, 1000);
     let r = Reference::compute(&sys, &s0, &[grid], grid.time(steps)).unwrap();
-    assert_eq!(r.info.kind, "dop853");
+    assert_eq!(r.info.kind.name(), "dop853");
     assert_eq!(r.info.predictability_horizon, None, "{:?}", r.info);
 
     let mut y0 = DVector::zeros(18);

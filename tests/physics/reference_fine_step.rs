@@ -39,7 +39,7 @@ fn samples_between_fine_steps_meet_the_closed_form_within_their_uncertainty() {
     let scene = plane_oscillator(k);
     let grid = TimeGrid::new(0.0123, 160, 160);
     let r = reference(&scene, &[grid], grid.time(grid.steps));
-    assert_eq!(r.info.kind, "fine_step");
+    assert_eq!(r.info.kind.name(), "fine_step");
     let w = k.sqrt();
     let (mut err, mut ratio) = (0.0_f64, 0.0_f64);
     for n in grid.sample_steps() {

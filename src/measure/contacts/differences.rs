@@ -37,7 +37,7 @@ pub fn measured(d: &Difference, method: &str, c: &ContactReport) -> Option<Strin
         DifferenceKind::OneSidedMesh => c
             .obstacles
             .iter()
-            .any(|o| o.shape == "mesh")
+            .any(|o| o.shape == crate::collide::ShapeKind::Mesh)
             .then(|| format!("{} tunnelling events", c.tunnelling_count)),
         DifferenceKind::PenaltyHeldForce => c.events.first().and_then(|e| {
             e.restitution.map(|m| {

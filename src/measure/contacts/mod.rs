@@ -323,12 +323,12 @@ impl ContactMetrics {
         let fastest = self.impacts.iter().map(|i| i.0).fold(0.0, f64::max);
         let floor = (IMPACT_SPEED_SHARE * fastest).max(self.grazing_speed());
         let summary = self.impacts.iter().filter(move |i| i.0 >= floor);
-        let (stiff, name) = match self.response {
-            Response::Penalty { stiffness, .. } => (Some(stiffness), "penalty"),
-            r => (None, r.name()),
+        let stiff = match self.response {
+            Response::Penalty { stiffness, .. } => Some(stiffness),
+            _ => None,
         };
         ContactReport {
-            response: name,
+            response: self.response.kind(),
             dt: self.dt,
             obstacles: self
                 .set

@@ -127,8 +127,8 @@ pub struct Tunnelling {
 /// An obstacle as the report lists it.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ObstacleInfo {
-    /// Shape name.
-    pub shape: &'static str,
+    /// Shape kind.
+    pub shape: crate::collide::ShapeKind,
     /// Coefficient of restitution.
     pub restitution: f64,
     /// Friction coefficient.
@@ -139,7 +139,7 @@ pub struct ObstacleInfo {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct ContactReport {
     /// `impulse`, `penalty` or `projection`.
-    pub response: &'static str,
+    pub response: crate::collide::ResponseKind,
     /// Output step (s).
     pub dt: f64,
     /// Obstacles in file order.

@@ -61,11 +61,43 @@ pub use period::{dominant_period, period_of, DOMINANT_MODE_UNCLEAR};
 pub use adaptive::REFERENCE_TOL;
 pub use tracked::{tracked_component, Tracked};
 
+/// Which solution a reference is (documents spell it in snake case).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReferenceKind {
+    /// The closed form of independent damped linear oscillators.
+    Analytic,
+    /// DOP853 on the scene's ODE.
+    Dop853,
+    /// DOP853 on the index-1 DAE of a scene with rods.
+    Dop853Constrained,
+    /// rk4 with the scene's contact stage at successively halved fixed steps.
+    FineStep,
+}
+
+impl ReferenceKind {
+    /// `analytic`, `dop853`, `dop853_constrained` or `fine_step`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ReferenceKind::Analytic => "analytic",
+            ReferenceKind::Dop853 => "dop853",
+            ReferenceKind::Dop853Constrained => "dop853_constrained",
+            ReferenceKind::FineStep => "fine_step",
+        }
+    }
+}
+
+impl std::fmt::Display for ReferenceKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
 /// Which reference was used, recorded in every output.
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct ReferenceInfo {
-    /// `analytic`, `dop853` or `dop853_constrained`.
-    pub kind: String,
+    /// Which solution it is.
+    pub kind: ReferenceKind,
     /// One sentence: what it is and how accurate it is.
     pub description: String,
     /// Relative tolerance (adaptive kinds), else 0.
@@ -243,7 +275,8 @@ impl Reference {
             .collect();
         let mut r = Reference {
             info: ReferenceInfo {
-                kind: String::new(),
+                // Set by the solve that fills the samples.
+                kind: ReferenceKind::Dop853,
                 description: String::new(),
                 rtol: 0.0,
                 atol: 0.0,
@@ -569,7 +602,7 @@ impl Reference {
                 }
             }
         }
-        self.info.kind = "analytic".into();
+        self.info.kind = ReferenceKind::Analytic;
         self.info.description =
             "closed-form solution of independent damped linear oscillators (exact to round-off)"
                 .into();
@@ -658,10 +691,10 @@ impl Reference {
             _ => "",
         };
         if rigid == 0 {
-            self.info.kind = "dop853".into();
+            self.info.kind = ReferenceKind::Dop853;
             self.info.description = format!("adaptive Dormand-Prince 8(5,3) (DOP853) at rtol = atol = 1e-12 with 7th-order dense output, restarted at each impulse{contacts}");
         } else {
-            self.info.kind = "dop853_constrained".into();
+            self.info.kind = ReferenceKind::Dop853Constrained;
             self.info.description = format!("DOP853 at rtol = atol = 1e-12 on the index-reduced equations of motion ({rigid} rigid constraint(s) enforced at acceleration level by Lagrange multipliers), positions and velocities projected onto the constraint manifold after every step{contacts}");
         }
         Ok(())
@@ -750,7 +783,7 @@ impl Reference {
             fine.levels, fine.step
         );
         self.info.solver_evals = fine.evals;
-        self.info.kind = "fine_step".into();
+        self.info.kind = ReferenceKind::FineStep;
         self.info.description = format!(
             "the scene's projection contacts have no continuous counterpart: {} with the scene's contact stage at successively halved steps until two levels agree to {:e} x the motion scale (finest step {:e} s, {} levels){how}",
             finestep::FINE_METHOD, finestep::FINE_AGREEMENT, fine.step, fine.levels
