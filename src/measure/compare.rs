@@ -427,8 +427,80 @@ impl Runs<'_> {
     }
 }
 
+/// The columns of `compare.csv` before the metrics.
+const RUN_COLUMNS: &str =
+    "method,status,skip_reason,dt,steps,steps_done,force_evals,modelled_seconds,wall_seconds";
+
+/// The columns of `compare.csv` after the metrics.
+const END_COLUMNS: &str = "unstable_time,unstable_reason,reference";
+
+/// One accuracy or quality column of `compare.csv`: its key (the [`Metrics`] field's name)
+/// and its cell, empty where the run does not have it.
+struct MetricColumn {
+    key: &'static str,
+    cell: fn(&Metrics) -> Option<String>,
+}
+
+/// A column holding a number of the metrics, as `{:e}`.
+macro_rules! number {
+    ($key:ident) => {
+        MetricColumn {
+            key: stringify!($key),
+            cell: |m| Some(format!("{:e}", m.$key)),
+        }
+    };
+    ($key:ident?) => {
+        MetricColumn {
+            key: stringify!($key),
+            cell: |m| m.$key.map(|x| format!("{x:e}")),
+        }
+    };
+}
+
+/// The metrics columns, in order: the one list the header and every row are written from.
+const METRIC_COLUMNS: [MetricColumn; 21] = [
+    number!(error_final),
+    number!(error_max),
+    number!(error_rms),
+    number!(energy_drift),
+    number!(energy_drift_rate),
+    number!(energy_oscillation),
+    number!(energy_error_max),
+    number!(energy_balance),
+    number!(momentum_drift?),
+    number!(constraint_max?),
+    number!(constraint_mean?),
+    number!(strain_max),
+    number!(penetration_max?),
+    number!(rest_jitter),
+    number!(period?),
+    number!(period_error?),
+    number!(phase_error?),
+    number!(error_max_predictable),
+    number!(strain_error),
+    MetricColumn {
+        key: "statistics_score",
+        cell: |m| {
+            m.statistics
+                .as_ref()
+                .map(|s| format!("{:e}", crate::measure::statistics::worst_score(s)))
+        },
+    },
+    MetricColumn {
+        key: "statistics_consistent",
+        cell: |m| {
+            m.statistics
+                .as_ref()
+                .map(|s| s.values().all(|v| v.consistent).to_string())
+        },
+    },
+];
+
 /// The header of `compare.csv`.
-pub const COMPARE_HEADER: &str = "method,status,skip_reason,dt,steps,steps_done,force_evals,modelled_seconds,wall_seconds,error_final,error_max,error_rms,energy_drift,energy_drift_rate,energy_oscillation,energy_error_max,energy_balance,momentum_drift,constraint_max,constraint_mean,strain_max,penetration_max,rest_jitter,period,period_error,phase_error,error_max_predictable,strain_error,statistics_score,statistics_consistent,unstable_time,unstable_reason,reference";
+pub fn compare_header() -> String {
+    let metrics: Vec<&str> = METRIC_COLUMNS.iter().map(|c| c.key).collect();
+    format!("{RUN_COLUMNS},{},{END_COLUMNS}", metrics.join(","))
+}
 
 fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
@@ -438,42 +510,19 @@ fn csv_text(s: &str) -> String {
     }
 }
 
-/// The accuracy and quality cells of one row, in [`COMPARE_HEADER`]'s order from
-/// `error_final` to `phase_error`; all empty for a run that is not ok (`None`).
+/// The accuracy and quality cells of one row, in [`METRIC_COLUMNS`]' order; all empty for a
+/// run that is not ok (`None`).
 fn metric_cells(m: Option<&Metrics>) -> Vec<String> {
-    let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
-    vec![
-        o(m.map(|m| m.error_final)),
-        o(m.map(|m| m.error_max)),
-        o(m.map(|m| m.error_rms)),
-        o(m.map(|m| m.energy_drift)),
-        o(m.map(|m| m.energy_drift_rate)),
-        o(m.map(|m| m.energy_oscillation)),
-        o(m.map(|m| m.energy_error_max)),
-        o(m.map(|m| m.energy_balance)),
-        o(m.and_then(|m| m.momentum_drift)),
-        o(m.and_then(|m| m.constraint_max)),
-        o(m.and_then(|m| m.constraint_mean)),
-        o(m.map(|m| m.strain_max)),
-        o(m.and_then(|m| m.penetration_max)),
-        o(m.map(|m| m.rest_jitter)),
-        o(m.and_then(|m| m.period)),
-        o(m.and_then(|m| m.period_error)),
-        o(m.and_then(|m| m.phase_error)),
-        o(m.map(|m| m.error_max_predictable)),
-        o(m.map(|m| m.strain_error)),
-        o(m.and_then(|m| m.statistics.as_ref())
-            .map(crate::measure::statistics::worst_score)),
-        m.and_then(|m| m.statistics.as_ref())
-            .map_or(String::new(), |s| {
-                s.values().all(|v| v.consistent).to_string()
-            }),
-    ]
+    METRIC_COLUMNS
+        .iter()
+        .map(|c| m.and_then(|m| (c.cell)(m)).unwrap_or_default())
+        .collect()
 }
 
 /// Writes `compare.csv` and `summary.json` into `dir`.
 pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
-    let mut csv = String::from(COMPARE_HEADER);
+    let header = compare_header();
+    let mut csv = header.clone();
     csv.push('\n');
     let f = |v: f64| format!("{v:e}");
     for e in &res.entries {
@@ -503,7 +552,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
             }
         }
         cells.push(res.reference.kind.name().to_string());
-        debug_assert_eq!(cells.len(), COMPARE_HEADER.split(',').count());
+        debug_assert_eq!(cells.len(), header.split(',').count());
         csv.push_str(&cells.join(","));
         csv.push('\n');
     }

@@ -3,7 +3,7 @@
 
 use super::finite::cell;
 use super::summary::{MethodRow, SceneSummary, Summary};
-use super::verdict::{dt_words, front_row, limit_words};
+use super::verdict::{dt_words, front_row};
 use crate::measure::stability::StabilityReport;
 use crate::measure::study::SceneStudy;
 
@@ -42,68 +42,12 @@ pub(crate) fn page(title: &str, body: &str) -> String {
     )
 }
 
-/// The stable step cell: the stability report's limit (`dt ≤ … s (h·ω ≤ …)`, `any step`, …).
-pub fn stable_cell(b: &MethodRow) -> String {
-    match b.stable_h_omega {
-        Some(h) => format!("{} (h·ω ≤ {})", limit_words(b), cell(Some(h), 3)),
-        None => limit_words(b),
-    }
-}
-
-/// The observed-order cell: the sweep's fitted order, or `—` (its reason is on the page).
-pub fn order_cell(b: &MethodRow) -> String {
-    match (b.observed_order, &b.order_note) {
-        (Some(p), _) => cell(Some(p), 3),
-        (None, Some(_)) => "none".into(),
-        (None, None) => "—".into(),
-    }
-}
-
-/// The force-evaluation cell: the count, or `—` for methods that never evaluate ours.
-pub fn evals_cell(b: &MethodRow) -> String {
-    b.force_evals.map_or("—".into(), |n| n.to_string())
-}
-
-/// The status cell: `ok` or `unstable at t = …`.
-pub fn status_cell(b: &MethodRow) -> String {
-    match b.blowup_time {
-        Some(t) => format!("unstable at t = {} s", cell(Some(t), 3)),
-        None => b.status.to_string(),
-    }
-}
-
-/// Energy drift in percent.
-pub fn drift_cell(v: Option<f64>) -> String {
-    match v {
-        Some(v) if v.is_finite() => format!("{}%", cell(Some(100.0 * v), 2)),
-        _ => "—".into(),
-    }
-}
-
 fn method_rows(s: &SceneSummary) -> String {
-    let mut rows = String::new();
-    for b in &s.methods {
-        rows += &format!(
-            "<tr class=\"{}\"><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>\n",
-            esc(b.status.label()),
-            esc(&b.method),
-            b.order,
-            esc(&status_cell(b)),
-            cell(b.max_position_error, 2),
-            drift_cell(b.max_energy_drift),
-            drift_cell(b.final_energy_change),
-            cell(b.energy_drift_rate, 2),
-            cell(b.strain_max, 2),
-            order_cell(b),
-            esc(&stable_cell(b)),
-            evals_cell(b),
-            cell(Some(b.modelled_seconds * 1e3), 3),
-        );
-    }
-    rows
+    s.methods
+        .iter()
+        .map(|b| super::method_table::html_row(b, esc))
+        .collect()
 }
-
-const TABLE_HEAD: &str = "<th class=\"l\">method</th><th>order</th><th class=\"l\">status</th><th>max position error (m)</th><th>max energy error</th><th>final energy change</th><th>energy drift rate (J/s)</th><th>strain max</th><th>observed order</th><th class=\"l\">stable step</th><th>force evaluations</th><th>modelled time (ms)</th>";
 
 fn documents(s: &SceneSummary) -> String {
     let mut out = String::from("<h2>Documents</h2>\n<p class=\"note\">Every number on this page comes from these files, written by the commands beside them; re-running a command gives the same file, byte for byte; the measured wall times are apart, in <a href=\"timing.json\">timing.json</a>.</p>\n<table>\n<tr><th class=\"l\">document</th><th class=\"l\">command</th></tr>\n");
@@ -154,7 +98,7 @@ fn order_table(s: &SceneSummary) -> String {
             "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>\n",
             esc(&b.method),
             b.order,
-            order_cell(b),
+            super::method_table::order_cell(b),
             esc(b.order_note.as_deref().unwrap_or(""))
         );
     }
@@ -176,10 +120,11 @@ pub fn scene_page(
         esc(&s.verdict)
     );
     body += &format!(
-        "<h2>Comparison at dt = {} over {} s</h2>\n<p class=\"note\">From <a href=\"compare/summary.json\">compare/summary.json</a> and <a href=\"compare/compare.csv\">compare/compare.csv</a>. Reference: {}. Position error is the largest distance of any particle from the reference; energy error is |E(t) − E(0)| relative to the scene's energy scale, E the total account (kinetic + gravity + elastic + dissipated − injected); energy drift rate is the least-squares slope of E(t) − E(0) in joules per second; strain max is the largest |l/l0 − 1| of any spring or rod over the run.</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",
+        "<h2>Comparison at dt = {} over {} s</h2>\n<p class=\"note\">From <a href=\"compare/summary.json\">compare/summary.json</a> and <a href=\"compare/compare.csv\">compare/compare.csv</a>. Reference: {}. Position error is the largest distance of any particle from the reference; energy error is |E(t) − E(0)| relative to the scene's energy scale, E the total account (kinetic + gravity + elastic + dissipated − injected); energy drift rate is the least-squares slope of E(t) − E(0) in joules per second; strain max is the largest |l/l0 − 1| of any spring or rod over the run.</p>\n<table>\n<tr>{}</tr>\n{}</table>\n",
         esc(&dt_words(s.dt)),
         cell(Some(s.duration), 3),
         esc(&s.reference),
+        super::method_table::html_head(),
         method_rows(s)
     );
     body += &stability_table(&st.stability);
@@ -286,10 +231,11 @@ pub fn index_page(sum: &Summary) -> String {
     body += "<h2>All methods at each scene's step</h2>\n";
     for s in &sum.scenes {
         body += &format!(
-            "<h3><a href=\"{}\">{}</a></h3>\n<p>{}</p>\n<table>\n<tr>{TABLE_HEAD}</tr>\n{}</table>\n",
+            "<h3><a href=\"{}\">{}</a></h3>\n<p>{}</p>\n<table>\n<tr>{}</tr>\n{}</table>\n",
             esc(&s.page),
             esc(&s.scene),
             esc(&s.verdict),
+            super::method_table::html_head(),
             method_rows(s)
         );
     }

@@ -1,7 +1,5 @@
 //! `README.md` of the report: the overview table and verdicts in Markdown, for code hosts.
 
-use super::finite::cell;
-use super::html::{drift_cell, evals_cell, order_cell, stable_cell, status_cell};
 use super::summary::Summary;
 use super::verdict::front_row;
 
@@ -56,21 +54,9 @@ pub fn readme(sum: &Summary) -> String {
     out += "\n## All methods at each scene's step\n\n";
     for s in &sum.scenes {
         out += &format!("### [{}]({})\n\n{}\n\n", md(&s.scene), s.page, s.verdict);
-        out += "| method | order | status | max position error (m) | max energy error | strain max | observed order | stable step | force evaluations | modelled time (ms) |\n|---|---:|---|---:|---:|---:|---:|---|---:|---:|\n";
+        out += &super::method_table::markdown_head();
         for b in &s.methods {
-            out += &format!(
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-                md(&b.method),
-                b.order,
-                md(&status_cell(b)),
-                cell(b.max_position_error, 2),
-                drift_cell(b.max_energy_drift),
-                cell(b.strain_max, 2),
-                order_cell(b),
-                md(&stable_cell(b)),
-                evals_cell(b),
-                cell(Some(b.modelled_seconds * 1e3), 3)
-            );
+            out += &super::method_table::markdown_row(b, md);
         }
         out += "\n";
     }

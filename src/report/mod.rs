@@ -18,6 +18,7 @@ mod game_rate;
 pub mod generate;
 mod html;
 mod markdown;
+mod method_table;
 pub mod overview;
 mod playback;
 pub mod plots;
