@@ -104,7 +104,7 @@ fn map_of_the_stiff_spring_shows_the_textbook_boundaries() {
         // The cell's verdict follows the theory at its step where the run agrees with it or the
         // scene still has that radius at the run's end (forward Euler on this undamped spring
         // is unstable at every step, however slowly its growth shows).
-        if r.decided_by == "spectral_radius" {
+        if r.decided_by == springlab::measure::stability::CellDecidedBy::SpectralRadius {
             let theory = match verdict {
                 Verdict::UnconditionallyStable => true,
                 Verdict::StableBelow => r.dt <= r.theory_max_dt.unwrap(),

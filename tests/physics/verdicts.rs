@@ -18,7 +18,7 @@
 //!   velocity Verlet at 0.9 of hω = 2 (GNI §I.1) stay bounded over 40 steps and 20 000.
 
 use springlab::measure::stability::{
-    decide, stability_map, MapConfig, GROWTH_SHOWN, MAP_MIN_STEPS, RHO_SHOWN,
+    decide, stability_map, CellDecidedBy, MapConfig, GROWTH_SHOWN, MAP_MIN_STEPS, RHO_SHOWN,
 };
 use springlab::run::{run, NoObserver, RunPlan, Status};
 use springlab::scenario::Scenario;
@@ -275,7 +275,7 @@ fn no_map_cell_contradicts_its_spectral_radius_without_saying_so() {
         }
         // Away from round-off in the identified radius, a verdict against it is the run's.
         if (rho - 1.0).abs() > 1e-9 && r.stable != (rho < 1.0) {
-            assert_eq!(r.decided_by, "run", "{r:?}");
+            assert_eq!(r.decided_by, CellDecidedBy::Run, "{r:?}");
             assert!(!r.note.is_empty(), "{r:?}");
         }
     }
@@ -283,14 +283,14 @@ fn no_map_cell_contradicts_its_spectral_radius_without_saying_so() {
     // unstable by the radius; ρ = 0.9976 with a run that grew is unstable by the run; a
     // radius that is gone at the run's end leaves the bounded run stable, saying so.
     let (stable, by, note) = decide(Some((false, 1.0113)), true, 2000, || 1.0113);
-    assert!(!stable && by == "spectral_radius" && !note.is_empty());
+    assert!(!stable && by == CellDecidedBy::SpectralRadius && !note.is_empty());
     let (stable, by, note) = decide(Some((true, 0.9976)), false, 2000, || unreachable!());
-    assert!(!stable && by == "run" && note.contains("grew"));
+    assert!(!stable && by == CellDecidedBy::Run && note.contains("grew"));
     let (stable, by, note) = decide(Some((false, 1.04)), true, 2000, || 0.999);
-    assert!(stable && by == "run" && note.contains("moved away"));
+    assert!(stable && by == CellDecidedBy::Run && note.contains("moved away"));
     // Twin: agreement needs no note.
     assert_eq!(
         decide(Some((true, 0.99)), true, 2000, || unreachable!()),
-        (true, "spectral_radius", String::new())
+        (true, CellDecidedBy::SpectralRadius, String::new())
     );
 }

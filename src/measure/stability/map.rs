@@ -118,10 +118,30 @@ pub struct MapRow {
     pub stable: bool,
     /// Did the seeded run read ok?
     pub run_stable: bool,
-    /// Which measure decided `stable`: `spectral_radius` or `run`.
-    pub decided_by: &'static str,
+    /// Which measure decided `stable`.
+    pub decided_by: CellDecidedBy,
     /// Where the spectral radius and the run differ: why, and which one `stable` follows.
     pub note: String,
+}
+
+/// Which measure decided a map cell's verdict.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CellDecidedBy {
+    /// The spectral radius of the linearised one-step map.
+    SpectralRadius,
+    /// The cell's seeded run.
+    Run,
+}
+
+impl CellDecidedBy {
+    /// `spectral_radius` or `run`, as the CSV spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            CellDecidedBy::SpectralRadius => "spectral_radius",
+            CellDecidedBy::Run => "run",
+        }
+    }
 }
 
 /// The header of `stability_map.csv`.
@@ -150,7 +170,7 @@ impl MapRow {
             v,
             self.stable,
             self.run_stable,
-            self.decided_by,
+            self.decided_by.name(),
             self.note.replace('"', "'")
         )
     }
@@ -365,17 +385,17 @@ pub fn decide(
     run_stable: bool,
     steps: u64,
     rho_end: impl FnOnce() -> f64,
-) -> (bool, &'static str, String) {
+) -> (bool, CellDecidedBy, String) {
     let Some((theory_stable, r0)) = theory else {
-        return (run_stable, "run", String::new());
+        return (run_stable, CellDecidedBy::Run, String::new());
     };
     if theory_stable == run_stable {
-        return (theory_stable, "spectral_radius", String::new());
+        return (theory_stable, CellDecidedBy::SpectralRadius, String::new());
     }
     if theory_stable {
         return (
             false,
-            "run",
+            CellDecidedBy::Run,
             format!("the run grew although ρ = {r0:.6} ≤ 1 at t = 0: the linearisation at t = 0 does not hold along the run"),
         );
     }
@@ -384,13 +404,13 @@ pub fn decide(
         let growth = r0.powf(2.0 * steps as f64);
         (
             false,
-            "spectral_radius",
+            CellDecidedBy::SpectralRadius,
             format!("the run stayed bounded over {steps} steps but ρ = {r0:.6} at t = 0 and {r1:.6} at its end: a mode grows without bound (×{growth:.3e} in energy over the run at ρ(t = 0), from a seed too small or a growth too slow to pass the verdict's thresholds)"),
         )
     } else {
         (
             true,
-            "run",
+            CellDecidedBy::Run,
             format!("ρ = {r0:.6} at t = 0 but {r1:.6} at the run's end, which stayed bounded: the scene moved away from the linearisation at t = 0"),
         )
     }

@@ -43,8 +43,8 @@ pub use empirical::{
     MIN_TRIAL_STEPS, SEARCH_TRIALS,
 };
 pub use map::{
-    decide, seeded, stability_map, MapConfig, MapRow, GROWTH_SHOWN, MAP_HEADER, MAP_MAX_STEPS,
-    MAP_MIN_STEPS, MAP_SEED, RHO_SHOWN,
+    decide, seeded, stability_map, CellDecidedBy, MapConfig, MapRow, GROWTH_SHOWN, MAP_HEADER,
+    MAP_MAX_STEPS, MAP_MIN_STEPS, MAP_SEED, RHO_SHOWN,
 };
 pub use statement::{statement, AGREE};
 pub use theory::{
