@@ -15,19 +15,16 @@
 //! O((hω)⁴) per step. Dissipated work is booked by the trapezoidal rule over each step
 //! (backward Euler's h·P at the start).
 
+use super::ensure_len;
+use super::implicit::{Implicit, Rule};
 use super::newton::{Newton, Stop};
-use super::{ensure_len, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 
-/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
-const NAME: &str = "bdf2";
-
-/// BDF2 with a backward-Euler start, on the shared Newton + block-Jacobi-PCG core.
+/// BDF2's rule: a stage of step 2h/3 from the extrapolated base, after a backward-Euler start;
+/// it keeps the previous state and the dissipated power at the current one.
 #[derive(Debug, Default)]
-pub struct Bdf2 {
-    /// The solver, its settings and its iteration counters.
-    pub newton: Newton,
+pub struct Bdf2Rule {
     x_prev: Vec<Vec3>,
     v_prev: Vec<Vec3>,
     x_base: Vec<Vec3>,
@@ -38,24 +35,22 @@ pub struct Bdf2 {
     h_prev: Option<f64>,
 }
 
-impl Stepper for Bdf2 {
-    fn name(&self) -> &str {
-        NAME
-    }
+/// BDF2 with a backward-Euler start, on the shared Newton + block-Jacobi-PCG core.
+pub type Bdf2 = Implicit<Bdf2Rule>;
+
+impl Rule for Bdf2Rule {
+    const NAME: &'static str = "bdf2";
+    const RECURRENCE_STEPS: usize = 2;
     fn reset(&mut self) {
         self.h_prev = None;
-        self.newton.reset();
     }
-    fn newton(&self) -> Option<&Newton> {
-        Some(&self.newton)
-    }
-    fn newton_mut(&mut self) -> Option<&mut Newton> {
-        Some(&mut self.newton)
-    }
-    fn recurrence_steps(&self) -> usize {
-        2
-    }
-    fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
+    fn advance(
+        &mut self,
+        newton: &mut Newton,
+        sys: &System,
+        s: &mut State,
+        h: f64,
+    ) -> Result<(f64, u64)> {
         let n = s.len();
         for buf in [
             &mut self.x_prev,
@@ -68,9 +63,7 @@ impl Stepper for Bdf2 {
         let start = self.h_prev != Some(h);
         let (power, evals, dissipated);
         if start {
-            (power, evals) = self
-                .newton
-                .solve(sys, &s.x, &s.v, h, Stop::SecondOrder, NAME)?;
+            (power, evals) = newton.solve(sys, &s.x, &s.v, h, Stop::SecondOrder, Self::NAME)?;
             dissipated = power * h;
         } else {
             for p in 0..n {
@@ -84,27 +77,22 @@ impl Stepper for Bdf2 {
                     (s.x[p], s.v[p])
                 };
             }
-            (power, evals) = self.newton.solve(
+            (power, evals) = newton.solve(
                 sys,
                 &self.x_base,
                 &self.v_base,
                 2.0 * h / 3.0,
                 Stop::SecondOrder,
-                NAME,
+                Self::NAME,
             )?;
             dissipated = 0.5 * h * (self.power + power);
         }
         self.x_prev.copy_from_slice(&s.x);
         self.v_prev.copy_from_slice(&s.v);
-        s.x.copy_from_slice(self.newton.x());
-        s.v.copy_from_slice(self.newton.v());
+        s.x.copy_from_slice(newton.x());
+        s.v.copy_from_slice(newton.v());
         self.power = power;
         self.h_prev = Some(h);
-        s.t += h;
-        Ok(StepStats {
-            force_evals: evals,
-            dissipated,
-            ..StepStats::default()
-        })
+        Ok((dissipated, evals))
     }
 }

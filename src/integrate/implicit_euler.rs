@@ -11,45 +11,30 @@
 //! Order 1; A-stable and L-stable: on an undamped oscillator the amplitude shrinks by
 //! 1/√(1 + (hω)²) per step, for every h.
 
+use super::implicit::{Implicit, Rule};
 use super::newton::{Newton, Stop};
-use super::{StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System};
 
-/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
-const NAME: &str = "implicit_euler";
+/// Backward Euler's rule: the stage itself, from the current state at the full step.
+#[derive(Debug, Default)]
+pub struct BackwardEuler;
 
 /// Backward Euler with Newton + block-Jacobi-preconditioned CG.
-#[derive(Debug, Default)]
-pub struct ImplicitEuler {
-    /// The solver, its settings and its iteration counters.
-    pub newton: Newton,
-}
+pub type ImplicitEuler = Implicit<BackwardEuler>;
 
-impl Stepper for ImplicitEuler {
-    fn name(&self) -> &str {
-        NAME
-    }
-    fn newton(&self) -> Option<&Newton> {
-        Some(&self.newton)
-    }
-    fn newton_mut(&mut self) -> Option<&mut Newton> {
-        Some(&mut self.newton)
-    }
-    fn reset(&mut self) {
-        self.newton.reset();
-    }
-    fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
-        let (power, evals) = self
-            .newton
-            .solve(sys, &s.x, &s.v, h, Stop::FirstOrder, NAME)?;
-        s.v.copy_from_slice(self.newton.v());
-        s.x.copy_from_slice(self.newton.x());
-        s.t += h;
-        Ok(StepStats {
-            force_evals: evals,
-            dissipated: power * h,
-            ..StepStats::default()
-        })
+impl Rule for BackwardEuler {
+    const NAME: &'static str = "implicit_euler";
+    fn advance(
+        &mut self,
+        newton: &mut Newton,
+        sys: &System,
+        s: &mut State,
+        h: f64,
+    ) -> Result<(f64, u64)> {
+        let (power, evals) = newton.solve(sys, &s.x, &s.v, h, Stop::FirstOrder, Self::NAME)?;
+        s.v.copy_from_slice(newton.v());
+        s.x.copy_from_slice(newton.x());
+        Ok((power * h, evals))
     }
 }

@@ -11,50 +11,36 @@
 //! tolerance at every h (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.2).
 //! Dissipated work is booked by the midpoint rule, h·P(x_½, u).
 
+use super::implicit::{Implicit, Rule};
 use super::newton::{Newton, Stop};
-use super::{StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System};
 
-/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
-const NAME: &str = "implicit_midpoint";
+/// The midpoint rule: a stage at half the step, then the extrapolation to the step's end.
+#[derive(Debug, Default)]
+pub struct Midpoint;
 
 /// Implicit midpoint with the shared Newton + block-Jacobi-preconditioned CG core.
-#[derive(Debug, Default)]
-pub struct ImplicitMidpoint {
-    /// The solver, its settings and its iteration counters.
-    pub newton: Newton,
-}
+pub type ImplicitMidpoint = Implicit<Midpoint>;
 
-impl Stepper for ImplicitMidpoint {
-    fn name(&self) -> &str {
-        NAME
-    }
-    fn newton(&self) -> Option<&Newton> {
-        Some(&self.newton)
-    }
-    fn newton_mut(&mut self) -> Option<&mut Newton> {
-        Some(&mut self.newton)
-    }
-    fn reset(&mut self) {
-        self.newton.reset();
-    }
-    fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
+impl Rule for Midpoint {
+    const NAME: &'static str = "implicit_midpoint";
+    fn advance(
+        &mut self,
+        newton: &mut Newton,
+        sys: &System,
+        s: &mut State,
+        h: f64,
+    ) -> Result<(f64, u64)> {
         let (power, evals) =
-            self.newton
-                .solve(sys, &s.x, &s.v, 0.5 * h, Stop::SecondOrder, NAME)?;
-        let (xm, u) = (self.newton.x(), self.newton.v());
+            newton.solve(sys, &s.x, &s.v, 0.5 * h, Stop::SecondOrder, Self::NAME)?;
+        let (xm, u) = (newton.x(), newton.v());
         for p in 0..s.len() {
             if sys.free[p] {
                 s.x[p] = xm[p] * 2.0 - s.x[p];
                 s.v[p] = u[p] * 2.0 - s.v[p];
             }
         }
-        s.t += h;
-        Ok(StepStats {
-            force_evals: evals,
-            dissipated: power * h,
-            ..StepStats::default()
-        })
+        Ok((power * h, evals))
     }
 }

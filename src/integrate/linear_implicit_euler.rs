@@ -9,43 +9,31 @@
 //! A- and L-stable (amplitude × 1/√(1 + (hω)²) per step on an undamped oscillator). Dissipated
 //! work is booked as backward Euler's, h·P(x', v') (one more force evaluation).
 
+use super::implicit::{Implicit, Rule};
 use super::newton::Newton;
-use super::{StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System};
 
-/// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
-const NAME: &str = "linear_implicit_euler";
-
-/// Baraff–Witkin linearly implicit Euler on the shared block-Jacobi-PCG core.
+/// Baraff and Witkin's rule: one linear solve with the Jacobian at the start of the step.
 #[derive(Debug, Default)]
-pub struct LinearImplicitEuler {
-    /// The solver, its settings and its counters (one "Newton iteration" per step).
-    pub newton: Newton,
-}
+pub struct LinearizedEuler;
 
-impl Stepper for LinearImplicitEuler {
-    fn name(&self) -> &str {
-        NAME
-    }
-    fn newton(&self) -> Option<&Newton> {
-        Some(&self.newton)
-    }
-    fn newton_mut(&mut self) -> Option<&mut Newton> {
-        Some(&mut self.newton)
-    }
-    fn reset(&mut self) {
-        self.newton.reset();
-    }
-    fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
-        let (power, evals) = self.newton.solve_linearized(sys, &s.x, &s.v, h, NAME)?;
-        s.v.copy_from_slice(self.newton.v());
-        s.x.copy_from_slice(self.newton.x());
-        s.t += h;
-        Ok(StepStats {
-            force_evals: evals,
-            dissipated: power * h,
-            ..StepStats::default()
-        })
+/// Baraff–Witkin linearly implicit Euler on the shared block-Jacobi-PCG core (one "Newton
+/// iteration" per step).
+pub type LinearImplicitEuler = Implicit<LinearizedEuler>;
+
+impl Rule for LinearizedEuler {
+    const NAME: &'static str = "linear_implicit_euler";
+    fn advance(
+        &mut self,
+        newton: &mut Newton,
+        sys: &System,
+        s: &mut State,
+        h: f64,
+    ) -> Result<(f64, u64)> {
+        let (power, evals) = newton.solve_linearized(sys, &s.x, &s.v, h, Self::NAME)?;
+        s.v.copy_from_slice(newton.v());
+        s.x.copy_from_slice(newton.x());
+        Ok((power * h, evals))
     }
 }

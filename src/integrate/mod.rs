@@ -8,6 +8,7 @@
 mod analytic;
 mod bdf2;
 mod euler;
+mod implicit;
 mod implicit_euler;
 mod implicit_midpoint;
 mod linear_implicit_euler;
@@ -20,11 +21,12 @@ mod verlet_constraints;
 mod xpbd;
 
 pub use analytic::Analytic;
-pub use bdf2::Bdf2;
+pub use bdf2::{Bdf2, Bdf2Rule};
 pub use euler::{ExplicitEuler, SymplecticEuler};
-pub use implicit_euler::ImplicitEuler;
-pub use implicit_midpoint::ImplicitMidpoint;
-pub use linear_implicit_euler::LinearImplicitEuler;
+pub use implicit::{Implicit, Rule};
+pub use implicit_euler::{BackwardEuler, ImplicitEuler};
+pub use implicit_midpoint::{ImplicitMidpoint, Midpoint};
+pub use linear_implicit_euler::{LinearImplicitEuler, LinearizedEuler};
 pub use newton::{ImplicitSettings, LinearSolver, Newton};
 pub use rattle::{Rattle, RattleSettings};
 pub use rk::{RungeKutta, Tableau};
