@@ -4,7 +4,7 @@
 use super::common::load;
 use anyhow::Result;
 use springlab::measure::small_steps::{small_steps, SmallStepsConfig, DEFAULT_BUDGETS};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Flags of `springlab small-steps`.
 #[derive(Debug, clap::Args)]
@@ -33,10 +33,10 @@ pub fn run(a: Args) -> Result<()> {
         super::common::check_out(out)?;
     }
     let paths = if a.scenarios.is_empty() {
-        vec![
-            PathBuf::from("scenarios/stiff_chain.toml"),
-            PathBuf::from("scenarios/cloth.toml"),
-        ]
+        springlab::measure::small_steps::DEFAULT_SCENES
+            .iter()
+            .map(|f| Path::new("scenarios").join(f))
+            .collect()
     } else {
         a.scenarios.clone()
     };

@@ -24,6 +24,10 @@ use serde::Serialize;
 /// The paper's frame rate: 60 Hz.
 pub const FRAME_DT: f64 = 1.0 / 60.0;
 
+/// The scene files the comparison runs on by default (in the shipped scenario folder): a stiff
+/// chain and the cloth, the two the report's Small Steps page shows.
+pub const DEFAULT_SCENES: [&str; 2] = ["stiff_chain.toml", "cloth.toml"];
+
 /// Default budgets n (sweeps per frame).
 pub const DEFAULT_BUDGETS: [usize; 7] = [1, 2, 4, 8, 16, 32, 64];
 

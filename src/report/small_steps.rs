@@ -12,14 +12,15 @@ use crate::report::data::Series;
 use crate::scenario::Scenario;
 use std::path::Path;
 
-/// The scenes the page compares, looked up in the report's scenario folder.
-pub const SCENES: [&str; 2] = ["stiff_chain.toml", "cloth.toml"];
-
 /// Measures and writes `out/small_steps/` (documents, chart, page) when both scenes are in
 /// `scenarios`; `None` otherwise (a report of other scenes has no such page). A folder that
 /// already holds what these scenes produce is kept ([`super::reuse`]), unless `no_cache`.
 pub fn write_page(scenarios: &Path, out: &Path, no_cache: bool) -> Result<Option<SmallStepsLink>> {
-    let paths: Vec<_> = SCENES.iter().map(|s| scenarios.join(s)).collect();
+    // The scenes the page compares, looked up in the report's scenario folder.
+    let paths: Vec<_> = crate::measure::small_steps::DEFAULT_SCENES
+        .iter()
+        .map(|s| scenarios.join(s))
+        .collect();
     if !paths.iter().all(|p| p.is_file()) {
         return Ok(None);
     }
