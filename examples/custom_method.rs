@@ -176,9 +176,9 @@ fn main() -> springlab::Result<()> {
     )?;
     for i in &st.methods {
         println!(
-            "stability: {:<18} {:?} {}",
+            "stability: {:<18} {} {}",
             i.method,
-            i.verdict,
+            i.verdict.words(),
             i.max_stable_dt
                 .map_or(String::new(), |d| format!("dt ≤ {d:.4} s"))
         );
@@ -210,7 +210,7 @@ fn main() -> springlab::Result<()> {
         no_cache: false,
     };
     // The flag says whether an unchanged earlier page was kept rather than studied again.
-    let (page, _kept) = springlab::report::report_scene(&scene, &opts)?;
+    let (page, _kept) = springlab::pipeline::report_scene(&scene, &opts)?;
     println!("report: out/custom/{}", page.page);
     Ok(())
 }

@@ -3,7 +3,9 @@
 //! A scene ([`scenario::Scenario`]) builds a [`model::System`] with only the terms it uses;
 //! [`integrate::Stepper`]s step it, each registered with its facts in a
 //! [`method::Registry`]; [`run::run`] owns the loop, the energy accounts and
-//! blow-up detection; [`output`] writes what a run produced, atomically.
+//! blow-up detection; [`output`] writes what a run produced, atomically. [`measure`] holds the
+//! commands' measurements against a reference; [`pipeline`] runs the report's studies and
+//! [`report`] renders them.
 //!
 //! ```
 //! use springlab::{method, run, scenario::Scenario};
@@ -41,6 +43,7 @@ pub mod output;
 /// Scenes and timings shared by the criterion benches and the bench commands (not a stable API).
 #[doc(hidden)]
 pub mod perf;
+pub mod pipeline;
 pub mod rapier;
 pub mod report;
 pub mod run;

@@ -1,8 +1,9 @@
 //! `springlab report`: every scene through every method, plots and pages under `reports/`
-//! ([`springlab::report::build`] does the work; this parses the flags).
+//! ([`springlab::pipeline::build`] does the work; this parses the flags).
 
 use anyhow::Result;
-use springlab::report::{build, BuildConfig, Built, ReportOptions};
+use springlab::pipeline::{build, BuildConfig, Built};
+use springlab::report::ReportOptions;
 use std::path::PathBuf;
 
 /// Flags of `springlab report`.

@@ -1,6 +1,6 @@
-//! Building the report: per scene, the study (measure's one pipeline) → its documents, written
-//! with the commands' own writers and names → charts (SVG + CSV) → page; then the overview,
-//! the Markdown README and `summary.json`. Every file is written atomically, scene pages
+//! Writing the report: per scene, a study's documents, written with the commands' own writers
+//! and names → charts (SVG + CSV) → page; then the overview, the Markdown README and
+//! `summary.json` ([`crate::pipeline`] runs the studies and calls these). Every file is written atomically, scene pages
 //! before the overview, so an interrupted run leaves every earlier file whole.
 
 use super::charts;
@@ -8,7 +8,7 @@ use super::figures::write_figures;
 use super::html::{index_page, scene_page};
 use super::summary::{scene_summary, Document, SceneSummary, Summary};
 use crate::error::{Error, Result};
-use crate::measure::study::{study, SceneStudy, StudyConfig};
+use crate::measure::study::SceneStudy;
 use crate::method::Registry;
 use crate::output::{write_atomic, Transaction};
 use crate::scenario::Scenario;
@@ -208,26 +208,6 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     super::reuse::write_inputs(&dir, &super::reuse::scene_inputs(scene, opts))?;
     tx.commit()?;
     Ok(sum)
-}
-
-/// Studies and writes one scene; a scene whose folder already holds what these inputs produce
-/// is kept as it is ([`super::reuse`]), unless `opts.no_cache`. The flag is true when the
-/// folder was kept.
-pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<(SceneSummary, bool)> {
-    if !opts.no_cache {
-        let inputs = super::reuse::scene_inputs(scene, opts);
-        if let Some(sum) = super::reuse::reusable_scene(&opts.out.join(&scene.name), &inputs) {
-            return Ok((sum, true));
-        }
-    }
-    let cfg = StudyConfig {
-        registry: opts.registry.clone(),
-        quick: opts.quick,
-        blowup_factor: opts.blowup_factor,
-        ..Default::default()
-    };
-    let s = study(scene, &cfg)?;
-    Ok((write_scene(scene, &s, opts)?, false))
 }
 
 /// Writes `index.html`, `README.md` and `summary.json` (last, after every scene page), as one

@@ -5,9 +5,8 @@
 //!
 //! Data flows one way: study → `charts` (plain [`data`]) → [`plots`] (SVG) and [`summary`]
 //! → `verdict`, `html`, `markdown`; [`generate`] writes a scene and the overview;
-//! [`build()`] runs the whole report.
+//! [`crate::pipeline`] runs the studies and calls these.
 
-pub mod build;
 mod charts;
 mod collision_table;
 pub mod data;
@@ -28,6 +27,5 @@ pub mod small_steps;
 pub mod summary;
 mod verdict;
 
-pub use build::{build, BuildConfig, Built};
-pub use generate::{report_scene, scenario_files, write_overview, ReportOptions};
+pub use generate::{scenario_files, write_overview, write_scene, ReportOptions};
 pub use summary::Summary;

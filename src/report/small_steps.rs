@@ -6,52 +6,31 @@ use super::html::{esc, page};
 use super::plots::common::{svg_grid, Axis, Panel};
 pub use super::summary::SmallStepsLink;
 use crate::error::Result;
-use crate::measure::small_steps::{small_steps, write_small_steps, SmallSteps, SmallStepsConfig};
+use crate::measure::small_steps::{write_small_steps, SmallSteps};
 use crate::output::{write_atomic, Transaction};
 use crate::report::data::Series;
-use crate::scenario::Scenario;
 use std::path::Path;
 
-/// Measures and writes `out/small_steps/` (documents, chart, page) when both scenes are in
-/// `scenarios`; `None` otherwise (a report of other scenes has no such page). A folder that
-/// already holds what these scenes produce is kept ([`super::reuse`]), unless `no_cache`.
-pub fn write_page(scenarios: &Path, out: &Path, no_cache: bool) -> Result<Option<SmallStepsLink>> {
-    // The scenes the page compares, looked up in the report's scenario folder.
-    let paths: Vec<_> = crate::measure::small_steps::DEFAULT_SCENES
-        .iter()
-        .map(|s| scenarios.join(s))
-        .collect();
-    if !paths.iter().all(|p| p.is_file()) {
-        return Ok(None);
-    }
-    let scenes = paths
-        .iter()
-        .map(Scenario::from_file)
-        .collect::<Result<Vec<_>>>()?;
-    let cfg = SmallStepsConfig::default();
-    let inputs = super::reuse::small_steps_inputs(&scenes, &cfg);
-    if !no_cache && super::reuse::unchanged(&out.join("small_steps"), &inputs) {
-        if let Some(link) = read_link(out) {
-            return Ok(Some(link));
-        }
-    }
-    let doc = small_steps(&scenes, &cfg)?;
+/// Writes `out/small_steps/` (documents, chart, page) for `doc`, measured on scenes whose
+/// inputs are `inputs` ([`super::reuse::small_steps_inputs`]), as one transaction; the page's
+/// link for the overview.
+pub fn write_page(out: &Path, doc: &SmallSteps, inputs: &str) -> Result<SmallStepsLink> {
     // The page and its documents are replaced together (see [`Transaction`]).
     let mut tx = Transaction::new(out)?;
     let dir = tx.stage_dir("small_steps")?;
-    write_small_steps(&dir, &doc)?;
-    write_atomic(dir.join("small_steps.svg"), chart(&doc)?.as_bytes())?;
-    write_atomic(dir.join("index.html"), html(&doc).as_bytes())?;
-    super::reuse::write_inputs(&dir, &inputs)?;
+    write_small_steps(&dir, doc)?;
+    write_atomic(dir.join("small_steps.svg"), chart(doc)?.as_bytes())?;
+    write_atomic(dir.join("index.html"), html(doc).as_bytes())?;
+    super::reuse::write_inputs(&dir, inputs)?;
     tx.commit()?;
-    Ok(Some(SmallStepsLink {
+    Ok(SmallStepsLink {
         page: "small_steps/index.html".into(),
         verdicts: doc
             .scenes
             .iter()
             .map(|s| format!("{}: {}", s.scene, s.verdict))
             .collect(),
-    }))
+    })
 }
 
 fn chart(doc: &SmallSteps) -> Result<String> {

@@ -6,12 +6,14 @@
 //! writing failed keeps its earlier folder (scene folders are swapped in whole), and its earlier
 //! row is carried into the new overview, marked as failed this time.
 
-use super::generate::{report_scene, scenario_files, write_overview, ReportOptions};
-use super::overview::{assemble, previous_summary};
-use super::shard::{write_shard, ReportShard};
-use super::summary::{SceneSummary, Summary};
+use super::scene::report_scene;
+use super::small_steps::small_steps_page;
 use crate::error::{Error, Result};
 use crate::measure::sweep::Shard;
+use crate::report::overview::{assemble, previous_summary};
+use crate::report::shard::{write_shard, ReportShard};
+use crate::report::summary::{SceneSummary, Summary};
+use crate::report::{scenario_files, write_overview, ReportOptions};
 use crate::scenario::Scenario;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -105,7 +107,7 @@ pub fn build(cfg: &BuildConfig, say: &(dyn Fn(&str) + Sync)) -> Result<Built> {
         },
         || {
             small_steps_here
-                .then(|| super::small_steps::write_page(&cfg.scenarios, out, cfg.opts.no_cache))
+                .then(|| small_steps_page(&cfg.scenarios, out, cfg.opts.no_cache))
                 .transpose()
         },
     );
@@ -114,7 +116,7 @@ pub fn build(cfg: &BuildConfig, say: &(dyn Fn(&str) + Sync)) -> Result<Built> {
         Ok(link) => link.flatten(),
         Err(e) => {
             line(&format!("report: small steps: {e}"));
-            super::small_steps::read_link(out)
+            crate::report::small_steps::read_link(out)
         }
     };
     if let Some(shard) = cfg.shard {
