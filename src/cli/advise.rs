@@ -110,13 +110,13 @@ fn print_pick(scene: &str, adv: &Advice) {
     println!(
         "{}: judged by {} (bound {} {}; position tolerance {} m: {})",
         scene,
-        adv.metric.name(),
-        fmt_opt(Some(adv.tolerance)),
-        adv.metric.unit(),
-        fmt_opt(Some(adv.position_tolerance.value)),
-        adv.position_tolerance.source
+        adv.judged.metric.name(),
+        fmt_opt(Some(adv.judged.tolerance)),
+        adv.judged.metric.unit(),
+        fmt_opt(Some(adv.judged.position_tolerance.value)),
+        adv.judged.position_tolerance.source
     );
-    if let Some(n) = &adv.metric_note {
+    if let Some(n) = &adv.judged.metric_note {
         println!("  {n}");
     }
     match &adv.method {

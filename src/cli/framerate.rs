@@ -88,16 +88,16 @@ pub fn run(a: Args) -> Result<()> {
     println!(
         "{}: judged by {} (bound {} {}; position tolerance {} m: {}) over {} s, reference {}, events {}",
         scene.name,
-        fr.metric.name(),
-        fr.tolerance,
-        fr.metric.unit(),
-        fr.position_tolerance.value,
-        fr.position_tolerance.source,
+        fr.judged.metric.name(),
+        fr.judged.tolerance,
+        fr.judged.metric.unit(),
+        fr.judged.position_tolerance.value,
+        fr.judged.position_tolerance.source,
         fr.duration,
         fr.reference.kind,
         fr.events
     );
-    if let Some(n) = &fr.metric_note {
+    if let Some(n) = &fr.judged.metric_note {
         println!("  {n}");
     }
     print_table(&fr);

@@ -135,11 +135,11 @@ fn sig(v: f64) -> String {
 
 /// The free-step answer from the advice, or the labelled fallback from the comparison.
 pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult) -> FreeStep {
-    let metric = advice.metric;
+    let metric = advice.judged.metric;
     let base = FreeStep::none(
         metric,
-        advice.tolerance,
-        advice.position_tolerance.value,
+        advice.judged.tolerance,
+        advice.judged.position_tolerance.value,
         String::new(),
     );
     if let (Some(m), Some(dt)) = (&advice.method, advice.dt) {
@@ -153,7 +153,7 @@ pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult)
             verified: format!(
                 "{} ≤ {} {}, verified by running it",
                 metric.name(),
-                sig(advice.tolerance),
+                sig(advice.judged.tolerance),
                 metric.unit()
             ),
             ..base
@@ -171,7 +171,7 @@ pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult)
         })
         .filter_map(|r| {
             let m = r.metrics.as_ref()?;
-            Some((r, metric.error(m, advice.position_tolerance.value)?))
+            Some((r, metric.error(m, advice.judged.position_tolerance.value)?))
         })
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.method.cmp(&b.0.method)));
     match best {
@@ -184,7 +184,7 @@ pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult)
             verified: format!(
                 "stable only: no method met {} ≤ {} {} on steps down to {} s; the most accurate stable run at the scene's step is shown",
                 metric.name(),
-                sig(advice.tolerance),
+                sig(advice.judged.tolerance),
                 metric.unit(),
                 sig(finest)
             ),
@@ -202,12 +202,12 @@ pub fn free_step(registry: &Registry, advice: &Advice, compared: &CompareResult)
 /// substep). `left_out` names the methods the table did not run (for time), which the
 /// fallback's words must not count among those that failed.
 pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -> Result<GameRate> {
-    let metric = fr.metric;
+    let metric = fr.judged.metric;
     let base = GameRate::none(
         hz,
         metric,
-        fr.tolerance,
-        fr.position_tolerance.value,
+        fr.judged.tolerance,
+        fr.judged.position_tolerance.value,
         String::new(),
     );
     let at: Vec<_> = fr.entries.iter().filter(|e| e.hz == hz).collect();
@@ -237,7 +237,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
             verified: format!(
                 "{} ≤ {} {} at {} substep(s) per frame, the cheapest that does",
                 metric.name(),
-                sig(fr.tolerance),
+                sig(fr.judged.tolerance),
                 metric.unit(),
                 f.substeps
             ),
@@ -266,7 +266,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
             verified: format!(
                 "stable only: no method tried met {} ≤ {} {} up to {} substeps per frame{untried}; the most accurate stable run at one substep is shown",
                 metric.name(),
-                sig(fr.tolerance),
+                sig(fr.judged.tolerance),
                 metric.unit(),
                 fr.max_substeps
             ),

@@ -171,6 +171,34 @@ pub fn check(asked: Option<f64>) -> Result<()> {
     }
 }
 
+/// What a document's answers were judged by, as every judging document writes it (flattened
+/// into `advice.json` and `framerate.json`): the bound, the metric, the position tolerance and
+/// why the metric is not the default one, when it is not.
+#[derive(Debug, Clone, Serialize)]
+pub struct JudgedBy {
+    /// The bound every run's error is held to, in the metric's unit ([`Judge::bound`]).
+    pub tolerance: f64,
+    /// The metric that decided.
+    pub metric: Metric,
+    /// The position tolerance (m) and where it came from.
+    pub position_tolerance: Tolerance,
+    /// Why the metric differs from the default one, when it does (an ensemble that could not
+    /// be made).
+    pub metric_note: Option<String>,
+}
+
+impl JudgedBy {
+    /// What `judge` judged by, with the metric's note.
+    pub fn of(judge: &Judge, metric_note: Option<String>) -> Self {
+        JudgedBy {
+            tolerance: judge.bound,
+            metric: judge.metric,
+            position_tolerance: judge.tolerance.clone(),
+            metric_note,
+        }
+    }
+}
+
 /// How runs are judged: a metric, the position tolerance and the bound the metric's error is
 /// held to. One value carried through a command, so every run of it is judged alike.
 #[derive(Debug, Clone, PartialEq, Serialize)]

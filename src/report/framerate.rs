@@ -98,7 +98,7 @@ pub fn chart(fr: &Framerate) -> Result<String> {
                 &err,
             ),
             panel(
-                format!("Cost per frame meeting {} m", fr.tolerance),
+                format!("Cost per frame meeting {} m", fr.judged.tolerance),
                 "modelled time per frame (s)",
                 &cost,
             ),
@@ -122,14 +122,14 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
         esc(&fr.command),
         fr.duration,
         fr.max_substeps,
-        cell(Some(fr.tolerance), 3),
+        cell(Some(fr.judged.tolerance), 3),
         fr.events,
         note.map_or(String::new(), |n| format!(" {}", esc(n)))
     );
     for hz in &rates {
         body += &format!(
             "<th>{hz} Hz: 1 step</th><th>{hz} Hz: for {} m</th>",
-            cell(Some(fr.tolerance), 3)
+            cell(Some(fr.judged.tolerance), 3)
         );
     }
     body += "</tr>\n";

@@ -129,12 +129,16 @@ fn advice_on_a_chaotic_cloth_answers_over_its_whole_duration() {
         },
     )
     .unwrap();
-    assert_eq!(adv.metric, Metric::Statistics);
+    assert_eq!(adv.judged.metric, Metric::Statistics);
     assert_eq!(adv.horizon, 2.0);
-    assert_eq!(adv.tolerance, 1.0);
+    assert_eq!(adv.judged.tolerance, 1.0);
     let err = adv.verified_error.expect("a pick");
     assert!(err <= 1.0, "{err}");
-    assert!(adv.position_tolerance.source.contains("motion scale"));
+    assert!(adv
+        .judged
+        .position_tolerance
+        .source
+        .contains("motion scale"));
 }
 
 /// Two masses on stiff springs hung from a fixed point and released sideways: chaotic within

@@ -42,7 +42,7 @@ use super::case::{CaseResult, CaseSettings, TimingRule, WallTimes};
 use super::reference::ReferenceInfo;
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
-use crate::measure::tolerance::{Judge, Metric, Tolerance};
+use crate::measure::tolerance::{Judge, JudgedBy, Metric};
 use crate::method::Registry;
 use crate::scenario::Scenario;
 use cost::{force_evals_per_second, rank, CostKey};
@@ -84,15 +84,9 @@ pub struct Advice {
     pub scenario: String,
     /// Reference used.
     pub reference: ReferenceInfo,
-    /// The bound every candidate's error is held to, in the metric's unit ([`Judge::bound`]).
-    pub tolerance: f64,
-    /// The metric that decided.
-    pub metric: Metric,
-    /// The position tolerance (m) and where it came from.
-    pub position_tolerance: Tolerance,
-    /// Why the metric differs from the default one, when it does (an ensemble that could not
-    /// be made).
-    pub metric_note: Option<String>,
+    /// What every candidate was judged by.
+    #[serde(flatten)]
+    pub judged: JudgedBy,
     /// Horizon (s).
     pub horizon: f64,
     /// Safety factor.
@@ -344,10 +338,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         command,
         scenario: scene.name.clone(),
         reference,
-        tolerance: judge.bound,
-        metric: judge.metric,
-        position_tolerance: judge.tolerance.clone(),
-        metric_note: decided.metric_note.clone(),
+        judged: JudgedBy::of(&judge, decided.metric_note.clone()),
         horizon,
         safety: cfg.safety,
         cost: CostMeasure::new(&cfg.timing),
@@ -401,14 +392,14 @@ pub fn held_to(
     strain: Option<f64>,
     drift: Option<f64>,
 ) -> crate::scenario::file::ExpectSpec {
-    let relative = adv.position_tolerance.value / adv.reference.motion_scale;
+    let relative = adv.judged.position_tolerance.value / adv.reference.motion_scale;
     crate::scenario::file::ExpectSpec {
         method: method.to_string(),
         hz: None,
         dt: None,
         substeps: None,
         stable: Some(true),
-        max_position_error: Some(adv.position_tolerance.value),
+        max_position_error: Some(adv.judged.position_tolerance.value),
         max_strain: strain.map(|s| s + relative),
         max_energy_drift_rate: drift.map(|r| 2.0 * r.abs()),
     }

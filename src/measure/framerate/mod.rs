@@ -36,7 +36,7 @@ use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
 use crate::measure::statistics::Ensemble;
-use crate::measure::tolerance::{Judge, Metric, Tolerance};
+use crate::measure::tolerance::{Judge, JudgedBy, Metric};
 use crate::method::MethodOptions;
 use crate::method::{Order, Registry};
 use crate::model::Events;
@@ -158,14 +158,9 @@ pub struct Framerate {
     pub reference: ReferenceInfo,
     /// When impulses took effect in the runs (`exact` or `frame`).
     pub events: &'static str,
-    /// The bound every run's error is held to, in the metric's unit.
-    pub tolerance: f64,
-    /// The metric that decided.
-    pub metric: Metric,
-    /// The position tolerance (m) and where it came from.
-    pub position_tolerance: Tolerance,
-    /// Why the metric differs from the default one, when it does.
-    pub metric_note: Option<String>,
+    /// What every run was judged by.
+    #[serde(flatten)]
+    pub judged: JudgedBy,
     /// Simulated time asked (s); each rate runs the nearest whole number of frames.
     pub duration: f64,
     /// Frame rates (Hz).
@@ -589,10 +584,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
         scenario: scene.name.clone(),
         reference: reference.info,
         events: sys.events.label(),
-        tolerance: judge.bound,
-        metric: judge.metric,
-        position_tolerance: judge.tolerance.clone(),
-        metric_note,
+        judged: JudgedBy::of(&judge, metric_note),
         duration,
         rates: cfg.rates.clone(),
         max_substeps: cfg.max_substeps,
