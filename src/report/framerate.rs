@@ -56,9 +56,28 @@ fn cost_lines(fr: &Framerate) -> Vec<Series> {
     })
 }
 
+/// The frame-rate chart of a scene: error at one substep and cost at the fewest substeps,
+/// against the frame rate.
+pub struct FramerateChart<'a>(pub &'a Framerate);
+
+impl super::data::ChartCsv for FramerateChart<'_> {
+    fn to_csv(&self) -> Result<Vec<u8>> {
+        Ok(chart_csv(self.0).into_bytes())
+    }
+}
+
+impl super::figures::Chart for FramerateChart<'_> {
+    fn stem(&self) -> &'static str {
+        "framerate"
+    }
+    fn svg(&self) -> Result<String> {
+        chart(self.0)
+    }
+}
+
 /// The data behind the chart, as CSV (`group,series,x,y,kind`: panel, method, Hz, value,
 /// `point`), written beside the SVG like every chart's data.
-pub fn chart_csv(fr: &Framerate) -> String {
+fn chart_csv(fr: &Framerate) -> String {
     let mut out = String::from("group,series,x,y,kind\n");
     for (panel, series) in [
         ("error_one_substep_m", error_lines(fr)),
@@ -75,7 +94,7 @@ pub fn chart_csv(fr: &Framerate) -> String {
 
 /// The chart (SVG) of `fr`: error at one substep, and modelled time per frame at the fewest
 /// substeps meeting the tolerance, both against the frame rate.
-pub fn chart(fr: &Framerate) -> Result<String> {
+fn chart(fr: &Framerate) -> Result<String> {
     let (err, cost) = (error_lines(fr), cost_lines(fr));
     let panel = |title: String, y: &str, series| Panel {
         title,

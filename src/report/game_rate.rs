@@ -55,8 +55,35 @@ fn series(points: &[GamePoint], game: &GameRate) -> Vec<Series> {
     out
 }
 
+/// The game-rate chart of a scene: every method's point at the game rate, and the answer.
+pub struct GameRateChart<'a> {
+    /// The points (one per method and substep count tried).
+    pub points: Vec<GamePoint>,
+    /// The game-rate answer, ringed on the chart.
+    pub game: &'a GameRate,
+}
+
+impl super::data::ChartCsv for GameRateChart<'_> {
+    fn to_csv(&self) -> Result<Vec<u8>> {
+        Ok(chart_csv(&self.points, self.game).into_bytes())
+    }
+}
+
+impl super::figures::Chart for GameRateChart<'_> {
+    fn stem(&self) -> &'static str {
+        GAME_RATE_STEM
+    }
+    fn svg(&self) -> Result<String> {
+        chart(&self.points, self.game)
+    }
+}
+
+/// File stem of a scene's game-rate chart: `game_rate.svg` beside its page, its data in
+/// `game_rate.csv`.
+pub const GAME_RATE_STEM: &str = "game_rate";
+
 /// The data behind the chart, as CSV, written beside the SVG like every chart's data.
-pub fn chart_csv(points: &[GamePoint], game: &GameRate) -> String {
+fn chart_csv(points: &[GamePoint], game: &GameRate) -> String {
     let mut out =
         String::from("method,engine,substeps,modelled_seconds_per_frame,error,meets,answer\n");
     let num = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:e}"));
@@ -79,7 +106,7 @@ pub fn chart_csv(points: &[GamePoint], game: &GameRate) -> String {
 
 /// The chart (SVG): error against modelled cost per frame at `game.hz`, log-log, with the
 /// bound as a dashed line.
-pub fn chart(points: &[GamePoint], game: &GameRate) -> Result<String> {
+fn chart(points: &[GamePoint], game: &GameRate) -> Result<String> {
     let series = series(points, game);
     let costs = points.iter().filter_map(|p| p.modelled_seconds_per_frame);
     let (lo, hi) = costs.fold((f64::INFINITY, 0.0_f64), |(a, b), c| (a.min(c), b.max(c)));

@@ -120,23 +120,9 @@ fn write_framerate_charts(
 ) -> Result<()> {
     let game = &s.answer.game_rate;
     let points = crate::measure::engine_fare::game_points(fr, game.hz, registry);
-    write_atomic(
-        dir.join(super::summary::GAME_RATE_CHART)
-            .with_extension("csv"),
-        super::game_rate::chart_csv(&points, game).as_bytes(),
-    )?;
-    write_atomic(
-        dir.join(super::summary::GAME_RATE_CHART),
-        super::game_rate::chart(&points, game)?.as_bytes(),
-    )?;
-    write_atomic(
-        dir.join("framerate.csv"),
-        super::framerate::chart_csv(fr).as_bytes(),
-    )?;
-    write_atomic(
-        dir.join("framerate.svg"),
-        super::framerate::chart(fr)?.as_bytes(),
-    )?;
+    let game_chart = super::game_rate::GameRateChart { points, game };
+    super::figures::write_chart(dir, &game_chart)?;
+    super::figures::write_chart(dir, &super::framerate::FramerateChart(fr))?;
     Ok(())
 }
 

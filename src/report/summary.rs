@@ -83,10 +83,6 @@ pub struct Document {
     pub command: String,
 }
 
-/// File name of a scene's game-rate chart (beside its page; its data in the `.csv` of the
-/// same stem).
-pub const GAME_RATE_CHART: &str = "game_rate.svg";
-
 /// One scene's summary.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SceneSummary {
@@ -246,7 +242,7 @@ pub fn scene_summary(
         game_rate_chart: s
             .framerate
             .as_ref()
-            .map(|_| format!("{}/{GAME_RATE_CHART}", s.scenario)),
+            .map(|_| format!("{}/{}.svg", s.scenario, super::game_rate::GAME_RATE_STEM)),
     })
 }
 
