@@ -219,7 +219,7 @@ fn write_expect(scenario: &Path, adv: &Advice, game_hz: Option<f64>) -> Result<(
     let path = springlab::scenario::append_expect::append_expect(
         scenario,
         &spec,
-        &format!("The answer verified by: {}", adv.command),
+        &format!("The answer verified by: {}", adv.head.command),
     )?;
     println!("appended an [expect] table to {}", path.display());
     Ok(())

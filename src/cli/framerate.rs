@@ -94,7 +94,7 @@ pub fn run(a: Args) -> Result<()> {
         fr.judged.position_tolerance.value,
         fr.judged.position_tolerance.source,
         fr.duration,
-        fr.reference.kind,
+        fr.head.reference.kind,
         fr.events
     );
     if let Some(n) = &fr.judged.metric_note {

@@ -10,6 +10,28 @@ use crate::method::{MethodOptions, Registry};
 use std::fmt::Display;
 use std::path::Path;
 
+/// The head of a measuring document: the command that re-creates it, the scene and the
+/// reference it was measured against, flattened into the document in this order.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct DocumentHead {
+    /// The command that re-creates the document (`--out DIR` is added where it is written).
+    pub command: String,
+    /// Scenario name.
+    pub scenario: String,
+    /// Reference used.
+    pub reference: crate::measure::reference::ReferenceInfo,
+}
+
+impl DocumentHead {
+    /// The head of the document as written into `dir`: its command with `--out dir`.
+    pub fn written_to(&self, dir: &Path) -> Self {
+        DocumentHead {
+            command: with_out(&self.command, dir),
+            ..self.clone()
+        }
+    }
+}
+
 /// A `springlab` command line under construction.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CommandLine {

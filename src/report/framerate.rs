@@ -138,7 +138,7 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
     let names = methods(fr);
     let mut body = format!(
         "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each method at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · modelled time per frame</em> (counted work, priced; the measured wall times are in the scene's <a href=\"timing.json\">timing.json</a>); “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: modelled time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">method</th>",
-        esc(&fr.command),
+        esc(&fr.head.command),
         fr.duration,
         fr.max_substeps,
         cell(Some(fr.judged.tolerance), 3),

@@ -97,14 +97,14 @@ pub fn write_documents(dir: &Path, s: &SceneStudy) -> Result<Vec<Document>> {
     if let Some(fr) = &s.framerate {
         let d = dir.join("framerate");
         let files = crate::measure::framerate::write_framerate(&d, fr)?;
-        add("framerate", files, &fr.command);
+        add("framerate", files, &fr.head.command);
     }
     if let Some(a) = &s.advice {
         let d = dir.join("advise");
         add(
             "advise",
             crate::measure::advise::write_advice(&d, a)?,
-            &a.command,
+            &a.head.command,
         );
     }
     Ok(docs)

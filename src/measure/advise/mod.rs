@@ -39,9 +39,9 @@ pub use waves::FIRST_WAVE;
 use waves::{run_waves, settle};
 
 use super::case::{CaseResult, CaseSettings, TimingRule, WallTimes};
-use super::reference::ReferenceInfo;
 use super::sweep::step_grid;
 use crate::error::{Error, Result};
+use crate::measure::command::DocumentHead;
 use crate::measure::tolerance::{Judge, JudgedBy, Metric};
 use crate::method::Registry;
 use crate::scenario::Scenario;
@@ -78,12 +78,9 @@ pub struct Choice {
 /// `advice.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Advice {
-    /// The command that re-creates this document (`--out DIR` is added where it is written).
-    pub command: String,
-    /// Scenario name.
-    pub scenario: String,
-    /// Reference used.
-    pub reference: ReferenceInfo,
+    /// The command, the scene and the reference.
+    #[serde(flatten)]
+    pub head: DocumentHead,
     /// What every candidate was judged by.
     #[serde(flatten)]
     pub judged: JudgedBy,
@@ -335,9 +332,11 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let pick = alternatives.first().cloned();
     let command = command_line(scene, cfg, horizon);
     Ok(Advice {
-        command,
-        scenario: scene.name.clone(),
-        reference,
+        head: DocumentHead {
+            command,
+            scenario: scene.name.clone(),
+            reference,
+        },
         judged: JudgedBy::of(&judge, decided.metric_note.clone()),
         horizon,
         safety: cfg.safety,
@@ -364,7 +363,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
 /// `timing.json` ([`crate::output::timing`]); returns the files written.
 pub fn write_advice(dir: &std::path::Path, adv: &Advice) -> Result<Vec<std::path::PathBuf>> {
     let doc = Advice {
-        command: super::command::with_out(&adv.command, dir),
+        head: adv.head.written_to(dir),
         ..adv.clone()
     };
     let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
@@ -392,7 +391,7 @@ pub fn held_to(
     strain: Option<f64>,
     drift: Option<f64>,
 ) -> crate::scenario::file::ExpectSpec {
-    let relative = adv.judged.position_tolerance.value / adv.reference.motion_scale;
+    let relative = adv.judged.position_tolerance.value / adv.head.reference.motion_scale;
     crate::scenario::file::ExpectSpec {
         method: method.to_string(),
         hz: None,

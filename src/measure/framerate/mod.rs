@@ -35,6 +35,7 @@ use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
 use crate::error::{Error, Result};
+use crate::measure::command::DocumentHead;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::{Judge, JudgedBy, Metric};
 use crate::method::MethodOptions;
@@ -150,12 +151,9 @@ pub fn frame_event_floor(scene: &Scenario, reference: &Reference, g: usize) -> R
 /// `framerate.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Framerate {
-    /// The command that re-creates this document (`--out DIR` is added where it is written).
-    pub command: String,
-    /// Scenario name.
-    pub scenario: String,
-    /// Reference used (impulses at their exact times).
-    pub reference: ReferenceInfo,
+    /// The command, the scene and the reference (impulses at their exact times).
+    #[serde(flatten)]
+    pub head: DocumentHead,
     /// When impulses took effect in the runs (`exact` or `frame`).
     pub events: &'static str,
     /// What every run was judged by.
@@ -580,9 +578,11 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let reference_note = reference_note(&reference.info, judge.tolerance.value);
     Ok(Framerate {
         reference_note,
-        command,
-        scenario: scene.name.clone(),
-        reference: reference.info,
+        head: DocumentHead {
+            command,
+            scenario: scene.name.clone(),
+            reference: reference.info,
+        },
         events: sys.events.label(),
         judged: JudgedBy::of(&judge, metric_note),
         duration,

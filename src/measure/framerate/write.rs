@@ -2,7 +2,6 @@
 
 use super::{FrameRun, Framerate, RateEntry, RowKind};
 use crate::error::Result;
-use crate::measure::command::with_out;
 use crate::output::write_document;
 use std::path::{Path, PathBuf};
 
@@ -58,7 +57,7 @@ pub fn write_framerate(dir: &Path, fr: &Framerate) -> Result<Vec<PathBuf>> {
         csv.push('\n');
     }
     let doc = Framerate {
-        command: with_out(&fr.command, dir),
+        head: fr.head.written_to(dir),
         ..fr.clone()
     };
     let mut json = serde_json::to_vec_pretty(&doc).expect("serialisable");
