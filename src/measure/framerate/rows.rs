@@ -33,8 +33,8 @@ pub struct FrameRun {
     pub status: crate::run::RunStatus,
     /// Stable and within the tolerance.
     pub meets_tolerance: bool,
-    /// The error by the document's metric ([`Framerate::metric`](super::Framerate::metric)), held
-    /// to its bound.
+    /// The error by the document's metric
+    /// ([`JudgedBy::metric`](crate::measure::tolerance::JudgedBy::metric)), held to its bound.
     pub error: Option<f64>,
     /// Maximum position error over the accepted frames (m), compare's `error_max`.
     pub max_position_error: Option<f64>,
