@@ -129,8 +129,8 @@ pub struct ObstacleSet {
 enum Bound {
     /// A half-space: the signed distance n·(p − o), exact (n unit, outward).
     Plane { normal: Vec3, origin: Vec3 },
-    /// A sphere holding the obstacle (the ball itself for a sphere): |p − c| − r, exact
-    /// outside a ball and below the distance outside any shape it holds.
+    /// parry's bounding sphere of the obstacle (the ball itself for a sphere): |p − c| − r,
+    /// exact outside a ball and below the distance outside any shape it holds.
     Sphere { center: Vec3, radius: f64 },
 }
 
@@ -148,16 +148,10 @@ impl Bound {
                 origin: from_g(pose.translation),
             };
         }
-        if let Some(b) = shape.as_ball() {
-            return Bound::Sphere {
-                center: from_g(pose.translation),
-                radius: b.radius,
-            };
-        }
-        let aabb = shape.compute_aabb(pose);
+        let sphere = shape.compute_bounding_sphere(pose);
         Bound::Sphere {
-            center: from_g(aabb.center()),
-            radius: from_g(aabb.half_extents()).norm(),
+            center: from_g(sphere.center()),
+            radius: sphere.radius(),
         }
     }
 
@@ -613,7 +607,7 @@ mod tests {
                 radius: 0.2,
             }),
         ]);
-        let (mut skipped, mut near_kept) = (0, 0usize);
+        let (mut skipped, mut missed) = (0, 0usize);
         for i in 0..4000 {
             let f = i as f64;
             let p = Vec3::new(
@@ -633,8 +627,8 @@ mod tests {
                 }
                 // On the surface: the query's own closest point is never ruled out.
                 assert!(!set.clearly_apart(k, &exact.point, 0.0), "obstacle {k}");
-                near_kept += 1;
                 if set.bounds[k].misses(&p, &q) {
+                    missed += 1;
                     let o = &set.obstacles[k];
                     let ray = Ray::new(to_g(&p), to_g(&(q - p)));
                     let hit = o.shape.cast_ray(&o.pose, &ray, 1.0, true);
@@ -643,6 +637,6 @@ mod tests {
             }
         }
         assert!(skipped > 10_000, "only {skipped} queries ruled out");
-        assert_eq!(near_kept, 4000 * set.len());
+        assert!(missed > 5_000, "only {missed} ray casts ruled out");
     }
 }

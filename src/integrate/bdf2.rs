@@ -5,7 +5,7 @@
 //!
 //! With the extrapolated base (x̂, v̂) = ((4xₙ − xₙ₋₁)/3, (4vₙ − vₙ₋₁)/3) this is a
 //! backward-Euler stage of step 2h/3 from (x̂, v̂), solved by the shared implicit core
-//! ([`Newton`]), stopping at a root to the root tolerance, early there at 0.01 % of its error
+//! ([`Newton`](super::Newton)), stopping at a root to the root tolerance, early there at 0.01 % of its error
 //! estimate.
 //!
 //! Starting step: BDF2 needs yₙ₋₁, so the first step, and the first after a reset (an impulse,
@@ -15,84 +15,16 @@
 //! O((hω)⁴) per step. Dissipated work is booked by the trapezoidal rule over each step
 //! (backward Euler's h·P at the start).
 
-use super::ensure_len;
-use super::implicit::{Implicit, Rule};
-use super::newton::{Newton, Stop};
-use crate::error::Result;
-use crate::model::{State, System, Vec3};
+use super::implicit::{Implicit, Rule, StageKind};
 
-/// BDF2's rule: a stage of step 2h/3 from the extrapolated base, after a backward-Euler start;
-/// it keeps the previous state and the dissipated power at the current one.
+/// BDF2's rule: a stage of step 2h/3 from the extrapolated base, after a backward-Euler start.
 #[derive(Debug, Default)]
-pub struct Bdf2Rule {
-    x_prev: Vec<Vec3>,
-    v_prev: Vec<Vec3>,
-    x_base: Vec<Vec3>,
-    v_base: Vec<Vec3>,
-    /// Dissipated power at the current state (end of the last step).
-    power: f64,
-    /// Step of the last step; `None` when the history is void (start or reset).
-    h_prev: Option<f64>,
-}
+pub struct Bdf2Rule;
 
 /// BDF2 with a backward-Euler start, on the shared Newton + block-Jacobi-PCG core.
 pub type Bdf2 = Implicit<Bdf2Rule>;
 
 impl Rule for Bdf2Rule {
     const NAME: &'static str = "bdf2";
-    const RECURRENCE_STEPS: usize = 2;
-    fn reset(&mut self) {
-        self.h_prev = None;
-    }
-    fn advance(
-        &mut self,
-        newton: &mut Newton,
-        sys: &System,
-        s: &mut State,
-        h: f64,
-    ) -> Result<(f64, u64)> {
-        let n = s.len();
-        for buf in [
-            &mut self.x_prev,
-            &mut self.v_prev,
-            &mut self.x_base,
-            &mut self.v_base,
-        ] {
-            ensure_len(buf, n);
-        }
-        let start = self.h_prev != Some(h);
-        let (power, evals, dissipated);
-        if start {
-            (power, evals) = newton.solve(sys, &s.x, &s.v, h, Stop::SecondOrder, Self::NAME)?;
-            dissipated = power * h;
-        } else {
-            for p in 0..n {
-                // Fixed particles keep their state exactly ((4x − x)/3 need not round to x).
-                (self.x_base[p], self.v_base[p]) = if sys.free[p] {
-                    (
-                        (s.x[p] * 4.0 - self.x_prev[p]) / 3.0,
-                        (s.v[p] * 4.0 - self.v_prev[p]) / 3.0,
-                    )
-                } else {
-                    (s.x[p], s.v[p])
-                };
-            }
-            (power, evals) = newton.solve(
-                sys,
-                &self.x_base,
-                &self.v_base,
-                2.0 * h / 3.0,
-                Stop::SecondOrder,
-                Self::NAME,
-            )?;
-            dissipated = 0.5 * h * (self.power + power);
-        }
-        self.x_prev.copy_from_slice(&s.x);
-        self.v_prev.copy_from_slice(&s.v);
-        s.x.copy_from_slice(newton.x());
-        s.v.copy_from_slice(newton.v());
-        self.power = power;
-        self.h_prev = Some(h);
-        Ok((dissipated, evals))
-    }
+    const STAGE: StageKind = StageKind::Bdf2;
 }

@@ -2,7 +2,7 @@
 //! Newton's method with the analytic spring, damper and drag Jacobians (Baraff & Witkin,
 //! "Large steps in cloth simulation", SIGGRAPH 1998, without their one-iteration shortcut).
 //!
-//! The step is the shared implicit core's stage itself ([`Newton`]): Newton stops at a root to
+//! The step is the shared implicit core's stage itself ([`Newton`](super::Newton)): Newton stops at a root to
 //! the root tolerance, early there at 1 % of the step's own error estimate (see
 //! [`ImplicitSettings`](super::ImplicitSettings)); each Newton iteration solves
 //! ((1 + μ) M − h ∂f/∂v − h² ∂f/∂x) Δv = −G(v') by block-Jacobi-preconditioned CG, with the
@@ -11,10 +11,7 @@
 //! Order 1; A-stable and L-stable: on an undamped oscillator the amplitude shrinks by
 //! 1/√(1 + (hω)²) per step, for every h.
 
-use super::implicit::{Implicit, Rule};
-use super::newton::{Newton, Stop};
-use crate::error::Result;
-use crate::model::{State, System};
+use super::implicit::{Implicit, Rule, StageKind};
 
 /// Backward Euler's rule: the stage itself, from the current state at the full step.
 #[derive(Debug, Default)]
@@ -25,16 +22,5 @@ pub type ImplicitEuler = Implicit<BackwardEuler>;
 
 impl Rule for BackwardEuler {
     const NAME: &'static str = "implicit_euler";
-    fn advance(
-        &mut self,
-        newton: &mut Newton,
-        sys: &System,
-        s: &mut State,
-        h: f64,
-    ) -> Result<(f64, u64)> {
-        let (power, evals) = newton.solve(sys, &s.x, &s.v, h, Stop::FirstOrder, Self::NAME)?;
-        s.v.copy_from_slice(newton.v());
-        s.x.copy_from_slice(newton.x());
-        Ok((power * h, evals))
-    }
+    const STAGE: StageKind = StageKind::Full;
 }

@@ -2,7 +2,7 @@
 //!
 //! Written in the midpoint velocity u = (v + v')/2 it is a backward-Euler stage of step h/2,
 //! x_½ = x + (h/2) u, M (u − v) = (h/2) f(x_½, u), followed by the extrapolation x' = 2x_½ − x,
-//! v' = 2u − v; so it runs the shared implicit core ([`Newton`]) at h/2, started from the
+//! v' = 2u − v; so it runs the shared implicit core ([`Newton`](super::Newton)) at h/2, started from the
 //! linearly implicit solution and stopped, once at the root tolerance, at 0.01 % of the
 //! stage's first-order error estimate (a second-order method's error is about hω times smaller
 //! than that estimate).
@@ -11,10 +11,7 @@
 //! tolerance at every h (Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §IV.2).
 //! Dissipated work is booked by the midpoint rule, h·P(x_½, u).
 
-use super::implicit::{Implicit, Rule};
-use super::newton::{Newton, Stop};
-use crate::error::Result;
-use crate::model::{State, System};
+use super::implicit::{Implicit, Rule, StageKind};
 
 /// The midpoint rule: a stage at half the step, then the extrapolation to the step's end.
 #[derive(Debug, Default)]
@@ -25,22 +22,5 @@ pub type ImplicitMidpoint = Implicit<Midpoint>;
 
 impl Rule for Midpoint {
     const NAME: &'static str = "implicit_midpoint";
-    fn advance(
-        &mut self,
-        newton: &mut Newton,
-        sys: &System,
-        s: &mut State,
-        h: f64,
-    ) -> Result<(f64, u64)> {
-        let (power, evals) =
-            newton.solve(sys, &s.x, &s.v, 0.5 * h, Stop::SecondOrder, Self::NAME)?;
-        let (xm, u) = (newton.x(), newton.v());
-        for p in 0..s.len() {
-            if sys.free[p] {
-                s.x[p] = xm[p] * 2.0 - s.x[p];
-                s.v[p] = u[p] * 2.0 - s.v[p];
-            }
-        }
-        Ok((power * h, evals))
-    }
+    const STAGE: StageKind = StageKind::Midpoint;
 }

@@ -3,16 +3,13 @@
 //! solve per step and no Newton iteration — the classic cloth method.
 //!
 //! (M − h ∂f/∂v − h² ∂f/∂x) Δv = h (f₀ + h ∂f/∂x v₀), v' = v₀ + Δv, x' = x₀ + h v', with the
-//! Jacobian at (x₀, v₀), solved by the shared core's block-Jacobi CG ([`Newton`]), clamping
+//! Jacobian at (x₀, v₀), solved by the shared core's block-Jacobi CG ([`Newton`](super::Newton)), clamping
 //! compressed springs' negative stiffness when CG meets non-positive curvature (any matrix
 //! keeps this W-method first order). On linear forces it is backward Euler exactly, so it is
 //! A- and L-stable (amplitude × 1/√(1 + (hω)²) per step on an undamped oscillator). Dissipated
 //! work is booked as backward Euler's, h·P(x', v') (one more force evaluation).
 
-use super::implicit::{Implicit, Rule};
-use super::newton::Newton;
-use crate::error::Result;
-use crate::model::{State, System};
+use super::implicit::{Implicit, Rule, StageKind};
 
 /// Baraff and Witkin's rule: one linear solve with the Jacobian at the start of the step.
 #[derive(Debug, Default)]
@@ -24,16 +21,5 @@ pub type LinearImplicitEuler = Implicit<LinearizedEuler>;
 
 impl Rule for LinearizedEuler {
     const NAME: &'static str = "linear_implicit_euler";
-    fn advance(
-        &mut self,
-        newton: &mut Newton,
-        sys: &System,
-        s: &mut State,
-        h: f64,
-    ) -> Result<(f64, u64)> {
-        let (power, evals) = newton.solve_linearized(sys, &s.x, &s.v, h, Self::NAME)?;
-        s.v.copy_from_slice(newton.v());
-        s.x.copy_from_slice(newton.x());
-        Ok((power * h, evals))
-    }
+    const STAGE: StageKind = StageKind::Linearized;
 }

@@ -23,7 +23,7 @@ mod xpbd;
 pub use analytic::Analytic;
 pub use bdf2::{Bdf2, Bdf2Rule};
 pub use euler::{ExplicitEuler, SymplecticEuler};
-pub use implicit::{Implicit, Rule};
+pub use implicit::{Implicit, Rule, StageKind};
 pub use implicit_euler::{BackwardEuler, ImplicitEuler};
 pub use implicit_midpoint::{ImplicitMidpoint, Midpoint};
 pub use linear_implicit_euler::{LinearImplicitEuler, LinearizedEuler};

@@ -13,6 +13,7 @@ use crate::measure::tolerance::Tolerance;
 use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::output::{write_atomic, write_document};
+use crate::run::RunStatus;
 use crate::scenario::{Scenario, Timing};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -72,14 +73,12 @@ impl Default for CompareConfig {
     }
 }
 
-/// A compare line's status: its run's, or that it was skipped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+/// A compare line's status: its run's ([`RunStatus`], spelt as it spells it), or that the
+/// method was skipped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EntryStatus {
-    /// The run finished stable.
-    Ok,
-    /// The run grew without bound, or its step failed.
-    Unstable,
+    /// The method ran.
+    Ran(RunStatus),
     /// The method did not run (the line says why).
     Skipped,
 }
@@ -88,19 +87,15 @@ impl EntryStatus {
     /// `ok`, `unstable` or `skipped`, as documents spell it.
     pub fn label(self) -> &'static str {
         match self {
-            EntryStatus::Ok => "ok",
-            EntryStatus::Unstable => "unstable",
+            EntryStatus::Ran(s) => s.label(),
             EntryStatus::Skipped => "skipped",
         }
     }
 }
 
-impl From<crate::run::RunStatus> for EntryStatus {
-    fn from(s: crate::run::RunStatus) -> Self {
-        match s {
-            crate::run::RunStatus::Ok => EntryStatus::Ok,
-            crate::run::RunStatus::Unstable => EntryStatus::Unstable,
-        }
+impl Serialize for EntryStatus {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.label())
     }
 }
 
@@ -410,7 +405,7 @@ impl Runs<'_> {
             let r = r?;
             entries.push(CompareEntry {
                 method: r.method.clone(),
-                status: r.status.into(),
+                status: EntryStatus::Ran(r.status),
                 skip_reason: None,
                 result: Some(r),
             });
@@ -526,10 +521,9 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
     csv.push('\n');
     let f = |v: f64| format!("{v:e}");
     for e in &res.entries {
-        let mut cells = vec![e.method.clone()];
+        let mut cells = vec![e.method.clone(), e.status.label().to_string()];
         match &e.result {
             None => {
-                cells.push("skipped".into());
                 cells.push(csv_text(e.skip_reason.as_deref().unwrap_or("")));
                 cells.push(f(res.dt));
                 cells.extend(["", "", "", "", ""].map(String::from));
@@ -537,7 +531,6 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 cells.extend(["", ""].map(String::from));
             }
             Some(r) => {
-                cells.push(r.status.label().to_string());
                 cells.push(String::new());
                 cells.push(f(r.dt));
                 cells.push(r.steps.to_string());

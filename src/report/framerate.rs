@@ -56,6 +56,19 @@ fn cost_lines(fr: &Framerate) -> Vec<Series> {
     })
 }
 
+/// The bound every run is held to, in its metric's unit: `0.01 m` for a position metric, else
+/// the metric's measure against its bound (`score ≤ 1`: a statistics bound is no length).
+fn bound_words(fr: &Framerate) -> String {
+    use crate::measure::tolerance::Metric;
+    let b = cell(Some(fr.judged.tolerance), 3);
+    match fr.judged.metric {
+        Metric::Position | Metric::Impacts => format!("{b} m"),
+        Metric::Strain => format!("strain error ≤ {b}"),
+        Metric::Energy => format!("relative energy error ≤ {b}"),
+        Metric::Statistics => format!("statistics score ≤ {b}"),
+    }
+}
+
 /// The frame-rate chart of a scene: error at one substep and cost at the fewest substeps,
 /// against the frame rate.
 pub struct FramerateChart<'a>(pub &'a Framerate);
@@ -117,7 +130,7 @@ fn chart(fr: &Framerate) -> Result<String> {
                 &err,
             ),
             panel(
-                format!("Cost per frame meeting {} m", fr.judged.tolerance),
+                format!("Cost per frame meeting {}", bound_words(fr)),
                 "modelled time per frame (s)",
                 &cost,
             ),
@@ -137,18 +150,18 @@ pub fn section(fr: &Framerate, note: Option<&str>, left_out: &[String]) -> Strin
     }
     let names = methods(fr);
     let mut body = format!(
-        "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each method at each frame rate over {} s, first one step per frame, then the fewest substeps (doubling, then bisection, up to {}) that stay stable and within {} m of the reference. A cell reads <em>substeps needed · modelled time per frame</em> (counted work, priced; the measured wall times are in the scene's <a href=\"timing.json\">timing.json</a>); “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: modelled time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">method</th>",
+        "<h2>Frame rates</h2>\n<p class=\"note\">From <a href=\"framerate/framerate.json\">framerate/framerate.json</a> and <a href=\"framerate/framerate.csv\">framerate.csv</a> (re-create with <code>{}</code>): each method at each frame rate over {} s, first one step per frame, then the fewest substeps (searched upwards and then bisected, up to {}; on a scene without contacts or kicks the runs' errors predict the counts tried) that stay stable and meet the bound of the metric against the reference ({}). A cell reads <em>substeps needed · modelled time per frame</em> (counted work, priced; the measured wall times are in the scene's <a href=\"timing.json\">timing.json</a>); “—” where no count up to the limit met it. Events: {}.{}</p>\n<figure><img src=\"framerate.svg\" alt=\"frame rates\"><figcaption>Left: error of one step per frame (unstable runs left out). Right: modelled time per frame at the fewest substeps meeting the tolerance. Log scales.</figcaption></figure>\n<table>\n<tr><th class=\"l\">method</th>",
         esc(&fr.head.command),
         fr.duration,
         fr.max_substeps,
-        cell(Some(fr.judged.tolerance), 3),
+        esc(&bound_words(fr)),
         fr.events,
         note.map_or(String::new(), |n| format!(" {}", esc(n)))
     );
     for hz in &rates {
         body += &format!(
-            "<th>{hz} Hz: 1 step</th><th>{hz} Hz: for {} m</th>",
-            cell(Some(fr.judged.tolerance), 3)
+            "<th>{hz} Hz: 1 step</th><th>{hz} Hz: for {}</th>",
+            esc(&bound_words(fr))
         );
     }
     body += "</tr>\n";

@@ -1,7 +1,8 @@
 //! Writing the report: per scene, a study's documents, written with the commands' own writers
 //! and names → charts (SVG + CSV) → page; then the overview, the Markdown README and
-//! `summary.json` ([`crate::pipeline`] runs the studies and calls these). Every file is written atomically, scene pages
-//! before the overview, so an interrupted run leaves every earlier file whole.
+//! `summary.json` ([`crate::pipeline`] runs the studies and calls these). Every file is
+//! written atomically, scene pages before the overview, so an interrupted run leaves every
+//! earlier file whole.
 
 use super::charts;
 use super::figures::write_figures;

@@ -63,12 +63,12 @@ const MIN_POWER: f64 = 0.25;
 /// them (as a factor of its time).
 const LATER: f64 = 1.25;
 
-/// The counts tried so far and what each showed; `lo` the largest failing count known (0:
-/// none), `hi` the smallest passing one.
+/// The counts tried so far, in order, and what each showed (a count the test refused inside
+/// the bracket as a bare failure); `lo` the largest failing count known (0: none), `hi` the
+/// smallest passing one.
 struct Tracker<F> {
     passes: F,
     guided: bool,
-    tried: Vec<(u64, bool)>,
     probes: Vec<(u64, Probe)>,
     lo: u64,
     hi: Option<u64>,
@@ -80,7 +80,6 @@ impl<F: FnMut(u64) -> Result<Option<Probe>>> Tracker<F> {
         let Some(p) = (self.passes)(n)? else {
             return Ok(None);
         };
-        self.tried.push((n, p.passes));
         self.probes.push((n, p));
         if p.passes {
             self.hi = Some(self.hi.map_or(n, |h| h.min(n)));
@@ -97,7 +96,7 @@ impl<F: FnMut(u64) -> Result<Option<Probe>>> Tracker<F> {
     fn done(self) -> Result<Search> {
         Ok(Search {
             fewest: self.hi,
-            tried: self.tried,
+            tried: self.probes.iter().map(|(n, p)| (*n, p.passes)).collect(),
         })
     }
 
@@ -182,15 +181,15 @@ impl<F: FnMut(u64) -> Result<Option<Probe>>> Tracker<F> {
 
     /// A count the test refused inside the bracket counts as failing.
     fn refused(&mut self, n: u64) {
-        self.tried.push((n, false));
+        self.probes.push((n, Probe::bare(false)));
         self.lo = self.lo.max(n);
     }
 }
 
 /// Tries 1, 2, 4, … (and finally `max` itself) until `passes` holds or `max` is passed, with
-/// the jumps the runs predict when `guided` (module docs), then closes in on the boundary. `passes(n)` may
-/// return `Ok(None)` for a count it refuses to run (over a cost cap): the search then stops
-/// there as if nothing larger passed.
+/// the jumps the runs predict when `guided` (module docs), then closes in on the boundary.
+/// `passes(n)` may return `Ok(None)` for a count it refuses to run (over a cost cap): the
+/// search then stops there as if nothing larger passed.
 pub fn fewest_substeps(
     max: u64,
     guided: bool,
@@ -215,7 +214,6 @@ pub fn fewest_substeps_from(
     let mut t = Tracker {
         passes,
         guided,
-        tried: Vec::new(),
         probes: Vec::new(),
         lo: 0,
         hi: None,
@@ -308,9 +306,10 @@ mod tests {
     }
 
     // Oracle: the fewest count a power law passes at, found by trying every count. The
-    // predicted counts must find that very answer, from any start, for orders 1 to 4 and constants across three
-    // decades; and where the law holds, the runs the search makes cost (in substeps, summed
-    // over the cases) at least a third less than plain doubling and bisection's.
+    // predicted counts must find that very answer, from starts 1 to 8, for orders 1 to 4 and
+    // constants across three decades; and where the law holds, the runs the search makes from
+    // one substep cost (in substeps, summed over the cases) at least a third less than plain
+    // doubling and bisection's.
     #[test]
     fn predictions_find_the_power_laws_threshold_for_less() {
         let (mut guided_cost, mut plain_cost) = (0u64, 0u64);
@@ -322,6 +321,10 @@ mod tests {
                     let plain = fewest_substeps(64, false, power_law(c, p, stable)).unwrap();
                     assert_eq!(s.fewest, want, "c {c}, p {p}, stable {stable}");
                     assert_eq!(plain.fewest, want);
+                    for start in 2..=8 {
+                        let from = fewest_substeps_from(start, 64, true, power_law(c, p, stable));
+                        assert_eq!(from.unwrap().fewest, want, "start {start}");
+                    }
                     let cost = |s: &Search| s.tried.iter().map(|t| t.0).sum::<u64>();
                     guided_cost += cost(&s);
                     plain_cost += cost(&plain);
