@@ -57,7 +57,7 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods)?;
+    a.m.method_options.check_read_by(&a.m.methods.list)?;
     let scene = load(&a.scenario)?;
     if a.write_expect && scene.expect.is_some() {
         anyhow::bail!(
@@ -76,7 +76,7 @@ pub fn run(a: Args) -> Result<()> {
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
         horizon: a.horizon,
-        methods: a.m.methods.clone(),
+        methods: a.m.methods.list.clone(),
         options: a.m.options(),
         safety: a.safety,
         points: a.points,

@@ -57,6 +57,60 @@ impl BlowupArg {
     }
 }
 
+/// `--out` of a command that writes one folder per scene (or per run): one flag, one help.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct OutArg {
+    /// Output directory (default: out/<scenario>/<command>/; `run`: out/<scenario>/<method>/;
+    /// `small-steps`: out/small_steps/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+impl OutArg {
+    /// Refuses `--out` when it cannot be a folder ([`check_out`]), before any work.
+    pub fn check(&self) -> Result<()> {
+        self.out.as_deref().map_or(Ok(()), check_out)
+    }
+    /// The folder: `--out`, else `default`.
+    pub fn or(&self, default: impl FnOnce() -> PathBuf) -> PathBuf {
+        self.out.clone().unwrap_or_else(default)
+    }
+}
+
+/// `--duration`: simulated time, one flag, one help and one check for every command.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct DurationArg {
+    /// Simulated time in seconds (default: the scene's [run] duration).
+    #[arg(long, allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+}
+
+impl DurationArg {
+    /// The duration asked for, refused unless finite and > 0.
+    pub fn value(&self) -> Result<Option<f64>> {
+        match self.duration {
+            Some(d) if !(d.is_finite() && d > 0.0) => {
+                bail!("--duration: must be a finite number > 0, got {}", num(d))
+            }
+            d => Ok(d),
+        }
+    }
+}
+
+/// `--methods`: which methods a command runs, one flag and one help for every command.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct MethodsArg {
+    /// Methods, comma-separated (default: every one that applies to the scene and the
+    /// command).
+    #[arg(
+        long = "methods",
+        value_name = "METHODS",
+        value_delimiter = ',',
+        alias = "integrators"
+    )]
+    pub list: Vec<String>,
+}
+
 /// `--tolerance` and `--metric`: what a run is judged by, for every command that judges.
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct JudgeArgs {
@@ -84,9 +138,8 @@ pub struct StepArgs {
     /// Number of steps (overrides [run].steps / duration).
     #[arg(long, conflicts_with = "duration", allow_negative_numbers = true)]
     pub steps: Option<u64>,
-    /// Simulated time in seconds (overrides [run].steps / duration).
-    #[arg(long, allow_negative_numbers = true)]
-    pub duration: Option<f64>,
+    #[command(flatten)]
+    pub duration: DurationArg,
     #[command(flatten)]
     pub blowup: BlowupArg,
     /// Substeps per frame: native methods take N equal steps of dt/N per frame (bit for bit
@@ -114,7 +167,7 @@ impl StepArgs {
             dt: self.dt.or(hz_dt),
             step_flag: if self.hz.is_some() { "--hz" } else { "--dt" },
             steps: self.steps,
-            duration: self.duration,
+            duration: self.duration.duration,
         };
         let t = Timing::resolve_asked(scene, &asked)?;
         let mut plan = RunPlan::new(t.dt, t.steps);

@@ -16,9 +16,8 @@ pub struct Args {
     /// Step (s, a number or a fraction such as 1/60; default the scene's).
     #[arg(long, value_parser = super::common::parse_seconds, allow_negative_numbers = true)]
     pub dt: Option<f64>,
-    /// Simulated time (s; default the scene's).
-    #[arg(long, allow_negative_numbers = true)]
-    pub duration: Option<f64>,
+    #[command(flatten)]
+    pub duration: super::common::DurationArg,
     #[command(flatten)]
     pub blowup: super::common::BlowupArg,
     /// Points per time series in summary.json (0: none).
@@ -35,12 +34,12 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods)?;
+    a.m.method_options.check_read_by(&a.m.methods.list)?;
     let scene = load(&a.scenario)?;
     let cfg = CompareConfig {
-        methods: a.m.methods.clone(),
+        methods: a.m.methods.list.clone(),
         dt: a.dt,
-        duration: a.duration,
+        duration: a.duration.value()?,
         options: a.m.options(),
         frame_substeps: a.m.frame_substeps(),
         blowup_factor: a.blowup.value()?,

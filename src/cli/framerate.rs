@@ -27,13 +27,10 @@ pub struct Args {
     pub engine_hz: Vec<f64>,
     #[command(flatten)]
     pub judge: super::common::JudgeArgs,
-    /// Methods, comma-separated (default: every one that applies, except
-    /// closed forms).
-    #[arg(long, value_delimiter = ',', alias = "integrators")]
-    pub methods: Vec<String>,
-    /// Simulated time (s; default the scene's duration).
-    #[arg(long, allow_negative_numbers = true)]
-    pub duration: Option<f64>,
+    #[command(flatten)]
+    pub methods: super::common::MethodsArg,
+    #[command(flatten)]
+    pub duration: super::common::DurationArg,
     /// Largest number of substeps per frame tried.
     #[arg(long, default_value_t = DEFAULT_MAX_SUBSTEPS, allow_negative_numbers = true)]
     pub max_substeps: u64,
@@ -46,32 +43,24 @@ pub struct Args {
     pub method_options: super::method_args::MethodArgs,
     #[command(flatten)]
     pub blowup: super::common::BlowupArg,
-    /// Output directory (default: out/<scenario>/framerate/).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: super::common::OutArg,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
-    if let Some(out) = &a.out {
-        super::common::check_out(out)?;
-    }
-    a.method_options.check_read_by(&a.methods)?;
+    a.out.check()?;
+    a.method_options.check_read_by(&a.methods.list)?;
     let scene = load(&a.scenario)?;
-    if let Some(d) = a.duration.filter(|d| !(d.is_finite() && *d > 0.0)) {
-        anyhow::bail!(
-            "--duration: must be a finite number > 0, got {}",
-            springlab::error::num(d)
-        );
-    }
+    let duration = a.duration.value()?;
     let cfg = FramerateConfig {
         rates: a.hz.clone(),
         engine_rates: (!a.engine_hz.is_empty()).then(|| a.engine_hz.clone()),
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
-        methods: a.methods.clone(),
+        methods: a.methods.list.clone(),
         options: a.method_options.options(None),
-        duration: a.duration,
+        duration,
         max_substeps: a.max_substeps,
         cost_cap: a.cost_cap,
         blowup_factor: a.blowup.value()?,
@@ -81,7 +70,7 @@ pub fn run(a: Args) -> Result<()> {
     };
     let dir = a
         .out
-        .unwrap_or_else(|| Path::new("out").join(&scene.name).join("framerate"));
+        .or(|| Path::new("out").join(&scene.name).join("framerate"));
     let _lock = springlab::output::lock_dir(&dir)?;
     let fr = framerate(&scene, &cfg)?;
     let files = write_framerate(&dir, &fr)?;

@@ -7,9 +7,8 @@ use std::path::{Path, PathBuf};
 /// Method selection and options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MeasureArgs {
-    /// Methods, comma-separated (default: every one that applies).
-    #[arg(long, value_delimiter = ',', alias = "integrators")]
-    pub methods: Vec<String>,
+    #[command(flatten)]
+    pub methods: super::common::MethodsArg,
     /// Substeps per step. Rapier methods take this many solver substeps (default 4). In
     /// `compare` the step is a frame and every native method also splits it into this many
     /// equal steps (default 1; bit-identical to dt/N, every N-th state measured); `sweep`,
@@ -18,9 +17,8 @@ pub struct MeasureArgs {
     pub substeps: Option<usize>,
     #[command(flatten)]
     pub method_options: super::method_args::MethodArgs,
-    /// Output directory (default: out/<scenario>/<command>/).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: super::common::OutArg,
 }
 
 impl MeasureArgs {
@@ -34,13 +32,12 @@ impl MeasureArgs {
     }
     /// Refuses `--out` when it is a file (before any work).
     pub fn check_out(&self) -> Result<()> {
-        self.out.as_deref().map_or(Ok(()), super::common::check_out)
+        self.out.check()
     }
     /// The output directory for `command` on `scenario`.
     pub fn out_dir(&self, scenario: &str, command: &str) -> PathBuf {
         self.out
-            .clone()
-            .unwrap_or_else(|| Path::new("out").join(scenario).join(command))
+            .or(|| Path::new("out").join(scenario).join(command))
     }
 }
 

@@ -24,9 +24,8 @@ pub struct Args {
     /// file-size limit or 100 MB.
     #[arg(long)]
     pub force: bool,
-    /// Output directory (default: out/<scenario>/<method>/).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: super::common::OutArg,
     /// Stop at the first unstable verdict instead of computing on until the state diverges or
     /// passes the --blowup-factor cap (the measuring commands always stop there).
     #[arg(long)]
@@ -35,9 +34,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
-    if let Some(out) = &a.out {
-        super::common::check_out(out)?;
-    }
+    a.out.check()?;
     a.step
         .method_options
         .check_read_by(std::slice::from_ref(&a.method))?;
@@ -61,7 +58,7 @@ pub fn run(a: Args) -> Result<()> {
     let name = stepper.name().to_string();
     let dir = a
         .out
-        .unwrap_or_else(|| PathBuf::from("out").join(&scene.name).join(&name));
+        .or(|| PathBuf::from("out").join(&scene.name).join(&name));
     let _lock = springlab::output::lock_dir(&dir)?;
     let ask = springlab::output::SizeAsk {
         every_given: a.every.is_some(),

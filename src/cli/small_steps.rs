@@ -14,24 +14,20 @@ pub struct Args {
     /// Frame step in seconds (default 1/60).
     #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f64>,
-    /// Simulated time in seconds (default: each scene's [run] duration).
-    #[arg(long, allow_negative_numbers = true)]
-    pub duration: Option<f64>,
+    #[command(flatten)]
+    pub duration: super::common::DurationArg,
     /// Budgets n (sweeps per frame), comma-separated (default 1,2,4,8,16,32,64).
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub budgets: Vec<usize>,
-    /// Output directory (default: out/small_steps/).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub out: super::common::OutArg,
     #[command(flatten)]
     pub budget: super::common::BudgetArg,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
-    if let Some(out) = &a.out {
-        super::common::check_out(out)?;
-    }
+    a.out.check()?;
     let paths = if a.scenarios.is_empty() {
         springlab::measure::small_steps::DEFAULT_SCENES
             .iter()
@@ -43,7 +39,7 @@ pub fn run(a: Args) -> Result<()> {
     let scenes = paths.iter().map(load).collect::<Result<Vec<_>>>()?;
     let cfg = SmallStepsConfig {
         frame_dt: a.dt.unwrap_or(springlab::measure::small_steps::FRAME_DT),
-        duration: a.duration,
+        duration: a.duration.value()?,
         budgets: if a.budgets.is_empty() {
             DEFAULT_BUDGETS.to_vec()
         } else {
@@ -51,15 +47,7 @@ pub fn run(a: Args) -> Result<()> {
         },
         budget_seconds: Some(a.budget.budget),
     };
-    if let Some(d) = cfg.duration {
-        if !(d.is_finite() && d > 0.0) {
-            anyhow::bail!(
-                "--duration: must be a finite number > 0, got {}",
-                springlab::error::num(d)
-            );
-        }
-    }
-    let out = a.out.unwrap_or_else(|| PathBuf::from("out/small_steps"));
+    let out = a.out.or(|| PathBuf::from("out/small_steps"));
     let _lock = springlab::output::lock_dir(&out)?;
     let doc = small_steps(&scenes, &cfg)?;
     let fmt = |v: Option<f64>| v.map_or("-".into(), |x| format!("{x:.3e}"));

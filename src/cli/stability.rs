@@ -51,7 +51,7 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods)?;
+    a.m.method_options.check_read_by(&a.m.methods.list)?;
     let scene = load(&a.scenario)?;
     if let Some(h) = a.horizon {
         if !(h.is_finite() && h > 0.0) {
@@ -61,7 +61,7 @@ pub fn run(a: Args) -> Result<()> {
     let blowup_factor = a.blowup.value()?;
     check_map_args(&a)?;
     let cfg = StabilityConfig {
-        methods: a.m.methods.clone(),
+        methods: a.m.methods.list.clone(),
         options: a.m.options(),
         horizon: a.horizon,
         blowup_factor,
@@ -148,7 +148,7 @@ fn print_report(scene: &str, rep: &StabilityReport) {
 /// `stability_map.csv` in `dir`; returns the file written.
 fn write_map(scene: &Scenario, a: &Args, blowup_factor: f64, dir: &Path) -> Result<PathBuf> {
     let mut mc = MapConfig {
-        methods: a.m.methods.clone(),
+        methods: a.m.methods.list.clone(),
         options: a.m.options(),
         blowup_factor,
         progress: true,

@@ -40,9 +40,8 @@ pub struct Args {
     pub cost_cap: Option<f64>,
     #[command(flatten)]
     pub budget: super::common::BudgetArg,
-    /// Simulated time (s; default the scene's duration).
-    #[arg(long, allow_negative_numbers = true)]
-    pub duration: Option<f64>,
+    #[command(flatten)]
+    pub duration: super::common::DurationArg,
     /// Run only slice I of N (0 ≤ I < N); join the slices with `springlab merge`.
     #[arg(long)]
     pub shard: Option<Shard>,
@@ -53,10 +52,10 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods)?;
+    a.m.method_options.check_read_by(&a.m.methods.list)?;
     let scene = load(&a.scenario)?;
     let cfg = SweepConfig {
-        methods: a.m.methods.clone(),
+        methods: a.m.methods.list.clone(),
         dt_min: a.dt_min,
         dt_max: a.dt_max,
         points: a.points,
@@ -66,7 +65,7 @@ pub fn run(a: Args) -> Result<()> {
             _ => None,
         },
         cost_cap: a.cost_cap,
-        duration: a.duration,
+        duration: a.duration.value()?,
         options: a.m.options(),
         blowup_factor: a.blowup.value()?,
         shard: a.shard,
@@ -75,7 +74,7 @@ pub fn run(a: Args) -> Result<()> {
         ..Default::default()
     };
     let dir = match a.shard {
-        Some(s) if a.m.out.is_none() => a.m.out_dir(
+        Some(s) if a.m.out.out.is_none() => a.m.out_dir(
             &scene.name,
             &format!("sweep/shard-{}-of-{}", s.index, s.count),
         ),
