@@ -33,9 +33,6 @@ const DAMPING_PPM: OptionSpec = OptionSpec {
 };
 
 impl Stepper for GameEuler {
-    fn name(&self) -> &str {
-        "game_euler"
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> springlab::Result<StepStats> {
         self.a.resize(s.len(), Vec3::zeros());
         sys.accelerations(&s.x, &s.v, &mut self.a);
@@ -107,7 +104,7 @@ fn main() -> springlab::Result<()> {
         let mut game = registry.create("game_euler", &opts)?;
         let out = run(
             &sys,
-            game.as_mut(),
+            &mut game,
             scene.initial_state(),
             &plan,
             &mut NoObserver,

@@ -25,7 +25,7 @@
 //! let sys = scene.build();
 //! let mut rk4 = method::create("rk4", &Default::default()).unwrap();
 //! let plan = run::RunPlan::new(0.01, 100);
-//! let out = run::run(&sys, rk4.as_mut(), scene.initial_state(), &plan, &mut run::NoObserver).unwrap();
+//! let out = run::run(&sys, &mut rk4, scene.initial_state(), &plan, &mut run::NoObserver).unwrap();
 //! assert!(out.status.is_ok());
 //! // Energy is conserved to rk4's accuracy.
 //! assert!((out.final_energy.total - out.initial_energy.total).abs() < 1e-9);

@@ -81,7 +81,7 @@ pub fn run(a: Args) -> Result<()> {
     );
     let out = springlab::run::run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         s0,
         &plan,
         &mut (&mut files, (metrics.as_mut(), (&mut quality, &mut bar))),
@@ -97,7 +97,7 @@ pub fn run(a: Args) -> Result<()> {
     let q = finished.then(|| quality.quality());
     // Rapier splits frames itself with its solver substeps (the options'); native methods
     // with the plan's.
-    let substeps = if stepper.splits_frames() {
+    let substeps = if stepper.info.splits_frames {
         a.step.options().substeps as u64
     } else {
         plan.substeps

@@ -181,9 +181,6 @@ impl Analytic {
 }
 
 impl Stepper for Analytic {
-    fn name(&self) -> &str {
-        "analytic"
-    }
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         Self::oscillators(sys).map(|_| ())
     }

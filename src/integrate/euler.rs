@@ -45,9 +45,6 @@ pub struct ExplicitEuler {
 }
 
 impl Stepper for ExplicitEuler {
-    fn name(&self) -> &str {
-        "explicit_euler"
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         Ok(euler_step(sys, s, h, &mut self.a, false))
     }
@@ -60,9 +57,6 @@ pub struct SymplecticEuler {
 }
 
 impl Stepper for SymplecticEuler {
-    fn name(&self) -> &str {
-        "symplectic_euler"
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         Ok(euler_step(sys, s, h, &mut self.a, true))
     }

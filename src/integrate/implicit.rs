@@ -27,7 +27,7 @@ pub enum StageKind {
 
 /// An implicit method's facts for [`Implicit`]: its name and its stage kind.
 pub trait Rule: std::fmt::Debug + Default + Send {
-    /// The method's name: what [`Stepper::name`] reports and what the solver's errors say.
+    /// The method's name, as registered: what the solver's errors say.
     const NAME: &'static str;
     /// How its step is made.
     const STAGE: StageKind;
@@ -57,9 +57,6 @@ struct History {
 }
 
 impl<R: Rule> Stepper for Implicit<R> {
-    fn name(&self) -> &str {
-        R::NAME
-    }
     fn newton(&self) -> Option<&Newton> {
         Some(&self.newton)
     }
@@ -69,12 +66,6 @@ impl<R: Rule> Stepper for Implicit<R> {
     fn reset(&mut self) {
         self.history.h_prev = None;
         self.newton.reset();
-    }
-    fn recurrence_steps(&self) -> usize {
-        match R::STAGE {
-            StageKind::Bdf2 => 2,
-            _ => 1,
-        }
     }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         let nw = &mut self.newton;

@@ -66,8 +66,6 @@ pub struct StepStats {
 /// assert_eq!(s.x[0].x, 0.5);
 /// ```
 pub trait Stepper: Send {
-    /// The CLI name (`symplectic_euler`, ...): the name its registry entry carries.
-    fn name(&self) -> &str;
     /// `Err(reason)` when this method cannot run `sys` faithfully (say, it has constraints).
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         if sys.constraints.is_empty() {
@@ -78,19 +76,6 @@ pub trait Stepper: Send {
                 sys.constraints.len()
             ))
         }
-    }
-    /// True when the method resolves obstacle contacts itself (a physics engine), so the
-    /// runner must not apply springlab's post-step contact stage on top. The registry checks
-    /// it against the method's `MethodInfo::contacts` fact.
-    fn handles_contacts(&self) -> bool {
-        false
-    }
-    /// True for a method that splits each frame into substeps itself (a physics engine's
-    /// solver substeps, `MethodOptions::substeps`): the runner then passes it whole frames
-    /// instead of splitting them into `RunPlan::substeps` steps. The registry checks it
-    /// against the method's `MethodInfo::splits_frames` fact.
-    fn splits_frames(&self) -> bool {
-        false
     }
     /// Modelled seconds of one frame of `sys` when the method's cost does not depend on the
     /// run (a physics engine's cost model, [`crate::run::cost`]): budgets then price it
@@ -109,13 +94,6 @@ pub trait Stepper: Send {
     /// Mutable access to the shared implicit core, to choose its settings.
     fn newton_mut(&mut self) -> Option<&mut Newton> {
         None
-    }
-    /// k of a k-step (multistep) method: how many past states, the current one included, its
-    /// next step reads once started (2 for BDF2); 1 for one-step methods. The linear
-    /// stability analysis identifies a k-step recurrence from it. The registry checks it
-    /// against the method's `MethodInfo::recurrence_steps` fact.
-    fn recurrence_steps(&self) -> usize {
-        1
     }
     /// Advances `s` from `s.t` to `s.t + h`. Fixed particles never move.
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats>;

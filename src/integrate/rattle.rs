@@ -55,9 +55,6 @@ pub struct Rattle {
 }
 
 impl Stepper for Rattle {
-    fn name(&self) -> &str {
-        "rattle"
-    }
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         match sys.constraints.iter().position(|c| c.compliance > 0.0) {
             None => Ok(()),

@@ -75,9 +75,6 @@ impl RungeKutta {
 }
 
 impl Stepper for RungeKutta {
-    fn name(&self) -> &str {
-        self.tab.name
-    }
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats> {
         let n = s.len();
         ensure_len(&mut self.xs, n);

@@ -19,9 +19,6 @@ pub struct VelocityVerlet {
 }
 
 impl Stepper for VelocityVerlet {
-    fn name(&self) -> &str {
-        "velocity_verlet"
-    }
     fn reset(&mut self) {
         self.cached = false;
     }
@@ -68,9 +65,6 @@ pub struct PositionVerlet {
 }
 
 impl Stepper for PositionVerlet {
-    fn name(&self) -> &str {
-        "position_verlet"
-    }
     fn reset(&mut self) {
         self.h_prev = None;
     }

@@ -38,9 +38,6 @@ impl Default for VerletConstraints {
 }
 
 impl Stepper for VerletConstraints {
-    fn name(&self) -> &str {
-        "verlet_constraints"
-    }
     fn check(&self, _sys: &System) -> std::result::Result<(), String> {
         Ok(())
     }

@@ -184,7 +184,7 @@ pub fn time_interleaved(
             let started = std::time::Instant::now();
             let (plan, options) = frame_setup(set, r.dt, r.steps, r.substeps);
             let mut stepper = set.registry.create(&r.method, &options)?;
-            let o = run(sys, stepper.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
+            let o = run(sys, &mut stepper, s0.clone(), &plan, &mut NoObserver)?;
             samples[i].push(o.wall_seconds);
             totals[i] += started.elapsed().as_secs_f64();
         }
@@ -333,7 +333,7 @@ pub fn run_case(
         .flatten();
     let out = run(
         sys,
-        stepper.as_mut(),
+        &mut stepper,
         s0.clone(),
         &plan,
         &mut (&mut obs, (&mut trace, &mut contacts)),
@@ -343,7 +343,7 @@ pub fn run_case(
         let mut samples = vec![out.wall_seconds];
         while !SHORT_RUN_RULE.satisfied(samples.len(), samples.iter().sum()) {
             let mut again = set.registry.create(name, &options)?;
-            let o = run(sys, again.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
+            let o = run(sys, &mut again, s0.clone(), &plan, &mut NoObserver)?;
             samples.push(o.wall_seconds);
         }
         wall = WallTimes::of(&samples).median_seconds;

@@ -90,7 +90,7 @@ pub fn seconds_per_frame(
     plan.substeps = n;
     let out = crate::run::run(
         sys,
-        stepper.as_mut(),
+        &mut stepper,
         s0.clone(),
         &plan,
         &mut crate::run::NoObserver,

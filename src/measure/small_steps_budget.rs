@@ -10,8 +10,9 @@ use super::probe::{check_budget, sig3};
 use crate::error::{num, Error, Result};
 use crate::integrate::Xpbd;
 use crate::measure::grid::TimeGrid;
+use crate::method::Registry;
 use crate::model::{State, System};
-use crate::run::{run, NoObserver, RunPlan};
+use crate::run::{run_with, NoObserver, RunPlan};
 use crate::scenario::MAX_STEPS;
 
 /// Frames each split is priced over (fewer when the run is shorter).
@@ -41,9 +42,14 @@ pub fn check_steps(budgets: &[usize], frames: u64, frame_dt: f64) -> Result<()> 
 fn per_frame(sys: &System, s0: &State, frame_dt: f64, frames: u64, split: (usize, usize)) -> f64 {
     let mut stepper = Xpbd::new(split.0, split.1);
     let probe = frames.clamp(1, PRICE_FRAMES);
-    run(
+    let registry = Registry::builtin();
+    let Ok(facts) = registry.info(super::small_steps::XPBD) else {
+        return 0.0;
+    };
+    run_with(
         sys,
         &mut stepper,
+        facts,
         s0.clone(),
         &RunPlan::new(frame_dt, probe),
         &mut NoObserver,

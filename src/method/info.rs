@@ -108,14 +108,14 @@ pub struct MethodInfo {
     /// linear solve), so it is stable at a frame step and is timed at one.
     pub implicit: bool,
     /// True when the method resolves obstacle contacts itself (a physics engine): the runner
-    /// then applies no contact stage of its own ([`crate::integrate::Stepper::handles_contacts`]).
+    /// then applies no contact stage of its own.
     pub contacts: bool,
     /// True when the method splits each frame into substeps itself (an engine's solver
-    /// substeps): the runner passes it whole frames ([`crate::integrate::Stepper::splits_frames`]).
+    /// substeps): the runner passes it whole frames instead of `RunPlan::substeps` steps.
     pub splits_frames: bool,
     /// k of a k-step method: how many past states, the current one included, its next step
     /// reads (2 for BDF2; 1 for one-step methods); the stability analysis identifies a k-step
-    /// recurrence from it ([`crate::integrate::Stepper::recurrence_steps`]).
+    /// recurrence from it.
     pub recurrence_steps: usize,
     /// The options the method reads when it is built; the command line's flags and the
     /// recorded command are generated from them.

@@ -9,18 +9,19 @@
 
 mod builtin;
 mod info;
+mod instance;
 pub mod options;
 mod registry;
 
 pub use info::{CostUnit, MethodInfo, Order, StabilityTheory};
+pub use instance::Instance;
 pub use options::{MethodOptions, OptionSpec};
 pub use registry::{Constructor, Method, Registry};
 
 use crate::error::Result;
-use crate::integrate::Stepper;
 
-/// A fresh stepper of a built-in method, by name (aliases accepted): shorthand for
+/// A fresh instance of a built-in method, by name (aliases accepted): shorthand for
 /// `Registry::builtin().create(name, opts)`.
-pub fn create(name: &str, opts: &MethodOptions) -> Result<Box<dyn Stepper>> {
+pub fn create(name: &str, opts: &MethodOptions) -> Result<Instance> {
     Registry::builtin().create(name, opts)
 }

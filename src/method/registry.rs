@@ -3,6 +3,7 @@
 //! [`Registry::with`], and every command that takes a registry then runs it like a built-in.
 
 use super::info::{MethodInfo, Order};
+use super::instance::Instance;
 use super::options::{MethodOptions, OptionSpec};
 use crate::error::{Error, Result};
 use crate::integrate::Stepper;
@@ -37,8 +38,11 @@ impl Method {
         }
     }
     /// A fresh instance.
-    pub fn create(&self, opts: &MethodOptions) -> Box<dyn Stepper> {
-        (self.make)(opts)
+    pub fn create(&self, opts: &MethodOptions) -> Instance {
+        Instance {
+            info: self.info.clone(),
+            stepper: (self.make)(opts),
+        }
     }
 }
 
@@ -81,8 +85,7 @@ impl Registry {
     /// This registry plus `m`, refused when its facts are inconsistent: a name or alias
     /// already taken or not snake_case, order 0, an empty summary, an option flag that is not
     /// kebab-case, whose default is below its least value or that another method declares
-    /// differently, or a constructor whose instances report another name or disagree with
-    /// the facts on contacts, frame splitting or past states.
+    /// differently.
     pub fn with(self, m: Method) -> Result<Self> {
         let info = &m.info;
         let refuse = |message: String| Error::Registration {
@@ -145,30 +148,6 @@ impl Registry {
                 return Err(refuse(format!("option '--{}' is listed twice", spec.flag)));
             }
         }
-        let made = m.create(&MethodOptions::default());
-        if made.name() != info.name {
-            return Err(refuse(format!(
-                "its constructor makes a stepper named '{}'",
-                made.name()
-            )));
-        }
-        let facts = [
-            ("contacts", made.handles_contacts(), info.contacts),
-            ("splits_frames", made.splits_frames(), info.splits_frames),
-        ];
-        if made.recurrence_steps() != info.recurrence_steps {
-            return Err(refuse(format!(
-                "its instances read {} past states, its facts say recurrence_steps = {}",
-                made.recurrence_steps(),
-                info.recurrence_steps
-            )));
-        }
-        if let Some((fact, instance, _)) = facts.iter().find(|(_, a, b)| a != b) {
-            return Err(refuse(format!(
-                "its instances say {fact} is {instance}, its facts say {}",
-                !instance
-            )));
-        }
         let mut v = (*self.methods).clone();
         v.push(m);
         Ok(Registry {
@@ -196,7 +175,7 @@ impl Registry {
 
     /// A fresh instance of `name`'s method, refused (naming the flag) when one of the options
     /// it reads is below its least value.
-    pub fn create(&self, name: &str, opts: &MethodOptions) -> Result<Box<dyn Stepper>> {
+    pub fn create(&self, name: &str, opts: &MethodOptions) -> Result<Instance> {
         let m = self.get(name)?;
         opts.check(m.info.options)?;
         Ok(m.create(opts))

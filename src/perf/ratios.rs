@@ -122,7 +122,7 @@ pub fn on_threads<'a>(threads: usize, mut inner: Contender<'a>) -> Result<Conten
 
 /// A fresh stepper of the method `name`, with default options.
 pub fn fresh_stepper(name: &str) -> Result<Box<dyn Stepper>> {
-    crate::method::create(name, &MethodOptions::default())
+    crate::method::create(name, &MethodOptions::default()).map(|m| m.stepper)
 }
 
 /// What an implicit method's solver did over some steps of one scene.

@@ -116,12 +116,6 @@ pub(crate) fn contact_loss(sys: &System, s: &State, e0: Option<f64>, damper: f64
 }
 
 impl Stepper for RapierStepper {
-    fn name(&self) -> &str {
-        self.mode.name()
-    }
-    fn handles_contacts(&self) -> bool {
-        true // obstacles are fixed Rapier colliders; Rapier's own solver resolves contacts
-    }
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         if let Some(t) = sys
             .terms
@@ -139,9 +133,6 @@ impl Stepper for RapierStepper {
     }
     fn modelled_frame_seconds(&self, sys: &System) -> Option<f64> {
         Some(super::cost::EngineShape::of(sys, self.mode).frame_seconds(self.substeps))
-    }
-    fn splits_frames(&self) -> bool {
-        true // `substeps` solver substeps per frame (Rapier's num_solver_iterations)
     }
     fn reset(&mut self) {
         self.dirty = true;

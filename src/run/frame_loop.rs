@@ -7,6 +7,7 @@ use super::verdict::{Rule, Verdict};
 use super::EnergyRecord;
 use crate::error::{Error, Result};
 use crate::integrate::Stepper;
+use crate::method::MethodInfo;
 use crate::model::{Impulse, State, System};
 use std::time::Instant;
 
@@ -15,6 +16,8 @@ use std::time::Instant;
 pub(super) struct Loop<'a> {
     sys: &'a System,
     stepper: &'a mut dyn Stepper,
+    /// The method resolves obstacle contacts itself (its `MethodInfo::contacts` fact).
+    own_contacts: bool,
     /// The work counted so far.
     pub(super) work: Work,
     dissipated: f64,
@@ -52,14 +55,17 @@ pub(super) struct FrameEnd {
 }
 
 impl<'a> Loop<'a> {
-    /// The loop running `stepper` on `sys` for `plan`, judged by `verdict`.
+    /// The loop running `stepper` on `sys` for `plan`, judged by `verdict`; `facts` (the
+    /// method's registered facts) say whether it splits frames and resolves contacts itself.
     pub(super) fn new(
         sys: &'a System,
         stepper: &'a mut dyn Stepper,
+        facts: &MethodInfo,
         plan: &RunPlan,
         verdict: Verdict,
     ) -> Self {
-        let n = if stepper.splits_frames() {
+        let own_contacts = facts.contacts;
+        let n = if facts.splits_frames {
             1
         } else {
             plan.substeps.max(1)
@@ -77,6 +83,7 @@ impl<'a> Loop<'a> {
         Loop {
             sys,
             stepper,
+            own_contacts,
             work: Work::default(),
             dissipated: 0.0,
             created: 0.0,
@@ -198,12 +205,7 @@ impl<'a> Loop<'a> {
         // energy account; what it removes joins `dissipated`, and a changed state resets the
         // stepper's history. The stage books losses and gains apart: energy it created stays
         // in the mechanical terms, where the verdict sees it as a gain, and is listed in `created`.
-        if let Some(c) = self
-            .sys
-            .post_step
-            .as_ref()
-            .filter(|_| !self.stepper.handles_contacts())
-        {
+        if let Some(c) = self.sys.post_step.as_ref().filter(|_| !self.own_contacts) {
             let cs = c.apply(self.sys, &self.x0, &self.v0, s, h);
             self.work.contact_passes += 1;
             self.dissipated += cs.dissipated;

@@ -14,6 +14,6 @@ pub use cost::{CostModel, Work};
 pub use energy::EnergyRecord;
 pub use observer::{NoObserver, Observer};
 pub use progress::{bar as progress_bar, stage as progress_stage, ProgressObserver, Stage};
-pub use runner::{run, RunOutcome, RunPlan, RunStatus, Status};
+pub use runner::{run, run_with, RunOutcome, RunPlan, RunStatus, Status};
 pub use scale::{characteristic_length, energy_scale};
 pub use verdict::DEFAULT_BLOWUP_FACTOR;

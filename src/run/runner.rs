@@ -8,6 +8,7 @@ use super::scale::energy_scale;
 use super::verdict::{Verdict, DEFAULT_BLOWUP_FACTOR};
 use crate::error::Result;
 use crate::integrate::Stepper;
+use crate::method::{Instance, MethodInfo};
 use crate::model::{State, System};
 use serde::Serialize;
 
@@ -160,7 +161,7 @@ pub struct RunOutcome {
     pub final_state: State,
 }
 
-/// Runs `stepper` on `sys` from `s0` for `plan`, feeding `obs` once per frame. A numerical
+/// Runs the method `method` on `sys` from `s0` for `plan`, feeding `obs` once per frame. A numerical
 /// blow-up is a [`Status::Unstable`] outcome (its step is the frame, its time the substep's
 /// end), not an error; errors are only the observers' (I/O).
 ///
@@ -168,7 +169,20 @@ pub struct RunOutcome {
 /// frames of `plan.dt`; `steps_done` counts frames, and the cost counts every substep.
 pub fn run(
     sys: &System,
+    method: &mut Instance,
+    s0: State,
+    plan: &RunPlan,
+    obs: &mut dyn Observer,
+) -> Result<RunOutcome> {
+    run_with(sys, method.stepper.as_mut(), &method.info, s0, plan, obs)
+}
+
+/// [`run`] for a stepper made outside the registry (its settings chosen by hand), with its
+/// method's registered facts `facts`, which say how it meets the runner.
+pub fn run_with(
+    sys: &System,
     stepper: &mut dyn Stepper,
+    facts: &MethodInfo,
     s0: State,
     plan: &RunPlan,
     obs: &mut dyn Observer,
@@ -181,7 +195,7 @@ pub fn run(
     obs.observe(0, &s, &initial)?;
     stepper.reset();
     let verdict = Verdict::new(initial.total, scale, plan.blowup_factor);
-    let mut lp = Loop::new(sys, stepper, plan, verdict);
+    let mut lp = Loop::new(sys, stepper, facts, plan, verdict);
     let mut done = 0;
     for frame in 0..plan.steps {
         prev.clone_from(&s);

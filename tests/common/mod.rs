@@ -1,8 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use springlab::integrate::Stepper;
-use springlab::method::MethodOptions;
+use springlab::method::{Instance, MethodOptions};
 use springlab::model::{State, System};
 use springlab::run::{run, NoObserver, RunOutcome, RunPlan};
 use springlab::scenario::Scenario;
@@ -20,7 +19,7 @@ pub fn oscillator(k: f64, c: f64, u0: f64, v0: f64) -> Scenario {
 }
 
 /// A fresh stepper of the method `name`, with default options.
-pub fn stepper(name: &str) -> Box<dyn Stepper> {
+pub fn stepper(name: &str) -> Instance {
     springlab::method::create(name, &MethodOptions::default()).expect("known method")
 }
 
@@ -30,7 +29,7 @@ pub fn run_steps(scene: &Scenario, name: &str, dt: f64, steps: u64) -> RunOutcom
     let mut i = stepper(name);
     run(
         &sys,
-        i.as_mut(),
+        &mut i,
         scene.initial_state(),
         &RunPlan::new(dt, steps),
         &mut NoObserver,

@@ -201,7 +201,7 @@ fn free_fall_pick_is_exact_at_the_largest_grid_step() {
     let mut obs = FallErr(0.0, dt);
     let out = run(
         &scene.build(),
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::new(dt, steps),
         &mut obs,

@@ -21,7 +21,7 @@ fn apex_ratios(scene: &Scenario, method: &str, dt: f64) -> (Vec<f64>, f64) {
     let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
     let plan = RunPlan::for_duration(dt, 1.3);
-    let out = run(&sys, stepper.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
+    let out = run(&sys, &mut stepper, scene.initial_state(), &plan, &mut m).unwrap();
     assert!(out.status.is_ok());
     let rep = m.report();
     let apexes = &rep.bounces[0].apexes;

@@ -92,7 +92,7 @@ fn go(scene: &Scenario, method: &str, duration: f64) -> RunOutcome {
         .unwrap();
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::for_duration(DT, duration),
         &mut NoObserver,

@@ -68,14 +68,7 @@ fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_method() {
                 continue;
             }
             let mut books = Books::default();
-            let out = run(
-                &sys,
-                stepper.as_mut(),
-                scene.initial_state(),
-                &plan,
-                &mut books,
-            )
-            .unwrap();
+            let out = run(&sys, &mut stepper, scene.initial_state(), &plan, &mut books).unwrap();
             let name = format!("{} / {}", scene.name, m.info.name);
             assert!(books.worst.is_none(), "{name}: {}", books.worst.unwrap());
             assert!(out.final_energy.dissipated >= 0.0, "{name}");
@@ -113,7 +106,7 @@ fn the_issue_incline_books_no_negative_dissipation() {
         let mut books = Books::default();
         let out = run(
             &sys,
-            stepper.as_mut(),
+            &mut stepper,
             scene.initial_state(),
             &RunPlan::new(1e-3, 1000),
             &mut books,

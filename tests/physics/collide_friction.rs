@@ -34,7 +34,7 @@ fn slide(collision: &str, method: &str, dt: f64) -> f64 {
     let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         s.initial_state(),
         &RunPlan::for_duration(dt, 0.8),
         &mut NoObserver,

@@ -38,7 +38,7 @@ fn trace(scene: &Scenario, name: &str, dt: f64, duration: f64) -> (ContactReport
     };
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::for_duration(dt, duration),
         &mut obs,

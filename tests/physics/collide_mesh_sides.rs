@@ -73,7 +73,7 @@ fn fly(scene: &Scenario, dt: f64, steps: u64) -> (f64, u64) {
     };
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::new(dt, steps),
         &mut obs,

@@ -30,7 +30,7 @@ fn no_obstacles_no_queries() {
         let mut m = by_name(name, &MethodOptions::default()).unwrap();
         run(
             &sys,
-            m.as_mut(),
+            &mut m,
             scene.initial_state(),
             &RunPlan::new(1e-3, 200),
             &mut NoObserver,
@@ -58,7 +58,7 @@ fn no_obstacles_no_queries() {
     let mut m = by_name("rk4", &MethodOptions::default()).unwrap();
     run(
         &sys,
-        m.as_mut(),
+        &mut m,
         scene.initial_state(),
         &RunPlan::new(1e-3, 10),
         &mut NoObserver,

@@ -42,7 +42,7 @@ fn measure(scene: &Scenario, method: &str, dt: f64) -> springlab::measure::conta
     let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let plan = RunPlan::for_duration(dt, 0.1);
-    let out = run(&sys, stepper.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
+    let out = run(&sys, &mut stepper, scene.initial_state(), &plan, &mut m).unwrap();
     assert!(out.status.is_ok());
     let rep = m.report();
     assert_eq!(rep.events_total, 1, "{method}: one contact");

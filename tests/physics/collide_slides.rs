@@ -41,7 +41,7 @@ fn report(scene: &Scenario, name: &str, duration: f64) -> ContactReport {
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::for_duration(dt, duration),
         &mut m,

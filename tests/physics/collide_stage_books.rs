@@ -39,7 +39,7 @@ fn natives(sys: &System) -> Vec<&'static str> {
         .filter(|m| !m.info.engine)
         .filter(|m| {
             let i = m.create(&MethodOptions::default());
-            i.check(sys).is_ok() && !i.handles_contacts()
+            i.check(sys).is_ok() && !i.info.contacts
         })
         .map(|m| m.info.name)
         .collect()
@@ -268,7 +268,7 @@ fn incline_books(mu: f64, e: f64, name: &str, h: f64, steps: u64) -> (f64, f64, 
         .unwrap();
     let out = springlab::run::run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         // The whole run: the verdict's threshold is not the question here.
         &springlab::run::RunPlan {

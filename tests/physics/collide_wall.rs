@@ -24,7 +24,7 @@ fn tunnels(scene: &Scenario, method: &str) -> (u64, f64) {
     let mut stepper = by_name(method, &MethodOptions::default()).unwrap();
     let mut m = ContactMetrics::new(&sys, dt).unwrap();
     let plan = RunPlan::for_duration(dt, scene.run.duration.unwrap());
-    let out = run(&sys, stepper.as_mut(), scene.initial_state(), &plan, &mut m).unwrap();
+    let out = run(&sys, &mut stepper, scene.initial_state(), &plan, &mut m).unwrap();
     (m.report().tunnelling_count, out.final_state.x[0].x)
 }
 

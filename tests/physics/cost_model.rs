@@ -21,7 +21,7 @@ fn outcome(name: &str, opts: &MethodOptions, steps: u64) -> springlab::run::RunO
     let mut stepper = Registry::builtin().create(name, opts).unwrap();
     run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::new(1e-3, steps),
         &mut NoObserver,

@@ -32,7 +32,7 @@ fn energy_ratio(name: &str, h: f64, steps: u64) -> (f64, f64) {
     let mut i = stepper(name);
     let out = springlab::run::run(
         &sys,
-        i.as_mut(),
+        &mut i,
         scene.initial_state(),
         &plan,
         &mut Watch(&mut max_dev, e0),
@@ -135,7 +135,7 @@ fn implicit_midpoint_keeps_linear_spring_energy_at_any_step() {
         }
         springlab::run::run(
             &sys,
-            i.as_mut(),
+            &mut i,
             scene.initial_state(),
             &springlab::run::RunPlan::new(h, n),
             &mut Watch(&mut max_dev, e0),
@@ -174,7 +174,7 @@ fn implicit_midpoint_keeps_a_linear_chain_energy_where_cg_iterates() {
         let mut i = stepper("implicit_midpoint");
         let out = springlab::run::run(
             &sys,
-            i.as_mut(),
+            &mut i,
             scene.initial_state(),
             &springlab::run::RunPlan::new(h, n),
             &mut springlab::run::NoObserver,

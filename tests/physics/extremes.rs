@@ -46,7 +46,7 @@ fn run_names(
         }
         let o = run(
             &sys,
-            stepper.as_mut(),
+            &mut stepper,
             scene.initial_state(),
             &RunPlan::new(dt, steps),
             &mut NoObserver,

@@ -92,7 +92,7 @@ fn frames_of(events: &str, hz: f64, substeps: u64, method: &str) -> Vec<State> {
     let frames = (0.5 * hz).round() as u64;
     let plan = RunPlan::new(1.0 / hz, frames).with_substeps(substeps);
     let mut keep = Keep::default();
-    let out = run(&sys, stepper.as_mut(), sc.initial_state(), &plan, &mut keep).unwrap();
+    let out = run(&sys, &mut stepper, sc.initial_state(), &plan, &mut keep).unwrap();
     assert!(out.status.is_ok());
     keep.0
 }

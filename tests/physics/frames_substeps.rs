@@ -50,7 +50,7 @@ fn same(name: &str, scene: &Scenario, n: u64) {
     let plan = RunPlan::new(frame, frames).with_substeps(n);
     let a = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &plan,
         &mut coarse,
@@ -59,14 +59,7 @@ fn same(name: &str, scene: &Scenario, n: u64) {
     let mut fine = Keep::default();
     let mut stepper = registry.create(name, &opts).unwrap();
     let plan = RunPlan::new(frame / n as f64, frames * n);
-    let b = run(
-        &sys,
-        stepper.as_mut(),
-        scene.initial_state(),
-        &plan,
-        &mut fine,
-    )
-    .unwrap();
+    let b = run(&sys, &mut stepper, scene.initial_state(), &plan, &mut fine).unwrap();
     // A blow-up (explicit Euler) trips at the same substep: same time, same reason.
     let at = |s: &springlab::run::Status| match s {
         springlab::run::Status::Ok => None,
@@ -140,11 +133,11 @@ fn rapier_gets_whole_frames() {
     let registry = Registry::builtin();
     let opts = MethodOptions::default().with_substeps(3);
     let mut a = registry.create("rapier_impulse", &opts).unwrap();
-    assert!(a.splits_frames());
+    assert!(a.info.splits_frames);
     let plan = RunPlan::new(1.0 / 60.0, 6).with_substeps(3);
     let x = run(
         &sys,
-        a.as_mut(),
+        &mut a,
         scene.initial_state(),
         &plan,
         &mut Keep::default(),
@@ -154,7 +147,7 @@ fn rapier_gets_whole_frames() {
     let plan = RunPlan::new(1.0 / 60.0, 6);
     let y = run(
         &sys,
-        b.as_mut(),
+        &mut b,
         scene.initial_state(),
         &plan,
         &mut Keep::default(),

@@ -115,14 +115,7 @@ fn implicit_midpoint_on_the_folding_cloth_is_unstable_by_its_energy_and_bdf2_fin
     let plan = RunPlan::new(1.0 / 60.0, 60);
     let outcome = |name: &str| {
         let mut m = springlab::method::create(name, &Default::default()).unwrap();
-        run(
-            &sys,
-            m.as_mut(),
-            scene.initial_state(),
-            &plan,
-            &mut NoObserver,
-        )
-        .unwrap()
+        run(&sys, &mut m, scene.initial_state(), &plan, &mut NoObserver).unwrap()
     };
     match outcome("implicit_midpoint").status {
         Status::Unstable { time, reason, .. } => {

@@ -10,7 +10,7 @@ use springlab::integrate::ImplicitSettings;
 use springlab::method::MethodOptions;
 use springlab::run::{run, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
-use springlab::{method, perf, Error, Registry, State, Stepper, System, Vec3};
+use springlab::{method, perf, Error, Registry, State, System, Vec3};
 
 /// The implicit methods, by the registry's fact (`MethodInfo::implicit`).
 fn implicit_methods() -> Vec<&'static str> {
@@ -27,7 +27,7 @@ const H: f64 = 1.0 / 30.0;
 /// The stiffnesses swept, as hω.
 const H_OMEGA: [f64; 5] = [0.1, 1.0, 10.0, 100.0, 1000.0];
 
-fn fresh(name: &str) -> Box<dyn Stepper> {
+fn fresh(name: &str) -> springlab::method::Instance {
     method::create(name, &MethodOptions::default()).expect("known method")
 }
 
@@ -303,7 +303,7 @@ fn the_runner_reports_a_stage_that_is_not_a_root() {
     stepper.newton_mut().unwrap().settings.max_newton = 1;
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         sc.initial_state(),
         &RunPlan::new(H, 5),
         &mut NoObserver,
@@ -318,7 +318,7 @@ fn the_runner_reports_a_stage_that_is_not_a_root() {
     let mut stepper = fresh("implicit_euler");
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         sc.initial_state(),
         &RunPlan::new(H, 5),
         &mut NoObserver,

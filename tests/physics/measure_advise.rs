@@ -47,7 +47,7 @@ fn advised_step_meets_the_tolerance_when_rerun() {
         let plan = RunPlan::new(choice.dt, steps);
         let out = run(
             &scene.build(),
-            stepper.as_mut(),
+            &mut stepper,
             scene.initial_state(),
             &plan,
             &mut obs,

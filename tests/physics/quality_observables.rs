@@ -49,14 +49,7 @@ fn record(scene: &Scenario, name: &str, dt: f64, steps: u64) -> Vec<Vec<Vec3>> {
     let mut stepper = springlab::method::create(name, &Default::default()).unwrap();
     let mut rec = Positions::default();
     let plan = RunPlan::new(dt, steps);
-    let out = run::run(
-        &sys,
-        stepper.as_mut(),
-        scene.initial_state(),
-        &plan,
-        &mut rec,
-    )
-    .unwrap();
+    let out = run::run(&sys, &mut stepper, scene.initial_state(), &plan, &mut rec).unwrap();
     assert!(out.status.is_ok());
     assert_eq!(rec.0.len() as u64, steps + 1);
     rec.0
@@ -326,7 +319,7 @@ fn quality_is_the_same_bits_with_one_and_two_threads() {
             let mut stepper =
                 springlab::method::create("symplectic_euler", &Default::default()).unwrap();
             let plan = RunPlan::new(dt, steps);
-            let out = run::run(&sys, stepper.as_mut(), s0.clone(), &plan, &mut obs).unwrap();
+            let out = run::run(&sys, &mut stepper, s0.clone(), &plan, &mut obs).unwrap();
             assert!(out.status.is_ok());
             obs.quality()
         })

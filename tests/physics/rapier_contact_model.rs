@@ -53,7 +53,7 @@ fn go(scene: &Scenario, dt: f64, duration: f64) -> RunOutcome {
         .expect("rapier_impulse");
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::for_duration(dt, duration),
         &mut NoObserver,

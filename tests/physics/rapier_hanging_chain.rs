@@ -34,7 +34,7 @@ fn rk4(sys: &System, s0: State, per_frame: u64, frames: usize) -> Vec<Vec<Vec3>>
     let mut i = springlab::method::create("rk4", &MethodOptions::default()).unwrap();
     let mut rec = Record::default();
     let plan = RunPlan::new(H, frames as u64).with_substeps(per_frame);
-    run(sys, i.as_mut(), s0, &plan, &mut rec).expect("rk4 run");
+    run(sys, &mut i, s0, &plan, &mut rec).expect("rk4 run");
     rec.x
 }
 

@@ -21,11 +21,11 @@ fn rapier_bounce_apex_ratios_match_e_squared() {
     for name in ["rapier_impulse", "rapier_multibody"] {
         let dt = 1e-3;
         let mut stepper = springlab::method::create(name, &Default::default()).unwrap();
-        assert!(stepper.handles_contacts());
+        assert!(stepper.info.contacts);
         let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
         let out = run(
             &sys,
-            stepper.as_mut(),
+            &mut stepper,
             s.initial_state(),
             &RunPlan::for_duration(dt, 1.3),
             &mut m,
@@ -58,7 +58,7 @@ fn rapier_fast_particle_does_not_pass_the_wall() {
     let mut m = ContactMetrics::new(&sys, dt).expect("scene has obstacles");
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         s.initial_state(),
         &RunPlan::new(dt, 50),
         &mut m,

@@ -31,7 +31,7 @@ fn states(scene: &Scenario, name: &str, substeps: usize, dt: f64) -> Vec<State> 
     let mut k = Keep(Vec::new());
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         scene.initial_state(),
         &RunPlan::for_duration(dt, 2.0),
         &mut k,

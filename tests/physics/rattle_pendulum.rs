@@ -46,7 +46,7 @@ fn swing(name: &str, dt: f64, seconds: f64) -> Watch {
     };
     let mut stepper = springlab::method::create(name, &Default::default()).unwrap();
     let plan = RunPlan::new(dt, (seconds / dt).round() as u64);
-    let out = run(&sys, stepper.as_mut(), s0, &plan, &mut w).unwrap();
+    let out = run(&sys, &mut stepper, s0, &plan, &mut w).unwrap();
     assert!(out.status.is_ok(), "{name} at {dt}");
     w
 }

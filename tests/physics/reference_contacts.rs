@@ -62,7 +62,7 @@ fn run_rk4(scene: &Scenario, grid: TimeGrid) -> Vec<Vec<Vec3>> {
         x: Vec::new(),
     };
     let plan = RunPlan::new(grid.dt, grid.steps);
-    let out = run::run(&sys, rk4.as_mut(), scene.initial_state(), &plan, &mut rec).unwrap();
+    let out = run::run(&sys, &mut rk4, scene.initial_state(), &plan, &mut rec).unwrap();
     assert!(out.status.is_ok());
     rec.x
 }

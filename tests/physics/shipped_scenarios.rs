@@ -31,7 +31,7 @@ fn every_shipped_scenario_runs_with_every_applicable_method() {
             let plan = springlab::run::RunPlan::new(dt, 20);
             let out = springlab::run::run(
                 &sys,
-                i.as_mut(),
+                &mut i,
                 scene.initial_state(),
                 &plan,
                 &mut springlab::run::NoObserver,

@@ -140,7 +140,7 @@ fn stable(scene: &Scenario, amp: f64, method: &str, h: f64, steps: u64) -> bool 
     let mut stepper = springlab::method::create(method, &Default::default()).unwrap();
     let out = run(
         &sys,
-        stepper.as_mut(),
+        &mut stepper,
         shaken(scene, amp),
         &RunPlan::new(h, steps),
         &mut NoObserver,

@@ -97,7 +97,7 @@ fn a_particle_on_an_incline_is_ok_for_every_method() {
             let mut stepper = common::stepper(name);
             let out = run(
                 &sys,
-                stepper.as_mut(),
+                &mut stepper,
                 scene.initial_state(),
                 &RunPlan::new(0.01, 100),
                 &mut NoObserver,
@@ -212,7 +212,7 @@ fn a_cloth_whose_balance_grows_over_forty_frames_is_unstable() {
         let mut stepper = springlab::method::create("rapier_impulse", &opts).unwrap();
         run(
             &sys,
-            stepper.as_mut(),
+            &mut stepper,
             scene.initial_state(),
             &RunPlan::new(1.0 / 60.0, 40),
             &mut NoObserver,

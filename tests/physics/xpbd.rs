@@ -4,8 +4,8 @@
 
 use crate::common;
 use springlab::integrate::{Stepper, Xpbd};
-use springlab::method::MethodOptions;
-use springlab::run::{run, NoObserver, RunPlan};
+use springlab::method::{MethodOptions, Registry};
+use springlab::run::{run_with, NoObserver, RunPlan};
 use springlab::scenario::Scenario;
 
 /// Textbook closed form of m ü + c u̇ + k u = 0 (m = 1, underdamped) from u(0) = u0, u̇(0) = 0.
@@ -149,9 +149,10 @@ fn books_damper_work_and_leaves_numerical_dissipation_to_the_balance() {
     let sys = scene.build();
     let balance = |n: usize| {
         let mut m = Xpbd::new(n, 1);
-        let out = run(
+        let out = run_with(
             &sys,
             &mut m,
+            Registry::builtin().info("xpbd").unwrap(),
             scene.initial_state(),
             &RunPlan::new(0.01, 100),
             &mut NoObserver,

@@ -41,7 +41,7 @@ pub fn record(
     let mut rec = Record::default();
     let out = run(
         &sys,
-        i.as_mut(),
+        &mut i,
         scene.initial_state(),
         &RunPlan::new(h, steps),
         &mut rec,

@@ -166,9 +166,6 @@ impl Xpbd {
 }
 
 impl Stepper for Xpbd {
-    fn name(&self) -> &str {
-        "xpbd"
-    }
     fn check(&self, _sys: &System) -> std::result::Result<(), String> {
         Ok(())
     }

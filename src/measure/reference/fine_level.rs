@@ -328,7 +328,9 @@ mod tests {
     }
 
     fn rk4() -> Box<dyn Stepper> {
-        by_name(FINE_METHOD, &MethodOptions::default()).unwrap()
+        by_name(FINE_METHOD, &MethodOptions::default())
+            .unwrap()
+            .stepper
     }
 
     /// A level holding the closed form x = cos ωt, v = −ω sin ωt of one particle exactly at

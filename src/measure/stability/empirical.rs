@@ -92,7 +92,7 @@ pub fn empirical_limit_within(
             blowup_factor: crit.blowup_factor,
             stop_at_verdict: true,
         };
-        let out = run(sys, stepper.as_mut(), s0.clone(), &plan, &mut NoObserver)?;
+        let out = run(sys, &mut stepper, s0.clone(), &plan, &mut NoObserver)?;
         if let Some(w) = work.as_deref_mut() {
             w.book(out.modelled_seconds, out.steps_done);
         }

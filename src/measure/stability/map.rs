@@ -263,7 +263,7 @@ impl MapCells<'_> {
         };
         let out = run(
             &sys,
-            stepper.as_mut(),
+            &mut stepper,
             seeded(&sys, self.s0),
             &plan,
             &mut NoObserver,

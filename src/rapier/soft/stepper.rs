@@ -163,12 +163,6 @@ fn push_state(b: &mut Built, sys: &System, s: &State) {
 }
 
 impl Stepper for SoftStepper {
-    fn name(&self) -> &str {
-        self.solver.name()
-    }
-    fn handles_contacts(&self) -> bool {
-        true // obstacles are fixed Rapier colliders the bodies' edges touch
-    }
     fn check(&self, sys: &System) -> std::result::Result<(), String> {
         if let Some(t) = sys
             .terms
@@ -186,9 +180,6 @@ impl Stepper for SoftStepper {
     }
     fn modelled_frame_seconds(&self, sys: &System) -> Option<f64> {
         Some(super::super::cost::SoftShape::of(sys).frame_seconds(self.solver, self.substeps))
-    }
-    fn splits_frames(&self) -> bool {
-        true // `substeps` solver substeps per frame (Rapier's num_solver_iterations)
     }
     fn reset(&mut self) {
         self.dirty = true;
