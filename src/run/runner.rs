@@ -17,7 +17,7 @@ use serde::Serialize;
 /// A run is `steps` frames of `dt`; observers see the state at the end of every frame.
 /// Each frame is `substeps` equal steps of `dt / substeps` for a native method — bit for bit
 /// the run at `dt / substeps` with every `substeps`-th state kept. A method that substeps
-/// itself ([`Stepper::splits_frames`], Rapier) gets whole frames instead and splits them
+/// itself (its fact [`MethodInfo::splits_frames`], Rapier) gets whole frames instead and splits them
 /// with its own setting ([`crate::method::MethodOptions::substeps`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunPlan {
