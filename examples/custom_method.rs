@@ -119,9 +119,12 @@ fn main() -> springlab::Result<()> {
     let cmp = compare(
         &scene,
         &CompareConfig {
-            registry: registry.clone(),
-            methods: mine.to_vec(),
             series_points: 0,
+            common: springlab::measure::Common {
+                registry: registry.clone(),
+                methods: mine.to_vec(),
+                ..Default::default()
+            },
             ..Default::default()
         },
     )?;
@@ -146,8 +149,11 @@ fn main() -> springlab::Result<()> {
     let sw = run_sweep(
         &scene,
         &SweepConfig {
-            registry: registry.clone(),
-            methods: mine.to_vec(),
+            common: springlab::measure::Common {
+                registry: registry.clone(),
+                methods: mine.to_vec(),
+                ..Default::default()
+            },
             ..Default::default()
         },
     )?;
@@ -166,8 +172,11 @@ fn main() -> springlab::Result<()> {
     let st = analyse(
         &scene,
         &StabilityConfig {
-            registry: registry.clone(),
-            methods: mine.to_vec(),
+            common: springlab::measure::Common {
+                registry: registry.clone(),
+                methods: mine.to_vec(),
+                ..Default::default()
+            },
             ..Default::default()
         },
     )?;
@@ -185,9 +194,12 @@ fn main() -> springlab::Result<()> {
     let adv = advise(
         &scene,
         &AdviseConfig {
-            registry: registry.clone(),
-            methods: mine.to_vec(),
             tolerance: Some(1e-3),
+            common: springlab::measure::Common {
+                registry: registry.clone(),
+                methods: mine.to_vec(),
+                ..Default::default()
+            },
             ..Default::default()
         },
     )?;

@@ -76,18 +76,21 @@ pub fn run(a: Args) -> Result<()> {
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
         horizon: a.horizon,
-        methods: a.m.methods.list.clone(),
-        options: a.m.options(),
         safety: a.safety,
         points: a.points,
         dt_min: a.dt_min,
         dt_max: a.dt_max,
-        progress: true,
-        blowup_factor: a.blowup.value()?,
         frame_rates: !a.no_frame_rates,
-        budget_seconds: Some(a.budget.budget),
         game_hz,
         screen_factor: a.screen,
+        common: springlab::measure::Common {
+            methods: a.m.methods.list.clone(),
+            options: a.m.options(),
+            progress: true,
+            blowup_factor: a.blowup.value()?,
+            budget_seconds: Some(a.budget.budget),
+            ..Default::default()
+        },
         ..Default::default()
     };
     springlab::measure::advise::check_config(&scene, &cfg)?;

@@ -37,16 +37,19 @@ pub fn run(a: Args) -> Result<()> {
     a.m.method_options.check_read_by(&a.m.methods.list)?;
     let scene = load(&a.scenario)?;
     let cfg = CompareConfig {
-        methods: a.m.methods.list.clone(),
         dt: a.dt,
         duration: a.duration.value()?,
-        options: a.m.options(),
         frame_substeps: a.m.frame_substeps(),
-        blowup_factor: a.blowup.value()?,
-        progress: true,
         series_points: a.series_points,
         trace: a.trace,
-        budget_seconds: Some(a.budget.budget),
+        common: springlab::measure::Common {
+            methods: a.m.methods.list.clone(),
+            options: a.m.options(),
+            blowup_factor: a.blowup.value()?,
+            progress: true,
+            budget_seconds: Some(a.budget.budget),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let dir = a.m.out_dir(&scene.name, "compare");

@@ -58,14 +58,17 @@ pub fn run(a: Args) -> Result<()> {
         engine_rates: (!a.engine_hz.is_empty()).then(|| a.engine_hz.clone()),
         tolerance: a.judge.tolerance,
         metric: a.judge.metric,
-        methods: a.methods.list.clone(),
-        options: a.method_options.options(None),
         duration,
         max_substeps: a.max_substeps,
         cost_cap: a.cost_cap,
-        blowup_factor: a.blowup.value()?,
-        progress: true,
-        budget_seconds: Some(a.budget.budget),
+        common: springlab::measure::Common {
+            methods: a.methods.list.clone(),
+            options: a.method_options.options(None),
+            blowup_factor: a.blowup.value()?,
+            progress: true,
+            budget_seconds: Some(a.budget.budget),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let dir = a

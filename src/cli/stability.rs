@@ -61,15 +61,17 @@ pub fn run(a: Args) -> Result<()> {
     let blowup_factor = a.blowup.value()?;
     check_map_args(&a)?;
     let cfg = StabilityConfig {
-        methods: a.m.methods.list.clone(),
-        options: a.m.options(),
         horizon: a.horizon,
-        blowup_factor,
         theory_only: a.theory_only,
         empirical_where_no_theory: a.empirical_where_no_theory,
-        progress: true,
-        budget_seconds: Some(a.budget.budget),
-        ..Default::default()
+        common: springlab::measure::Common {
+            methods: a.m.methods.list.clone(),
+            options: a.m.options(),
+            blowup_factor,
+            progress: true,
+            budget_seconds: Some(a.budget.budget),
+            ..Default::default()
+        },
     };
     let dir = a.m.out_dir(&scene.name, "stability");
     let _lock = springlab::output::lock_dir(&dir)?;
@@ -148,10 +150,13 @@ fn print_report(scene: &str, rep: &StabilityReport) {
 /// `stability_map.csv` in `dir`; returns the file written.
 fn write_map(scene: &Scenario, a: &Args, blowup_factor: f64, dir: &Path) -> Result<PathBuf> {
     let mut mc = MapConfig {
-        methods: a.m.methods.list.clone(),
-        options: a.m.options(),
-        blowup_factor,
-        progress: true,
+        common: springlab::measure::Common {
+            methods: a.m.methods.list.clone(),
+            options: a.m.options(),
+            blowup_factor,
+            progress: true,
+            ..Default::default()
+        },
         ..Default::default()
     };
     if !a.damping_scales.is_empty() {

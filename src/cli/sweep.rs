@@ -55,7 +55,6 @@ pub fn run(a: Args) -> Result<()> {
     a.m.method_options.check_read_by(&a.m.methods.list)?;
     let scene = load(&a.scenario)?;
     let cfg = SweepConfig {
-        methods: a.m.methods.list.clone(),
         dt_min: a.dt_min,
         dt_max: a.dt_max,
         points: a.points,
@@ -66,11 +65,15 @@ pub fn run(a: Args) -> Result<()> {
         },
         cost_cap: a.cost_cap,
         duration: a.duration.value()?,
-        options: a.m.options(),
-        blowup_factor: a.blowup.value()?,
         shard: a.shard,
-        progress: true,
-        budget_seconds: Some(a.budget.budget),
+        common: springlab::measure::Common {
+            methods: a.m.methods.list.clone(),
+            options: a.m.options(),
+            blowup_factor: a.blowup.value()?,
+            progress: true,
+            budget_seconds: Some(a.budget.budget),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let dir = match a.shard {

@@ -10,8 +10,6 @@ use super::trace::{longest_paths, TraceSpec};
 use crate::error::Result;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::Tolerance;
-use crate::method::MethodOptions;
-use crate::method::Registry;
 use crate::output::{write_atomic, write_document};
 use crate::run::RunStatus;
 use crate::scenario::{Scenario, Timing};
@@ -22,33 +20,21 @@ use std::path::{Path, PathBuf};
 /// What to compare.
 #[derive(Debug, Clone)]
 pub struct CompareConfig {
-    /// Methods (empty: every native and engine method; those that cannot run
-    /// the scene are listed as skipped with the reason).
-    pub methods: Vec<String>,
+    /// Methods, registry, options, blow-up factor, progress and budget: what every
+    /// measuring command shares.
+    pub common: crate::measure::Common,
     /// Step (default: the scene's).
     pub dt: Option<f64>,
     /// Simulated time (default: the scene's).
     pub duration: Option<f64>,
-    /// The methods to choose from (built-ins unless a library user added theirs).
-    pub registry: Registry,
-    /// Method options (`substeps`: Rapier's solver substeps, unless `frame_substeps`).
-    pub options: MethodOptions,
     /// Substeps per frame for every method (`--substeps`): `dt` is then the frame step,
     /// native methods take that many equal steps per frame and Rapier that many solver
     /// substeps. `None`: one step per frame, and `options.substeps` for Rapier.
     pub frame_substeps: Option<u64>,
-    /// Blow-up factor.
-    pub blowup_factor: f64,
     /// Points per time series (0: none).
     pub series_points: u64,
-    /// Progress bar on a terminal.
-    pub progress: bool,
     /// Record paths and snapshots of each run (for pictures).
     pub trace: bool,
-    /// Time budget (s of runs, summed): each method's time per step is probed first and the
-    /// costliest runs that would exceed it are left out, named with the figure. `None`: no
-    /// budget (the study chooses its engines by its own rule).
-    pub budget_seconds: Option<f64>,
     /// Position tolerance (m) behind the statistics' floors; None: the scene's
     /// `[run] tolerance`, else 1 % of its motion scale.
     pub tolerance: Option<f64>,
@@ -57,18 +43,13 @@ pub struct CompareConfig {
 impl Default for CompareConfig {
     fn default() -> Self {
         CompareConfig {
-            methods: vec![],
             dt: None,
             duration: None,
-            registry: Registry::builtin(),
-            options: MethodOptions::default(),
             frame_substeps: None,
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             series_points: 2000,
-            progress: false,
             trace: false,
-            budget_seconds: None,
             tolerance: None,
+            common: crate::measure::Common::default(),
         }
     }
 }
@@ -160,8 +141,8 @@ pub fn projected_cost(
     let per = super::probe::seconds_per_frame(
         sys,
         s0,
-        &cfg.registry,
-        &cfg.options,
+        &cfg.common.registry,
+        &cfg.common.options,
         name,
         super::probe::Framing {
             dt,
@@ -207,7 +188,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         steps,
     };
     let asked = asked_methods(scene, cfg);
-    let (names, mut skipped) = applicable(&cfg.registry, &sys, &asked, &cfg.options)?;
+    let (names, mut skipped) = applicable(&cfg.common.registry, &sys, &asked, &cfg.common.options)?;
     let grid = run_grid(dt, steps, sys.len());
     let horizon = grid.time(steps);
     let (names, limit) = runs.budgeted(names, &mut skipped, grid, horizon)?;
@@ -237,7 +218,7 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
         duration: grid.time(steps),
         substeps: cfg
             .frame_substeps
-            .map_or(cfg.options.substeps, |n| n as usize),
+            .map_or(cfg.common.options.substeps, |n| n as usize),
         frame_substeps: cfg.frame_substeps,
         entries,
     })
@@ -246,11 +227,16 @@ pub fn compare(scene: &Scenario, cfg: &CompareConfig) -> Result<CompareResult> {
 /// The methods asked: by default the scene's own `[run].methods` next to every engine, else
 /// every method.
 fn asked_methods(scene: &Scenario, cfg: &CompareConfig) -> Vec<String> {
-    if cfg.methods.is_empty() && !scene.run.methods.is_empty() {
-        let ext = cfg.registry.engine_names().into_iter().map(String::from);
+    if cfg.common.methods.is_empty() && !scene.run.methods.is_empty() {
+        let ext = cfg
+            .common
+            .registry
+            .engine_names()
+            .into_iter()
+            .map(String::from);
         scene.run.methods.iter().cloned().chain(ext).collect()
     } else {
-        cfg.methods.clone()
+        cfg.common.methods.clone()
     }
 }
 
@@ -263,17 +249,17 @@ fn command_line(
     dt: f64,
     duration: f64,
 ) -> String {
-    let listed = asked_or_all(&cfg.registry, asked);
+    let listed = asked_or_all(&cfg.common.registry, asked);
     CommandLine::new("compare", &scene.source)
         .flag("dt", dt)
         .flag("duration", duration)
         .list("methods", &listed)
         .flag_opt("substeps", cfg.frame_substeps)
-        .method_options(&cfg.registry, &listed, &cfg.options)
-        .flag("blowup-factor", cfg.blowup_factor)
+        .method_options(&cfg.common.registry, &listed, &cfg.common.options)
+        .flag("blowup-factor", cfg.common.blowup_factor)
         .flag("series-points", cfg.series_points)
         .switch("trace", cfg.trace)
-        .flag_opt("budget", cfg.budget_seconds)
+        .flag_opt("budget", cfg.common.budget_seconds)
         .render()
 }
 
@@ -289,7 +275,7 @@ impl Runs<'_> {
         grid: super::grid::TimeGrid,
         horizon: f64,
     ) -> Result<(Vec<String>, Option<f64>)> {
-        let Some(b) = self.cfg.budget_seconds else {
+        let Some(b) = self.cfg.common.budget_seconds else {
             return Ok((names, None));
         };
         super::probe::check_budget(b)?;
@@ -384,12 +370,16 @@ impl Runs<'_> {
             trace: self.trace(scene, reference),
             contacts: true,
             substeps: cfg.frame_substeps,
-            ..CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
+            ..CaseSettings::measuring(
+                cfg.common.registry.clone(),
+                cfg.common.options.clone(),
+                cfg.common.blowup_factor,
+            )
         };
         let pb = crate::run::progress_bar(
             names.len() as u64,
             &format!("compare {}", scene.name),
-            cfg.progress,
+            cfg.common.progress,
         );
         let runs: Vec<Result<CaseResult>> = names
             .par_iter()

@@ -103,11 +103,14 @@ pub fn skipped_row(scene: &str) -> ExpectRow {
 /// reference held to `budget` (modelled seconds; `None`: none).
 fn config(e: &Expect, budget: Option<f64>) -> CompareConfig {
     CompareConfig {
-        methods: vec![e.method.clone()],
         dt: Some(e.frame_dt),
         frame_substeps: Some(e.substeps),
         series_points: 0,
-        budget_seconds: budget,
+        common: crate::measure::Common {
+            methods: vec![e.method.clone()],
+            budget_seconds: budget,
+            ..Default::default()
+        },
         ..Default::default()
     }
 }

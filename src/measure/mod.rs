@@ -5,6 +5,7 @@ pub mod answer;
 pub mod apexes;
 pub mod case;
 pub mod command;
+pub mod common;
 pub mod compare;
 pub mod contacts;
 pub mod decimated;
@@ -30,4 +31,5 @@ pub mod sweep;
 pub mod tolerance;
 mod trace;
 
+pub use common::Common;
 pub use metrics::{strain_max, Metrics, Quality, QualityObserver};

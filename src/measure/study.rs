@@ -35,8 +35,6 @@ use super::framerate::{framerate, Framerate, FramerateConfig};
 use super::stability::{analyse, StabilityConfig, StabilityReport};
 use super::sweep::{plan_sweep, run_sweep, SweepConfig, SweepResult};
 use crate::error::Result;
-use crate::method::MethodOptions;
-use crate::method::Registry;
 use crate::scenario::Scenario;
 use serde::Serialize;
 
@@ -92,35 +90,17 @@ pub const MIN_SWEEP_STEPS: usize = 3;
 pub const QUICK_COST_CAP: f64 = 5e4;
 
 /// How thorough a study is and with which methods.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct StudyConfig {
-    /// The methods (built-ins unless a library user added theirs).
-    pub registry: Registry,
-    /// Method options.
-    pub options: MethodOptions,
+    /// Methods, registry, options, blow-up factor, progress and budget: what every
+    /// measuring command shares.
+    pub common: crate::measure::Common,
     /// Position tolerance of every answer (m); None: each scene's `[run] tolerance`, else 1 %
     /// of its motion scale ([`crate::measure::tolerance`]).
     pub tolerance: Option<f64>,
     /// A coarse pass (for tests and previews): fewer sweep points, no empirical stability
     /// search, a short advice grid.
     pub quick: bool,
-    /// Progress bars on a terminal.
-    pub progress: bool,
-    /// Blow-up factor of every run (see [`crate::run::verdict`]).
-    pub blowup_factor: f64,
-}
-
-impl Default for StudyConfig {
-    fn default() -> Self {
-        StudyConfig {
-            registry: Registry::builtin(),
-            options: MethodOptions::default(),
-            tolerance: None,
-            quick: false,
-            progress: false,
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
-        }
-    }
 }
 
 /// Everything measured about one scene: the commands' own documents.
@@ -183,30 +163,28 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let compared = compare(
         scene,
         &CompareConfig {
-            registry: cfg.registry.clone(),
-            methods: asked,
-            options: cfg.options.clone(),
             series_points: if cfg.quick { 120 } else { 250 },
-            progress: cfg.progress,
-            blowup_factor: cfg.blowup_factor,
             trace: true,
             tolerance: cfg.tolerance,
+            common: crate::measure::Common {
+                methods: asked,
+                ..cfg.common.clone()
+            },
             ..Default::default()
         },
     )?;
     lap(&mut seconds.compare);
     let advice_cfg = AdviseConfig {
-        registry: cfg.registry.clone(),
-        options: cfg.options.clone(),
         tolerance: cfg.tolerance,
         ensemble: compared.ensemble.clone(),
         points: if cfg.quick { 4 } else { 8 },
-        progress: cfg.progress,
-        blowup_factor: cfg.blowup_factor,
         // The frame-rate section (`framerate`) answers the game view: one computation.
         frame_rates: false,
-        budget_seconds: Some(STUDY_ADVICE_SECONDS),
         timing: super::case::MEASURED_RUN,
+        common: crate::measure::Common {
+            budget_seconds: Some(STUDY_ADVICE_SECONDS),
+            ..cfg.common.clone()
+        },
         ..Default::default()
     };
     let kept = kept_after_compare(scene, cfg, &compared, &advice_cfg, timing, &mut notes)?;
@@ -215,15 +193,14 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
     let stability = analyse(
         scene,
         &StabilityConfig {
-            registry: cfg.registry.clone(),
-            methods: kept.measured.clone(),
-            options: cfg.options.clone(),
             theory_only: cfg.quick,
-            progress: cfg.progress,
-            blowup_factor: cfg.blowup_factor,
             // Where the spectral radius applies it decides; the bisection would only
             // cross-check it at the price of dozens of runs per method.
             empirical_where_no_theory: !cfg.quick,
+            common: crate::measure::Common {
+                methods: kept.measured.clone(),
+                ..cfg.common.clone()
+            },
             ..Default::default()
         },
     )?;
@@ -249,7 +226,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         framerate_left_out: &framerate_left_out,
     };
     let answer = super::answer::answer(
-        &cfg.registry,
+        &cfg.common.registry,
         &measured,
         scene.run.hz.unwrap_or(super::answer::GAME_HZ),
         &scene.name,
@@ -279,12 +256,23 @@ fn compared_methods(
     timing: crate::scenario::Timing,
     notes: &mut Vec<String>,
 ) -> Result<(Vec<String>, Vec<ProbedOut>)> {
-    let is_engine = |n: &str| cfg.registry.info(n).is_ok_and(|m| m.engine);
+    let is_engine = |n: &str| cfg.common.registry.info(n).is_ok_and(|m| m.engine);
     let asked: Vec<String> = if scene.run.methods.is_empty() {
-        cfg.registry.names().into_iter().map(String::from).collect()
+        cfg.common
+            .registry
+            .names()
+            .into_iter()
+            .map(String::from)
+            .collect()
     } else {
         let mut v = scene.run.methods.clone();
-        v.extend(cfg.registry.engine_names().into_iter().map(String::from));
+        v.extend(
+            cfg.common
+                .registry
+                .engine_names()
+                .into_iter()
+                .map(String::from),
+        );
         v
     };
     // Engines are priced from the scene; the native methods' total (a short probe run each)
@@ -374,7 +362,7 @@ fn kept_after_compare(
                 .map(|r| (r.method.clone(), r.modelled_seconds))
         })
         .collect();
-    let info = |n: &str| cfg.registry.info(n).ok();
+    let info = |n: &str| cfg.common.registry.info(n).ok();
     let sweepable = ran
         .iter()
         .map(|(n, _)| n)
@@ -432,18 +420,17 @@ fn study_sweep(
         return Ok(None);
     }
     let sweep_cfg = SweepConfig {
-        registry: cfg.registry.clone(),
-        methods: sweepable,
         cost_cap: Some(if cfg.quick {
             QUICK_COST_CAP
         } else {
             STUDY_COST_CAP
         }),
-        options: cfg.options.clone(),
-        progress: cfg.progress,
-        blowup_factor: cfg.blowup_factor,
         // Wall times decide nothing here: one run each, not five for a median.
         repeat_short: false,
+        common: crate::measure::Common {
+            methods: sweepable,
+            ..cfg.common.clone()
+        },
         ..Default::default()
     };
     let plan = plan_sweep(scene, &sweep_cfg)?;
@@ -475,7 +462,8 @@ fn study_advice(
     let exact: Vec<String> = measured
         .iter()
         .filter(|n| {
-            cfg.registry
+            cfg.common
+                .registry
                 .info(n)
                 .is_ok_and(|m| m.order == crate::method::Order::Exact)
         })
@@ -498,7 +486,10 @@ fn study_advice(
     let advice = advise(
         scene,
         &AdviseConfig {
-            methods: candidates,
+            common: crate::measure::Common {
+                methods: candidates,
+                ..advice_cfg.common.clone()
+            },
             ..advice_cfg
         },
     )?;
@@ -518,8 +509,8 @@ fn method_probe(
     Ok(super::probe::seconds_per_step(
         &scene.build(),
         &scene.initial_state(),
-        &cfg.registry,
-        &cfg.options,
+        &cfg.common.registry,
+        &cfg.common.options,
         name,
         timing.dt,
         timing.steps,
@@ -580,7 +571,9 @@ fn study_framerate(
         compared
             .entries
             .iter()
-            .filter(|e| e.result.is_none() && cfg.registry.info(&e.method).is_ok_and(|m| m.engine))
+            .filter(|e| {
+                e.result.is_none() && cfg.common.registry.info(&e.method).is_ok_and(|m| m.engine)
+            })
             .map(|e| e.method.clone()),
     );
     if chosen.is_empty() {
@@ -595,15 +588,14 @@ fn study_framerate(
         &FramerateConfig {
             rates,
             engine_rates: Some(vec![game]),
-            methods: chosen,
-            registry: cfg.registry.clone(),
-            options: cfg.options.clone(),
             max_substeps,
             tolerance: cfg.tolerance,
             ensemble: compared.ensemble.clone(),
-            blowup_factor: cfg.blowup_factor,
-            progress: cfg.progress,
             timing: super::case::MEASURED_RUN,
+            common: crate::measure::Common {
+                methods: chosen,
+                ..cfg.common.clone()
+            },
             ..Default::default()
         },
     )?;
@@ -675,14 +667,14 @@ fn within_frame_budget(
     let (game, max_substeps) = (fb.game, fb.max_substeps);
     let (mut chosen, mut left_out) = (Vec::new(), Vec::new());
     for &(name, per_step) in measured {
-        let Ok(info) = cfg.registry.info(name) else {
+        let Ok(info) = cfg.common.registry.info(name) else {
             continue;
         };
         if info.order == crate::method::Order::Exact {
             continue;
         }
         let per_substep = if info.engine {
-            per_step / cfg.options.substeps.max(1) as f64
+            per_step / cfg.common.options.substeps.max(1) as f64
         } else {
             per_step
         };
@@ -704,7 +696,7 @@ fn within_frame_budget(
                 "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {}) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
                 per_substep * 1e3,
                 if info.engine {
-                    format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.options.substeps.max(1))
+                    format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.common.options.substeps.max(1))
                 } else {
                     "step".into()
                 },

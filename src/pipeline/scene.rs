@@ -20,9 +20,12 @@ pub fn report_scene(scene: &Scenario, opts: &ReportOptions) -> Result<(SceneSumm
         }
     }
     let cfg = StudyConfig {
-        registry: opts.registry.clone(),
         quick: opts.quick,
-        blowup_factor: opts.blowup_factor,
+        common: crate::measure::Common {
+            registry: opts.registry.clone(),
+            blowup_factor: opts.blowup_factor,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let s = study(scene, &cfg)?;

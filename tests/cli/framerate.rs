@@ -48,8 +48,11 @@ fn symplectic_euler_needs_ceil_h_omega_max_over_two() {
         &FramerateConfig {
             rates: rates.clone(),
             tolerance: Some(1e3),
-            blowup_factor: 100.0,
-            methods: vec!["symplectic_euler".into()],
+            common: springlab::measure::Common {
+                blowup_factor: 100.0,
+                methods: vec!["symplectic_euler".into()],
+                ..Default::default()
+            },
             ..Default::default()
         },
     )
@@ -101,9 +104,12 @@ fn the_search_from_the_stability_theory_finds_what_doubling_finds() {
             &FramerateConfig {
                 rates: vec![30.0, 60.0, 144.0],
                 tolerance: Some(1e3),
-                blowup_factor: 100.0,
-                methods: vec!["symplectic_euler".into()],
                 theory_start,
+                common: springlab::measure::Common {
+                    blowup_factor: 100.0,
+                    methods: vec!["symplectic_euler".into()],
+                    ..Default::default()
+                },
                 ..Default::default()
             },
         )
@@ -146,13 +152,16 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
     // the re-run below measures another method.
     let cfg = FramerateConfig {
         rates: vec![30.0, 60.0],
-        methods: vec![
-            "symplectic_euler".into(),
-            "rapier_impulse".into(),
-            "xpbd".into(),
-        ],
-        options: springlab::method::MethodOptions::default()
-            .with(&springlab::method::options::XPBD_SUBSTEPS, 3),
+        common: springlab::measure::Common {
+            methods: vec![
+                "symplectic_euler".into(),
+                "rapier_impulse".into(),
+                "xpbd".into(),
+            ],
+            options: springlab::method::MethodOptions::default()
+                .with(&springlab::method::options::XPBD_SUBSTEPS, 3),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let fr = framerate(&scene, &cfg).unwrap();

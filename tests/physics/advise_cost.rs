@@ -46,11 +46,6 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
         tolerance: Some(0.1),
         metric: Some(Metric::Position),
         horizon: Some(2.0),
-        methods: vec![
-            "velocity_verlet".into(),
-            "symplectic_euler".into(),
-            "rapier_impulse".into(),
-        ],
         // A grid from 1 ms up (the default starts at dt/30, where Rapier's runs take seconds);
         // Rapier meets 10 cm from about 1.5 ms down.
         dt_min: Some(1e-3),
@@ -58,6 +53,14 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
         // The comparison needs Rapier run: with the screen it would not be, for the very gap
         // this test measures (the screen has its own tests, `advise_screen`).
         screen_factor: f64::INFINITY,
+        common: springlab::measure::Common {
+            methods: vec![
+                "velocity_verlet".into(),
+                "symplectic_euler".into(),
+                "rapier_impulse".into(),
+            ],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let adv = advise(&scene, &cfg).unwrap();

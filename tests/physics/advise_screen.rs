@@ -23,13 +23,16 @@ fn config(screen_factor: f64) -> AdviseConfig {
     AdviseConfig {
         tolerance: Some(1e-2),
         metric: Some(Metric::Position),
-        methods: vec![
-            "velocity_verlet".into(),
-            "rk4".into(),
-            "rapier_impulse".into(),
-        ],
         frame_rates: false,
         screen_factor,
+        common: springlab::measure::Common {
+            methods: vec![
+                "velocity_verlet".into(),
+                "rk4".into(),
+                "rapier_impulse".into(),
+            ],
+            ..Default::default()
+        },
         ..Default::default()
     }
 }

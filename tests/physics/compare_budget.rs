@@ -15,12 +15,15 @@ const METHODS: [&str; 2] = ["rapier_impulse", "symplectic_euler"];
 
 fn config(budget: f64) -> CompareConfig {
     CompareConfig {
-        methods: METHODS.iter().map(|s| s.to_string()).collect(),
         dt: Some(1.0 / 60.0),
         frame_substeps: Some(1024),
-        options: springlab::method::MethodOptions::default().with_substeps(1024),
-        budget_seconds: Some(budget),
         series_points: 0,
+        common: springlab::measure::Common {
+            methods: METHODS.iter().map(|s| s.to_string()).collect(),
+            options: springlab::method::MethodOptions::default().with_substeps(1024),
+            budget_seconds: Some(budget),
+            ..Default::default()
+        },
         ..Default::default()
     }
 }

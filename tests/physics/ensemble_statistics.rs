@@ -122,9 +122,12 @@ fn advice_on_a_chaotic_cloth_answers_over_its_whole_duration() {
     let adv = advise(
         &scene,
         &AdviseConfig {
-            methods: vec!["symplectic_euler".into(), "rk4".into()],
             points: 4,
             frame_rates: false,
+            common: springlab::measure::Common {
+                methods: vec!["symplectic_euler".into(), "rk4".into()],
+                ..AdviseConfig::default().common.clone()
+            },
             ..AdviseConfig::default()
         },
     )
@@ -194,10 +197,13 @@ fn advice_with(
     let adv = advise(
         scene,
         &AdviseConfig {
-            methods: vec!["symplectic_euler".into(), "rk4".into()],
             points: 4,
             frame_rates: false,
             ensemble,
+            common: springlab::measure::Common {
+                methods: vec!["symplectic_euler".into(), "rk4".into()],
+                ..AdviseConfig::default().common.clone()
+            },
             ..AdviseConfig::default()
         },
     )
@@ -213,9 +219,12 @@ fn frame_rates_with(
         scene,
         &FramerateConfig {
             rates: vec![60.0],
-            methods: vec!["rk4".into()],
             max_substeps: 4,
             ensemble,
+            common: springlab::measure::Common {
+                methods: vec!["rk4".into()],
+                ..FramerateConfig::default().common.clone()
+            },
             ..FramerateConfig::default()
         },
     )
@@ -227,9 +236,12 @@ fn compared_ensemble(scene: &Scenario, dt: f64) -> springlab::measure::statistic
     compare(
         scene,
         &CompareConfig {
-            methods: vec!["rk4".into()],
             dt: Some(dt),
             series_points: 0,
+            common: springlab::measure::Common {
+                methods: vec!["rk4".into()],
+                ..CompareConfig::default().common.clone()
+            },
             ..CompareConfig::default()
         },
     )

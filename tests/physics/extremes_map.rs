@@ -25,10 +25,13 @@ const DTS: [f64; 7] = [1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0];
 fn map(methods: &[&str]) -> Vec<MapRow> {
     let scene = Scenario::from_file("scenarios/stiff_spring.toml").unwrap();
     let cfg = MapConfig {
-        methods: methods.iter().map(|s| s.to_string()).collect(),
         stiffness_scales: STIFFNESS_SCALES.to_vec(),
         dts: DTS.to_vec(),
-        blowup_factor: 1e4,
+        common: springlab::measure::Common {
+            methods: methods.iter().map(|s| s.to_string()).collect(),
+            blowup_factor: 1e4,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let rows = stability_map(&scene, &cfg).unwrap();

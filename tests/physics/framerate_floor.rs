@@ -20,8 +20,11 @@ fn config() -> FramerateConfig {
     FramerateConfig {
         rates: vec![30.0],
         tolerance: Some(1e-3),
-        methods: vec!["symplectic_euler".into()],
         max_substeps: 8,
+        common: springlab::measure::Common {
+            methods: vec!["symplectic_euler".into()],
+            ..Default::default()
+        },
         ..Default::default()
     }
 }

@@ -176,11 +176,14 @@ fn compare_splits_frames_for_every_native_method() {
         compare(
             &scene,
             &CompareConfig {
-                methods: names.clone(),
                 dt: Some(dt),
                 duration: Some(0.2),
                 frame_substeps,
                 series_points: 0,
+                common: springlab::measure::Common {
+                    methods: names.clone(),
+                    ..Default::default()
+                },
                 ..Default::default()
             },
         )

@@ -25,7 +25,10 @@ fn find<'a>(
 fn anchored_spring_limits_match_theory() {
     let scene = Scenario::from_file("scenarios/anchored_spring.toml").unwrap();
     let growth = StabilityConfig {
-        blowup_factor: 1e4,
+        common: springlab::measure::Common {
+            blowup_factor: 1e4,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let r = analyse(&scene, &growth).unwrap();
@@ -145,7 +148,10 @@ fn empirical_bisection_finds_the_linear_boundary_on_a_linear_scene() {
     )
     .unwrap();
     let growth = StabilityConfig {
-        blowup_factor: 1e4,
+        common: springlab::measure::Common {
+            blowup_factor: 1e4,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let r = analyse(&scene, &growth).unwrap();
@@ -202,7 +208,10 @@ fn damped_explicit_euler_limit_is_two_zeta_over_omega() {
     )
     .unwrap();
     let cfg = StabilityConfig {
-        methods: vec!["explicit_euler".into()],
+        common: springlab::measure::Common {
+            methods: vec!["explicit_euler".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let r = analyse(&scene, &cfg).unwrap();
@@ -234,8 +243,11 @@ fn lightly_damped_explicit_methods_have_their_textbook_limits() {
     // hω = 0.01 where an undamped scan starts.
     let (zeta, w) = (0.001, 10.0);
     let cfg = StabilityConfig {
-        methods: vec!["explicit_euler".into(), "rk2".into()],
         theory_only: true,
+        common: springlab::measure::Common {
+            methods: vec!["explicit_euler".into(), "rk2".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let r = analyse(&damped_oscillator(zeta), &cfg).unwrap();
@@ -279,7 +291,10 @@ fn one_statement_per_method_never_two_that_contradict() {
     // search finds a "limit". The statement must say the spectral radius decides and why the
     // runs read bounded, never that the two agree.
     let cfg = StabilityConfig {
-        methods: vec!["explicit_euler".into(), "symplectic_euler".into()],
+        common: springlab::measure::Common {
+            methods: vec!["explicit_euler".into(), "symplectic_euler".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let r = analyse(&damped_oscillator(0.0), &cfg).unwrap();

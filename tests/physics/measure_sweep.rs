@@ -12,12 +12,15 @@ fn anchored() -> Scenario {
 
 fn config(methods: &[&str]) -> SweepConfig {
     SweepConfig {
-        methods: methods.iter().map(|s| s.to_string()).collect(),
         dt_min: Some(2e-4),
         dt_max: Some(2e-2),
         points: Some(9),
         duration: Some(2.0),
         repeat_short: false,
+        common: springlab::measure::Common {
+            methods: methods.iter().map(|s| s.to_string()).collect(),
+            ..Default::default()
+        },
         ..Default::default()
     }
 }

@@ -250,7 +250,9 @@ fn the_runner_reads_the_registered_facts() {
     let plan = RunPlan::new(1e-3, 6).with_substeps(3);
     let steps_and_passes = |facts: MethodInfo| {
         let mine = r.clone().with(Method::new(facts, make)).unwrap();
-        let mut m = mine.create("user_euler", &MethodOptions::default()).unwrap();
+        let mut m = mine
+            .create("user_euler", &MethodOptions::default())
+            .unwrap();
         let out = run(&sys, &mut m, ball.initial_state(), &plan, &mut NoObserver).unwrap();
         (out.work.steps, out.work.contact_passes)
     };
@@ -283,9 +285,12 @@ fn a_registered_method_runs_through_compare_like_a_builtin() {
     )
     .unwrap();
     let cfg = CompareConfig {
-        registry: Registry::builtin().with(user()).unwrap(),
-        methods: vec!["user_euler".into(), "symplectic_euler".into()],
         series_points: 0,
+        common: springlab::measure::Common {
+            registry: Registry::builtin().with(user()).unwrap(),
+            methods: vec!["user_euler".into(), "symplectic_euler".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let res = compare(&scene, &cfg).unwrap();

@@ -254,9 +254,12 @@ fn penetration_max_is_the_contact_metrics_deepest_penetration_and_absent_without
     let (dt, duration) = (0.0005, 0.6);
     let names = ["symplectic_euler", "rk4"];
     let cfg = CompareConfig {
-        methods: names.iter().map(|s| s.to_string()).collect(),
         duration: Some(duration),
         series_points: 0,
+        common: springlab::measure::Common {
+            methods: names.iter().map(|s| s.to_string()).collect(),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let res = compare(&scene, &cfg).unwrap();

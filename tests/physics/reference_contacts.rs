@@ -102,8 +102,11 @@ fn reference_matches_the_exact_bounce_and_grades_rk4_like_it() {
 fn chain_on_box_reference_error_is_centimetres_not_metres() {
     let scene = Scenario::from_file("scenarios/chain_on_box.toml").unwrap();
     let cfg = CompareConfig {
-        methods: vec!["rk4".into()],
         dt: Some(1e-4),
+        common: springlab::measure::Common {
+            methods: vec!["rk4".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     let res = compare(&scene, &cfg).unwrap();

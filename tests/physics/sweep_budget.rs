@@ -10,11 +10,14 @@ use springlab::scenario::Scenario;
 fn sweep(budget: Option<f64>) -> SweepResult {
     let scene = Scenario::from_file("scenarios/hanging_chain.toml").unwrap();
     let cfg = SweepConfig {
-        methods: vec!["symplectic_euler".into(), "implicit_euler".into()],
         duration: Some(1.0),
         extend: Some(false),
         repeat_short: false,
-        budget_seconds: budget,
+        common: springlab::measure::Common {
+            methods: vec!["symplectic_euler".into(), "implicit_euler".into()],
+            budget_seconds: budget,
+            ..Default::default()
+        },
         ..Default::default()
     };
     run_sweep(&scene, &cfg).unwrap()

@@ -76,8 +76,11 @@ duration = 1.0
 
 fn config(names: &[&str]) -> SweepConfig {
     SweepConfig {
-        methods: names.iter().map(|s| s.to_string()).collect(),
         repeat_short: false,
+        common: springlab::measure::Common {
+            methods: names.iter().map(|s| s.to_string()).collect(),
+            ..Default::default()
+        },
         ..Default::default()
     }
 }

@@ -263,7 +263,10 @@ fn no_map_cell_contradicts_its_spectral_radius_without_saying_so() {
     // ρ ≤ 1, or from its run's, it names the measure that decided and why.
     let scene = Scenario::from_toml_str(SPRING, "damped_spring_stiff.toml").unwrap();
     let cfg = MapConfig {
-        methods: vec!["explicit_euler".into(), "rk4".into()],
+        common: springlab::measure::Common {
+            methods: vec!["explicit_euler".into(), "rk4".into()],
+            ..Default::default()
+        },
         ..Default::default()
     };
     for r in stability_map(&scene, &cfg).unwrap() {

@@ -6,7 +6,6 @@ use super::screen::SCREEN_FACTOR;
 use crate::measure::case::TimingRule;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::Metric;
-use crate::method::{MethodOptions, Registry};
 
 /// Options of [`advise`](super::advise).
 #[derive(Debug, Clone)]
@@ -19,12 +18,9 @@ pub struct AdviseConfig {
     pub metric: Option<Metric>,
     /// Horizon (s; default the scene's duration).
     pub horizon: Option<f64>,
-    /// Candidates (empty: every applicable method except the closed form).
-    pub methods: Vec<String>,
-    /// The methods to choose from (built-ins unless a library user added theirs).
-    pub registry: Registry,
-    /// Method options.
-    pub options: MethodOptions,
+    /// Methods, registry, options, blow-up factor, progress and budget: what every
+    /// measuring command shares.
+    pub common: crate::measure::Common,
     /// Predictions aim at tolerance / safety (default 2).
     pub safety: f64,
     /// Grid points (default 10).
@@ -33,21 +29,12 @@ pub struct AdviseConfig {
     pub dt_min: Option<f64>,
     /// Largest grid step (default: min(10 × scene dt, horizon / 4)).
     pub dt_max: Option<f64>,
-    /// Progress bar on a terminal.
-    pub progress: bool,
-    /// Blow-up factor of every run (see [`crate::run::verdict`]).
-    pub blowup_factor: f64,
     /// How often each candidate's run is repeated to time it (default [`ADVICE_TIMING`]).
     pub timing: TimingRule,
     /// Add the game view (`frame_rates` at [`FRAME_RATES`](super::frames::FRAME_RATES));
     /// `--no-frame-rates` leaves it out (the report's frame-rate section answers that question
     /// with `springlab framerate`).
     pub frame_rates: bool,
-    /// Time budget (s of runs, summed): each method's time per step is probed at the grid's
-    /// smallest step and its grid runs projected (doubled for verification and frame rates);
-    /// the costliest methods that would exceed it are left out, named with the figure. `None`:
-    /// no budget (the study chooses its engines by its own rule).
-    pub budget_seconds: Option<f64>,
     /// The game's frame rate (Hz) whose answer `--write-expect` writes: added to the frame
     /// view when it is not one of its rates (the view's only rate with `--no-frame-rates`).
     pub game_hz: Option<f64>,
@@ -65,21 +52,16 @@ impl Default for AdviseConfig {
             tolerance: None,
             metric: None,
             horizon: None,
-            methods: vec![],
-            registry: Registry::builtin(),
-            options: MethodOptions::default(),
             safety: 2.0,
             points: 10,
             dt_min: None,
             dt_max: None,
-            progress: false,
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             timing: ADVICE_TIMING,
             frame_rates: true,
-            budget_seconds: None,
             game_hz: None,
             ensemble: None,
             screen_factor: SCREEN_FACTOR,
+            common: crate::measure::Common::default(),
         }
     }
 }

@@ -262,14 +262,18 @@ pub fn check_config(scene: &Scenario, cfg: &AdviseConfig) -> Result<(f64, Vec<(f
 /// The settings of advice's runs: no series, no repeats, the step varied, not the substeps.
 fn case_settings(cfg: &AdviseConfig) -> CaseSettings {
     // Advice times its candidates' runs itself, after the accuracy runs.
-    CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
+    CaseSettings::measuring(
+        cfg.common.registry.clone(),
+        cfg.common.options.clone(),
+        cfg.common.blowup_factor,
+    )
 }
 
 /// The command that re-creates the advice on `scene` over `horizon` s.
 fn command_line(scene: &Scenario, cfg: &AdviseConfig, horizon: f64) -> String {
     // The methods as asked: none asked means advice's default set (closed forms left out with
     // a reason), which listing every name would change.
-    let asked = &cfg.methods;
+    let asked = &cfg.common.methods;
     super::command::CommandLine::new("advise", &scene.source)
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
@@ -279,12 +283,12 @@ fn command_line(scene: &Scenario, cfg: &AdviseConfig, horizon: f64) -> String {
         .flag("points", cfg.points)
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
-        .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, asked, &cfg.options)
-        .flag("blowup-factor", cfg.blowup_factor)
+        .flag("substeps", cfg.common.options.substeps)
+        .method_options(&cfg.common.registry, asked, &cfg.common.options)
+        .flag("blowup-factor", cfg.common.blowup_factor)
         .switch("no-frame-rates", !cfg.frame_rates)
         .flag_opt("hz", cfg.game_hz)
-        .flag_opt("budget", cfg.budget_seconds)
+        .flag_opt("budget", cfg.common.budget_seconds)
         .flag_opt(
             "screen",
             (cfg.screen_factor != SCREEN_FACTOR).then_some(cfg.screen_factor),
@@ -303,7 +307,7 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let priced = {
         let _stage = crate::run::progress_stage(
             format!("advise {}: modelled costs", scene.name),
-            cfg.progress,
+            cfg.common.progress,
         );
         screen::price((scene, &sys), cfg, &names, &grid)?
     };

@@ -81,8 +81,13 @@ pub(super) fn price(
     grid: &[(f64, u64)],
 ) -> Result<Vec<Priced>> {
     let s0 = scene.initial_state();
-    let limits =
-        crate::measure::stability::theory_limits(&cfg.registry, &cfg.options, sys, &s0, names)?;
+    let limits = crate::measure::stability::theory_limits(
+        &cfg.common.registry,
+        &cfg.common.options,
+        sys,
+        &s0,
+        names,
+    )?;
     let jobs: Vec<(usize, usize)> = (0..names.len())
         .flat_map(|i| (0..grid.len()).map(move |k| (i, k)))
         .collect();
@@ -90,8 +95,16 @@ pub(super) fn price(
         .par_iter()
         .map(|&(i, k)| {
             let (dt, steps) = grid[k];
-            seconds_per_step(sys, &s0, &cfg.registry, &cfg.options, &names[i], dt, steps)
-                .unwrap_or(0.0)
+            seconds_per_step(
+                sys,
+                &s0,
+                &cfg.common.registry,
+                &cfg.common.options,
+                &names[i],
+                dt,
+                steps,
+            )
+            .unwrap_or(0.0)
         })
         .collect();
     let dt_max = grid.last().map_or(0.0, |g| g.0);

@@ -34,15 +34,17 @@ pub(super) fn reference_for(
 ) -> Result<Reference> {
     let sys = scene.build();
     let s0 = scene.initial_state();
-    let stage =
-        crate::run::progress_stage(format!("advise {}: reference", scene.name), cfg.progress);
+    let stage = crate::run::progress_stage(
+        format!("advise {}: reference", scene.name),
+        cfg.common.progress,
+    );
     let mut reference = Reference::compute(&sys, &s0, grids, horizon)?;
     drop(stage);
     match &decided.judge {
         None => {
             let _stage = crate::run::progress_stage(
                 format!("advise {}: judge (tolerance, ensemble)", scene.name),
-                cfg.progress,
+                cfg.common.progress,
             );
             let (judge, note) = crate::measure::tolerance::decide(
                 cfg.metric,
@@ -120,7 +122,7 @@ pub(super) fn run_grids(
         &reference,
         &idx,
         set,
-        (label, cfg.progress),
+        (label, cfg.common.progress),
     )?;
     Ok((reference.info, out))
 }
@@ -146,8 +148,16 @@ fn within_budget(
     let costs: Vec<Cost> = names
         .iter()
         .map(|n| {
-            let per = seconds_per_step(&sys, &s0, &cfg.registry, &cfg.options, n, dt, steps)
-                .unwrap_or(0.0);
+            let per = seconds_per_step(
+                &sys,
+                &s0,
+                &cfg.common.registry,
+                &cfg.common.options,
+                n,
+                dt,
+                steps,
+            )
+            .unwrap_or(0.0);
             Cost {
                 per_unit: per,
                 projected: per * total,
@@ -227,12 +237,22 @@ pub(super) fn candidates(
     cfg: &AdviseConfig,
     grid: &[(f64, u64)],
 ) -> Result<(Vec<String>, Vec<Unable>)> {
-    let (mut names, mut unable) = applicable(&cfg.registry, sys, &cfg.methods, &cfg.options)?;
-    if cfg.methods.is_empty() {
+    let (mut names, mut unable) = applicable(
+        &cfg.common.registry,
+        sys,
+        &cfg.common.methods,
+        &cfg.common.options,
+    )?;
+    if cfg.common.methods.is_empty() {
         // Exact methods are closed forms for special scenes, not general-purpose schemes.
         let exact: Vec<String> = names
             .iter()
-            .filter(|n| cfg.registry.info(n).is_ok_and(|m| m.order == Order::Exact))
+            .filter(|n| {
+                cfg.common
+                    .registry
+                    .info(n)
+                    .is_ok_and(|m| m.order == Order::Exact)
+            })
             .cloned()
             .collect();
         for n in exact {
@@ -240,7 +260,7 @@ pub(super) fn candidates(
             unable.push((n, "closed form for this scene only, not a general method (ask for it with --methods to include it)".into()));
         }
     }
-    if let Some(b) = cfg.budget_seconds {
+    if let Some(b) = cfg.common.budget_seconds {
         names = within_budget(scene, cfg, names, grid, b, &mut unable)?;
     }
     Ok((names, unable))

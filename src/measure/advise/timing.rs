@@ -31,7 +31,13 @@ pub(super) fn timed_view(
                 .flat_map(move |a| [a.frames[fi].0.clone(), a.frames[fi].1.clone()])
         })
         .collect();
-    let mut view = plan.entries(&cfg.registry, &names, &frame_runs, judge, &scene.name)?;
+    let mut view = plan.entries(
+        &cfg.common.registry,
+        &names,
+        &frame_runs,
+        judge,
+        &scene.name,
+    )?;
     // Timing: every chosen run and each frame rate's best entry, once each, interleaved on
     // this thread after all accuracy runs.
     let run_of = |c: &CaseResult| TimedRun {
@@ -46,8 +52,10 @@ pub(super) fn timed_view(
         .chain(plan.timed_runs(&view))
         .collect();
     let timed = {
-        let _stage =
-            crate::run::progress_stage(format!("advise {}: timing", scene.name), cfg.progress);
+        let _stage = crate::run::progress_stage(
+            format!("advise {}: timing", scene.name),
+            cfg.common.progress,
+        );
         cost::time_once(
             ctx.sys,
             &scene.initial_state(),
@@ -61,7 +69,7 @@ pub(super) fn timed_view(
         .iter()
         .map(|a| {
             Choice::new(
-                &cfg.registry,
+                &cfg.common.registry,
                 &a.chosen,
                 a.predicted,
                 judge,

@@ -179,7 +179,7 @@ fn run_jobs(
         on.reference,
         &named,
         ctx.set,
-        (label, ctx.cfg.progress),
+        (label, ctx.cfg.common.progress),
     )?;
     for (&(i, k), c) in jobs.iter().zip(cases) {
         found.runs[i][k] = Some(c);
@@ -340,7 +340,8 @@ fn orders_of(cfg: &AdviseConfig, priced: &[Priced]) -> Vec<u32> {
     priced
         .iter()
         .map(|p| {
-            cfg.registry
+            cfg.common
+                .registry
                 .info(&p.name)
                 .map_or(0, |m| m.order.finite().unwrap_or(u32::MAX))
         })

@@ -38,8 +38,7 @@ use crate::error::{Error, Result};
 use crate::measure::command::DocumentHead;
 use crate::measure::statistics::Ensemble;
 use crate::measure::tolerance::{Judge, JudgedBy, Metric};
-use crate::method::MethodOptions;
-use crate::method::{Order, Registry};
+use crate::method::Order;
 use crate::model::Events;
 use crate::scenario::Scenario;
 use rayon::prelude::*;
@@ -68,22 +67,15 @@ pub struct FramerateConfig {
     /// An ensemble already made for this scene over the same run (the study passes
     /// compare's); None: made here when the statistics metric needs it.
     pub ensemble: Option<Ensemble>,
-    /// Methods (empty: every applicable one except closed forms).
-    pub methods: Vec<String>,
-    /// The methods to choose from.
-    pub registry: Registry,
-    /// Method options (`substeps` is searched, not read).
-    pub options: MethodOptions,
+    /// Methods, registry, options, blow-up factor, progress and budget: what every
+    /// measuring command shares.
+    pub common: crate::measure::Common,
     /// Simulated time (s; default the scene's duration).
     pub duration: Option<f64>,
     /// Largest substep count tried.
     pub max_substeps: u64,
     /// Largest run tried, in particle-steps (particles × frames × substeps); `None`: no cap.
     pub cost_cap: Option<f64>,
-    /// Blow-up factor of every run.
-    pub blowup_factor: f64,
-    /// Progress bar on a terminal.
-    pub progress: bool,
     /// How the table's runs are timed.
     pub timing: TimingRule,
     /// Start each method's search from the fewest substeps its linear stability theory says
@@ -91,10 +83,6 @@ pub struct FramerateConfig {
     /// ([`search::fewest_substeps_from`]); false: double from one substep. The fewest found is
     /// the same either way for a test monotone in the substeps; the start saves the runs below.
     pub theory_start: bool,
-    /// Time budget (s of runs, summed): each method's worst-case search is projected from its
-    /// time per substep, probed first; the costliest searches that would exceed it are left
-    /// out, named with the figure. `None`: no budget (the study chooses by its own rule).
-    pub budget_seconds: Option<f64>,
 }
 
 impl Default for FramerateConfig {
@@ -105,17 +93,12 @@ impl Default for FramerateConfig {
             tolerance: None,
             metric: None,
             ensemble: None,
-            methods: vec![],
-            registry: Registry::builtin(),
-            options: MethodOptions::default(),
             duration: None,
             max_substeps: DEFAULT_MAX_SUBSTEPS,
             cost_cap: None,
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
-            progress: false,
             timing: FRAMERATE_TIMING,
-            budget_seconds: None,
             theory_start: true,
+            common: crate::measure::Common::default(),
         }
     }
 }
@@ -232,8 +215,12 @@ fn frame_run(
     substeps: u64,
     judge: &Judge,
 ) -> Result<FrameRun> {
-    let (evals, why) =
-        force_evals_per_second(&cfg.registry, &c.method, c.force_evals, c.steps as f64)?;
+    let (evals, why) = force_evals_per_second(
+        &cfg.common.registry,
+        &c.method,
+        c.force_evals,
+        c.steps as f64,
+    )?;
     let measured = (cfg.timing.reuses_measured_run() && c.ok() && c.steps_done == c.steps)
         .then(|| WallTimes::of(&[c.wall_seconds]));
     Ok(FrameRun {
@@ -260,7 +247,7 @@ fn frame_run(
 /// Whether method `name` is searched at `hz` ([`FramerateConfig::engine_rates`]).
 fn searched_at(cfg: &FramerateConfig, name: &str, hz: f64) -> bool {
     match &cfg.engine_rates {
-        Some(r) if cfg.registry.info(name).is_ok_and(|m| m.engine) => r.contains(&hz),
+        Some(r) if cfg.common.registry.info(name).is_ok_and(|m| m.engine) => r.contains(&hz),
         _ => true,
     }
 }
@@ -306,16 +293,16 @@ fn within_budget(
             let per = seconds_per_step(
                 sys,
                 s0,
-                &cfg.registry,
-                &cfg.options,
+                &cfg.common.registry,
+                &cfg.common.options,
                 n,
                 1.0 / hz,
                 PROBE_STEPS,
             )
             .unwrap_or(0.0);
-            let engine = cfg.registry.info(n).is_ok_and(|m| m.engine);
+            let engine = cfg.common.registry.info(n).is_ok_and(|m| m.engine);
             let per_unit = if engine {
-                per / cfg.options.substeps.max(1) as f64
+                per / cfg.common.options.substeps.max(1) as f64
             } else {
                 per
             };
@@ -419,7 +406,13 @@ fn search_starts(
     if !cfg.theory_start {
         return Ok(vec![None; names.len()]);
     }
-    crate::measure::stability::theory_limits(&cfg.registry, &cfg.options, sys, s0, names)
+    crate::measure::stability::theory_limits(
+        &cfg.common.registry,
+        &cfg.common.options,
+        sys,
+        s0,
+        names,
+    )
 }
 
 /// The command that re-creates a table of `names` (and the `skipped` methods) on `scene` over
@@ -445,9 +438,9 @@ fn command_line(
         .flag("duration", duration)
         .flag("max-substeps", cfg.max_substeps)
         .flag_opt("cost-cap", cfg.cost_cap)
-        .method_options(&cfg.registry, &listed, &cfg.options)
-        .flag("blowup-factor", cfg.blowup_factor)
-        .flag_opt("budget", cfg.budget_seconds)
+        .method_options(&cfg.common.registry, &listed, &cfg.common.options)
+        .flag("blowup-factor", cfg.common.blowup_factor)
+        .flag_opt("budget", cfg.common.budget_seconds)
         .render()
 }
 
@@ -474,12 +467,22 @@ fn methods_of(
     cfg: &FramerateConfig,
     frames: &[u64],
 ) -> Result<(Vec<String>, Vec<Skipped>)> {
-    let (mut names, mut skipped) = applicable(&cfg.registry, sys, &cfg.methods, &cfg.options)?;
-    if cfg.methods.is_empty() {
+    let (mut names, mut skipped) = applicable(
+        &cfg.common.registry,
+        sys,
+        &cfg.common.methods,
+        &cfg.common.options,
+    )?;
+    if cfg.common.methods.is_empty() {
         // Closed forms solve special scenes exactly; they are not a frame-rate choice.
-        names.retain(|n| cfg.registry.info(n).is_ok_and(|m| m.order != Order::Exact));
+        names.retain(|n| {
+            cfg.common
+                .registry
+                .info(n)
+                .is_ok_and(|m| m.order != Order::Exact)
+        });
     }
-    if let Some(b) = cfg.budget_seconds {
+    if let Some(b) = cfg.common.budget_seconds {
         names = within_budget(sys, s0, cfg, names, frames, b, &mut skipped)?;
     }
     Ok((names, skipped))
@@ -499,7 +502,11 @@ fn frame_grids(cfg: &FramerateConfig, frames: &[u64], particles: usize) -> Vec<T
 /// The settings of the table's runs: no series, no repeats (the timing comes after), the
 /// substeps set per run.
 fn case_settings(cfg: &FramerateConfig) -> CaseSettings {
-    CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
+    CaseSettings::measuring(
+        cfg.common.registry.clone(),
+        cfg.common.options.clone(),
+        cfg.common.blowup_factor,
+    )
 }
 
 /// Measures every method at every frame rate: per method and rate, the fewest substeps that
@@ -515,7 +522,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let horizon = grids.iter().map(|g| g.time(g.steps)).fold(0.0, f64::max);
     let stage = crate::run::progress_stage(
         format!("framerate {}: reference and judge", scene.name),
-        cfg.progress,
+        cfg.common.progress,
     );
     let mut reference = Reference::compute(&sys, &s0, &grids, horizon)?;
     let (judge, metric_note) = crate::measure::tolerance::decide(
@@ -539,7 +546,7 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     let pb = crate::run::progress_bar(
         jobs.len() as u64,
         &format!("framerate {}", scene.name),
-        cfg.progress,
+        cfg.common.progress,
     );
     let particles = sys.len().max(1) as f64;
     let starts = search_starts(cfg, &sys, &s0, &names)?;
@@ -568,8 +575,10 @@ pub fn framerate(scene: &Scenario, cfg: &FramerateConfig) -> Result<Framerate> {
     pb.finish_and_clear();
     let mut entries = searched.into_iter().collect::<Result<Vec<_>>>()?;
     {
-        let _stage =
-            crate::run::progress_stage(format!("framerate {}: timing", scene.name), cfg.progress);
+        let _stage = crate::run::progress_stage(
+            format!("framerate {}: timing", scene.name),
+            cfg.common.progress,
+        );
         if !cfg.timing.reuses_measured_run() {
             timing::time_entries(&sys, &s0, &mut entries, &set, &cfg.timing)?;
         }

@@ -18,12 +18,16 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let sys = scene.build();
     let s0 = scene.initial_state();
     let ms = modes(&sys, &s0);
-    let (names, skipped) =
-        crate::measure::case::applicable(&cfg.registry, &sys, &cfg.methods, &cfg.options)?;
+    let (names, skipped) = crate::measure::case::applicable(
+        &cfg.common.registry,
+        &sys,
+        &cfg.common.methods,
+        &cfg.common.options,
+    )?;
     let horizon = horizon(scene, cfg, &ms)?;
     let crit = EmpiricalCriterion {
         horizon,
-        blowup_factor: cfg.blowup_factor,
+        blowup_factor: cfg.common.blowup_factor,
         dt_min: horizon / 1e6,
         dt_max: horizon / 2.0,
     };
@@ -32,14 +36,14 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let theories: Vec<Option<Limit>> = names
         .iter()
         .map(|name| {
-            let method = cfg.registry.get(name)?;
+            let method = cfg.common.registry.get(name)?;
             Ok((method.info.linear_theory() && !ms.modes.is_empty())
-                .then(|| theory_limit(method, &cfg.options, &ms)))
+                .then(|| theory_limit(method, &cfg.common.options, &ms)))
         })
         .collect::<Result<_>>()?;
     let starts = search_starts(scene, cfg, &names, &theories, &crit);
     let costs = search_costs(&sys, &s0, cfg, &names, &starts, horizon);
-    let left_out = match cfg.budget_seconds {
+    let left_out = match cfg.common.budget_seconds {
         Some(b) => searches_over_budget(&names, &costs, b)?,
         None => vec![None; names.len()],
     };
@@ -54,13 +58,16 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let pb = crate::run::progress_bar(
         units(planned).max(1),
         &format!("stability {} (modelled ms of trials)", scene.name),
-        cfg.progress,
+        cfg.common.progress,
     );
     let results: Vec<Result<MethodStability>> = names
         .par_iter()
         .enumerate()
         .map(|(k, name)| {
-            let allowance = cfg.budget_seconds.map(|b| b - (planned - projected[k]));
+            let allowance = cfg
+                .common
+                .budget_seconds
+                .map(|b| b - (planned - projected[k]));
             let mut work = SearchWork::new(&pb, projected[k], allowance);
             let search = Search {
                 sys: &sys,
@@ -75,14 +82,14 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
         })
         .collect();
     pb.finish_and_clear();
-    let asked = crate::measure::case::asked_or_all(&cfg.registry, &cfg.methods);
+    let asked = crate::measure::case::asked_or_all(&cfg.common.registry, &cfg.common.methods);
     let command = crate::measure::command::CommandLine::new("stability", &scene.source)
         .list("methods", &asked)
-        .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, &asked, &cfg.options)
+        .flag("substeps", cfg.common.options.substeps)
+        .method_options(&cfg.common.registry, &asked, &cfg.common.options)
         .flag("horizon", horizon)
-        .flag("blowup-factor", cfg.blowup_factor)
-        .flag_opt("budget", cfg.budget_seconds)
+        .flag("blowup-factor", cfg.common.blowup_factor)
+        .flag_opt("budget", cfg.common.budget_seconds)
         .switch("theory-only", cfg.theory_only)
         .switch("empirical-where-no-theory", cfg.empirical_where_no_theory)
         .render();
@@ -148,6 +155,7 @@ fn search_starts(
         .zip(theories)
         .map(|(name, theory)| {
             let unconditional = cfg
+                .common
                 .registry
                 .info(name)
                 .is_ok_and(|m| m.stability == StabilityTheory::Unconditional);
@@ -186,7 +194,7 @@ fn analyse_one(
     search: &Search,
     work: &mut SearchWork,
 ) -> Result<MethodStability> {
-    let method = cfg.registry.get(name)?;
+    let method = cfg.common.registry.get(name)?;
     let exact = method.info.stability == StabilityTheory::Unconditional;
     let mut note = None;
     if theory.is_none() {
@@ -219,7 +227,7 @@ fn analyse_one(
             search.sys,
             search.s0,
             method,
-            &cfg.options,
+            &cfg.common.options,
             start,
             search.crit,
             Some(work),
@@ -256,9 +264,14 @@ fn analyse_one(
             ms.damping_coupling.unwrap_or(0.0)
         ));
     }
-    let statement = super::statement(method, &cfg.options, ms, theory, empirical.as_ref(), |h| {
-        super::trial_steps(search.crit, h)
-    });
+    let statement = super::statement(
+        method,
+        &cfg.common.options,
+        ms,
+        theory,
+        empirical.as_ref(),
+        |h| super::trial_steps(search.crit, h),
+    );
     Ok(MethodStability {
         method: name.to_string(),
         statement,

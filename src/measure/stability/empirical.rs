@@ -177,9 +177,16 @@ pub(super) fn search_costs(
         .map(|(name, start)| match start {
             Some(h) => {
                 let steps = (horizon / h).ceil().max(MIN_TRIAL_STEPS as f64);
-                let per =
-                    seconds_per_step(sys, s0, &cfg.registry, &cfg.options, name, *h, steps as u64)
-                        .unwrap_or(0.0);
+                let per = seconds_per_step(
+                    sys,
+                    s0,
+                    &cfg.common.registry,
+                    &cfg.common.options,
+                    name,
+                    *h,
+                    steps as u64,
+                )
+                .unwrap_or(0.0);
                 Cost {
                     per_unit: per,
                     projected: per * steps * SEARCH_TRIALS,

@@ -5,8 +5,7 @@ use super::theory::{rho, theory_limit, Limit, RHO_TOL};
 use super::Verdict;
 use crate::error::Result;
 use crate::measure::modes::{modes, Modes};
-use crate::method::MethodOptions;
-use crate::method::{Method, Registry, StabilityTheory};
+use crate::method::{Method, StabilityTheory};
 use crate::model::{State, System, Vec3};
 use crate::run::{run, NoObserver, RunPlan};
 use crate::scenario::Scenario;
@@ -45,12 +44,9 @@ pub fn seeded(sys: &System, s0: &State) -> State {
 /// Options of [`stability_map`].
 #[derive(Debug, Clone)]
 pub struct MapConfig {
-    /// Methods (empty: all applicable).
-    pub methods: Vec<String>,
-    /// The methods to choose from (built-ins unless a library user added theirs).
-    pub registry: Registry,
-    /// Method options.
-    pub options: MethodOptions,
+    /// Methods, registry, options, blow-up factor, progress and budget: what every
+    /// measuring command shares.
+    pub common: crate::measure::Common,
     /// Multipliers of every spring stiffness (default 1/16 … 16, 9 points).
     pub stiffness_scales: Vec<f64>,
     /// Multipliers of every damper and of drag (default `[1]`).
@@ -63,10 +59,6 @@ pub struct MapConfig {
     /// Periods of the scaled ω_max per empirical run (default 50; at least [`MAP_MIN_STEPS`]
     /// and at most [`MAP_MAX_STEPS`] steps).
     pub periods: f64,
-    /// Blow-up factor of the empirical runs.
-    pub blowup_factor: f64,
-    /// Progress bar on a terminal.
-    pub progress: bool,
 }
 
 fn logspace(a: f64, b: f64, n: usize) -> Vec<f64> {
@@ -78,16 +70,12 @@ fn logspace(a: f64, b: f64, n: usize) -> Vec<f64> {
 impl Default for MapConfig {
     fn default() -> Self {
         MapConfig {
-            methods: vec![],
-            registry: Registry::builtin(),
-            options: MethodOptions::default(),
             stiffness_scales: logspace(1.0 / 16.0, 16.0, 9),
             damping_scales: vec![1.0],
             h_omega: logspace(0.02, 20.0, 16),
             dts: vec![],
             periods: 50.0,
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
-            progress: false,
+            common: crate::measure::Common::default(),
         }
     }
 }
@@ -253,12 +241,12 @@ impl MapCells<'_> {
         let steps = ((cfg.periods * std::f64::consts::TAU / w / dt).ceil() as u64)
             .clamp(MAP_MIN_STEPS, MAP_MAX_STEPS);
         let method = self.methods[ni];
-        let mut stepper = method.create(&cfg.options);
+        let mut stepper = method.create(&cfg.common.options);
         let plan = RunPlan {
             dt,
             steps,
             substeps: 1,
-            blowup_factor: cfg.blowup_factor,
+            blowup_factor: cfg.common.blowup_factor,
             stop_at_verdict: true,
         };
         let out = run(
@@ -272,7 +260,7 @@ impl MapCells<'_> {
         let radius = |ms: &Modes| {
             ms.modes
                 .iter()
-                .map(|&m| rho(method, &cfg.options, m, dt))
+                .map(|&m| rho(method, &cfg.common.options, m, dt))
                 .fold(0.0, f64::max)
         };
         let rho_max = th.map(|_| radius(ms));
@@ -309,12 +297,16 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let s0 = scene.initial_state();
     let w0 = modes(&sys0, &s0).omega_max;
     let w0 = if w0 > 0.0 { w0 } else { 1.0 };
-    let (names, _) =
-        crate::measure::case::applicable(&cfg.registry, &sys0, &cfg.methods, &cfg.options)?;
+    let (names, _) = crate::measure::case::applicable(
+        &cfg.common.registry,
+        &sys0,
+        &cfg.common.methods,
+        &cfg.common.options,
+    )?;
     // Exact methods are stable everywhere by construction: nothing to map.
     let methods: Vec<&Method> = names
         .iter()
-        .map(|n| cfg.registry.get(n))
+        .map(|n| cfg.common.registry.get(n))
         .collect::<Result<Vec<_>>>()?
         .into_iter()
         .filter(|m| m.info.stability != StabilityTheory::Unconditional)
@@ -336,7 +328,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
                 .iter()
                 .map(|(_, _, m)| {
                     (method.info.linear_theory() && !m.modes.is_empty())
-                        .then(|| theory_limit(method, &cfg.options, m))
+                        .then(|| theory_limit(method, &cfg.common.options, m))
                 })
                 .collect()
         })
@@ -354,7 +346,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let pb = crate::run::progress_bar(
         cells.len() as u64,
         &format!("stability map {}", scene.name),
-        cfg.progress,
+        cfg.common.progress,
     );
     let rows: Vec<Result<MapRow>> = cells
         .par_iter()

@@ -135,46 +135,18 @@ pub struct StabilityReport {
 }
 
 /// Options of [`analyse`].
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct StabilityConfig {
-    /// Methods (empty: all applicable).
-    pub methods: Vec<String>,
-    /// The methods to choose from (built-ins unless a library user added theirs).
-    pub registry: Registry,
-    /// Method options.
-    pub options: MethodOptions,
+    /// Methods, registry, options, blow-up factor, progress and budget: what every
+    /// measuring command shares.
+    pub common: crate::measure::Common,
     /// Empirical horizon (default: 100 periods of ω_max, else the scene's duration).
     pub horizon: Option<f64>,
-    /// Empirical blow-up factor (default: every command's, [`crate::run::DEFAULT_BLOWUP_FACTOR`]).
-    pub blowup_factor: f64,
     /// Skip the empirical search.
     pub theory_only: bool,
     /// Run the empirical search only for methods without linear theory (where the spectral
     /// radius decides the verdict, the search is a cross-check that costs many runs).
     pub empirical_where_no_theory: bool,
-    /// Progress bar (one tick per method) on a terminal.
-    pub progress: bool,
-    /// Time budget of the empirical searches (s of runs, summed): each searching method's
-    /// time per step is probed at its first trial step, its search projected at
-    /// [`SEARCH_TRIALS`] trials, and the costliest searches that would exceed the budget are
-    /// left out, named with the figure. `None`: no budget (the study bounds its engines itself).
-    pub budget_seconds: Option<f64>,
-}
-
-impl Default for StabilityConfig {
-    fn default() -> Self {
-        StabilityConfig {
-            methods: vec![],
-            registry: Registry::builtin(),
-            options: MethodOptions::default(),
-            horizon: None,
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
-            theory_only: false,
-            empirical_where_no_theory: false,
-            progress: false,
-            budget_seconds: None,
-        }
-    }
 }
 
 /// The linear theory's largest stable step of each of `names` on `sys` from `s0` (s): None

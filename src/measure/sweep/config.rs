@@ -2,7 +2,6 @@
 
 use crate::error::{Error, Result};
 use crate::measure::grid::DEFAULT_BUDGET_BYTES;
-use crate::method::{MethodOptions, Registry};
 use serde::{Deserialize, Serialize};
 
 /// The I-th of N deterministic slices of a sweep (0 ≤ I < N).
@@ -43,8 +42,9 @@ impl std::str::FromStr for Shard {
 /// What to sweep. The grid fields are overrides of the dynamics-based default (module doc).
 #[derive(Debug, Clone)]
 pub struct SweepConfig {
-    /// Methods (empty: every applicable native and engine method).
-    pub methods: Vec<String>,
+    /// Methods, registry, options, blow-up factor, progress and budget: what every
+    /// measuring command shares.
+    pub common: crate::measure::Common,
     /// Smallest base step (default: hω_max = 0.05); giving it turns extension off unless
     /// `extend` is `Some(true)`.
     pub dt_min: Option<f64>,
@@ -60,43 +60,27 @@ pub struct SweepConfig {
     pub cost_cap: Option<f64>,
     /// Simulated time (default: the scene's duration).
     pub duration: Option<f64>,
-    /// The methods to choose from (built-ins unless a library user added theirs).
-    pub registry: Registry,
-    /// Method options.
-    pub options: MethodOptions,
-    /// Blow-up factor of the runner.
-    pub blowup_factor: f64,
     /// Run only one slice.
     pub shard: Option<Shard>,
     /// Memory budget for the reference samples (bytes).
     pub budget_bytes: usize,
-    /// Show a progress bar on a terminal.
-    pub progress: bool,
     /// Repeat short runs for the wall time.
     pub repeat_short: bool,
-    /// Time budget (s of runs, summed; see [`budget`](super::budget)); `None`: no budget (the
-    /// report's sweeps, whose engines the study already chose by cost). Not applied to a shard.
-    pub budget_seconds: Option<f64>,
 }
 
 impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
-            methods: Vec::new(),
             dt_min: None,
             dt_max: None,
             points: None,
             extend: None,
             cost_cap: None,
             duration: None,
-            registry: Registry::builtin(),
-            options: MethodOptions::default(),
-            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
             shard: None,
             budget_bytes: DEFAULT_BUDGET_BYTES,
-            progress: false,
             repeat_short: true,
-            budget_seconds: None,
+            common: crate::measure::Common::default(),
         }
     }
 }

@@ -163,7 +163,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
     let mut plan = plan_sweep(scene, cfg)?;
     let sys = scene.build();
     let s0 = scene.initial_state();
-    if let (Some(seconds), None) = (cfg.budget_seconds, cfg.shard) {
+    if let (Some(seconds), None) = (cfg.common.budget_seconds, cfg.shard) {
         apply_budget(&mut plan, &sys, &s0, cfg, seconds)?;
     }
     let p = plan.dts.len();
@@ -185,7 +185,11 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
     let saturation = 0.1 * scale;
     let set = CaseSettings {
         repeat_short: cfg.repeat_short,
-        ..CaseSettings::measuring(cfg.registry.clone(), cfg.options.clone(), cfg.blowup_factor)
+        ..CaseSettings::measuring(
+            cfg.common.registry.clone(),
+            cfg.common.options.clone(),
+            cfg.common.blowup_factor,
+        )
     };
     let mut pending: Vec<usize> = owned
         .iter()
@@ -194,7 +198,7 @@ pub fn run_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepResult> {
     let pb = crate::run::progress_bar(
         pending.len() as u64,
         &format!("sweep {}", scene.name),
-        cfg.progress,
+        cfg.common.progress,
     );
     let mut done: Vec<CaseResult> = Vec::new();
     let mut done_k: Vec<usize> = Vec::new();
@@ -268,8 +272,8 @@ fn apply_budget(
             crate::measure::probe::seconds_per_step(
                 sys,
                 s0,
-                &cfg.registry,
-                &cfg.options,
+                &cfg.common.registry,
+                &cfg.common.options,
                 name,
                 plan.dts[j],
                 plan.steps[j],

@@ -169,9 +169,9 @@ fn dynamic_bounds(
     } else {
         names
             .iter()
-            .filter_map(|n| cfg.registry.get(n).ok())
+            .filter_map(|n| cfg.common.registry.get(n).ok())
             .filter(|m| m.info.linear_theory())
-            .filter_map(|m| theory_limit(m, &cfg.options, &ms).1)
+            .filter_map(|m| theory_limit(m, &cfg.common.options, &ms).1)
             .fold(None, |a: Option<f64>, h| Some(a.map_or(h, |a| a.max(h))))
     };
     let cap = MAX_STEP_FRACTION * duration;
@@ -218,7 +218,8 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .methods
         .iter()
         .map(|n| {
-            cfg.registry
+            cfg.common
+                .registry
                 .info(n)
                 .ok()
                 .filter(|m| !m.engine)
@@ -239,11 +240,11 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .switch("extend", cfg.extend == Some(true))
         .switch("no-extend", cfg.extend == Some(false))
         .flag_opt("cost-cap", cfg.cost_cap)
-        .flag_opt("budget", cfg.budget_seconds)
+        .flag_opt("budget", cfg.common.budget_seconds)
         .flag("duration", plan.duration)
-        .flag("substeps", cfg.options.substeps)
-        .method_options(&cfg.registry, &asked, &cfg.options)
-        .flag("blowup-factor", cfg.blowup_factor)
+        .flag("substeps", cfg.common.options.substeps)
+        .method_options(&cfg.common.registry, &asked, &cfg.common.options)
+        .flag("blowup-factor", cfg.common.blowup_factor)
         .render();
     Ok(plan)
 }
@@ -257,7 +258,12 @@ fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     if cfg.points == Some(0) {
         return Err(Error::option("--points", "must be at least 1"));
     }
-    let (methods, skipped) = applicable(&cfg.registry, &sys, &cfg.methods, &cfg.options)?;
+    let (methods, skipped) = applicable(
+        &cfg.common.registry,
+        &sys,
+        &cfg.common.methods,
+        &cfg.common.options,
+    )?;
     let fixed_grid = cfg.dt_min.is_some() && cfg.dt_max.is_some() && cfg.points.is_some();
     let (mut hi, mut hi_src, mut lo, mut lo_src, w, widest) = if fixed_grid {
         (0.0, String::new(), 0.0, String::new(), 0.0, None)
@@ -397,9 +403,9 @@ fn finish(
         rule,
         methods,
         skipped,
-        blowup_factor: cfg.blowup_factor,
-        options: cfg.options.resolved(&cfg.registry),
-        substeps: cfg.options.substeps,
+        blowup_factor: cfg.common.blowup_factor,
+        options: cfg.common.options.resolved(&cfg.common.registry),
+        substeps: cfg.common.options.substeps,
         budget: None,
     })
 }

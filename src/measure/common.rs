@@ -1,0 +1,37 @@
+//! What every measuring command shares, declared once: which methods run, from which registry
+//! and with which options, the runner's blow-up factor, whether progress is printed, and the
+//! time budget. Each command's config holds one [`Common`] beside its own settings.
+
+use crate::method::{MethodOptions, Registry};
+
+/// The settings every measuring command shares.
+#[derive(Debug, Clone)]
+pub struct Common {
+    /// Methods by name (empty: every one that applies to the scene and the command).
+    pub methods: Vec<String>,
+    /// The methods the names are looked up in (built-ins unless a library user added theirs).
+    pub registry: Registry,
+    /// Method options.
+    pub options: MethodOptions,
+    /// The runner's blow-up factor (see [`crate::run::RunPlan::blowup_factor`]).
+    pub blowup_factor: f64,
+    /// Print progress lines to stderr.
+    pub progress: bool,
+    /// Time budget in modelled seconds of runs (`None`: unlimited; `--budget`).
+    pub budget_seconds: Option<f64>,
+}
+
+impl Default for Common {
+    /// Every method of the built-in registry with default options, the default blow-up
+    /// factor, no progress, no budget.
+    fn default() -> Self {
+        Common {
+            methods: Vec::new(),
+            registry: Registry::builtin(),
+            options: MethodOptions::default(),
+            blowup_factor: crate::run::DEFAULT_BLOWUP_FACTOR,
+            progress: false,
+            budget_seconds: None,
+        }
+    }
+}
