@@ -18,8 +18,6 @@ pub struct Args {
     #[arg(long)]
     pub no_frame_rates: bool,
     #[command(flatten)]
-    pub budget: super::common::BudgetArg,
-    #[command(flatten)]
     pub judge: super::common::JudgeArgs,
     /// Horizon (s; default the scene's duration).
     #[arg(long, allow_negative_numbers = true)]
@@ -36,8 +34,6 @@ pub struct Args {
     /// Steps tried per method.
     #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub points: usize,
-    #[command(flatten)]
-    pub blowup: super::common::BlowupArg,
     /// Screen: a candidate, or a grid step of one, modelled above this many times the cost of
     /// the cheapest verified answer is not run (named with the figure); `inf` runs them all.
     #[arg(long, allow_negative_numbers = true, default_value_t = springlab::measure::advise::SCREEN_FACTOR)]
@@ -57,7 +53,7 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods.list)?;
+    let common = a.m.common()?;
     let scene = load(&a.scenario)?;
     if a.write_expect && scene.expect.is_some() {
         anyhow::bail!(
@@ -83,14 +79,7 @@ pub fn run(a: Args) -> Result<()> {
         frame_rates: !a.no_frame_rates,
         game_hz,
         screen_factor: a.screen,
-        common: springlab::measure::Common {
-            methods: a.m.methods.list.clone(),
-            options: a.m.options(),
-            progress: true,
-            blowup_factor: a.blowup.value()?,
-            budget_seconds: Some(a.budget.budget),
-            ..Default::default()
-        },
+        common,
         ..Default::default()
     };
     springlab::measure::advise::check_config(&scene, &cfg)?;

@@ -111,6 +111,37 @@ pub struct MethodsArg {
     pub list: Vec<String>,
 }
 
+/// What every measuring command's flags share: the methods, their options, the blow-up
+/// factor and the budget, declared once and flattened into each command.
+#[derive(Debug, Clone, clap::Args)]
+pub struct CommonArgs {
+    #[command(flatten)]
+    pub methods: MethodsArg,
+    #[command(flatten)]
+    pub method_options: super::method_args::MethodArgs,
+    #[command(flatten)]
+    pub blowup: BlowupArg,
+    #[command(flatten)]
+    pub budget: BudgetArg,
+}
+
+impl CommonArgs {
+    /// The library's shared settings from the flags, checked (an option no listed method
+    /// reads, a blow-up factor out of range), with progress on; `substeps` is also an
+    /// engine's solver substeps.
+    pub fn common(&self, substeps: Option<usize>) -> Result<springlab::measure::Common> {
+        self.method_options.check_read_by(&self.methods.list)?;
+        Ok(springlab::measure::Common {
+            methods: self.methods.list.clone(),
+            options: self.method_options.options(substeps),
+            blowup_factor: self.blowup.value()?,
+            progress: true,
+            budget_seconds: Some(self.budget.budget),
+            ..Default::default()
+        })
+    }
+}
+
 /// `--tolerance` and `--metric`: what a run is judged by, for every command that judges.
 #[derive(Debug, Clone, Copy, clap::Args)]
 pub struct JudgeArgs {

@@ -18,8 +18,6 @@ pub struct Args {
     pub dt: Option<f64>,
     #[command(flatten)]
     pub duration: super::common::DurationArg,
-    #[command(flatten)]
-    pub blowup: super::common::BlowupArg,
     /// Points per time series in summary.json (0: none).
     #[arg(long, default_value_t = 2000, allow_negative_numbers = true)]
     pub series_points: u64,
@@ -27,14 +25,12 @@ pub struct Args {
     /// cloths (what the report draws).
     #[arg(long)]
     pub trace: bool,
-    #[command(flatten)]
-    pub budget: super::common::BudgetArg,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods.list)?;
+    let common = a.m.common()?;
     let scene = load(&a.scenario)?;
     let cfg = CompareConfig {
         dt: a.dt,
@@ -42,14 +38,7 @@ pub fn run(a: Args) -> Result<()> {
         frame_substeps: a.m.frame_substeps(),
         series_points: a.series_points,
         trace: a.trace,
-        common: springlab::measure::Common {
-            methods: a.m.methods.list.clone(),
-            options: a.m.options(),
-            blowup_factor: a.blowup.value()?,
-            progress: true,
-            budget_seconds: Some(a.budget.budget),
-            ..Default::default()
-        },
+        common,
         ..Default::default()
     };
     let dir = a.m.out_dir(&scene.name, "compare");

@@ -28,7 +28,7 @@ pub struct Args {
     #[command(flatten)]
     pub judge: super::common::JudgeArgs,
     #[command(flatten)]
-    pub methods: super::common::MethodsArg,
+    pub common: super::common::CommonArgs,
     #[command(flatten)]
     pub duration: super::common::DurationArg,
     /// Largest number of substeps per frame tried.
@@ -38,19 +38,13 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
     #[command(flatten)]
-    pub budget: super::common::BudgetArg,
-    #[command(flatten)]
-    pub method_options: super::method_args::MethodArgs,
-    #[command(flatten)]
-    pub blowup: super::common::BlowupArg,
-    #[command(flatten)]
     pub out: super::common::OutArg,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.out.check()?;
-    a.method_options.check_read_by(&a.methods.list)?;
+    let common = a.common.common(None)?;
     let scene = load(&a.scenario)?;
     let duration = a.duration.value()?;
     let cfg = FramerateConfig {
@@ -61,14 +55,7 @@ pub fn run(a: Args) -> Result<()> {
         duration,
         max_substeps: a.max_substeps,
         cost_cap: a.cost_cap,
-        common: springlab::measure::Common {
-            methods: a.methods.list.clone(),
-            options: a.method_options.options(None),
-            blowup_factor: a.blowup.value()?,
-            progress: true,
-            budget_seconds: Some(a.budget.budget),
-            ..Default::default()
-        },
+        common,
         ..Default::default()
     };
     let dir = a

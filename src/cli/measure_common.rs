@@ -1,14 +1,13 @@
 //! Flags shared by the measuring subcommands (sweep, stability, advise, compare).
 
 use anyhow::Result;
-use springlab::method::MethodOptions;
 use std::path::{Path, PathBuf};
 
 /// Method selection and options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct MeasureArgs {
     #[command(flatten)]
-    pub methods: super::common::MethodsArg,
+    pub common: super::common::CommonArgs,
     /// Substeps per step. Rapier methods take this many solver substeps (default 4). In
     /// `compare` the step is a frame and every native method also splits it into this many
     /// equal steps (default 1; bit-identical to dt/N, every N-th state measured); `sweep`,
@@ -16,15 +15,13 @@ pub struct MeasureArgs {
     #[arg(long, allow_negative_numbers = true, value_parser = super::method_args::substeps)]
     pub substeps: Option<usize>,
     #[command(flatten)]
-    pub method_options: super::method_args::MethodArgs,
-    #[command(flatten)]
     pub out: super::common::OutArg,
 }
 
 impl MeasureArgs {
-    /// Method options; `--substeps` is also an engine's solver substeps.
-    pub fn options(&self) -> MethodOptions {
-        self.method_options.options(self.substeps)
+    /// The shared settings; `--substeps` is also an engine's solver substeps.
+    pub fn common(&self) -> Result<springlab::measure::Common> {
+        self.common.common(self.substeps)
     }
     /// Substeps per frame for every method, when `--substeps` was given (`compare`).
     pub fn frame_substeps(&self) -> Option<u64> {

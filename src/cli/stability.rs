@@ -22,8 +22,6 @@ pub struct Args {
     /// Horizon of each empirical trial run (s; default 100 periods of the highest mode).
     #[arg(long, allow_negative_numbers = true)]
     pub horizon: Option<f64>,
-    #[command(flatten)]
-    pub blowup: super::common::BlowupArg,
     /// Skip the empirical bisection.
     #[arg(long)]
     pub theory_only: bool,
@@ -31,8 +29,6 @@ pub struct Args {
     /// spectral radius applies it decides anyway, and the bisection is a costly cross-check.
     #[arg(long, conflicts_with = "theory_only")]
     pub empirical_where_no_theory: bool,
-    #[command(flatten)]
-    pub budget: super::common::BudgetArg,
     /// Also sweep stiffness × dt into stability_map.csv.
     #[arg(long)]
     pub map: bool,
@@ -51,27 +47,19 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods.list)?;
+    let common = a.m.common()?;
     let scene = load(&a.scenario)?;
     if let Some(h) = a.horizon {
         if !(h.is_finite() && h > 0.0) {
             bail!("--horizon: must be a finite number > 0, got {}", num(h));
         }
     }
-    let blowup_factor = a.blowup.value()?;
     check_map_args(&a)?;
     let cfg = StabilityConfig {
         horizon: a.horizon,
         theory_only: a.theory_only,
         empirical_where_no_theory: a.empirical_where_no_theory,
-        common: springlab::measure::Common {
-            methods: a.m.methods.list.clone(),
-            options: a.m.options(),
-            blowup_factor,
-            progress: true,
-            budget_seconds: Some(a.budget.budget),
-            ..Default::default()
-        },
+        common: common.clone(),
     };
     let dir = a.m.out_dir(&scene.name, "stability");
     let _lock = springlab::output::lock_dir(&dir)?;
@@ -79,7 +67,7 @@ pub fn run(a: Args) -> Result<()> {
     let mut files = vec![write_stability(&dir, &rep)?];
     print_report(&scene.name, &rep);
     if a.map {
-        files.push(write_map(&scene, &a, blowup_factor, &dir)?);
+        files.push(write_map(&scene, &a, common, &dir)?);
     }
     super::common::print_written(&files);
     Ok(())
@@ -148,14 +136,16 @@ fn print_report(scene: &str, rep: &StabilityReport) {
 
 /// Sweeps stiffness × dt (at each damping scale) for the methods asked for and writes the rows to
 /// `stability_map.csv` in `dir`; returns the file written.
-fn write_map(scene: &Scenario, a: &Args, blowup_factor: f64, dir: &Path) -> Result<PathBuf> {
+fn write_map(
+    scene: &Scenario,
+    a: &Args,
+    common: springlab::measure::Common,
+    dir: &Path,
+) -> Result<PathBuf> {
     let mut mc = MapConfig {
         common: springlab::measure::Common {
-            methods: a.m.methods.list.clone(),
-            options: a.m.options(),
-            blowup_factor,
-            progress: true,
-            ..Default::default()
+            budget_seconds: None,
+            ..common
         },
         ..Default::default()
     };

@@ -39,20 +39,16 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     pub cost_cap: Option<f64>,
     #[command(flatten)]
-    pub budget: super::common::BudgetArg,
-    #[command(flatten)]
     pub duration: super::common::DurationArg,
     /// Run only slice I of N (0 ≤ I < N); join the slices with `springlab merge`.
     #[arg(long)]
     pub shard: Option<Shard>,
-    #[command(flatten)]
-    pub blowup: super::common::BlowupArg,
 }
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<()> {
     a.m.check_out()?;
-    a.m.method_options.check_read_by(&a.m.methods.list)?;
+    let common = a.m.common()?;
     let scene = load(&a.scenario)?;
     let cfg = SweepConfig {
         dt_min: a.dt_min,
@@ -66,14 +62,7 @@ pub fn run(a: Args) -> Result<()> {
         cost_cap: a.cost_cap,
         duration: a.duration.value()?,
         shard: a.shard,
-        common: springlab::measure::Common {
-            methods: a.m.methods.list.clone(),
-            options: a.m.options(),
-            blowup_factor: a.blowup.value()?,
-            progress: true,
-            budget_seconds: Some(a.budget.budget),
-            ..Default::default()
-        },
+        common,
         ..Default::default()
     };
     let dir = match a.shard {

@@ -98,6 +98,10 @@ impl CommandLine {
             .filter(|(spec, _)| registry.reads_option(methods, spec.flag))
             .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.get(&spec)))
     }
+    /// Adds the shared settings' flags ([`crate::measure::Common::recorded`]) for `methods`.
+    pub fn common(self, common: &crate::measure::Common, methods: &[String]) -> Self {
+        common.recorded(self, methods)
+    }
     /// Adds a bare `--name`.
     pub fn switch(mut self, name: &str, on: bool) -> Self {
         if on {

@@ -2,6 +2,7 @@
 //! and with which options, the runner's blow-up factor, whether progress is printed, and the
 //! time budget. Each command's config holds one [`Common`] beside its own settings.
 
+use super::command::CommandLine;
 use crate::method::{MethodOptions, Registry};
 
 /// The settings every measuring command shares.
@@ -19,6 +20,18 @@ pub struct Common {
     pub progress: bool,
     /// Time budget in modelled seconds of runs (`None`: unlimited; `--budget`).
     pub budget_seconds: Option<f64>,
+}
+
+impl Common {
+    /// `line` with these settings' flags, as the command line takes them: `--methods` (the
+    /// names `methods` the document lists), the options any of them reads, `--blowup-factor`
+    /// and `--budget` when there is one. Every recorded command renders them here.
+    pub fn recorded(&self, line: CommandLine, methods: &[String]) -> CommandLine {
+        line.list("methods", methods)
+            .method_options(&self.registry, methods, &self.options)
+            .flag("blowup-factor", self.blowup_factor)
+            .flag_opt("budget", self.budget_seconds)
+    }
 }
 
 impl Default for Common {

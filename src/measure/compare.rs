@@ -253,13 +253,10 @@ fn command_line(
     CommandLine::new("compare", &scene.source)
         .flag("dt", dt)
         .flag("duration", duration)
-        .list("methods", &listed)
         .flag_opt("substeps", cfg.frame_substeps)
-        .method_options(&cfg.common.registry, &listed, &cfg.common.options)
-        .flag("blowup-factor", cfg.common.blowup_factor)
         .flag("series-points", cfg.series_points)
         .switch("trace", cfg.trace)
-        .flag_opt("budget", cfg.common.budget_seconds)
+        .common(&cfg.common, &listed)
         .render()
 }
 

@@ -278,21 +278,18 @@ fn command_line(scene: &Scenario, cfg: &AdviseConfig, horizon: f64) -> String {
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
         .flag("horizon", horizon)
-        .list("methods", asked)
         .flag("safety", cfg.safety)
         .flag("points", cfg.points)
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
         .flag("substeps", cfg.common.options.substeps)
-        .method_options(&cfg.common.registry, asked, &cfg.common.options)
-        .flag("blowup-factor", cfg.common.blowup_factor)
         .switch("no-frame-rates", !cfg.frame_rates)
         .flag_opt("hz", cfg.game_hz)
-        .flag_opt("budget", cfg.common.budget_seconds)
         .flag_opt(
             "screen",
             (cfg.screen_factor != SCREEN_FACTOR).then_some(cfg.screen_factor),
         )
+        .common(&cfg.common, asked)
         .render()
 }
 

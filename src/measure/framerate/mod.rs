@@ -434,13 +434,10 @@ fn command_line(
         .list("engine-hz", cfg.engine_rates.as_deref().unwrap_or(&[]))
         .flag_opt("tolerance", cfg.tolerance)
         .flag_opt("metric", cfg.metric.map(Metric::name))
-        .list("methods", &listed)
         .flag("duration", duration)
         .flag("max-substeps", cfg.max_substeps)
         .flag_opt("cost-cap", cfg.cost_cap)
-        .method_options(&cfg.common.registry, &listed, &cfg.common.options)
-        .flag("blowup-factor", cfg.common.blowup_factor)
-        .flag_opt("budget", cfg.common.budget_seconds)
+        .common(&cfg.common, &listed)
         .render()
 }
 

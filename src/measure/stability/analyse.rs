@@ -84,14 +84,11 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     pb.finish_and_clear();
     let asked = crate::measure::case::asked_or_all(&cfg.common.registry, &cfg.common.methods);
     let command = crate::measure::command::CommandLine::new("stability", &scene.source)
-        .list("methods", &asked)
         .flag("substeps", cfg.common.options.substeps)
-        .method_options(&cfg.common.registry, &asked, &cfg.common.options)
         .flag("horizon", horizon)
-        .flag("blowup-factor", cfg.common.blowup_factor)
-        .flag_opt("budget", cfg.common.budget_seconds)
         .switch("theory-only", cfg.theory_only)
         .switch("empirical-where-no-theory", cfg.empirical_where_no_theory)
+        .common(&cfg.common, &asked)
         .render();
     Ok(StabilityReport {
         command,

@@ -233,18 +233,15 @@ pub fn plan_sweep(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
         .chain(plan.skipped.iter().map(|s| s.0.clone()))
         .collect();
     plan.command = crate::measure::command::CommandLine::new("sweep", &scene.source)
-        .list("methods", &asked)
         .flag_opt("dt-min", cfg.dt_min)
         .flag_opt("dt-max", cfg.dt_max)
         .flag_opt("points", cfg.points)
         .switch("extend", cfg.extend == Some(true))
         .switch("no-extend", cfg.extend == Some(false))
         .flag_opt("cost-cap", cfg.cost_cap)
-        .flag_opt("budget", cfg.common.budget_seconds)
         .flag("duration", plan.duration)
         .flag("substeps", cfg.common.options.substeps)
-        .method_options(&cfg.common.registry, &asked, &cfg.common.options)
-        .flag("blowup-factor", cfg.common.blowup_factor)
+        .common(&cfg.common, &asked)
         .render();
     Ok(plan)
 }
