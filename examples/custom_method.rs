@@ -9,6 +9,7 @@ use springlab::measure::advise::{advise, AdviseConfig};
 use springlab::measure::compare::{compare, CompareConfig};
 use springlab::measure::stability::{analyse, StabilityConfig};
 use springlab::measure::sweep::{run_sweep, SweepConfig};
+use springlab::method::options::OptionValue;
 use springlab::method::{Method, MethodInfo, MethodOptions, OptionSpec, Registry};
 use springlab::model::{State, System, Vec3};
 use springlab::run::{run, NoObserver, RunPlan};
@@ -25,12 +26,12 @@ struct GameEuler {
 
 /// The option game_euler reads, declared once: its flag, default, least value and help. The
 /// registry lists it in the method's facts, and every recorded command carries its value.
-const DAMPING_PPM: OptionSpec = OptionSpec {
-    flag: "game-damping-ppm",
-    default: 1000,
-    min: 0,
-    help: "Velocity removed per step by game_euler, in parts per million",
-};
+const DAMPING: OptionSpec = OptionSpec::real(
+    "game-damping",
+    1e-3,
+    (0.0, 1.0),
+    "Fraction of the velocity game_euler removes per step",
+);
 
 impl Stepper for GameEuler {
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> springlab::Result<StepStats> {
@@ -80,17 +81,17 @@ fn main() -> springlab::Result<()> {
     // Register the method once, with its facts.
     let registry = Registry::builtin().with(Method::new(
         MethodInfo {
-            options: &[DAMPING_PPM],
+            options: &[DAMPING],
             ..MethodInfo::native(
                 "game_euler",
                 1,
-                "symplectic Euler with a velocity damping per step (--game-damping-ppm)",
+                "symplectic Euler with a velocity damping per step (--game-damping)",
             )
         },
         |o| {
             Box::new(GameEuler {
                 a: Vec::new(),
-                keep: 1.0 - o.get(&DAMPING_PPM) as f64 * 1e-6,
+                keep: 1.0 - o.real(&DAMPING),
             })
         },
     ))?;
@@ -99,8 +100,8 @@ fn main() -> springlab::Result<()> {
 
     // run: one trajectory.
     let plan = RunPlan::for_duration(1.0 / 60.0, 10.0);
-    for ppm in [DAMPING_PPM.default, 0] {
-        let opts = MethodOptions::default().with(&DAMPING_PPM, ppm);
+    for damping in [1e-3, 0.0] {
+        let opts = MethodOptions::default().with(&DAMPING, OptionValue::Real(damping));
         let mut game = registry.create("game_euler", &opts)?;
         let out = run(
             &sys,
@@ -110,7 +111,7 @@ fn main() -> springlab::Result<()> {
             &mut NoObserver,
         )?;
         println!(
-            "run: game_euler at --game-damping-ppm {ppm} keeps {:.1}% of its energy after 10 s",
+            "run: game_euler at --game-damping {damping} keeps {:.1}% of its energy after 10 s",
             100.0 * out.final_energy.total / out.initial_energy.total
         );
     }

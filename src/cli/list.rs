@@ -27,7 +27,14 @@ pub fn run(a: Args) -> Result<()> {
         let options: String = i
             .options
             .iter()
-            .map(|o| format!(" [--{} N, default {}]", o.flag, o.default))
+            .map(|o| {
+                format!(
+                    " [--{} {}, default {}]",
+                    o.flag,
+                    super::method_args::value_name(&o.kind),
+                    o.default_value()
+                )
+            })
             .collect();
         println!(
             "  {:<22} order {:<5} {}{aliases}{options}",

@@ -4,6 +4,7 @@
 
 use clap::{Arg, ArgMatches, Command, FromArgMatches};
 use springlab::method::options::at_least;
+use springlab::method::options::{OptionKind, OptionValue};
 use springlab::method::{MethodOptions, OptionSpec, Registry};
 
 /// The method options as given on the command line (each at its default when not given).
@@ -70,6 +71,15 @@ fn whole_at_least(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone 
     }
 }
 
+/// The placeholder a kind of option shows in help: N, X or NAME.
+pub fn value_name(kind: &OptionKind) -> &'static str {
+    match kind {
+        OptionKind::Count { .. } => "N",
+        OptionKind::Real { .. } => "X",
+        OptionKind::Choice { .. } => "NAME",
+    }
+}
+
 /// Frame substeps (`--substeps`): a whole number ≥ 1, checked like the method options.
 pub fn substeps(s: &str) -> Result<usize, String> {
     whole_at_least(1)(s)
@@ -81,11 +91,18 @@ impl clap::Args for MethodArgs {
             cmd.arg(
                 Arg::new(spec.flag)
                     .long(spec.flag)
-                    .value_name("N")
+                    .value_name(value_name(&spec.kind))
                     .allow_negative_numbers(true)
-                    .value_parser(whole_at_least(spec.min))
-                    .default_value(spec.default.to_string())
-                    .help(format!("{} (read by {})", spec.help, by.join(", "))),
+                    .value_parser(clap::builder::ValueParser::new(move |s: &str| {
+                        spec.parse(s)
+                    }))
+                    .default_value(spec.default_value().to_string())
+                    .help(format!(
+                        "{}: {} (read by {})",
+                        spec.help,
+                        spec.kind.what(),
+                        by.join(", ")
+                    )),
             )
         })
     }
@@ -99,8 +116,8 @@ impl FromArgMatches for MethodArgs {
         let mut options = MethodOptions::default();
         let mut given = Vec::new();
         for (spec, _) in schema() {
-            if let Some(&v) = m.get_one::<usize>(spec.flag) {
-                options.set(&spec, v);
+            if let Some(v) = m.get_one::<OptionValue>(spec.flag) {
+                options.set(&spec, v.clone());
             }
             if m.value_source(spec.flag) == Some(clap::parser::ValueSource::CommandLine) {
                 given.push(spec.flag);

@@ -96,7 +96,7 @@ impl CommandLine {
             .option_schema()
             .into_iter()
             .filter(|(spec, _)| registry.reads_option(methods, spec.flag))
-            .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.get(&spec)))
+            .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.value(&spec)))
     }
     /// Adds the shared settings' flags ([`crate::measure::Common::recorded`]) for `methods`.
     pub fn common(self, common: &crate::measure::Common, methods: &[String]) -> Self {

@@ -3,23 +3,35 @@
 //! ODEs I*; Hairer, Lubich & Wanner, *Geometric Numerical Integration*).
 
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
-use super::options::{ITERATIONS, XPBD_ITERATIONS, XPBD_SUBSTEPS};
+use super::options::{MethodOptions, ITERATIONS, LINEAR_SOLVER, XPBD_ITERATIONS, XPBD_SUBSTEPS};
 use super::registry::{Method, Registry};
 use crate::integrate::{
     Analytic, Bdf2, ExplicitEuler, ImplicitEuler, ImplicitMidpoint, LinearImplicitEuler,
-    PositionVerlet, Rattle, RungeKutta, SymplecticEuler, Tableau, VelocityVerlet,
-    VerletConstraints, Xpbd,
+    LinearSolver, PositionVerlet, Rattle, RungeKutta, Stepper, SymplecticEuler, Tableau,
+    VelocityVerlet, VerletConstraints, Xpbd,
 };
 use crate::rapier::{
     Mode, RapierStepper, SoftSolver, SoftStepper, IMPULSE, MULTIBODY, SOFT, SOFT_FEM,
 };
 
-/// A native method that solves a system each step ([`MethodInfo::implicit`]).
+/// A native method that solves a system each step ([`MethodInfo::implicit`]), on the shared
+/// implicit core, whose linear solver it reads ([`LINEAR_SOLVER`]).
 const fn implicit(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
     MethodInfo {
         implicit: true,
+        options: &[LINEAR_SOLVER],
         ..MethodInfo::native(name, order, summary)
     }
+}
+
+/// A fresh implicit method `S` with the linear solver `opts` names.
+fn on_solver<S: Stepper + Default + 'static>(opts: &MethodOptions) -> Box<dyn Stepper> {
+    let mut s = S::default();
+    if let Some(core) = s.newton_mut() {
+        core.settings.solver =
+            LinearSolver::from_name(&opts.choice(&LINEAR_SOLVER)).unwrap_or_default();
+    }
+    Box::new(s)
 }
 
 const fn engine(name: &'static str, summary: &'static str) -> MethodInfo {
@@ -112,7 +124,7 @@ fn euler_and_implicit() -> Vec<Method> {
                 1,
                 "backward Euler, Newton + block-Jacobi CG; stable at any step, damps",
             ),
-            |_| Box::new(ImplicitEuler::default()),
+            on_solver::<ImplicitEuler>,
         ),
         Method::new(
             implicit(
@@ -120,7 +132,7 @@ fn euler_and_implicit() -> Vec<Method> {
                 1,
                 "Baraff-Witkin linearly implicit Euler: one CG solve per step; stable at any step, damps",
             ),
-            |_| Box::new(LinearImplicitEuler::default()),
+            on_solver::<LinearImplicitEuler>,
         ),
         Method::new(
             implicit(
@@ -128,7 +140,7 @@ fn euler_and_implicit() -> Vec<Method> {
                 2,
                 "implicit midpoint, Newton + block-Jacobi CG; symplectic, stable at any step, keeps linear-spring energy",
             ),
-            |_| Box::new(ImplicitMidpoint::default()),
+            on_solver::<ImplicitMidpoint>,
         ),
         Method::new(
             MethodInfo {
@@ -139,7 +151,7 @@ fn euler_and_implicit() -> Vec<Method> {
                     "two-step BDF (backward-Euler start), Newton + block-Jacobi CG; stable at any step, damps",
                 )
             },
-            |_| Box::new(Bdf2::default()),
+            on_solver::<Bdf2>,
         ),
     ]
 }
@@ -194,7 +206,7 @@ fn constrained_and_exact() -> Vec<Method> {
                     "Verlet + Jakobsen/XPBD projection of rigid constraints (games' ropes and cloth)",
                 )
             },
-            |o| Box::new(VerletConstraints::new(o.get(&ITERATIONS))),
+            |o| Box::new(VerletConstraints::new(o.count(&ITERATIONS))),
         ),
         Method::new(
             MethodInfo {
@@ -211,7 +223,7 @@ fn constrained_and_exact() -> Vec<Method> {
                     "XPBD (Macklin et al. 2016): springs as compliant constraints with XPBD damping, --xpbd-substeps x --xpbd-iterations Gauss-Seidel",
                 )
             },
-            |o| Box::new(Xpbd::new(o.get(&XPBD_SUBSTEPS), o.get(&XPBD_ITERATIONS))),
+            |o| Box::new(Xpbd::new(o.count(&XPBD_SUBSTEPS), o.count(&XPBD_ITERATIONS))),
         ),
         Method::new(
             MethodInfo::native(

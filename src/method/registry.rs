@@ -124,7 +124,7 @@ impl Registry {
                     spec.flag
                 )));
             }
-            if let Err(why) = spec.check(spec.default) {
+            if let Err(why) = spec.check(&spec.default_value()) {
                 return Err(refuse(format!(
                     "option '--{}': its default {why}",
                     spec.flag
@@ -136,11 +136,11 @@ impl Registry {
                 .find(|(o, _)| o.flag == spec.flag);
             if let Some((o, by)) = other.filter(|(o, _)| o != spec) {
                 return Err(refuse(format!(
-                    "option '--{}' is declared differently by {} (default {}, least {}, help \"{}\")",
+                    "option '--{}' is declared differently by {} ({}, default {}, help \"{}\")",
                     o.flag,
                     by.join(", "),
-                    o.default,
-                    o.min,
+                    o.kind.what(),
+                    o.default_value(),
                     o.help
                 )));
             }

@@ -158,8 +158,10 @@ fn writes_csv_and_json_with_a_command_that_recreates_them() {
                 "rapier_impulse".into(),
                 "xpbd".into(),
             ],
-            options: springlab::method::MethodOptions::default()
-                .with(&springlab::method::options::XPBD_SUBSTEPS, 3),
+            options: springlab::method::MethodOptions::default().with(
+                &springlab::method::options::XPBD_SUBSTEPS,
+                springlab::method::options::OptionValue::Count(3),
+            ),
             ..Default::default()
         },
         ..Default::default()

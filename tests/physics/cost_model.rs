@@ -5,7 +5,7 @@
 //! alone.
 
 use springlab::measure::probe::seconds_per_step;
-use springlab::method::options::{XPBD_ITERATIONS, XPBD_SUBSTEPS};
+use springlab::method::options::{OptionValue, XPBD_ITERATIONS, XPBD_SUBSTEPS};
 use springlab::method::{MethodOptions, Registry};
 use springlab::rapier::{EngineShape, Mode};
 use springlab::run::{run, CostModel, NoObserver, RunPlan};
@@ -36,8 +36,8 @@ fn work_is_what_each_algorithm_does_by_construction() {
     assert_eq!(o.work.link_updates + o.work.linear_iterations, 0);
     // XPBD: every substep sweeps every link `iterations` times (19 springs, no rods).
     let opts = MethodOptions::default()
-        .with(&XPBD_SUBSTEPS, 2)
-        .with(&XPBD_ITERATIONS, 3);
+        .with(&XPBD_SUBSTEPS, OptionValue::Count(2))
+        .with(&XPBD_ITERATIONS, OptionValue::Count(3));
     let o = outcome("xpbd", &opts, 50);
     assert_eq!(o.work.link_updates, 50 * 2 * 3 * 19);
     assert_eq!(o.work.force_evals, 0);

@@ -144,6 +144,7 @@ fn inconsistent_facts_are_refused_at_registration() {
 #[test]
 fn options_are_checked_at_registration() {
     use springlab::method::options::ITERATIONS;
+    use springlab::method::options::{OptionKind, OptionValue};
     use springlab::method::{MethodOptions, OptionSpec};
     let r = Registry::builtin();
     let make = |_: &MethodOptions| -> Box<dyn Stepper> { Box::new(UserEuler { a: Vec::new() }) };
@@ -161,7 +162,7 @@ fn options_are_checked_at_registration() {
     let shared = r.clone().with(with_options(&SAME)).unwrap();
     let schema = shared.option_schema();
     let (spec, by) = schema.iter().find(|(o, _)| o.flag == "iterations").unwrap();
-    assert_eq!(spec.default, ITERATIONS.default);
+    assert_eq!(spec.default_value(), ITERATIONS.default_value());
     assert_eq!(by, &["verlet_constraints", "user_euler"]);
     assert_eq!(
         schema
@@ -172,7 +173,7 @@ fn options_are_checked_at_registration() {
     );
     // The same flag with another default: refused, naming the flag and the other reader.
     const OTHER_DEFAULT: [OptionSpec; 1] = [OptionSpec {
-        default: 5,
+        kind: OptionKind::Count { default: 5, min: 1 },
         ..ITERATIONS
     }];
     let e = r
@@ -185,27 +186,22 @@ fn options_are_checked_at_registration() {
         "{e}"
     );
     // A default below its own least value, and a flag that is not kebab-case: refused.
-    const BELOW: [OptionSpec; 1] = [OptionSpec {
-        flag: "passes",
-        default: 0,
-        min: 1,
-        help: "passes",
-    }];
+    const BELOW: [OptionSpec; 1] = [OptionSpec::count("passes", 0, 1, "passes")];
     assert!(r.clone().with(with_options(&BELOW)).is_err());
-    const BAD_FLAG: [OptionSpec; 1] = [OptionSpec {
-        flag: "Passes",
-        default: 1,
-        min: 1,
-        help: "passes",
-    }];
+    const BAD_FLAG: [OptionSpec; 1] = [OptionSpec::count("Passes", 1, 1, "passes")];
     assert!(r.clone().with(with_options(&BAD_FLAG)).is_err());
-    const OWN: [OptionSpec; 1] = [OptionSpec {
-        flag: "passes",
-        default: 1,
-        min: 1,
-        help: "passes",
-    }];
+    const OWN: [OptionSpec; 1] = [OptionSpec::count("passes", 1, 1, "passes")];
     assert!(r.clone().with(with_options(&OWN)).is_ok());
+    // A real option whose default lies outside its range, and a choice with no names:
+    // refused; their twins inside are accepted.
+    const REAL_OUT: [OptionSpec; 1] = [OptionSpec::real("gain", 2.0, (0.0, 1.0), "gain")];
+    assert!(r.clone().with(with_options(&REAL_OUT)).is_err());
+    const REAL_IN: [OptionSpec; 1] = [OptionSpec::real("gain", 0.5, (0.0, 1.0), "gain")];
+    assert!(r.clone().with(with_options(&REAL_IN)).is_ok());
+    const NO_NAMES: [OptionSpec; 1] = [OptionSpec::choice("mode", &[], "mode")];
+    assert!(r.clone().with(with_options(&NO_NAMES)).is_err());
+    const NAMES: [OptionSpec; 1] = [OptionSpec::choice("mode", &["fast", "exact"], "mode")];
+    assert!(r.clone().with(with_options(&NAMES)).is_ok());
     // One method listing one option twice: refused.
     const TWICE: [OptionSpec; 2] = [ITERATIONS, ITERATIONS];
     let e = r
@@ -218,13 +214,19 @@ fn options_are_checked_at_registration() {
     // its twin at the least value is made.
     use springlab::method::options::XPBD_SUBSTEPS;
     let e = r
-        .create("xpbd", &MethodOptions::default().with(&XPBD_SUBSTEPS, 0))
+        .create(
+            "xpbd",
+            &MethodOptions::default().with(&XPBD_SUBSTEPS, OptionValue::Count(0)),
+        )
         .err()
         .unwrap()
         .to_string();
     assert!(e.contains("--xpbd-substeps"), "{e}");
     assert!(r
-        .create("xpbd", &MethodOptions::default().with(&XPBD_SUBSTEPS, 1))
+        .create(
+            "xpbd",
+            &MethodOptions::default().with(&XPBD_SUBSTEPS, OptionValue::Count(1))
+        )
         .is_ok());
     // The engines are the ones that resolve contacts and split frames.
     for m in r.iter() {
@@ -309,4 +311,42 @@ fn a_registered_method_runs_through_compare_like_a_builtin() {
         err("user_euler").to_bits(),
         err("symplectic_euler").to_bits()
     );
+}
+
+/// A choice option reaches the method it is read by. Oracle: the solvers' definitions: the
+/// block IC(0) solver factors the Newton matrix at every Newton iteration, block-Jacobi CG
+/// never does; both solve the same backward-Euler stage to its root, so a cloth's steps agree
+/// to the Newton tolerance.
+#[test]
+fn the_linear_solver_is_an_option_of_the_implicit_methods() {
+    use springlab::method::options::{OptionValue, LINEAR_SOLVER};
+    use springlab::method::MethodOptions;
+    let scene = springlab::perf::cloth(6);
+    let sys = scene.build();
+    let step = |solver: &str| {
+        let opts =
+            MethodOptions::default().with(&LINEAR_SOLVER, OptionValue::Choice(solver.into()));
+        let mut m = Registry::builtin().create("implicit_euler", &opts).unwrap();
+        let mut s = scene.initial_state();
+        for _ in 0..5 {
+            m.step(&sys, &mut s, 1.0 / 60.0).unwrap();
+        }
+        (m.newton().unwrap().factorizations(), s)
+    };
+    let (jacobi, a) = step("block_jacobi_cg");
+    let (ic0, b) = step("block_ic0_cg");
+    assert_eq!(jacobi, 0);
+    assert!(ic0 > 0, "IC(0) factored {ic0} times");
+    let scale = a.v.iter().map(|v| v.amax()).fold(0.0, f64::max);
+    for (va, vb) in a.v.iter().zip(&b.v) {
+        assert!((va - vb).amax() <= 1e-4 * scale, "{va} vs {vb}");
+    }
+    // A name the option does not take is refused when the method is made, naming the flag.
+    let bad = MethodOptions::default().with(&LINEAR_SOLVER, OptionValue::Choice("lu".into()));
+    let e = Registry::builtin()
+        .create("implicit_euler", &bad)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("--linear-solver"), "{e}");
 }

@@ -88,7 +88,15 @@ impl LinearSolver {
         LinearSolver::Cholesky,
     ];
 
-    /// The name bench reports print and `--implicit-solver` takes.
+    /// The names of [`LinearSolver::ALL`], in its order: what `--linear-solver` takes.
+    pub const NAMES: &'static [&'static str] = &[
+        "block_jacobi_cg",
+        "block_ic0_cg",
+        #[cfg(feature = "direct-solver")]
+        "cholesky_pcg",
+    ];
+
+    /// The name bench reports print and `--linear-solver` takes.
     pub fn name(self) -> &'static str {
         match self {
             LinearSolver::BlockJacobiCg => "block_jacobi_cg",
@@ -101,5 +109,19 @@ impl LinearSolver {
     /// The solver called `name`, if any.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.iter().copied().find(|s| s.name() == name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Oracle: the definition of `NAMES`: every solver's own name, in `ALL`'s order, the
+    /// default first (a choice option's first name is its default).
+    #[test]
+    fn names_are_the_solvers_own_in_order() {
+        let names: Vec<&str> = LinearSolver::ALL.iter().map(|s| s.name()).collect();
+        assert_eq!(names, LinearSolver::NAMES);
+        assert_eq!(LinearSolver::NAMES[0], LinearSolver::default().name());
     }
 }

@@ -83,7 +83,7 @@ pub struct SweepPlan {
     /// Blow-up factor.
     pub blowup_factor: f64,
     /// Every method option's value, by flag (`iterations`, `xpbd-substeps`, ...).
-    pub options: std::collections::BTreeMap<String, usize>,
+    pub options: std::collections::BTreeMap<String, crate::method::options::OptionValue>,
     /// Substeps of engine methods.
     pub substeps: usize,
     /// The time budget and what it allowed each method, when one was set.
