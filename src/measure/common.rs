@@ -23,6 +23,16 @@ pub struct Common {
 }
 
 impl Common {
+    /// Which of these methods apply to `sys` (every registered one when none is named):
+    /// canonical names, split into (applicable, skipped with the reason).
+    #[allow(clippy::type_complexity)]
+    pub fn applicable(
+        &self,
+        sys: &crate::model::System,
+    ) -> crate::error::Result<(Vec<String>, Vec<(String, String)>)> {
+        super::case::applicable(&self.registry, sys, &self.methods, &self.options)
+    }
+
     /// `line` with these settings' flags, as the command line takes them: `--methods` (the
     /// names `methods` the document lists), the options any of them reads, `--blowup-factor`
     /// and `--budget` when there is one. Every recorded command renders them here.

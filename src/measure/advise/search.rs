@@ -3,7 +3,7 @@
 
 use super::config::AdviseConfig;
 use crate::error::Result;
-use crate::measure::case::{applicable, run_case, CaseResult, CaseSettings};
+use crate::measure::case::{run_case, CaseResult, CaseSettings};
 use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use crate::measure::reference::{Reference, ReferenceInfo};
 use crate::measure::statistics::Ensemble;
@@ -237,12 +237,7 @@ pub(super) fn candidates(
     cfg: &AdviseConfig,
     grid: &[(f64, u64)],
 ) -> Result<(Vec<String>, Vec<Unable>)> {
-    let (mut names, mut unable) = applicable(
-        &cfg.common.registry,
-        sys,
-        &cfg.common.methods,
-        &cfg.common.options,
-    )?;
+    let (mut names, mut unable) = cfg.common.applicable(sys)?;
     if cfg.common.methods.is_empty() {
         // Exact methods are closed forms for special scenes, not general-purpose schemes.
         let exact: Vec<String> = names

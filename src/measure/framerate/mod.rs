@@ -30,7 +30,7 @@ pub use timing::FRAMERATE_TIMING;
 pub use write::{write_framerate, FRAMERATE_HEADER};
 
 use super::advise::cost::force_evals_per_second;
-use super::case::{applicable, CaseResult, CaseSettings, TimingRule, WallTimes};
+use super::case::{CaseResult, CaseSettings, TimingRule, WallTimes};
 use super::command::CommandLine;
 use super::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use super::reference::{Reference, ReferenceInfo};
@@ -464,12 +464,7 @@ fn methods_of(
     cfg: &FramerateConfig,
     frames: &[u64],
 ) -> Result<(Vec<String>, Vec<Skipped>)> {
-    let (mut names, mut skipped) = applicable(
-        &cfg.common.registry,
-        sys,
-        &cfg.common.methods,
-        &cfg.common.options,
-    )?;
+    let (mut names, mut skipped) = cfg.common.applicable(sys)?;
     if cfg.common.methods.is_empty() {
         // Closed forms solve special scenes exactly; they are not a frame-rate choice.
         names.retain(|n| {

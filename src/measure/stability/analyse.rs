@@ -18,12 +18,7 @@ pub fn analyse(scene: &Scenario, cfg: &StabilityConfig) -> Result<StabilityRepor
     let sys = scene.build();
     let s0 = scene.initial_state();
     let ms = modes(&sys, &s0);
-    let (names, skipped) = crate::measure::case::applicable(
-        &cfg.common.registry,
-        &sys,
-        &cfg.common.methods,
-        &cfg.common.options,
-    )?;
+    let (names, skipped) = cfg.common.applicable(&sys)?;
     let horizon = horizon(scene, cfg, &ms)?;
     let crit = EmpiricalCriterion {
         horizon,

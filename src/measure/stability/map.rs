@@ -297,12 +297,7 @@ pub fn stability_map(scene: &Scenario, cfg: &MapConfig) -> Result<Vec<MapRow>> {
     let s0 = scene.initial_state();
     let w0 = modes(&sys0, &s0).omega_max;
     let w0 = if w0 > 0.0 { w0 } else { 1.0 };
-    let (names, _) = crate::measure::case::applicable(
-        &cfg.common.registry,
-        &sys0,
-        &cfg.common.methods,
-        &cfg.common.options,
-    )?;
+    let (names, _) = cfg.common.applicable(&sys0)?;
     // Exact methods are stable everywhere by construction: nothing to map.
     let methods: Vec<&Method> = names
         .iter()

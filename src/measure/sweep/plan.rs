@@ -3,7 +3,6 @@
 
 use super::config::SweepConfig;
 use crate::error::{Error, Result};
-use crate::measure::case::applicable;
 use crate::measure::grid::{max_samples_for, TimeGrid};
 use crate::measure::modes::modes;
 use crate::measure::stability::theory_limit;
@@ -255,12 +254,7 @@ fn plan_grid(scene: &Scenario, cfg: &SweepConfig) -> Result<SweepPlan> {
     if cfg.points == Some(0) {
         return Err(Error::option("--points", "must be at least 1"));
     }
-    let (methods, skipped) = applicable(
-        &cfg.common.registry,
-        &sys,
-        &cfg.common.methods,
-        &cfg.common.options,
-    )?;
+    let (methods, skipped) = cfg.common.applicable(&sys)?;
     let fixed_grid = cfg.dt_min.is_some() && cfg.dt_max.is_some() && cfg.points.is_some();
     let (mut hi, mut hi_src, mut lo, mut lo_src, w, widest) = if fixed_grid {
         (0.0, String::new(), 0.0, String::new(), 0.0, None)
@@ -325,7 +319,7 @@ fn finish(
     let num = crate::error::num;
     // The flag to blame: --dt-min when the user gave it, else the flag the small end was
     // derived from (--dt-max), else --dt-min as the flag that would fix it.
-    let blamed = if rule.dt_min_source == "--dt-min" || rule.dt_max_source != "--dt-max" {
+    let blamed = if cfg.dt_min.is_some() || cfg.dt_max.is_none() {
         "--dt-min"
     } else {
         "--dt-max"
