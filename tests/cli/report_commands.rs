@@ -152,9 +152,10 @@ fn every_command_in_a_report_recreates_its_document() {
     assert!(!page.contains("4294967295") && !read(&out.join("index.html")).contains("4294967295"));
 }
 
-/// A command run with a value away from its default records it: re-running the recorded line
-/// gives the same document. Oracle: the commands themselves, with `--blowup-factor 50` (the
-/// default is 1000), a flag every measuring command reads.
+/// A command run with values away from their defaults records them: re-running the recorded
+/// line gives the same document. Oracle: the commands themselves, with `--blowup-factor 50`
+/// (the default is 1000), a flag every measuring command reads, and `--linear-solver
+/// block_ic0_cg`, a choice option the implicit methods read.
 #[test]
 fn a_non_default_run_records_the_command_that_recreates_it() {
     let tmp = tempfile::tempdir().unwrap();
@@ -178,12 +179,25 @@ fn a_non_default_run_records_the_command_that_recreates_it() {
         let first = tmp.path().join(format!("{cmd}-first"));
         let mut args: Vec<String> = vec![cmd.into(), scene.clone()];
         args.extend(extra.iter().map(|s| s.to_string()));
-        args.extend(["--blowup-factor", "50", "--out"].map(String::from));
+        args.extend(
+            [
+                "--blowup-factor",
+                "50",
+                "--linear-solver",
+                "block_ic0_cg",
+                "--out",
+            ]
+            .map(String::from),
+        );
         args.push(first.display().to_string());
         springlab(&args, tmp.path());
         let a: Value = serde_json::from_str(&read(&first.join(doc))).unwrap();
         let line = a["command"].as_str().unwrap();
         assert!(line.contains("--blowup-factor 50"), "{cmd}: {line}");
+        assert!(
+            line.contains("--linear-solver block_ic0_cg"),
+            "{cmd}: {line}"
+        );
         let mut words = split_words(line);
         let k = words.iter().position(|w| w == "--out").expect("--out");
         let again = tmp.path().join(format!("{cmd}-again"));
