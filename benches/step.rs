@@ -134,8 +134,8 @@ fn implicit_stats(_c: &mut Criterion) {
     for n in SIZES {
         let scene = cloth(n);
         let springs = scene.build().springs.len();
-        let set = springlab::integrate::ImplicitSettings::default();
-        match springlab::perf::ratios::implicit_cost(&scene, "implicit_euler", set, 1.0 / 60.0, 10)
+        let opts = springlab::method::MethodOptions::default();
+        match springlab::perf::ratios::implicit_cost(&scene, "implicit_euler", &opts, 1.0 / 60.0, 10)
         {
             Ok(c) => eprintln!(
                 "implicit_euler {n}x{n} dt=1/60: {:.2} Newton iterations/step, {:.1} CG iterations/Newton iteration, {:.3} ms/step ({:.1} ns/spring)",

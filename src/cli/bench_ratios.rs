@@ -4,6 +4,7 @@
 
 use anyhow::{bail, Result};
 use springlab::integrate::{ImplicitSettings, LinearSolver};
+use springlab::method::options::{OptionValue, LINEAR_SOLVER, MAX_NEWTON};
 use springlab::output::write_atomic;
 use springlab::perf::ratios::{
     best_loop, fresh_stepper, hand_loop, implicit_cost, interleaved_stats, on_threads, stepping,
@@ -142,7 +143,9 @@ fn checked(a: &Args) -> Result<LinearSolver> {
         );
     };
     for m in &a.implicit_methods {
-        let implicit = fresh_stepper(m).ok().is_some_and(|i| i.newton().is_some());
+        let implicit = springlab::method::Registry::builtin()
+            .info(m)
+            .is_ok_and(|i| i.implicit);
         if !implicit {
             bail!("--implicit-methods: {m:?} is not an implicit method with a Newton solver");
         }
@@ -397,6 +400,13 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
     if let Some(m) = a.implicit_max_newton {
         set.max_newton = m;
     }
+    // The methods read the solver and the cap as their options.
+    let opts = springlab::method::MethodOptions::default()
+        .with(
+            &LINEAR_SOLVER,
+            OptionValue::Choice(set.solver.name().into()),
+        )
+        .with(&MAX_NEWTON, OptionValue::Count(set.max_newton));
     for &n in &a.implicit_sizes {
         let scene = cloth(n);
         let (sys, s0) = (scene.build(), scene.initial_state());
@@ -406,7 +416,7 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
             // counts (the same in every run) are kept from the last one.
             let (failed, last) = (std::sync::Mutex::new(None), std::sync::Mutex::new(None));
             let implicit: Contender = Box::new(|| {
-                match implicit_cost(&scene, method, set, 1.0 / 60.0, a.implicit_steps) {
+                match implicit_cost(&scene, method, &opts, 1.0 / 60.0, a.implicit_steps) {
                     Ok(ic) => {
                         let s = ic.seconds_per_step;
                         *last.lock().expect("not poisoned") = Some(ic);

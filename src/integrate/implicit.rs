@@ -5,7 +5,7 @@
 //! say what each kind is and why.
 
 use super::newton::{Newton, Stop};
-use super::{ensure_len, StepStats, Stepper};
+use super::{ensure_len, SolverWork, StepStats, Stepper};
 use crate::error::Result;
 use crate::model::{State, System, Vec3};
 use std::marker::PhantomData;
@@ -56,12 +56,26 @@ struct History {
     h_prev: Option<f64>,
 }
 
-impl<R: Rule> Stepper for Implicit<R> {
-    fn newton(&self) -> Option<&Newton> {
-        Some(&self.newton)
+impl<R: Rule> Implicit<R> {
+    /// The shared implicit core: its settings and counters.
+    pub fn newton(&self) -> &Newton {
+        &self.newton
     }
-    fn newton_mut(&mut self) -> Option<&mut Newton> {
-        Some(&mut self.newton)
+    /// The shared implicit core, to choose its settings.
+    pub fn newton_mut(&mut self) -> &mut Newton {
+        &mut self.newton
+    }
+}
+
+impl<R: Rule> Stepper for Implicit<R> {
+    fn solver_work(&self) -> SolverWork {
+        let n = &self.newton;
+        SolverWork {
+            newton_iterations: n.newton_iterations,
+            linear_iterations: n.cg_iterations,
+            factorizations: n.factorizations(),
+            modified_iterations: n.shifted_iterations,
+        }
     }
     fn reset(&mut self) {
         self.history.h_prev = None;

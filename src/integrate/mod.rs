@@ -53,6 +53,21 @@ pub struct StepStats {
     pub engine_seconds: f64,
 }
 
+/// What a method's equation solver has done so far, counted over every step tried (a failed
+/// one included); all zero for a method that solves no equations.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SolverWork {
+    /// Newton iterations (linear solves).
+    pub newton_iterations: u64,
+    /// Linear-solver iterations (CG iterations; a direct solve counts one).
+    pub linear_iterations: u64,
+    /// Numeric factorisations of the Newton matrix.
+    pub factorizations: u64,
+    /// Newton iterations whose matrix needed a positive-definite modification (the exact
+    /// one was indefinite): how often the stages were hard.
+    pub modified_iterations: u64,
+}
+
 /// Advances a [`State`] of a [`System`] by one step; owns its scratch buffers.
 ///
 /// ```
@@ -86,14 +101,10 @@ pub trait Stepper: Send {
     /// Forgets any history (cached forces, previous positions): the state was changed from
     /// outside (an impulse, a contact) or the step size changes.
     fn reset(&mut self) {}
-    /// The shared implicit core of an implicit method (its settings and iteration counters,
-    /// for cost reports); `None` for explicit methods and engines.
-    fn newton(&self) -> Option<&Newton> {
-        None
-    }
-    /// Mutable access to the shared implicit core, to choose its settings.
-    fn newton_mut(&mut self) -> Option<&mut Newton> {
-        None
+    /// What its equation solver has done so far (the runner books the difference over each
+    /// step as the step's cost); zero for methods that solve no equations.
+    fn solver_work(&self) -> SolverWork {
+        SolverWork::default()
     }
     /// Advances `s` from `s.t` to `s.t + h`. Fixed particles never move.
     fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<StepStats>;

@@ -3,34 +3,36 @@
 //! ODEs I*; Hairer, Lubich & Wanner, *Geometric Numerical Integration*).
 
 use super::info::{CostUnit, MethodInfo, Order, StabilityTheory};
-use super::options::{MethodOptions, ITERATIONS, LINEAR_SOLVER, XPBD_ITERATIONS, XPBD_SUBSTEPS};
+use super::options::{
+    MethodOptions, ITERATIONS, LINEAR_SOLVER, MAX_NEWTON, XPBD_ITERATIONS, XPBD_SUBSTEPS,
+};
 use super::registry::{Method, Registry};
 use crate::integrate::{
-    Analytic, Bdf2, ExplicitEuler, ImplicitEuler, ImplicitMidpoint, LinearImplicitEuler,
-    LinearSolver, PositionVerlet, Rattle, RungeKutta, Stepper, SymplecticEuler, Tableau,
+    Analytic, BackwardEuler, Bdf2Rule, ExplicitEuler, Implicit, LinearSolver, LinearizedEuler,
+    Midpoint, PositionVerlet, Rattle, Rule, RungeKutta, Stepper, SymplecticEuler, Tableau,
     VelocityVerlet, VerletConstraints, Xpbd,
 };
 use crate::rapier::{
     Mode, RapierStepper, SoftSolver, SoftStepper, IMPULSE, MULTIBODY, SOFT, SOFT_FEM,
 };
 
-/// A native method that solves a system each step ([`MethodInfo::implicit`]), on the shared
-/// implicit core, whose linear solver it reads ([`LINEAR_SOLVER`]).
+/// A native method that solves a system each step ([`MethodInfo::implicit`]) by Newton's
+/// method on the shared implicit core, whose linear solver and iteration cap it reads
+/// ([`LINEAR_SOLVER`], [`MAX_NEWTON`]).
 const fn implicit(name: &'static str, order: u32, summary: &'static str) -> MethodInfo {
     MethodInfo {
         implicit: true,
-        options: &[LINEAR_SOLVER],
+        options: &[LINEAR_SOLVER, MAX_NEWTON],
         ..MethodInfo::native(name, order, summary)
     }
 }
 
-/// A fresh implicit method `S` with the linear solver `opts` names.
-fn on_solver<S: Stepper + Default + 'static>(opts: &MethodOptions) -> Box<dyn Stepper> {
-    let mut s = S::default();
-    if let Some(core) = s.newton_mut() {
-        core.settings.solver =
-            LinearSolver::from_name(&opts.choice(&LINEAR_SOLVER)).unwrap_or_default();
-    }
+/// A fresh implicit method of rule `R` with the linear solver and Newton cap `opts` give.
+fn on_core<R: Rule + Default + Send + 'static>(opts: &MethodOptions) -> Box<dyn Stepper> {
+    let mut s = Implicit::<R>::default();
+    let set = &mut s.newton_mut().settings;
+    set.solver = LinearSolver::from_name(&opts.choice(&LINEAR_SOLVER)).unwrap_or_default();
+    set.max_newton = opts.count(&MAX_NEWTON);
     Box::new(s)
 }
 
@@ -124,7 +126,7 @@ fn euler_and_implicit() -> Vec<Method> {
                 1,
                 "backward Euler, Newton + block-Jacobi CG; stable at any step, damps",
             ),
-            on_solver::<ImplicitEuler>,
+            on_core::<BackwardEuler>,
         ),
         Method::new(
             implicit(
@@ -132,7 +134,7 @@ fn euler_and_implicit() -> Vec<Method> {
                 1,
                 "Baraff-Witkin linearly implicit Euler: one CG solve per step; stable at any step, damps",
             ),
-            on_solver::<LinearImplicitEuler>,
+            on_core::<LinearizedEuler>,
         ),
         Method::new(
             implicit(
@@ -140,7 +142,7 @@ fn euler_and_implicit() -> Vec<Method> {
                 2,
                 "implicit midpoint, Newton + block-Jacobi CG; symplectic, stable at any step, keeps linear-spring energy",
             ),
-            on_solver::<ImplicitMidpoint>,
+            on_core::<Midpoint>,
         ),
         Method::new(
             MethodInfo {
@@ -151,7 +153,7 @@ fn euler_and_implicit() -> Vec<Method> {
                     "two-step BDF (backward-Euler start), Newton + block-Jacobi CG; stable at any step, damps",
                 )
             },
-            on_solver::<Bdf2>,
+            on_core::<Bdf2Rule>,
         ),
     ]
 }

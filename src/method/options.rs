@@ -207,6 +207,15 @@ pub const LINEAR_SOLVER: OptionSpec = OptionSpec::choice(
     "Linear solver of each Newton iteration",
 );
 
+/// Newton iterations a step of an implicit Newton method may take before it fails (the
+/// shared core's [`crate::integrate::ImplicitSettings::max_newton`]).
+pub const MAX_NEWTON: OptionSpec = OptionSpec::count(
+    "max-newton",
+    50,
+    1,
+    "Newton iterations a step may take before it fails",
+);
+
 /// Solver substeps per frame a physics engine takes when the run does not split frames
 /// (Rapier's own `num_solver_iterations` default).
 pub const DEFAULT_ENGINE_SUBSTEPS: usize = 4;

@@ -3,7 +3,7 @@
 //! shared, noisy machine a slow phase then hits both sides of a ratio instead of one.
 
 use crate::error::Result;
-use crate::integrate::{ImplicitSettings, Stepper};
+use crate::integrate::Stepper;
 use crate::method::MethodOptions;
 use crate::model::{State, System, Vec3};
 use crate::scenario::Scenario;
@@ -148,46 +148,44 @@ pub struct ImplicitCost {
     pub shifted_per_step: f64,
 }
 
-/// Steps the implicit method `method` `steps` times at `h` with the solver settings `set`
-/// from the scene's initial state and reports its solver work; `Err` naming the step when one
-/// fails (or when `method` has no implicit core).
+/// Steps the implicit method `method`, built with `opts` (its linear solver and Newton cap),
+/// `steps` times at `h` from the scene's initial state and reports its solver work; `Err`
+/// naming the step when one fails (or when `method` is not implicit).
 pub fn implicit_cost(
     scene: &Scenario,
     method: &str,
-    set: ImplicitSettings,
+    opts: &MethodOptions,
     h: f64,
     steps: usize,
 ) -> std::result::Result<ImplicitCost, String> {
     let sys = scene.build();
     let mut s = scene.initial_state();
-    let mut stepper = fresh_stepper(method).map_err(|e| e.to_string())?;
-    stepper
-        .newton_mut()
-        .ok_or_else(|| format!("{method} has no implicit solver"))?
-        .settings = set;
+    let mut stepper = crate::method::create(method, opts).map_err(|e| e.to_string())?;
+    if !stepper.info.implicit {
+        return Err(format!("{method} has no implicit solver"));
+    }
     let mut evals = 0;
     let mut newton_max = 0;
     let t0 = Instant::now();
     for k in 0..steps {
-        let before = stepper.newton().map_or(0, |nw| nw.newton_iterations);
+        let before = stepper.solver_work().newton_iterations;
         evals += stepper
             .step(&sys, &mut s, h)
             .map_err(|e| format!("step {k} failed: {e}"))?
             .force_evals;
-        let after = stepper.newton().map_or(0, |nw| nw.newton_iterations);
-        newton_max = newton_max.max(after - before);
+        newton_max = newton_max.max(stepper.solver_work().newton_iterations - before);
     }
     let secs = t0.elapsed().as_secs_f64();
-    let nw = stepper.newton().expect("checked above");
+    let w = stepper.solver_work();
     let n = steps.max(1) as f64;
     Ok(ImplicitCost {
         steps,
         seconds_per_step: secs / n,
-        newton_per_step: nw.newton_iterations as f64 / n,
-        linear_per_step: nw.cg_iterations as f64 / n,
-        factorizations_per_step: nw.factorizations() as f64 / n,
+        newton_per_step: w.newton_iterations as f64 / n,
+        linear_per_step: w.linear_iterations as f64 / n,
+        factorizations_per_step: w.factorizations as f64 / n,
         force_evals_per_step: evals as f64 / n,
         newton_max,
-        shifted_per_step: nw.shifted_iterations as f64 / n,
+        shifted_per_step: w.modified_iterations as f64 / n,
     })
 }

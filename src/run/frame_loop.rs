@@ -221,8 +221,7 @@ impl<'a> Loop<'a> {
 
     /// The implicit core's Newton and linear iteration counters so far (0 without one).
     fn newton_counts(&self) -> (u64, u64) {
-        self.stepper
-            .newton()
-            .map_or((0, 0), |n| (n.newton_iterations, n.cg_iterations))
+        let w = self.stepper.solver_work();
+        (w.newton_iterations, w.linear_iterations)
     }
 }

@@ -31,6 +31,13 @@ fn fresh(name: &str) -> springlab::method::Instance {
     method::create(name, &MethodOptions::default()).expect("known method")
 }
 
+/// `name` with at most `cap` Newton iterations a step (its `--max-newton` option).
+fn capped(name: &str, cap: usize) -> springlab::method::Instance {
+    use springlab::method::options::{OptionValue, MAX_NEWTON};
+    let opts = MethodOptions::default().with(&MAX_NEWTON, OptionValue::Count(cap));
+    method::create(name, &opts).expect("known method")
+}
+
 fn scene(toml: &str) -> Scenario {
     Scenario::from_toml_str(toml, "scene.toml").expect("valid scene")
 }
@@ -110,10 +117,9 @@ fn backward_euler_residual(
 /// The list above is the registry's methods with an implicit solver.
 #[test]
 fn the_implicit_methods_are_the_registry_methods_with_a_newton_solver() {
-    let opts = MethodOptions::default();
     let mut found: Vec<&str> = Registry::builtin()
         .iter()
-        .filter(|m| !m.info.engine && m.create(&opts).newton().is_some())
+        .filter(|m| !m.info.engine && m.info.implicit)
         .map(|m| m.info.name)
         .collect();
     found.sort_unstable();
@@ -271,10 +277,10 @@ fn a_capped_newton_is_reported_not_converged_and_its_twins_meet_the_root() {
     let stage = |h_omega: f64, max_newton: Option<usize>| {
         let sc = spinning_triangle(h_omega);
         let sys = sc.build();
-        let mut stepper = fresh("implicit_euler");
-        if let Some(cap) = max_newton {
-            stepper.newton_mut().unwrap().settings.max_newton = cap;
-        }
+        let mut stepper = match max_newton {
+            Some(cap) => capped("implicit_euler", cap),
+            None => fresh("implicit_euler"),
+        };
         let mut s = sc.initial_state();
         let (x0, v0) = (s.x.clone(), s.v.clone());
         stepper
@@ -299,8 +305,7 @@ fn a_capped_newton_is_reported_not_converged_and_its_twins_meet_the_root() {
 fn the_runner_reports_a_stage_that_is_not_a_root() {
     let sc = spinning_triangle(100.0);
     let sys = sc.build();
-    let mut stepper = fresh("implicit_euler");
-    stepper.newton_mut().unwrap().settings.max_newton = 1;
+    let mut stepper = capped("implicit_euler", 1);
     let out = run(
         &sys,
         &mut stepper,

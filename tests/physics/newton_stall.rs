@@ -5,9 +5,9 @@
 //! quadratic few. Oracle: the definition of backward Euler, M (v' − v) = h f(x + h v', v'),
 //! evaluated here with the model's own forces, independently of the solver's residual.
 
-use springlab::method::MethodOptions;
+use springlab::integrate::Stepper;
 use springlab::model::System;
-use springlab::{method, perf, Vec3};
+use springlab::{perf, Vec3};
 
 /// A fixed linear congruential generator (Knuth's MMIX constants): uniform in [−½, ½).
 struct Lcg(u64);
@@ -43,17 +43,17 @@ fn stage(squeeze: f64, rumple: f64, throw: f64) -> (u64, u64, f64) {
         }
     }
     let (x0, v0) = (s.x.clone(), s.v.clone());
-    let mut stepper = method::create("implicit_euler", &MethodOptions::default()).unwrap();
+    let mut stepper = springlab::integrate::ImplicitEuler::default();
     {
         // Only the tight stop: the truncation-error stop would end the stage early.
-        let set = &mut stepper.newton_mut().unwrap().settings;
+        let set = &mut stepper.newton_mut().settings;
         set.kappa = 0.0;
         // A cloth squeezed to half its size starts far from the stage's root: the cap is
         // raised so that the test measures convergence, not the default budget.
         set.max_newton = 200;
     }
     stepper.step(&sys, &mut s, h).expect("the stage converges");
-    let nw = stepper.newton().unwrap();
+    let nw = stepper.newton();
     let rel = backward_euler_defect(&sys, &x0, &v0, &s.x, &s.v, h);
     println!(
         "squeeze {squeeze}: Newton {} iterations, {} shifted; max |v' − v − h M⁻¹f| / scale = {rel:.3e}",
