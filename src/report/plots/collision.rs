@@ -3,7 +3,11 @@
 
 use super::common::{svg_grid, Axis, Panel};
 use crate::error::Result;
-use crate::report::data::{CollisionData, Guide, Series};
+use crate::measure::study::SceneStudy;
+use crate::report::charts::*;
+use crate::report::data::*;
+use crate::report::figures::{link, Chart, PageChart};
+use serde::{Deserialize, Serialize};
 
 /// SVG with three panels: height, restitution per bounce, penetration per contact.
 pub fn collision(data: &CollisionData) -> Result<String> {
@@ -86,4 +90,120 @@ pub fn collision(data: &CollisionData) -> Result<String> {
         },
     ];
     svg_grid((1600, 520), 3, &panels)
+}
+
+/// One bounce of a collision test.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Bounce {
+    /// Bounce number (1 = first contact).
+    pub n: u32,
+    /// Measured restitution (rebound speed / impact speed).
+    pub measured: f64,
+    /// Restitution the scene specifies.
+    pub specified: f64,
+    /// Deepest penetration during the contact (m).
+    pub penetration: f64,
+}
+
+/// Height over time with the e^(2n) envelope, restitution per bounce, penetration per contact.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CollisionData {
+    /// Height (m) against time (s), one series per method.
+    pub heights: Vec<Series>,
+    /// Apex heights h₀·e^(2n) the specified restitution implies, as a step line.
+    pub envelope: Series,
+    /// Bounces per method: (method, bounces).
+    pub bounces: Vec<(String, Vec<Bounce>)>,
+}
+
+impl ChartCsv for CollisionData {
+    fn to_csv(&self) -> Result<Vec<u8>> {
+        let mut rows: Vec<Vec<String>> = Vec::new();
+        for s in &self.heights {
+            for r in series_rows("height", s) {
+                rows.push(r);
+            }
+        }
+        rows.extend(series_rows("envelope", &self.envelope));
+        for (method, bs) in &self.bounces {
+            for b in bs {
+                rows.push(vec![
+                    "bounce".into(),
+                    method.clone(),
+                    b.n.to_string(),
+                    num(b.measured),
+                    format!(
+                        "specified={};penetration={}",
+                        num(b.specified),
+                        num(b.penetration)
+                    ),
+                ]);
+            }
+        }
+        csv_bytes(&SERIES_HEADER, rows)
+    }
+}
+
+/// Height over time, the h₀·e^(2n) envelope and per-bounce restitution and penetration, for
+/// scenes with obstacles (the first tracked particle of each method's contact metrics).
+pub fn from_study(s: &SceneStudy) -> Option<CollisionData> {
+    let mut heights = Vec::new();
+    let mut bounces = Vec::new();
+    let mut envelope = None;
+    for run in runs(s) {
+        let Some(c) = &run.contacts else { continue };
+        let Some(pb) = c.bounces.first() else {
+            continue;
+        };
+        let mut h = Series::new(run.method.clone(), pb.heights.clone());
+        h.blowup = blowup_at(run, h.points.last().copied());
+        heights.push(h);
+        if envelope.is_none() && pb.apexes.len() > 1 {
+            envelope = Some(Series::new(
+                format!("particle {}", pb.particle),
+                pb.apexes.iter().map(|a| [a.t, a.predicted]).collect(),
+            ));
+        }
+        let list: Vec<Bounce> = c
+            .events
+            .iter()
+            .filter(|e| e.particle == pb.particle)
+            .enumerate()
+            .filter_map(|(k, e)| {
+                e.restitution.map(|m| Bounce {
+                    n: k as u32 + 1,
+                    measured: m,
+                    specified: e.expected_restitution,
+                    penetration: e.max_penetration,
+                })
+            })
+            .collect();
+        bounces.push((run.method.clone(), list));
+    }
+    if heights.is_empty() {
+        return None;
+    }
+    Some(CollisionData {
+        heights,
+        envelope: envelope.unwrap_or_else(|| Series::new("no apex", Vec::new())),
+        bounces,
+    })
+}
+
+impl Chart for CollisionData {
+    fn stem(&self) -> &'static str {
+        "collision"
+    }
+    fn svg(&self) -> Result<String> {
+        collision(self)
+    }
+}
+
+impl PageChart for CollisionData {
+    fn title(&self) -> &'static str {
+        "Collision"
+    }
+    fn caption(&self) -> String {
+        format!("Left: the gap between the first tracked particle and the obstacle (negative: penetration), with the apex heights h₀·e^(2n) the specified restitution implies. Middle: measured restitution per bounce against the specified one (dashed). Right: deepest penetration per contact. {}", link("compare/contacts.json"))
+    }
 }

@@ -2,10 +2,14 @@
 
 use super::common::{tick, FONT};
 use crate::error::{Error, Result};
-use crate::report::data::{SnapshotData, SnapshotPanel};
+use crate::measure::study::SceneStudy;
+use crate::report::charts::*;
+use crate::report::data::*;
+use crate::report::figures::{Chart, PageChart};
 use crate::report::finite::plottable;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
 fn draw_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> Error {
@@ -167,4 +171,138 @@ fn draw_panel<DB: DrawingBackend>(
         .draw()
         .map_err(draw_err)?;
     Ok(())
+}
+
+/// One snapshot of a chain or cloth: polylines (chain, cloth rows and columns) in the plane.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Time (s).
+    pub t: f64,
+    /// Polylines of projected positions.
+    pub lines: Vec<Vec<[f64; 2]>>,
+}
+
+/// One method's snapshots.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SnapshotPanel {
+    /// Method name.
+    pub label: String,
+    /// Snapshots in time order.
+    pub snapshots: Vec<Snapshot>,
+    /// Blow-up time, if the run blew up before the last snapshot.
+    pub blowup_time: Option<f64>,
+}
+
+/// Chain and cloth snapshots side by side per method.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SnapshotData {
+    /// Names of the plane's axes.
+    pub axes: [String; 2],
+    /// One panel per method.
+    pub panels: Vec<SnapshotPanel>,
+}
+
+impl ChartCsv for SnapshotData {
+    fn to_csv(&self) -> Result<Vec<u8>> {
+        let mut rows = Vec::new();
+        for p in &self.panels {
+            for s in &p.snapshots {
+                for (li, line) in s.lines.iter().enumerate() {
+                    for (k, q) in line.iter().enumerate() {
+                        rows.push(vec![
+                            p.label.clone(),
+                            num(s.t),
+                            li.to_string(),
+                            k.to_string(),
+                            num(q[0]),
+                            num(q[1]),
+                        ]);
+                    }
+                }
+            }
+        }
+        csv_bytes(&["method", "t", "line", "index", "u", "v"], rows)
+    }
+}
+
+/// Polylines of a chain or cloth block (cloth rows and columns, at most 9 of each).
+fn block_lines(
+    block: &crate::scenario::Block,
+    x: &[[f64; 3]],
+    plane: [usize; 2],
+) -> Vec<Vec<[f64; 2]>> {
+    let [nx, ny] = block.shape;
+    let at = |ix: usize, iy: usize| {
+        let p = x[block.first + iy * nx + ix];
+        [p[plane[0]], p[plane[1]]]
+    };
+    let pick = |n: usize| -> Vec<usize> {
+        let step = n.div_ceil(8).max(1);
+        let mut v: Vec<usize> = (0..n).step_by(step).collect();
+        if v.last() != Some(&(n - 1)) {
+            v.push(n - 1);
+        }
+        v
+    };
+    let mut lines = Vec::new();
+    for iy in pick(ny) {
+        lines.push((0..nx).map(|ix| at(ix, iy)).collect());
+    }
+    if ny > 1 {
+        for ix in pick(nx) {
+            lines.push((0..ny).map(|iy| at(ix, iy)).collect());
+        }
+    }
+    lines
+}
+
+/// Snapshots of the scene's chains and cloths per method, if it has any.
+pub fn from_study(
+    s: &SceneStudy,
+    blocks: &[crate::scenario::Block],
+    plane: [usize; 2],
+) -> Option<SnapshotData> {
+    if blocks.is_empty() {
+        return None;
+    }
+    let panels = runs(s)
+        .map(|run| SnapshotPanel {
+            label: run.method.clone(),
+            snapshots: run
+                .trace
+                .iter()
+                .flat_map(|tr| tr.snapshots.iter())
+                .map(|(t, x)| Snapshot {
+                    t: *t,
+                    lines: blocks
+                        .iter()
+                        .flat_map(|b| block_lines(b, x, plane))
+                        .collect(),
+                })
+                .collect(),
+            blowup_time: run.unstable_time,
+        })
+        .collect();
+    Some(SnapshotData {
+        axes: [AXES[plane[0]].into(), AXES[plane[1]].into()],
+        panels,
+    })
+}
+
+impl Chart for SnapshotData {
+    fn stem(&self) -> &'static str {
+        "snapshots"
+    }
+    fn svg(&self) -> Result<String> {
+        snapshots(self)
+    }
+}
+
+impl PageChart for SnapshotData {
+    fn title(&self) -> &'static str {
+        "Snapshots"
+    }
+    fn caption(&self) -> String {
+        "The chain or cloth at a few instants (light to dark), one panel per method at the same scale.".into()
+    }
 }
