@@ -4,7 +4,7 @@ use super::case::{applicable, asked_or_all, run_case, CaseResult, CaseSettings};
 use super::command::{with_out, CommandLine};
 use super::contacts::ContactReport;
 use super::grid::{run_grid, scene_grid};
-use super::metrics::Metrics;
+use super::metric_table;
 use super::reference::{Reference, ReferenceInfo};
 use super::trace::{longest_paths, TraceSpec};
 use crate::error::Result;
@@ -416,72 +416,9 @@ const RUN_COLUMNS: &str =
 /// The columns of `compare.csv` after the metrics.
 const END_COLUMNS: &str = "unstable_time,unstable_reason,reference";
 
-/// One accuracy or quality column of `compare.csv`: its key (the [`Metrics`] field's name)
-/// and its cell, empty where the run does not have it.
-struct MetricColumn {
-    key: &'static str,
-    cell: fn(&Metrics) -> Option<String>,
-}
-
-/// A column holding a number of the metrics, as `{:e}`.
-macro_rules! number {
-    ($key:ident) => {
-        MetricColumn {
-            key: stringify!($key),
-            cell: |m| Some(format!("{:e}", m.$key)),
-        }
-    };
-    ($key:ident?) => {
-        MetricColumn {
-            key: stringify!($key),
-            cell: |m| m.$key.map(|x| format!("{x:e}")),
-        }
-    };
-}
-
-/// The metrics columns, in order: the one list the header and every row are written from.
-const METRIC_COLUMNS: [MetricColumn; 21] = [
-    number!(error_final),
-    number!(error_max),
-    number!(error_rms),
-    number!(energy_drift),
-    number!(energy_drift_rate),
-    number!(energy_oscillation),
-    number!(energy_error_max),
-    number!(energy_balance),
-    number!(momentum_drift?),
-    number!(constraint_max?),
-    number!(constraint_mean?),
-    number!(strain_max),
-    number!(penetration_max?),
-    number!(rest_jitter),
-    number!(period?),
-    number!(period_error?),
-    number!(phase_error?),
-    number!(error_max_predictable),
-    number!(strain_error),
-    MetricColumn {
-        key: "statistics_score",
-        cell: |m| {
-            m.statistics
-                .as_ref()
-                .map(|s| format!("{:e}", crate::measure::statistics::worst_score(s)))
-        },
-    },
-    MetricColumn {
-        key: "statistics_consistent",
-        cell: |m| {
-            m.statistics
-                .as_ref()
-                .map(|s| s.values().all(|v| v.consistent).to_string())
-        },
-    },
-];
-
 /// The header of `compare.csv`.
 pub fn compare_header() -> String {
-    let metrics: Vec<&str> = METRIC_COLUMNS.iter().map(|c| c.key).collect();
-    format!("{RUN_COLUMNS},{},{END_COLUMNS}", metrics.join(","))
+    format!("{RUN_COLUMNS},{},{END_COLUMNS}", metric_table::csv_header())
 }
 
 fn csv_text(s: &str) -> String {
@@ -490,15 +427,6 @@ fn csv_text(s: &str) -> String {
     } else {
         s.to_string()
     }
-}
-
-/// The accuracy and quality cells of one row, in [`METRIC_COLUMNS`]' order; all empty for a
-/// run that is not ok (`None`).
-fn metric_cells(m: Option<&Metrics>) -> Vec<String> {
-    METRIC_COLUMNS
-        .iter()
-        .map(|c| m.and_then(|m| (c.cell)(m)).unwrap_or_default())
-        .collect()
 }
 
 /// Writes `compare.csv` and `summary.json` into `dir`.
@@ -514,7 +442,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 cells.push(csv_text(e.skip_reason.as_deref().unwrap_or("")));
                 cells.push(f(res.dt));
                 cells.extend(["", "", "", "", ""].map(String::from));
-                cells.extend(metric_cells(None));
+                cells.extend(metric_table::csv_cells(None));
                 cells.extend(["", ""].map(String::from));
             }
             Some(r) => {
@@ -526,7 +454,7 @@ pub fn write_compare(dir: &Path, res: &CompareResult) -> Result<Vec<PathBuf>> {
                 cells.push(f(r.modelled_seconds));
                 cells.push(f(r.wall_seconds));
                 // Null for a run that is not ok: every accuracy cell is then empty.
-                cells.extend(metric_cells(r.metrics.as_ref()));
+                cells.extend(metric_table::csv_cells(r.metrics.as_ref()));
                 cells.push(r.unstable_time.map_or(String::new(), f));
                 cells.push(csv_text(r.unstable_reason.as_deref().unwrap_or("")));
             }

@@ -17,6 +17,7 @@ mod fit;
 pub mod framerate;
 pub mod grid;
 mod kept;
+pub mod metric_table;
 pub(crate) mod metrics;
 mod modes;
 pub mod observables;

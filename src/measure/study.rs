@@ -70,10 +70,6 @@ pub const FRAMERATE_METHOD_SECONDS: f64 = 4.0;
 /// about 12 s; rapier_multibody there about 350 s, and is left out with its time per frame).
 pub const FRAMERATE_ENGINE_SECONDS: f64 = 60.0;
 
-/// How every study note about the frame-rate section begins (the report shows those notes in
-/// that section).
-pub const FRAMERATE_NOTE_PREFIX: &str = "Frame rates";
-
 /// Time budget of a study's advice (s of runs, summed over its candidates): the costliest
 /// candidates whose grid runs would not fit are left out with the figure (on the 32×32 cloth,
 /// the implicit methods, whose finest grid runs take tens of seconds each).
@@ -128,6 +124,9 @@ pub struct SceneStudy {
     pub answer: super::answer::Answer,
     /// What took part where, and what was left out and why.
     pub notes: Vec<String>,
+    /// What the frame-rate section left out and why (rates whose frame is longer than the
+    /// run, methods beyond its budget): the report shows them in that section.
+    pub framerate_notes: Vec<String>,
     /// Wall time of each part (s), for the report's budget.
     pub seconds: StudySeconds,
 }
@@ -214,8 +213,9 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         &mut notes,
     )?;
     lap(&mut seconds.advice);
+    let mut framerate_notes = Vec::new();
     let (framerate, framerate_note, framerate_left_out) =
-        study_framerate(scene, cfg, &compared, &probed_out, &mut notes)?;
+        study_framerate(scene, cfg, &compared, &probed_out, &mut framerate_notes)?;
     lap(&mut seconds.framerate);
     let measured = super::answer::Measured {
         compared: &compared,
@@ -244,6 +244,7 @@ pub fn study(scene: &Scenario, cfg: &StudyConfig) -> Result<SceneStudy> {
         advice,
         advice_note,
         notes,
+        framerate_notes,
     })
 }
 
@@ -628,7 +629,7 @@ fn framerate_rates(
     if !too_long.is_empty() {
         rates.retain(|hz| !too_long.contains(hz));
         notes.push(format!(
-            "{FRAMERATE_NOTE_PREFIX} leave out {} Hz: a frame is longer than the run's {} s.",
+            "Frame rates leave out {} Hz: a frame is longer than the run's {} s.",
             too_long
                 .iter()
                 .map(|hz| crate::error::significant(*hz, 3))
@@ -693,7 +694,7 @@ fn within_frame_budget(
         if projected > budget {
             left_out.push(name.clone());
             notes.push(format!(
-                "{FRAMERATE_NOTE_PREFIX} leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {}) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
+                "Frame rates leave out {name}: {:.3} ms per {}, modelled {}, so its search (up to {max_substeps} substeps at {}) could take about {projected:.0} s (> {budget} s); `springlab framerate --methods {name}` runs it.",
                 per_substep * 1e3,
                 if info.engine {
                     format!("solver substep ({:.3} ms per frame at {} substeps)", per_step * 1e3, cfg.common.options.substeps.max(1))

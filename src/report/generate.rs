@@ -136,11 +136,7 @@ pub fn write_scene(scene: &Scenario, s: &SceneStudy, opts: &ReportOptions) -> Re
     let dir = tx.stage_dir(&s.scenario)?;
     let docs = write_documents(&dir, s)?;
     // The frame-rate section says itself what it left out; the rest are page notes.
-    let (framerate_notes, mut notes): (Vec<String>, Vec<String>) = s
-        .notes
-        .iter()
-        .cloned()
-        .partition(|n| n.starts_with(crate::measure::study::FRAMERATE_NOTE_PREFIX));
+    let (framerate_notes, mut notes) = (s.framerate_notes.clone(), s.notes.clone());
     let plane = charts::main_plane(s, scene.raw.world.gravity);
     let figures = write_figures(&dir, scene, s, opts.energy_terms, plane)?;
     notes.extend(figures.notes);

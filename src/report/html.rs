@@ -4,6 +4,7 @@
 use super::finite::cell;
 use super::summary::{MethodRow, SceneSummary, Summary};
 use super::verdict::{dt_words, front_row};
+use crate::measure::metric_table::PENETRATION_MAX;
 use crate::measure::stability::StabilityReport;
 use crate::measure::study::SceneStudy;
 
@@ -137,7 +138,7 @@ pub fn scene_page(
                 esc(&b.method),
                 cell(b.restitution_measured, 3),
                 cell(b.restitution_expected, 3),
-                cell(b.penetration_max, 2),
+                cell(b.metrics.get(PENETRATION_MAX), 2),
                 b.tunnelling.map_or("—".into(), |t| t.to_string())
             );
         }

@@ -1,10 +1,21 @@
 //! The methods table of a scene, on its page and in `README.md`: one list of columns, each a
-//! header, an alignment, whether the Markdown overview shows it, and the function that writes
-//! its cell, so both tables take their columns, order and cells from one place.
+//! header, an alignment, whether the Markdown overview shows it, and what writes its cell (the
+//! row's own function, or a metric of the metrics table in its page format), so both tables
+//! take their columns, order and cells from one place.
 
 use super::finite::cell;
 use super::summary::MethodRow;
 use super::verdict::limit_words;
+use crate::measure::metric_table::{PageFormat, METRICS};
+
+/// What a column's cell shows.
+#[derive(Clone, Copy)]
+pub enum Cell {
+    /// A cell written by its own function from the row, unescaped.
+    Own(fn(&MethodRow) -> String),
+    /// A metric of the metrics table, by its row key, in its page format.
+    Metric(&'static str, PageFormat),
+}
 
 /// One column of the methods table.
 pub struct Column {
@@ -14,85 +25,58 @@ pub struct Column {
     pub left: bool,
     /// Shown in the Markdown overview too (the page shows every column).
     pub in_markdown: bool,
-    /// The cell of one method's row, unescaped.
-    pub cell: fn(&MethodRow) -> String,
+    /// What its cells show.
+    pub cell: Cell,
 }
 
-/// The columns, in order.
-pub const COLUMNS: [Column; 12] = [
+impl Column {
+    /// The cell of one method's row, unescaped.
+    pub fn text(&self, b: &MethodRow) -> String {
+        match self.cell {
+            Cell::Own(f) => f(b),
+            Cell::Metric(key, PageFormat::Significant(sig)) => cell(b.metrics.get(key), sig),
+            Cell::Metric(key, PageFormat::Percent(sig)) => percent_cell(b.metrics.get(key), sig),
+        }
+    }
+}
+
+/// A column of the row's own, left-aligned (text) or not, shown in the Markdown overview.
+const fn own(header: &'static str, left: bool, cell: fn(&MethodRow) -> String) -> Column {
     Column {
-        header: "method",
-        left: true,
+        header,
+        left,
         in_markdown: true,
-        cell: |b| b.method.clone(),
-    },
-    Column {
-        header: "order",
-        left: false,
-        in_markdown: true,
-        cell: |b| b.order.to_string(),
-    },
-    Column {
-        header: "status",
-        left: true,
-        in_markdown: true,
-        cell: status_cell,
-    },
-    Column {
-        header: "max position error (m)",
-        left: false,
-        in_markdown: true,
-        cell: |b| cell(b.max_position_error, 2),
-    },
-    Column {
-        header: "max energy error",
-        left: false,
-        in_markdown: true,
-        cell: |b| drift_cell(b.max_energy_drift),
-    },
-    Column {
-        header: "final energy change",
-        left: false,
-        in_markdown: false,
-        cell: |b| drift_cell(b.final_energy_change),
-    },
-    Column {
-        header: "energy drift rate (J/s)",
-        left: false,
-        in_markdown: false,
-        cell: |b| cell(b.energy_drift_rate, 2),
-    },
-    Column {
-        header: "strain max",
-        left: false,
-        in_markdown: true,
-        cell: |b| cell(b.strain_max, 2),
-    },
-    Column {
-        header: "observed order",
-        left: false,
-        in_markdown: true,
-        cell: order_cell,
-    },
-    Column {
-        header: "stable step",
-        left: true,
-        in_markdown: true,
-        cell: stable_cell,
-    },
-    Column {
-        header: "force evaluations",
-        left: false,
-        in_markdown: true,
-        cell: evals_cell,
-    },
-    Column {
-        header: "modelled time (ms)",
-        left: false,
-        in_markdown: true,
-        cell: |b| cell(Some(b.modelled_seconds * 1e3), 3),
-    },
-];
+        cell: Cell::Own(cell),
+    }
+}
+
+/// The columns, in order: the method, its order and status, the metrics the metrics table
+/// puts on the page (in its order), then the stability, cost and order columns.
+pub fn columns() -> Vec<Column> {
+    let mut cols = vec![
+        own("method", true, |b| b.method.clone()),
+        own("order", false, |b| b.order.to_string()),
+        own("status", true, status_cell),
+    ];
+    cols.extend(METRICS.iter().filter_map(|m| {
+        let page = m.page?;
+        Some(Column {
+            header: page.header,
+            left: false,
+            in_markdown: page.in_markdown,
+            cell: Cell::Metric(m.row_key?, page.format),
+        })
+    }));
+    cols.extend([
+        own("observed order", false, order_cell),
+        own("stable step", true, stable_cell),
+        own("force evaluations", false, evals_cell),
+        own("modelled time (ms)", false, |b| {
+            cell(Some(b.modelled_seconds * 1e3), 3)
+        }),
+    ]);
+    cols
+}
 
 /// The stable step cell: the stability report's limit (`dt ≤ … s (h·ω ≤ …)`, `any step`, …).
 pub fn stable_cell(b: &MethodRow) -> String {
@@ -124,17 +108,17 @@ pub fn status_cell(b: &MethodRow) -> String {
     }
 }
 
-/// Energy drift in percent.
-pub fn drift_cell(v: Option<f64>) -> String {
+/// A relative number in percent with `sig` significant digits, or `—`.
+pub fn percent_cell(v: Option<f64>, sig: usize) -> String {
     match v {
-        Some(v) if v.is_finite() => format!("{}%", cell(Some(100.0 * v), 2)),
+        Some(v) if v.is_finite() => format!("{}%", cell(Some(100.0 * v), sig)),
         _ => "—".into(),
     }
 }
 
 /// The HTML header row's cells.
 pub fn html_head() -> String {
-    COLUMNS
+    columns()
         .iter()
         .map(|c| {
             let class = if c.left { " class=\"l\"" } else { "" };
@@ -145,11 +129,11 @@ pub fn html_head() -> String {
 
 /// One method's HTML row, its cells escaped by `esc`.
 pub fn html_row(b: &MethodRow, esc: fn(&str) -> String) -> String {
-    let cells: String = COLUMNS
+    let cells: String = columns()
         .iter()
         .map(|c| {
             let class = if c.left { " class=\"l\"" } else { "" };
-            format!("<td{class}>{}</td>", esc(&(c.cell)(b)))
+            format!("<td{class}>{}</td>", esc(&c.text(b)))
         })
         .collect();
     format!("<tr class=\"{}\">{cells}</tr>\n", esc(b.status.label()))
@@ -157,7 +141,8 @@ pub fn html_row(b: &MethodRow, esc: fn(&str) -> String) -> String {
 
 /// The Markdown header and alignment rows.
 pub fn markdown_head() -> String {
-    let shown = || COLUMNS.iter().filter(|c| c.in_markdown);
+    let cols = columns();
+    let shown = || cols.iter().filter(|c| c.in_markdown);
     let head: Vec<&str> = shown().map(|c| c.header).collect();
     let align: Vec<&str> = shown()
         .map(|c| if c.left { "---" } else { "---:" })
@@ -167,10 +152,10 @@ pub fn markdown_head() -> String {
 
 /// One method's Markdown row, its cells escaped by `md`.
 pub fn markdown_row(b: &MethodRow, md: fn(&str) -> String) -> String {
-    let cells: Vec<String> = COLUMNS
+    let cells: Vec<String> = columns()
         .iter()
         .filter(|c| c.in_markdown)
-        .map(|c| md(&(c.cell)(b)))
+        .map(|c| md(&c.text(b)))
         .collect();
     format!("| {} |\n", cells.join(" | "))
 }

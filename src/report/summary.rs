@@ -3,6 +3,7 @@
 //! sweep's fitted order, the advice's pick), never recomputed here.
 
 use super::finite::finite;
+use crate::measure::metric_table::RowMetrics;
 use crate::measure::stability::Verdict;
 use crate::measure::study::SceneStudy;
 use crate::method::{Order, Registry};
@@ -22,21 +23,11 @@ pub struct MethodRow {
     pub blowup_time: Option<f64>,
     /// Which measure tripped, when it blew up.
     pub blowup_reason: Option<String>,
-    /// Largest position error against the reference over the run (m; compare's `error_max`).
-    pub max_position_error: Option<f64>,
-    /// Position error at the last step (m; compare's `error_final`).
-    pub final_position_error: Option<f64>,
-    /// Largest |relative energy error| (compare's `energy_error_max`).
-    pub max_energy_drift: Option<f64>,
-    /// Signed relative energy error at the end (compare's `energy_balance`).
-    pub final_energy_change: Option<f64>,
-    /// Slope of the energy balance over the run (J/s; compare's `energy_drift_rate`).
-    pub energy_drift_rate: Option<f64>,
-    /// Largest strain |l/l0 − 1| of any spring or rod over the run (compare's `strain_max`).
-    pub strain_max: Option<f64>,
-    /// Kinetic energy at the end over the scene's energy scale (compare's `rest_jitter`;
-    /// meaningful for scenes that come to rest).
-    pub rest_jitter: Option<f64>,
+    /// The run's values of the metrics table's row metrics ([`RowMetrics`]: largest and
+    /// final position error, energy error, drift rate, strain, penetration, rest jitter),
+    /// each under its own key.
+    #[serde(flatten)]
+    pub metrics: RowMetrics,
     /// The stability report's verdict, when it was analysed.
     pub stability: Option<Verdict>,
     /// The stability report's largest stable step (s).
@@ -57,9 +48,6 @@ pub struct MethodRow {
     pub restitution_measured: Option<f64>,
     /// Mean specified restitution over the same events.
     pub restitution_expected: Option<f64>,
-    /// Deepest penetration into any obstacle (m; compare's `penetration_max`, the contact
-    /// metrics' own); null without obstacles and for a run that is not ok.
-    pub penetration_max: Option<f64>,
     /// Paths that passed through an obstacle between two accepted states.
     pub tunnelling: Option<u64>,
     /// Force evaluations of the comparison run (null for methods that never evaluate ours).
@@ -185,13 +173,7 @@ pub fn scene_summary(
             status: r.status,
             blowup_time: r.unstable_time,
             blowup_reason: r.unstable_reason.clone(),
-            max_position_error: r.metric(|m| m.error_max).and_then(finite),
-            final_position_error: r.metric(|m| m.error_final).and_then(finite),
-            max_energy_drift: r.metric(|m| m.energy_error_max).and_then(finite),
-            final_energy_change: r.metric(|m| m.energy_balance).and_then(finite),
-            energy_drift_rate: r.metric(|m| m.energy_drift_rate).and_then(finite),
-            strain_max: r.metric(|m| m.strain_max).and_then(finite),
-            rest_jitter: r.metric(|m| m.rest_jitter).and_then(finite),
+            metrics: RowMetrics::of(r.metrics.as_ref()),
             stability: stab.map(|i| i.verdict),
             stable_dt: stab.and_then(|i| i.max_stable_dt),
             stable_h_omega: stab.and_then(|i| i.h_omega),
@@ -210,11 +192,6 @@ pub fn scene_summary(
             restitution_expected: contacts
                 .filter(|c| c.expected_restitution.count > 0)
                 .and_then(|c| finite(c.expected_restitution.mean)),
-            penetration_max: r
-                .metrics
-                .as_ref()
-                .and_then(|m| m.penetration_max)
-                .and_then(finite),
             tunnelling: contacts.map(|c| c.tunnelling_count),
             force_evals: (info.cost == crate::method::CostUnit::ForceEvaluations)
                 .then_some(r.force_evals),
@@ -235,7 +212,7 @@ pub fn scene_summary(
         verdict: String::new(),
         page: format!("{}/index.html", s.scenario),
         documents,
-        notes: s.notes.clone(),
+        notes: s.notes.iter().chain(&s.framerate_notes).cloned().collect(),
         seconds: s.seconds,
         file: String::new(),
         failed_this_time: None,

@@ -4,6 +4,7 @@
 use super::finite::cell;
 use super::summary::{MethodRow, SceneSummary};
 use crate::measure::answer::{FreeStep, GameRate};
+use crate::measure::metric_table::{MAX_ENERGY_DRIFT, MAX_POSITION_ERROR};
 use crate::measure::stability::Verdict;
 use crate::measure::tolerance::Metric;
 
@@ -233,7 +234,11 @@ fn accuracy_sentence(s: &SceneSummary) -> String {
         .methods
         .iter()
         .filter(|b| b.status.is_ok() && b.order != crate::method::Order::Exact)
-        .filter_map(|b| b.max_position_error.map(|e| (b.method.as_str(), e)))
+        .filter_map(|b| {
+            b.metrics
+                .get(MAX_POSITION_ERROR)
+                .map(|e| (b.method.as_str(), e))
+        })
         .collect();
     acc.sort_by(|a, b| a.1.total_cmp(&b.1));
     match (acc.first(), acc.last()) {
@@ -281,7 +286,7 @@ fn drift_sentence(bs: &[MethodRow]) -> Option<String> {
     let drift = bs
         .iter()
         .filter(|b| b.status.is_ok())
-        .filter_map(|b| b.max_energy_drift.map(|d| (b, d)))
+        .filter_map(|b| b.metrics.get(MAX_ENERGY_DRIFT).map(|d| (b, d)))
         .max_by(|a, b| a.1.total_cmp(&b.1));
     drift.filter(|(_, d)| *d > 0.01).map(|(b, d)| {
         format!(

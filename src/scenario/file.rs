@@ -2,6 +2,7 @@
 //!
 //! Every table denies unknown keys so a typo is an error, not a silently ignored setting.
 
+use super::words::{ChainEnd, Corner, Plane};
 use serde::{Deserialize, Serialize};
 
 /// A 3-vector as written in TOML: `[x, y, z]`.
@@ -152,6 +153,13 @@ pub struct ChainSpec {
     pub fix: Vec<String>,
 }
 
+impl ChainSpec {
+    /// Whether `fix` names `end` (its words are validated before the chain is generated).
+    pub fn fixes(&self, end: ChainEnd) -> bool {
+        self.fix.iter().any(|w| ChainEnd::parse(w) == Some(end))
+    }
+}
+
 /// `[[cloth]]`: an nx × ny grid with structural, shear and optional bend springs.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -178,6 +186,20 @@ pub struct ClothSpec {
     /// Plane of the cloth: "xy" (hanging, default) or "xz" (horizontal).
     #[serde(default)]
     pub plane: Option<String>,
+}
+
+impl ClothSpec {
+    /// Whether `fix` names `corner` (its words are validated before the cloth is generated).
+    pub fn fixes(&self, corner: Corner) -> bool {
+        self.fix.iter().any(|w| Corner::parse(w) == Some(corner))
+    }
+    /// The cloth's plane (xy where `plane` is absent; validated before generation).
+    pub fn plane(&self) -> Plane {
+        self.plane
+            .as_deref()
+            .and_then(Plane::parse)
+            .unwrap_or_default()
+    }
 }
 
 /// `[run]`: the default step and length of a run.

@@ -1,6 +1,7 @@
 //! Generators that expand `[[chain]]` and `[[cloth]]` blocks into particles and springs.
 
 use super::file::{ChainSpec, ClothSpec};
+use super::words::{ChainEnd, Corner, Plane};
 use super::{Particle, SpringDef};
 use crate::model::Vec3;
 
@@ -22,8 +23,7 @@ pub fn chain(c: &ChainSpec, particles: &mut Vec<Particle>, springs: &mut Vec<Spr
     let (a, b) = (Vec3::from(c.start), Vec3::from(c.end));
     for k in 0..n {
         let s = k as f64 / (n - 1) as f64;
-        let fixed = (k == 0 && c.fix.iter().any(|f| f == "first"))
-            || (k == n - 1 && c.fix.iter().any(|f| f == "last"));
+        let fixed = (k == 0 && c.fixes(ChainEnd::First)) || (k == n - 1 && c.fixes(ChainEnd::Last));
         particles.push(Particle {
             position: a + (b - a) * s,
             velocity: Vec3::zeros(),
@@ -52,10 +52,9 @@ pub fn cloth(c: &ClothSpec, particles: &mut Vec<Particle>, springs: &mut Vec<Spr
     let (nx, ny) = (c.count[0] as usize, c.count[1] as usize);
     let first = particles.len();
     let o = Vec3::from(c.origin);
-    let axis2 = if c.plane.as_deref() == Some("xz") {
-        Vec3::z()
-    } else {
-        Vec3::y()
+    let axis2 = match c.plane() {
+        Plane::Xz => Vec3::z(),
+        Plane::Xy => Vec3::y(),
     };
     let idx = |ix: usize, iy: usize| first + iy * nx + ix;
     for iy in 0..ny {
@@ -64,13 +63,13 @@ pub fn cloth(c: &ClothSpec, particles: &mut Vec<Particle>, springs: &mut Vec<Spr
                 + Vec3::x() * (c.size[0] * ix as f64 / (nx - 1) as f64)
                 + axis2 * (c.size[1] * iy as f64 / (ny - 1) as f64);
             let corner = match (ix, iy) {
-                (0, y) if y == ny - 1 => Some("top_left"),
-                (x, y) if x == nx - 1 && y == ny - 1 => Some("top_right"),
-                (0, 0) => Some("bottom_left"),
-                (x, 0) if x == nx - 1 => Some("bottom_right"),
+                (0, y) if y == ny - 1 => Some(Corner::TopLeft),
+                (x, y) if x == nx - 1 && y == ny - 1 => Some(Corner::TopRight),
+                (0, 0) => Some(Corner::BottomLeft),
+                (x, 0) if x == nx - 1 => Some(Corner::BottomRight),
                 _ => None,
             };
-            let fixed = corner.is_some_and(|name| c.fix.iter().any(|f| f == name));
+            let fixed = corner.is_some_and(|corner| c.fixes(corner));
             particles.push(Particle {
                 position: p,
                 velocity: Vec3::zeros(),

@@ -37,6 +37,7 @@ mod run_table;
 mod time_scales;
 mod timing;
 mod validate;
+pub mod words;
 pub use checker::{MAX_PARTICLES, MAX_STEPS};
 
 pub use file::{ExpectSpec, ScenarioFile, SpringLaw};

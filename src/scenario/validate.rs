@@ -6,6 +6,7 @@ use super::file::{ScenarioFile, SpringLaw};
 use super::finite::check_finite;
 use super::generate;
 use super::run_table::{validate_expect, validate_run};
+use super::words::{ChainEnd, Corner, Plane};
 use super::{initial_distance, Block, Particle, RunSettings, Scenario, SpringDef};
 use crate::error::Result;
 use crate::model::{DistanceConstraint, Impulse, Vec3};
@@ -120,7 +121,7 @@ fn validate_blocks(
         ck.positive(&format!("{f}.mass"), c.mass)?;
         ck.non_negative(&format!("{f}.stiffness"), c.stiffness)?;
         ck.non_negative(&format!("{f}.damping"), c.damping)?;
-        ck.names(&format!("{f}.fix"), &c.fix, &["first", "last"])?;
+        ck.names(&format!("{f}.fix"), &c.fix, &ChainEnd::words())?;
         if Vec3::from(c.start) == Vec3::from(c.end) {
             return Err(ck.err(
                 format!("{f}.end"),
@@ -152,16 +153,12 @@ fn validate_blocks(
         ck.non_negative(&format!("{f}.stiffness"), c.stiffness)?;
         ck.non_negative(&format!("{f}.damping"), c.damping)?;
         ck.non_negative(&format!("{f}.bend_stiffness"), c.bend_stiffness)?;
-        ck.names(
-            &format!("{f}.fix"),
-            &c.fix,
-            &["top_left", "top_right", "bottom_left", "bottom_right"],
-        )?;
+        ck.names(&format!("{f}.fix"), &c.fix, &Corner::words())?;
         if let Some(p) = &c.plane {
             ck.names(
                 &format!("{f}.plane"),
                 std::slice::from_ref(p),
-                &["xy", "xz"],
+                &Plane::words(),
             )
             .map_err(|_| {
                 ck.err(
