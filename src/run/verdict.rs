@@ -173,6 +173,11 @@ pub struct Verdict {
     runaway: Runaway,
 }
 
+/// An energy in prose: four significant digits and its unit (`402.7 J`, `3.989e4 J`).
+fn joules(v: f64) -> String {
+    format!("{} J", crate::error::significant(v, 4))
+}
+
 impl Verdict {
     /// A verdict for a run whose balance at t = 0 is `e0_total`, on a scene of energy scale
     /// `scale` (J), with the hard cap `cap` (in scales).
@@ -221,10 +226,11 @@ impl Verdict {
             return Some(Fired {
                 rule: Rule::Cap,
                 reason: format!(
-                    "energy balance rose by {rise:.3e} J ({}), past the cap of {} × the scene's energy scale of {:.3e} J",
+                    "energy balance rose by {} ({}), past the cap of {} × the scene's energy scale of {}",
+                    joules(rise),
                     self.books(e),
                     self.cap,
-                    self.scale
+                    joules(self.scale)
                 ),
             });
         }
@@ -242,25 +248,33 @@ impl Verdict {
             return Some(Fired {
                 rule: Rule::Runaway,
                 reason: format!(
-                    "energy balance growing without bound over the whole run: its peak rise grew at least {OCTAVE_RATIO}-fold over each of the run's last {OCTAVES} octaves (steps {}, {}, {}, {}: {a:.3e}, {b:.3e}, {c:.3e}, {d:.3e} J), now {rise:.3e} J ({}), past {RUNAWAY_LEVEL} × the scene's energy scale of {:.3e} J",
+                    "energy balance growing without bound over the whole run: its peak rise grew at least {OCTAVE_RATIO}-fold over each of the run's last {OCTAVES} octaves (steps {}, {}, {}, {}: {}, {}, {}, {}), now {} ({}), past {RUNAWAY_LEVEL} × the scene's energy scale of {}",
                     o.steps[0],
                     o.steps[1],
                     o.steps[2],
                     o.steps[3],
+                    joules(a),
+                    joules(b),
+                    joules(c),
+                    joules(d),
+                    joules(rise),
                     self.books(e),
-                    self.scale
+                    joules(self.scale)
                 ),
             });
         };
         let reason = match rule {
             Rule::Growing => format!(
-                "energy balance growing without bound: its peak rise doubled in each of {GROWTH_RUN} windows of {len} steps, from {first:.3e} to {rise:.3e} J ({}), above the scene's energy scale of {:.3e} J",
+                "energy balance growing without bound: its peak rise doubled in each of {GROWTH_RUN} windows of {len} steps, from {} to {} ({}), above the scene's energy scale of {}",
+                joules(first),
+                joules(rise),
                 self.books(e),
-                self.scale
+                joules(self.scale)
             ),
             _ => format!(
-                "energy balance producing energy: it stayed more than {SUSTAINED} × the scene's energy scale of {:.3e} J above its start for a whole window of {len} steps, now {rise:.3e} J ({})",
-                self.scale,
+                "energy balance producing energy: it stayed more than {SUSTAINED} × the scene's energy scale of {} above its start for a whole window of {len} steps, now {} ({})",
+                joules(self.scale),
+                joules(rise),
                 self.books(e)
             ),
         };
@@ -276,9 +290,10 @@ impl Verdict {
         let rise = last.total - self.e0_total;
         if last.is_finite() && rise > SUSTAINED * self.scale {
             format!(
-                "energy balance rose by {rise:.3e} J ({}), past {SUSTAINED} × the scene's energy scale of {:.3e} J: the method produced that energy, and then its step failed ({why})",
+                "energy balance rose by {} ({}), past {SUSTAINED} × the scene's energy scale of {}: the method produced that energy, and then its step failed ({why})",
+                joules(rise),
                 self.books(last),
-                self.scale
+                joules(self.scale)
             )
         } else {
             why.to_string()
@@ -287,17 +302,19 @@ impl Verdict {
 
     /// The account's terms in words, for a reason.
     fn books(&self, e: &EnergyRecord) -> String {
-        format!(
-            "mechanical {:+.3e} J, dissipated {:.3e} J, injected {:.3e} J{}",
-            e.mechanical() - self.e0_total,
-            e.dissipated,
-            e.injected,
-            if e.created > 0.0 {
-                format!(", created by contacts {:.3e} J", e.created)
-            } else {
-                String::new()
+        let mechanical = e.mechanical() - self.e0_total;
+        let sign = if mechanical >= 0.0 { "+" } else { "" };
+        let mut books = format!("mechanical {sign}{}", joules(mechanical));
+        for (what, v) in [
+            ("dissipated", e.dissipated),
+            ("injected", e.injected),
+            ("created by contacts", e.created),
+        ] {
+            if v != 0.0 {
+                books += &format!(", {what} {}", joules(v));
             }
-        )
+        }
+        books
     }
 }
 
@@ -344,11 +361,36 @@ mod tests {
         let why = "implicit_midpoint: Newton did not converge in 50 iterations";
         let gained = v.failed_step(&record(350.0, 0.0), why);
         assert!(
-            gained.starts_with("energy balance rose by 3.500e2 J")
+            gained.starts_with("energy balance rose by 350.0 J")
                 && gained.ends_with(&format!("({why})")),
             "{gained}"
         );
         assert_eq!(v.failed_step(&record(10.0, 0.0), why), why);
+    }
+
+    /// Oracle: the prose rule of every reason, at least four significant digits (as many as
+    /// the scientific form it replaces), whole joules below 10⁵ J, and the account's terms
+    /// that moved: a run from 1 J to 40 001 J kinetic with 402.7 J dissipated reads "rose by
+    /// 40403 J (mechanical +40000 J, dissipated 402.7 J)"; its twin with nothing dissipated
+    /// names no term but the mechanical one.
+    #[test]
+    fn reasons_print_significant_digits_and_the_terms_that_moved() {
+        let mut v = Verdict::new(1.0, 2.0, 1.0);
+        let why = v.step(&state(1.0), &record(40_001.0, 402.7)).unwrap();
+        assert!(
+            why.reason.starts_with(
+                "energy balance rose by 40403 J (mechanical +40000 J, dissipated 402.7 J), past the cap of 1 × the scene's energy scale of 2.000 J"
+            ),
+            "{}",
+            why.reason
+        );
+        let mut v = Verdict::new(1.0, 2.0, 1.0);
+        let why = v.step(&state(1.0), &record(40_001.0, 0.0)).unwrap();
+        assert!(
+            why.reason.contains("(mechanical +40000 J), past"),
+            "{}",
+            why.reason
+        );
     }
 
     #[test]
@@ -358,7 +400,7 @@ mod tests {
         let mut v = Verdict::new(1.0, 2.0, 1.0);
         let why = v.step(&state(1.0), &record(1.0, 3.0)).unwrap();
         assert_eq!(why.rule, Rule::Cap);
-        assert!(why.reason.contains("rose by 3.000e0 J"));
+        assert!(why.reason.contains("rose by 3.000 J"));
         let mut v = Verdict::new(1.0, 2.0, 1.0);
         assert_eq!(v.step(&state(1.0), &record(1.0, 1.5)), None);
     }
