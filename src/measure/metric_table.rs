@@ -201,11 +201,12 @@ impl RowMetrics {
             METRICS
                 .iter()
                 .filter_map(|c| {
+                    let key = c.row_key?;
                     let value = match m.and_then(|m| (c.value)(m)) {
                         Some(Value::Number(x)) if x.is_finite() => Some(x),
                         _ => None,
                     };
-                    c.row_key.map(|k| (k, value))
+                    Some((key, value))
                 })
                 .collect(),
         )
@@ -260,7 +261,7 @@ mod tests {
 
     /// Oracle: the JSON form of a run's metrics (serde's own field names). Every metric's
     /// column is a field of [`Metrics`] by that name, or a statistics summary; no two metrics
-    /// share a column, and no two share a row key.
+    /// share a column, and no two share a row key; a metric on the page has a row key.
     #[test]
     fn every_column_is_a_metrics_field_and_keys_are_unique() {
         let m = Metrics {
@@ -282,6 +283,14 @@ mod tests {
         };
         assert!(unique(METRICS.iter().map(|c| c.key).collect()));
         assert!(unique(METRICS.iter().filter_map(|c| c.row_key).collect()));
+        // The page reads its cells from the method rows: a page column needs a row key.
+        for c in &METRICS {
+            assert!(
+                c.page.is_none() || c.row_key.is_some(),
+                "{} has no row key",
+                c.key
+            );
+        }
     }
 
     /// A row's values survive the JSON round trip beside other keys, non-finite ones as null;

@@ -31,6 +31,15 @@ pub fn cell(v: Option<f64>, sig: usize) -> String {
     }
 }
 
+/// A table cell for a relative number in percent with `sig` significant digits (`2.6%`); `—`
+/// for a missing or non-finite value.
+pub fn percent(v: Option<f64>, sig: usize) -> String {
+    match v {
+        Some(v) if v.is_finite() => format!("{}%", cell(Some(100.0 * v), sig)),
+        _ => "—".into(),
+    }
+}
+
 /// `Some(v)` when `v` is finite.
 pub fn finite(v: f64) -> Option<f64> {
     v.is_finite().then_some(v)

@@ -3,7 +3,7 @@
 //! row's own function, or a metric of the metrics table in its page format), so both tables
 //! take their columns, order and cells from one place.
 
-use super::finite::cell;
+use super::finite::{cell, percent};
 use super::summary::MethodRow;
 use super::verdict::limit_words;
 use crate::measure::metric_table::{PageFormat, METRICS};
@@ -35,7 +35,7 @@ impl Column {
         match self.cell {
             Cell::Own(f) => f(b),
             Cell::Metric(key, PageFormat::Significant(sig)) => cell(b.metrics.get(key), sig),
-            Cell::Metric(key, PageFormat::Percent(sig)) => percent_cell(b.metrics.get(key), sig),
+            Cell::Metric(key, PageFormat::Percent(sig)) => percent(b.metrics.get(key), sig),
         }
     }
 }
@@ -105,14 +105,6 @@ pub fn status_cell(b: &MethodRow) -> String {
     match b.blowup_time {
         Some(t) => format!("unstable at t = {} s", cell(Some(t), 3)),
         None => b.status.to_string(),
-    }
-}
-
-/// A relative number in percent with `sig` significant digits, or `—`.
-pub fn percent_cell(v: Option<f64>, sig: usize) -> String {
-    match v {
-        Some(v) if v.is_finite() => format!("{}%", cell(Some(100.0 * v), sig)),
-        _ => "—".into(),
     }
 }
 

@@ -1,7 +1,7 @@
 //! The one-paragraph, plain-language verdict of a scene, written from its summary's numbers
 //! only (which are its documents' numbers).
 
-use super::finite::cell;
+use super::finite::{cell, percent};
 use super::summary::{MethodRow, SceneSummary};
 use crate::measure::answer::{FreeStep, GameRate};
 use crate::measure::metric_table::{MAX_ENERGY_DRIFT, MAX_POSITION_ERROR};
@@ -25,10 +25,6 @@ fn hz_words(hz: f64) -> String {
     } else {
         cell(Some(hz), 3)
     }
-}
-
-fn pct(v: f64) -> String {
-    format!("{}%", cell(Some(100.0 * v), 2))
 }
 
 /// A stability limit in words: `dt ≤ 0.0249 s`, `any step` (theory), `every step tried (up to
@@ -292,7 +288,7 @@ fn drift_sentence(bs: &[MethodRow]) -> Option<String> {
         format!(
             "{} moves its energy account by up to {} of the scene's energy scale.",
             b.method,
-            pct(d)
+            percent(Some(d), 2)
         )
     })
 }
