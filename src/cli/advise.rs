@@ -13,8 +13,8 @@ pub struct Args {
     pub scenario: PathBuf,
     #[command(flatten)]
     pub m: MeasureArgs,
-    /// Leave out the game view (frame_rates: 30, 60, 144, 240 Hz); `springlab framerate`
-    /// answers that question in full.
+    /// Leave out the game view: `springlab framerate`'s table of the verified candidates at
+    /// 30, 60, 120, 144 and 240 Hz, with each rate's cheapest.
     #[arg(long)]
     pub no_frame_rates: bool,
     #[command(flatten)]
@@ -45,7 +45,7 @@ pub struct Args {
     pub write_expect: bool,
     /// The game's frame rate (Hz) whose answer --write-expect writes (method, hz, substeps);
     /// default: the scene's [run] hz when it has one, else the free step is written. A rate
-    /// outside the frame view's 30, 60, 144 and 240 Hz is added to it.
+    /// outside the game view's rates is added to it.
     #[arg(long, allow_negative_numbers = true)]
     pub hz: Option<f64>,
 }
@@ -169,24 +169,22 @@ fn print_alternatives(adv: &Advice) {
     }
 }
 
-/// Prints the game view: per frame rate, the best method and each method's substeps.
+/// Prints the game view: the frame-rate table of the verified candidates, then per rate the
+/// cheapest method meeting the bound.
 fn print_frame_rates(adv: &Advice) {
-    for fr in &adv.frame_rates {
-        println!(
-            "{:>5} Hz: best {} (by modelled s per simulated s); {}",
-            fr.fps,
-            fr.best.as_deref().unwrap_or("none"),
-            fr.entries
-                .iter()
-                .map(|e| format!(
-                    "{} ×{} ({})",
-                    e.method,
-                    e.substeps,
-                    if e.meets_tolerance { "ok" } else { "fails" }
-                ))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
+    let Some(fr) = &adv.frame_rates else {
+        return;
+    };
+    super::framerate::print_table(fr);
+    for b in &adv.best_at_rates {
+        match (&b.method, b.substeps) {
+            (Some(m), Some(n)) => println!(
+                "{:>5} Hz: best {m} ×{n} ({})",
+                b.hz,
+                b.picked_by.map_or("-".into(), |p| p.describe())
+            ),
+            _ => println!("{:>5} Hz: no verified candidate meets the bound", b.hz),
+        }
     }
 }
 

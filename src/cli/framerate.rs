@@ -97,7 +97,7 @@ pub fn run(a: Args) -> Result<()> {
 
 /// Prints one line per method and rate: the run at one substep, the fewest substeps that meet
 /// the bound with that run's error and cost per frame.
-fn print_table(fr: &Framerate) {
+pub(super) fn print_table(fr: &Framerate) {
     println!(
         "{:<22} {:>6} {:>9} {:>11} {:>9} {:>11} {:>12} {:>12} {:>10}",
         "method",

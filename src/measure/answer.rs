@@ -11,7 +11,6 @@
 //! labelled `meets: false`: the most accurate run that stayed stable (the compared step for
 //! the free step, one substep per frame for the game rate), with its error by the same metric.
 
-use super::advise::cost::{rank, CostKey};
 use super::advise::Advice;
 use super::compare::CompareResult;
 use super::framerate::Framerate;
@@ -210,23 +209,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
         fr.judged.position_tolerance.value,
         String::new(),
     );
-    let at: Vec<_> = fr.entries.iter().filter(|e| e.hz == hz).collect();
-    let meeting: Vec<_> = at
-        .iter()
-        .filter_map(|e| Some((e, e.fewest.as_ref()?)))
-        .filter(|(_, f)| f.meets_tolerance && f.modelled_seconds_per_frame.is_some())
-        .collect();
-    if !meeting.is_empty() {
-        let keys: Vec<CostKey> = meeting
-            .iter()
-            .map(|(e, f)| CostKey {
-                method: e.method.clone(),
-                modelled_per_second: f.modelled_seconds_per_frame.unwrap_or(f64::NAN) * hz,
-                force_evals_per_second: f.force_evals_per_frame.map(|x| x * hz),
-            })
-            .collect();
-        let (order, _) = rank(&keys, scenario)?;
-        let (e, f) = meeting[order[0]];
+    if let Some((e, f, _)) = super::framerate::best_at(fr, hz, scenario)? {
         return Ok(GameRate {
             method: Some(e.method.clone()),
             substeps: Some(f.substeps),
@@ -244,6 +227,7 @@ pub fn game_rate(fr: &Framerate, hz: f64, scenario: &str, left_out: &[String]) -
             ..base
         });
     }
+    let at: Vec<_> = fr.entries.iter().filter(|e| e.hz == hz).collect();
     let best = at
         .iter()
         .filter_map(|e| Some((e, e.one_substep.error?)))

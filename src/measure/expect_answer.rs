@@ -11,16 +11,18 @@ use crate::scenario::file::ExpectSpec;
 /// ([`super::advise::held_to`]). `None` when the view has no such rate or no method meets the
 /// bound there.
 pub fn game_rate_table(adv: &Advice, hz: f64) -> Option<ExpectSpec> {
-    let rate = adv.frame_rates.iter().find(|r| r.fps == hz)?;
-    let best = rate.best.as_ref()?;
-    let entry = rate.entries.iter().find(|e| &e.method == best)?;
-    let mut spec = super::advise::held_to(
-        adv,
-        &entry.method,
-        entry.strain_max,
-        entry.energy_drift_rate,
-    );
+    let best = adv.best_at_rates.iter().find(|r| r.hz == hz)?;
+    let method = best.method.as_ref()?;
+    let run = adv
+        .frame_rates
+        .as_ref()?
+        .entries
+        .iter()
+        .find(|e| e.hz == hz && &e.method == method)?
+        .fewest
+        .as_ref()?;
+    let mut spec = super::advise::held_to(adv, method, run.strain_max, run.energy_drift_rate);
     spec.hz = Some(hz);
-    spec.substeps = Some(entry.substeps as i64);
+    spec.substeps = Some(run.substeps as i64);
     Some(spec)
 }

@@ -340,9 +340,17 @@ fn advise_refuses_a_horizon_past_the_step_limit_at_once() {
     );
     assert!(line.contains("above the limit"), "{line}");
     assert!(t0.elapsed() < Duration::from_secs(10));
-    // Twin: 1e7 s / 1e-3 s = 1e10 steps, at the limit: refused later, for the method.
+    // Twin: 1e7 s / 1e-3 s = 1e10 steps, at the limit: refused later, for the method (in a
+    // folder of its own, so no other test's advice holds its lock).
+    let tmp = tempfile::tempdir().unwrap();
+    let out = ["--out", s(tmp.path())];
     fails_elsewhere(
-        &run(&[&base[..], &["--horizon", "1e7", "--methods", "nosuch"]].concat()),
+        &run(&[
+            &base[..],
+            &["--horizon", "1e7", "--methods", "nosuch"],
+            &out[..],
+        ]
+        .concat()),
         "--horizon",
         "nosuch",
     );
@@ -434,7 +442,9 @@ fn advise_needs_at_least_two_points() {
         );
         assert!(line.contains("at least 2"), "{line}");
     }
-    // Twin: two points pass; the unknown method is refused after them.
+    // Twin: two points pass; the unknown method is refused after them (in a folder of its
+    // own, so no other test's advice holds its lock).
+    let tmp = tempfile::tempdir().unwrap();
     fails_elsewhere(
         &run(&[
             "advise",
@@ -445,6 +455,8 @@ fn advise_needs_at_least_two_points() {
             "2",
             "--methods",
             "nosuch",
+            "--out",
+            s(tmp.path()),
         ]),
         "--points",
         "nosuch",

@@ -53,6 +53,8 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
         // The comparison needs Rapier run: with the screen it would not be, for the very gap
         // this test measures (the screen has its own tests, `advise_screen`).
         screen_factor: f64::INFINITY,
+        // The game view is the frame-rate table's (`measure_advise` checks it).
+        frame_rates: false,
         common: springlab::measure::Common {
             methods: vec![
                 "velocity_verlet".into(),
@@ -120,27 +122,6 @@ fn rope_pick_is_native_and_no_slower_than_any_rapier_candidate() {
                 a.method,
                 b.method
             );
-        }
-    }
-    // The game view ranks by the same cost: its best is never dearer, beyond the band, than
-    // another entry meeting the tolerance; the best alone is timed, every other entry says why
-    // it has no wall time.
-    for fr in &adv.frame_rates {
-        if let Some(best) = &fr.best {
-            let bw = fr
-                .entries
-                .iter()
-                .find(|e| &e.method == best)
-                .and_then(|e| e.modelled_per_second)
-                .expect("best has a modelled cost");
-            for e in fr.entries.iter().filter(|e| e.meets_tolerance) {
-                let w = e.modelled_per_second.expect("a stable entry has a cost");
-                assert!(bw <= w * (1.0 + band));
-                let is_best = &e.method == best;
-                assert_eq!(e.wall_per_second.is_some(), is_best, "{}", e.method);
-                assert_eq!(e.timing.is_some(), is_best);
-                assert_eq!(e.wall_per_second_reason.is_some(), !is_best);
-            }
         }
     }
 }

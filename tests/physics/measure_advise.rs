@@ -68,6 +68,30 @@ fn advised_step_meets_the_tolerance_when_rerun() {
             choice.method
         );
     }
-    assert_eq!(adv.frame_rates.len(), 4);
+    // The game view is the frame-rate table of the verified candidates (one answer to the
+    // frame-rate question): the same methods, judged as the advice was, at the table's rates,
+    // and at each rate the best the game-rate answer reads from that table.
+    let table = adv.frame_rates.as_ref().expect("the view is on by default");
+    assert_eq!(table.rates, springlab::measure::framerate::DEFAULT_RATES);
+    assert_eq!(table.judged.tolerance, adv.judged.tolerance);
+    let mut asked: Vec<&str> = adv.alternatives.iter().map(|c| c.method.as_str()).collect();
+    let mut listed: Vec<&str> = table.entries.iter().map(|e| e.method.as_str()).collect();
+    asked.sort_unstable();
+    listed.sort_unstable();
+    listed.dedup();
+    assert_eq!(asked, listed);
+    assert_eq!(adv.best_at_rates.len(), table.rates.len());
+    for b in &adv.best_at_rates {
+        let g = springlab::measure::answer::game_rate(table, b.hz, &scene.name, &[]).unwrap();
+        assert_eq!(g.meets, b.method.is_some(), "{} Hz", b.hz);
+        if g.meets {
+            assert_eq!(
+                (&g.method, g.substeps),
+                (&b.method, b.substeps),
+                "{} Hz",
+                b.hz
+            );
+        }
+    }
     eprintln!("pick {name} dt {:?}", adv.dt);
 }

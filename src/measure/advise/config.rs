@@ -31,9 +31,9 @@ pub struct AdviseConfig {
     pub dt_max: Option<f64>,
     /// How often each candidate's run is repeated to time it (default [`ADVICE_TIMING`]).
     pub timing: TimingRule,
-    /// Add the game view (`frame_rates` at [`FRAME_RATES`](super::frames::FRAME_RATES));
-    /// `--no-frame-rates` leaves it out (the report's frame-rate section answers that question
-    /// with `springlab framerate`).
+    /// Add the game view ([`super::frame_view`]: the frame-rate table of the verified
+    /// candidates at [`DEFAULT_RATES`](crate::measure::framerate::DEFAULT_RATES));
+    /// `--no-frame-rates` leaves it out (the report's study measures that table once, itself).
     pub frame_rates: bool,
     /// The game's frame rate (Hz) whose answer `--write-expect` writes: added to the frame
     /// view when it is not one of its rates (the view's only rate with `--no-frame-rates`).

@@ -1,5 +1,6 @@
 //! Timestep advice: the cheapest method and step whose error over a horizon stays within
-//! a tolerance, verified by running it, with alternatives and the frame-rate view for games.
+//! a tolerance, verified by running it, with alternatives and, for games, the frame-rate table
+//! of the verified candidates ([`frame_view`]).
 //!
 //! Method: every candidate runs on a log grid of steps against one reference; for each, the
 //! largest grid step below which every step met tolerance / safety is found, refined by
@@ -20,7 +21,7 @@
 
 mod config;
 pub mod cost;
-pub mod frames;
+pub mod frame_view;
 pub mod screen;
 mod search;
 mod timing;
@@ -29,7 +30,7 @@ mod waves;
 
 pub use config::AdviseConfig;
 pub use cost::{CostMeasure, PickedBy, ADVICE_TIMING, TIE_BAND};
-pub use frames::{FrameEntry, FrameRate, FRAME_RATES};
+pub use frame_view::{rates_of, RateBest};
 pub use screen::{Basis, Screened, SCREEN_FACTOR, STABILITY_SLACK};
 pub use search::unable_reason;
 use search::{candidates, Decided};
@@ -120,8 +121,11 @@ pub struct Advice {
     pub screened: Vec<Screened>,
     /// The step grid tried (s).
     pub grid: Vec<f64>,
-    /// The frame-rate view.
-    pub frame_rates: Vec<FrameRate>,
+    /// The frame view: `springlab framerate`'s table of the verified candidates at the view's
+    /// rates (null when no rate is asked or nothing was verified).
+    pub frame_rates: Option<crate::measure::framerate::Framerate>,
+    /// Per rate of the view, the cheapest method meeting the bound there and its substeps.
+    pub best_at_rates: Vec<RateBest>,
 }
 
 impl Choice {
@@ -308,15 +312,12 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         );
         screen::price((scene, &sys), cfg, &names, &grid)?
     };
-    let rate_list = frames::rates_of(cfg.frame_rates, cfg.game_hz);
-    let rates: &[f64] = &rate_list;
     let ctx = Ctx {
         scene,
         sys: &sys,
         cfg,
         set: &set,
         horizon,
-        rates,
     };
     let mut decided = Decided::default();
     let waves = run_waves(&ctx, &priced, &grid, &mut decided)?;
@@ -328,8 +329,10 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         .judge
         .clone()
         .expect("decided by the first reference");
-    let (choices, view) = timing::timed_view(&ctx, &answers, &judge)?;
+    let choices = timing::timed_choices(&ctx, &answers, &judge)?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
+    let verified = alternatives.iter().map(|c| c.method.clone()).collect();
+    let (frame_rates, best_at_rates) = frame_view::frame_view(scene, cfg, horizon, verified)?;
     let pick = alternatives.first().cloned();
     let command = command_line(scene, cfg, horizon);
     Ok(Advice {
@@ -356,7 +359,8 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
         screen_factor: cfg.screen_factor,
         screened,
         grid: tried,
-        frame_rates: view,
+        frame_rates,
+        best_at_rates,
     })
 }
 

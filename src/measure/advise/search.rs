@@ -262,14 +262,12 @@ pub(super) fn candidates(
 }
 
 /// What the grid's extension found: the reference of its last grid, the predictions, the
-/// methods that cannot meet the bound, every step it tried, its last grid, and the methods
-/// dropped on the way (not converging).
+/// methods that cannot meet the bound, every step it tried, and the methods dropped on the way (not converging).
 pub(super) struct Extended {
     pub(super) reference: ReferenceInfo,
     pub(super) predictions: Vec<Prediction>,
     pub(super) cant: Vec<Unable>,
     pub(super) tried: Vec<f64>,
-    pub(super) grid: Vec<(f64, u64)>,
     pub(super) dropped: Vec<Unable>,
 }
 
@@ -394,7 +392,6 @@ pub(super) fn extend(
                 predictions: Vec::new(),
                 cant,
                 tried,
-                grid,
                 dropped,
             }));
         }
@@ -440,7 +437,6 @@ pub(super) fn extend(
                     predictions,
                     cant,
                     tried,
-                    grid,
                     dropped,
                 }));
             }

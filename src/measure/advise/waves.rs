@@ -322,14 +322,14 @@ pub(super) fn run_waves(
         }
         let preds: Vec<Prediction> = changed.iter().map(|(_, p)| p.clone()).collect();
         let label = format!("verification (wave {wave_no})");
-        let answers = verify(ctx, &preds, max_samples, decided, &label)?;
+        let answers = verify(ctx, &preds, decided, &label)?;
         for ((i, _), a) in changed.iter().zip(answers) {
             basis = Basis::cheaper(basis, Basis::of(&a.name, &a.chosen, false));
             found.fates[*i] = Some(Fate::Answered(Box::new(a)));
         }
     }
     if !verify_each {
-        verify_together(ctx, max_samples, decided, &mut found)?;
+        verify_together(ctx, decided, &mut found)?;
     }
     Ok(found.into_waves(priced, grid, reference.info))
 }
@@ -366,16 +366,11 @@ fn screen_out(
 
 /// Verifies every candidate with a prediction at once, after the last wave (a reference that
 /// is not kept is solved once for them all).
-fn verify_together(
-    ctx: &Ctx,
-    max_samples: u64,
-    decided: &mut Decided,
-    found: &mut Found,
-) -> Result<()> {
+fn verify_together(ctx: &Ctx, decided: &mut Decided, found: &mut Found) -> Result<()> {
     let n = found.preds.len();
     let idx: Vec<usize> = (0..n).filter(|&i| found.preds[i].is_some()).collect();
     let preds: Vec<Prediction> = idx.iter().filter_map(|&i| found.preds[i].clone()).collect();
-    let answers = verify(ctx, &preds, max_samples, decided, "verification")?;
+    let answers = verify(ctx, &preds, decided, "verification")?;
     for (&i, a) in idx.iter().zip(answers) {
         found.fates[i] = Some(Fate::Answered(Box::new(a)));
     }
@@ -444,10 +439,8 @@ pub(super) fn settle(
         Some(ext) => {
             reference = ext.reference;
             tried.extend(ext.tried);
-            let max_samples =
-                max_samples_for(DEFAULT_BUDGET_BYTES, ext.grid.len() * 2, ctx.sys.len());
             let label = "verification (extended grid)";
-            for a in verify(ctx, &ext.predictions, max_samples, decided, label)? {
+            for a in verify(ctx, &ext.predictions, decided, label)? {
                 let i = names
                     .iter()
                     .position(|n| *n == a.name)

@@ -17,12 +17,14 @@
 //! except `wall_seconds_per_frame` and `timing`; which methods a budget admits is decided on
 //! modelled seconds ([`crate::run::cost`]), so it is reproducible too.
 
+mod best;
 mod rate;
 mod rows;
 pub mod search;
 mod timing;
 mod write;
 
+pub use best::best_at;
 use rate::RateSearch;
 pub use rows::{FrameRun, RateEntry, RowKind};
 pub use timing::FRAMERATE_TIMING;
@@ -241,6 +243,8 @@ fn frame_run(
         force_evals_reason: why,
         unstable_time: c.unstable_time,
         unstable_reason: c.unstable_reason.clone(),
+        strain_max: c.metric(|m| m.strain_max),
+        energy_drift_rate: c.metric(|m| m.energy_drift_rate),
     })
 }
 

@@ -55,6 +55,13 @@ pub struct FrameRun {
     pub unstable_time: Option<f64>,
     /// What tripped, for an unstable run.
     pub unstable_reason: Option<String>,
+    /// Largest strain of the run (None when it is not ok): what an `[expect]` table at this
+    /// rate holds ([`crate::measure::expect_answer`]); not written to `framerate.json`.
+    #[serde(skip)]
+    pub strain_max: Option<f64>,
+    /// Slope of the run's energy balance (J/s), for the same table.
+    #[serde(skip)]
+    pub energy_drift_rate: Option<f64>,
 }
 
 /// One method at one frame rate.

@@ -1,0 +1,75 @@
+//! The game view of advice: `springlab framerate` over the verified candidates at the
+//! common frame rates (and the game's own), with each rate's cheapest answer by the one rule
+//! every reader of the frame-rate table uses ([`crate::measure::framerate::best_at`]). Advice
+//! measures no frame-rate fact of its own: the substeps per frame are the table's search.
+
+use super::config::AdviseConfig;
+use super::cost::PickedBy;
+use crate::error::Result;
+use crate::measure::framerate::{best_at, framerate, Framerate, FramerateConfig, DEFAULT_RATES};
+use crate::scenario::Scenario;
+use serde::Serialize;
+
+/// The rates of the frame view: the frame-rate table's default rates when `view` is asked,
+/// with `game_hz` added where it is not among them; `game_hz` alone without the view.
+pub fn rates_of(view: bool, game_hz: Option<f64>) -> Vec<f64> {
+    let mut rates: Vec<f64> = if view { DEFAULT_RATES.to_vec() } else { vec![] };
+    if let Some(hz) = game_hz.filter(|h| !rates.contains(h)) {
+        rates.push(hz);
+    }
+    rates
+}
+
+/// The cheapest answer at one rate of the view.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RateBest {
+    /// Frame rate (Hz).
+    pub hz: f64,
+    /// The cheapest method whose fewest substeps meet the bound (null when none does).
+    pub method: Option<String>,
+    /// Its substeps per frame.
+    pub substeps: Option<u64>,
+    /// Which rule of the ranking put it first.
+    pub picked_by: Option<PickedBy>,
+}
+
+/// The frame view: the frame-rate table of `names` (the verified candidates, cheapest first)
+/// over `horizon` s, judged as the advice was asked to judge, with each rate's cheapest
+/// answer. `None` when no rate is asked or no candidate was verified.
+pub(super) fn frame_view(
+    scene: &Scenario,
+    cfg: &AdviseConfig,
+    horizon: f64,
+    names: Vec<String>,
+) -> Result<(Option<Framerate>, Vec<RateBest>)> {
+    let rates = rates_of(cfg.frame_rates, cfg.game_hz);
+    if rates.is_empty() || names.is_empty() {
+        return Ok((None, Vec::new()));
+    }
+    let fc = FramerateConfig {
+        rates: rates.clone(),
+        tolerance: cfg.tolerance,
+        metric: cfg.metric,
+        ensemble: cfg.ensemble.clone(),
+        duration: Some(horizon),
+        common: crate::measure::Common {
+            methods: names,
+            ..cfg.common.clone()
+        },
+        ..Default::default()
+    };
+    let table = framerate(scene, &fc)?;
+    let best = rates
+        .iter()
+        .map(|&hz| {
+            let b = best_at(&table, hz, &scene.name)?;
+            Ok(RateBest {
+                hz,
+                method: b.map(|(e, _, _)| e.method.clone()),
+                substeps: b.map(|(_, f, _)| f.substeps),
+                picked_by: b.and_then(|(_, _, p)| p),
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((Some(table), best))
+}
