@@ -19,6 +19,7 @@
 //! the note gives the measured slopes so either can be seen. Otherwise the order is null and
 //! [`OrderFit::reason`] / [`OrderFit::note`] say why, with the local slopes measured.
 
+use crate::error::significant;
 use serde::{Deserialize, Serialize};
 
 /// Minimum R² for a window to count as asymptotic.
@@ -162,22 +163,25 @@ fn small_end_problem(
 ) -> Option<(FitReason, String)> {
     if !(y[1] > y[0] && y[2] > y[1]) {
         let note = format!(
-            "asymptotic range not reached: the error does not fall at every refinement of the finest three steps (local slopes {}; finest step {finest:.3e} s)",
-            list(&slopes[..2])
+            "asymptotic range not reached: the error does not fall at every refinement of the finest three steps (local slopes {}; finest step {} s)",
+            list(&slopes[..2]),
+            significant(finest, 4)
         );
         return Some((FitReason::NotMonotone, note));
     }
     if (slopes[1] - slopes[0]).abs() > SLOPE_TOL {
         let note = format!(
-            "asymptotic range not reached: local slopes {} (finest first) still change by more than {SLOPE_TOL} at the finest step {finest:.3e} s",
-            list(&f.local_slopes)
+            "asymptotic range not reached: local slopes {} (finest first) still change by more than {SLOPE_TOL} at the finest step {} s",
+            list(&f.local_slopes),
+            significant(finest, 4)
         );
         return Some((FitReason::SlopesNotSteady, note));
     }
     let (s3, _, r3, _) = lsq(&x[..3], &y[..3]);
     if r3 < MIN_R2 || s3 < MIN_ORDER {
         let note = format!(
-            "no convergence at the small-step end: the finest three steps fit slope {s3:.2} with R² {r3:.3} (need slope ≥ {MIN_ORDER} and R² ≥ {MIN_R2}); finest step {finest:.3e} s"
+            "no convergence at the small-step end: the finest three steps fit slope {s3:.2} with R² {r3:.3} (need slope ≥ {MIN_ORDER} and R² ≥ {MIN_R2}); finest step {} s",
+            significant(finest, 4)
         );
         return Some((FitReason::NoConvergence, note));
     }
@@ -230,8 +234,9 @@ pub fn fit_order(
     if let Some(p) = expected {
         if (slope - p).abs() > ORDER_TOL {
             let note = format!(
-                "asymptotic range not confirmed: local slopes {} (finest first) are steady at {slope:.2} down to {finest:.3e} s but the method's order is {p}",
-                list(&f.local_slopes)
+                "asymptotic range not confirmed: local slopes {} (finest first) are steady at {slope:.2} down to {} s but the method's order is {p}",
+                list(&f.local_slopes),
+                significant(finest, 4)
             );
             fail(&mut f, FitReason::OrderMismatch, note);
             return f;

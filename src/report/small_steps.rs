@@ -106,13 +106,13 @@ fn html(doc: &SmallSteps) -> String {
     let f = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.3e}"));
     for s in &doc.scenes {
         body += &format!(
-            "<h2>{}</h2>\n<p class=\"verdict\">{}</p>\n<p class=\"note\">dt = {:.6} s over {} s, {} frames compared; the reference stretches at most {:.3e}.</p>\n<table>\n<tr><th>n</th><th>error, n substeps (m)</th><th>error, n iterations (m)</th><th>stretch error, n substeps</th><th>stretch error, n iterations</th></tr>\n",
+            "<h2>{}</h2>\n<p class=\"verdict\">{}</p>\n<p class=\"note\">dt = {:.6} s over {} s, {} frames compared; the reference stretches at most {}.</p>\n<table>\n<tr><th>n</th><th>error, n substeps (m)</th><th>error, n iterations (m)</th><th>stretch error, n substeps</th><th>stretch error, n iterations</th></tr>\n",
             esc(&s.scene),
             esc(&s.verdict),
             s.frame_dt,
             s.duration,
             s.compared_frames,
-            s.reference_stretch_max
+            crate::error::significant(s.reference_stretch_max, 4)
         );
         for b in &s.budgets {
             body += &format!(

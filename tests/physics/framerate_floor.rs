@@ -42,7 +42,8 @@ fn framerate_names_the_frame_event_floor_and_its_size() {
     assert!(e.fewest.is_none());
     let note = e.fewest_note.as_deref().unwrap();
     assert!(
-        note.contains("no substep count removes") && note.contains(&format!("{floor:.3e}")),
+        note.contains("no substep count removes")
+            && note.contains(&springlab::error::significant(floor, 4)),
         "{note}"
     );
 }

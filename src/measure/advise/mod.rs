@@ -424,6 +424,12 @@ mod tests {
             r.contains("meets the tolerance") && !r.contains("exceeds"),
             "{r}"
         );
+        // Its numbers as a person writes them (`error::significant`): plain between 1e-3 and
+        // 1e5, scientific below.
+        assert!(
+            r.contains("tolerance 0.001000 on the grid (smallest error 7.000e-4 at 0.0010000 s)"),
+            "{r}"
+        );
         // An aliased sample below the target at a coarse step while the smallest misses it:
         // the reason names the failing smallest step, never "smallest error … exceeds".
         let r = unable_reason(&[(1e-3, Some(8e-4)), (5e-2, Some(1.6e-5))], tol, safety);

@@ -16,7 +16,7 @@
 //! its answer at most) cost well under ten times that answer.
 
 use super::config::AdviseConfig;
-use crate::error::Result;
+use crate::error::{significant, Result};
 use crate::measure::case::CaseResult;
 use crate::measure::probe::{seconds_per_step, sig3};
 use crate::model::System;
@@ -214,7 +214,9 @@ impl Screened {
         let (k, g) = grid.iter().enumerate().rfind(|(_, g)| g.0 < finest)?;
         let words = match error {
             Some(e) => format!(
-                "its error at the finest step run is {e:.3e}, above tolerance/safety {target:.3e}"
+                "its error at the finest step run is {}, above tolerance/safety {}",
+                significant(e, 4),
+                significant(target, 4)
             ),
             None => "it is unstable at the finest step run".to_string(),
         };

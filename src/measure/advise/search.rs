@@ -2,7 +2,7 @@
 //! predicted step of each, and the grid's extension downwards while nothing meets the bound.
 
 use super::config::AdviseConfig;
-use crate::error::Result;
+use crate::error::{significant, Result};
 use crate::measure::case::{run_case, CaseResult, CaseSettings};
 use crate::measure::grid::{max_samples_for, TimeGrid, DEFAULT_BUDGET_BYTES};
 use crate::measure::reference::{Reference, ReferenceInfo};
@@ -463,20 +463,31 @@ pub fn unable_reason(errors: &[(f64, Option<f64>)], tolerance: f64, safety: f64)
     let first = errors
         .first()
         .map_or("unstable".to_string(), |&(dt, e)| match e {
-            Some(e) => format!("{e:.3e} at the smallest step {dt:.4e} s"),
-            None => format!("unstable at the smallest step {dt:.4e} s"),
+            Some(e) => format!(
+                "{} at the smallest step {} s",
+                significant(e, 4),
+                significant(dt, 5)
+            ),
+            None => format!("unstable at the smallest step {} s", significant(dt, 5)),
         });
-    if best <= target {
+    let (below_target, below_tolerance) = (best <= target, best <= tolerance);
+    let (best, best_dt, target, tolerance) = (
+        significant(best, 4),
+        significant(best_dt, 5),
+        significant(target, 4),
+        significant(tolerance, 4),
+    );
+    if below_target {
         format!(
-            "its error does not fall with the step on this grid: {first}, above tolerance/safety {target:.3e}, while a coarser step reads {best:.3e} at {best_dt:.4e} s (a sample that happens to be close, not convergence; try a smaller --dt-min)"
+            "its error does not fall with the step on this grid: {first}, above tolerance/safety {target}, while a coarser step reads {best} at {best_dt} s (a sample that happens to be close, not convergence; try a smaller --dt-min)"
         )
-    } else if best <= tolerance {
+    } else if below_tolerance {
         format!(
-            "meets the tolerance {tolerance:.3e} on the grid (smallest error {best:.3e} at {best_dt:.4e} s) but not its safety margin: tolerance/safety = {target:.3e} (lower --safety, or a smaller --dt-min)"
+            "meets the tolerance {tolerance} on the grid (smallest error {best} at {best_dt} s) but not its safety margin: tolerance/safety = {target} (lower --safety, or a smaller --dt-min)"
         )
     } else {
         format!(
-            "smallest error on the grid {best:.3e} (at {best_dt:.4e} s) exceeds the tolerance {tolerance:.3e} (try a smaller --dt-min)"
+            "smallest error on the grid {best} (at {best_dt} s) exceeds the tolerance {tolerance} (try a smaller --dt-min)"
         )
     }
 }

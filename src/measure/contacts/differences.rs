@@ -3,6 +3,7 @@
 //! one home in the Rapier module; the figures are read from the same [`ContactReport`]).
 
 use super::{ContactReport, CONTACT_GAP};
+use crate::error::significant;
 pub use crate::rapier::{Difference, DifferenceKind, DIFFERENCES};
 
 /// True for the methods some difference applies to (Rapier's).
@@ -26,10 +27,14 @@ pub fn measured(d: &Difference, method: &str, c: &ContactReport) -> Option<Strin
                 .filter(|g| (0.0..CONTACT_GAP).contains(g));
             Some(match rest {
                 Some(g) => format!(
-                    "deepest penetration {:.2e} m, resting gap at the end {g:.2e} m",
-                    c.penetration_max()
+                    "deepest penetration {} m, resting gap at the end {} m",
+                    significant(c.penetration_max(), 3),
+                    significant(g, 3)
                 ),
-                None => format!("deepest penetration {:.2e} m", c.penetration_max()),
+                None => format!(
+                    "deepest penetration {} m",
+                    significant(c.penetration_max(), 3)
+                ),
             })
         }
         // Compare measures no tangential loss per impact; the test does.

@@ -379,19 +379,21 @@ fn no_fewest_note(
     let capped = largest < cfg.max_substeps;
     let base = if capped {
         format!(
-            "none up to {largest} substeps; {} would pass the cost cap of {:e} particle-steps",
+            "none up to {largest} substeps; {} would pass the cost cap of {} particle-steps",
             2 * largest,
-            cfg.cost_cap.unwrap_or(f64::INFINITY)
+            crate::error::num(cfg.cost_cap.unwrap_or(f64::INFINITY))
         )
     } else {
         format!("none up to --max-substeps {}", cfg.max_substeps)
     };
     match floor {
         Some(f) if f > tolerance => format!(
-            "{base}: with events = \"frame\" the kicks move to frame boundaries, which alone puts the exact solution {f:.3e} m from the reference, above the tolerance; no substep count removes that floor"
+            "{base}: with events = \"frame\" the kicks move to frame boundaries, which alone puts the exact solution {} m from the reference, above the tolerance; no substep count removes that floor",
+            crate::error::significant(f, 4)
         ),
         Some(f) => format!(
-            "{base} (the frame-event floor, the exact solution with its kicks at frame boundaries, is {f:.3e} m)"
+            "{base} (the frame-event floor, the exact solution with its kicks at frame boundaries, is {} m)",
+            crate::error::significant(f, 4)
         ),
         None => base,
     }
@@ -451,8 +453,9 @@ fn reference_note(info: &ReferenceInfo, tolerance: f64) -> Option<String> {
     let u = info.uncertainty;
     (info.predictability_horizon.is_none() && u > tolerance).then(|| {
         format!(
-            "the reference's own uncertainty over the run is {u:.2e} m, above the tolerance {} m: no run can be verified to it",
-            tolerance
+            "the reference's own uncertainty over the run is {} m, above the tolerance {} m: no run can be verified to it",
+            crate::error::significant(u, 3),
+            crate::error::significant(tolerance, 4)
         )
     })
 }

@@ -44,8 +44,8 @@ impl Stop {
             Stop::Asymptotic => "asymptotic range reached".into(),
             Stop::Floor => "the finest step's error is at the reference floor".into(),
             Stop::CostCap => format!(
-                "cost cap of {:e} particle-steps per method reached",
-                plan.rule.cost_cap_particle_steps
+                "cost cap of {} particle-steps per method reached",
+                crate::error::num(plan.rule.cost_cap_particle_steps)
             ),
             Stop::StepLimit => "no smaller step allowed (step limit)".into(),
             Stop::NotConverging => format!(

@@ -177,7 +177,10 @@ fn dynamic_bounds(
     let (mut hi, mut hi_src) = match (widest, w > 0.0) {
         (Some(h), _) => (
             BEYOND_LIMIT * h,
-            format!("{BEYOND_LIMIT} × the widest theoretical stability limit {h:.4e} s"),
+            format!(
+                "{BEYOND_LIMIT} × the widest theoretical stability limit {} s",
+                crate::error::significant(h, 5)
+            ),
         ),
         (None, true) => (
             H_OMEGA_MAX / w,
