@@ -99,15 +99,7 @@ pub fn run(a: Args) -> Result<()> {
 
 /// Prints how the advice was judged and what it picked, with the pick's cost.
 fn print_pick(scene: &str, adv: &Advice) {
-    println!(
-        "{}: judged by {} (bound {} {}; position tolerance {} m: {})",
-        scene,
-        adv.judged.metric.name(),
-        fmt_opt(Some(adv.judged.tolerance)),
-        adv.judged.metric.unit(),
-        fmt_opt(Some(adv.judged.position_tolerance.value)),
-        adv.judged.position_tolerance.source
-    );
+    println!("{}: {}", scene, adv.judged.describe());
     if let Some(n) = &adv.judged.metric_note {
         println!("  {n}");
     }

@@ -118,7 +118,7 @@ fn print_ensemble(res: &CompareResult) {
             "past the predictability horizon (t ≥ {} s), against an ensemble of {} references (position tolerance {} m: {}):",
             fmt_opt(Some(en.start)),
             en.members.len(),
-            fmt_opt(Some(res.position_tolerance.value)),
+            springlab::error::significant(res.position_tolerance.value, 4),
             res.position_tolerance.source
         );
     for e in &res.entries {

@@ -65,13 +65,9 @@ pub fn run(a: Args) -> Result<()> {
     let fr = framerate(&scene, &cfg)?;
     let files = write_framerate(&dir, &fr)?;
     println!(
-        "{}: judged by {} (bound {} {}; position tolerance {} m: {}) over {} s, reference {}, events {}",
+        "{}: {} over {} s, reference {}, events {}",
         scene.name,
-        fr.judged.metric.name(),
-        fr.judged.tolerance,
-        fr.judged.metric.unit(),
-        fr.judged.position_tolerance.value,
-        fr.judged.position_tolerance.source,
+        fr.judged.describe(),
         fr.duration,
         fr.head.reference.kind,
         fr.events

@@ -188,6 +188,20 @@ pub struct JudgedBy {
 }
 
 impl JudgedBy {
+    /// The sentence every command prints: "judged by statistics (bound 1 score; position
+    /// tolerance 0.02285 m: 1 % of the motion scale …)", its figures with four significant
+    /// digits.
+    pub fn describe(&self) -> String {
+        format!(
+            "judged by {} (bound {} {}; position tolerance {} m: {})",
+            self.metric.name(),
+            crate::error::significant(self.tolerance, 4),
+            self.metric.unit(),
+            crate::error::significant(self.position_tolerance.value, 4),
+            self.position_tolerance.source
+        )
+    }
+
     /// What `judge` judged by, with the metric's note.
     pub fn of(judge: &Judge, metric_note: Option<String>) -> Self {
         JudgedBy {
@@ -355,4 +369,25 @@ pub fn decide(
         judge,
         Some(format!("{} instead of statistics: {why}", fallback.name())),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Oracle: the derived tolerance of a 2.285 m motion, 1 % of it, as `resolve` gives it
+    // (0.02285174991857634 m), and the rule of `error::significant`: four digits, plain
+    // between 1e-3 and 1e5.
+    #[test]
+    fn the_judged_sentence_prints_four_significant_digits() {
+        let judged = JudgedBy {
+            tolerance: 1.0,
+            metric: Metric::Position,
+            position_tolerance: resolve(None, None, 2.285174991857634),
+            metric_note: None,
+        };
+        let s = judged.describe();
+        assert!(s.contains("position tolerance 0.02285 m"), "{s}");
+        assert!(!s.contains("0.0228517"), "{s}");
+    }
 }
