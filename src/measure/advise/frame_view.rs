@@ -35,7 +35,9 @@ pub struct RateBest {
 
 /// The frame view: the frame-rate table of `names` (the verified candidates, cheapest first)
 /// over `horizon` s, judged as the advice was asked to judge, with each rate's cheapest
-/// answer. `None` when no rate is asked or no candidate was verified.
+/// answer. The modelled cost ranks, so the table's wall times are each run's own
+/// ([`MEASURED_RUN`](crate::measure::case::MEASURED_RUN)): repeating runs to time them
+/// would decide nothing and nearly double the advice's time on the shipped cloth. `None` when no rate is asked or no candidate was verified.
 pub(super) fn frame_view(
     scene: &Scenario,
     cfg: &AdviseConfig,
@@ -52,6 +54,7 @@ pub(super) fn frame_view(
         metric: cfg.metric,
         ensemble: cfg.ensemble.clone(),
         duration: Some(horizon),
+        timing: crate::measure::case::MEASURED_RUN,
         common: crate::measure::Common {
             methods: names,
             ..cfg.common.clone()
