@@ -151,7 +151,7 @@ impl Lin {
 /// several places: a dense eigen-decomposition of a 16×16 cloth takes about 0.3 s).
 pub fn modes(sys: &System, s0: &State) -> Modes {
     /// Most analyses kept.
-    static KEPT: super::kept::Kept<Modes> = super::kept::Kept::new(64);
+    static KEPT: crate::measure::kept::Kept<Modes> = crate::measure::kept::Kept::new(64);
     let Ok(made) = KEPT.get_or_make::<std::convert::Infallible>(format!("{sys:?}|{s0:?}"), || {
         Ok(analyse(sys, s0))
     });

@@ -1,11 +1,11 @@
 //! One measured case: a method at one step over a horizon, against a reference.
 
-use super::contacts::{ContactMetrics, ContactReport};
-use super::grid::TimeGrid;
-use super::metrics::{Metrics, MetricsObserver, Series};
-use super::reference::Reference;
-use super::trace::{Trace, TraceObserver, TraceSpec};
 use crate::error::Result;
+use crate::measure::contacts::{ContactMetrics, ContactReport};
+use crate::measure::grid::TimeGrid;
+use crate::measure::metrics::{Metrics, MetricsObserver, Series};
+use crate::measure::reference::Reference;
+use crate::measure::trace::{Trace, TraceObserver, TraceSpec};
 use crate::method::MethodOptions;
 use crate::method::Registry;
 use crate::model::{State, System};
@@ -268,7 +268,7 @@ pub struct CaseSettings {
     /// per frame for native methods, `options.substeps` for engines.
     pub substeps: Option<u64>,
     /// End a run early once it can no longer pass (`(divisor, bound)` of
-    /// [`super::tolerance::Judge::position_stop`]): a search that needs only whether a run
+    /// [`crate::measure::tolerance::Judge::position_stop`]): a search that needs only whether a run
     /// passes does not compute the rest of one that has failed. A run ended so has no metrics
     /// (it shows no number) and its `steps_done` says where it stopped. `None`: every run whole.
     pub stop: Option<(f64, f64)>,

@@ -13,24 +13,24 @@
 //!   motion scale (1 % by default): over- or under-stretching;
 //! - `energy`: the largest |relative energy error|, against the relative tolerance;
 //! - `impacts`: on a scene with obstacles and gravity, the largest |apex height − the
-//!   reference's| over matched bounces (m; [`super::apexes`]), against the tolerance: a
+//!   reference's| over matched bounces (m; [`crate::measure::apexes`]), against the tolerance: a
 //!   bounce a little early or late, which moves position error at equal times by twice the
 //!   impact speed times the lag, costs nothing if it reaches the right height;
 //! - `statistics`: the worst of (position error before the horizon / tolerance) and every
 //!   observable's score against the reference's ensemble past it
-//!   ([`super::statistics`]), against 1: what can be verified of a chaotic scene over its
+//!   ([`crate::measure::statistics`]), against 1: what can be verified of a chaotic scene over its
 //!   whole duration.
 //!
 //! Past the horizon position error measures the chaos, not the method, so [`default_metric`]
 //! is `statistics` where the reference has a horizon before the run's end, `impacts` on other
 //! scenes with obstacles and gravity, and `position` elsewhere.
 
-use super::metrics::Metrics;
-use super::reference::ReferenceInfo;
 use crate::error::{Error, Result};
+use crate::measure::metrics::Metrics;
+use crate::measure::reference::ReferenceInfo;
 use serde::Serialize;
 
-pub use super::observables::RELATIVE_TOLERANCE;
+pub use crate::measure::observables::RELATIVE_TOLERANCE;
 
 /// What an answer is judged by.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
@@ -73,7 +73,7 @@ impl Metric {
                 let stats = m.statistics.as_ref()?;
                 Some(
                     (m.error_max_predictable / tolerance)
-                        .max(super::statistics::worst_score(stats)),
+                        .max(crate::measure::statistics::worst_score(stats)),
                 )
             }
         }
@@ -230,7 +230,7 @@ pub struct Judge {
 impl Judge {
     /// The judge of `metric` (default [`default_metric`]) at tolerance `asked` (else the
     /// scene's, else the default) on a scene whose reference is `reference`; `bouncing` as
-    /// [`super::metrics::bouncing`].
+    /// [`crate::measure::metrics::bouncing`].
     pub fn new(
         metric: Option<Metric>,
         asked: Option<f64>,
@@ -252,7 +252,7 @@ impl Judge {
 
     /// The error of a run by the metric; None for a run that is not ok or where the metric
     /// cannot be read.
-    pub fn error(&self, c: &super::case::CaseResult) -> Option<f64> {
+    pub fn error(&self, c: &crate::measure::case::CaseResult) -> Option<f64> {
         c.metrics
             .as_ref()
             .and_then(|m| self.metric.error(m, self.tolerance.value))
@@ -272,7 +272,7 @@ impl Judge {
     }
 
     /// True when the run is ok and its error is within the bound.
-    pub fn meets(&self, c: &super::case::CaseResult) -> bool {
+    pub fn meets(&self, c: &crate::measure::case::CaseResult) -> bool {
         self.error(c).is_some_and(|e| e <= self.bound)
     }
 
@@ -314,13 +314,13 @@ pub fn decide(
     metric: Option<Metric>,
     asked: Option<f64>,
     scene: &crate::scenario::Scenario,
-    reference: &mut super::reference::Reference,
+    reference: &mut crate::measure::reference::Reference,
     sys: &crate::model::System,
     s0: &crate::model::State,
-    prepared: Option<&super::statistics::Ensemble>,
+    prepared: Option<&crate::measure::statistics::Ensemble>,
 ) -> Result<(Judge, Option<String>)> {
     let scene_tolerance = scene.run.tolerance;
-    let bouncing = super::observables::bouncing(sys);
+    let bouncing = crate::measure::observables::bouncing(sys);
     let judge = Judge::new(metric, asked, scene_tolerance, &reference.info, bouncing);
     if judge.metric == Metric::Impacts && !bouncing {
         return Err(Error::option(
@@ -332,7 +332,7 @@ pub fn decide(
         return Ok((judge, None));
     }
     // An ensemble made beforehand serves when it is the scene's on the same grid.
-    let scene_grid = super::grid::scene_grid(scene, sys.len(), reference.info.horizon)?;
+    let scene_grid = crate::measure::grid::scene_grid(scene, sys.len(), reference.info.horizon)?;
     match prepared.filter(|e| e.grid == Some(scene_grid)) {
         Some(e) => reference.use_ensemble(e, judge.tolerance.value),
         None => reference.add_ensemble(sys, s0, judge.tolerance.value, scene_grid)?,

@@ -2,7 +2,7 @@
 //! and with which options, the runner's blow-up factor, whether progress is printed, and the
 //! time budget. Each command's config holds one [`Common`] beside its own settings.
 
-use super::command::CommandLine;
+use crate::measure::command::CommandLine;
 use crate::method::{MethodOptions, Registry};
 
 /// The settings every measuring command shares.
@@ -30,7 +30,7 @@ impl Common {
         &self,
         sys: &crate::model::System,
     ) -> crate::error::Result<(Vec<String>, Vec<(String, String)>)> {
-        super::case::applicable(&self.registry, sys, &self.methods, &self.options)
+        crate::measure::case::applicable(&self.registry, sys, &self.methods, &self.options)
     }
 
     /// `line` with these settings' flags, as the command line takes them: `--methods` (the

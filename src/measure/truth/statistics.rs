@@ -1,6 +1,6 @@
 //! Accuracy past the predictability horizon: a method against an *ensemble* of references.
 //!
-//! Past the reference's predictability horizon ([`super::reference::ReferenceInfo`]) two
+//! Past the reference's predictability horizon ([`crate::measure::reference::ReferenceInfo`]) two
 //! correct solvers part by macroscopic amounts, so position error measures the chaos, not the
 //! method. What stays meaningful is the *statistics* of the motion: an ensemble of
 //! [`ENSEMBLE_SIZE`] references, each started from the initial positions moved at the
@@ -17,7 +17,7 @@
 //!   size of the shape: a stretched cloth is larger;
 //! - `kinetic_energy`: time-mean of ½ Σ m v² (J): an over-damped run has less;
 //! - `strain_max`: time-mean of the largest |l/l0 − 1| over springs and rods at each sample
-//!   ([`super::metrics::strain_max`]): a stretched cloth's is larger.
+//!   ([`crate::measure::metrics::strain_max`]): a stretched cloth's is larger.
 //!
 //! Consistency test, per observable: |method − ensemble mean| ≤ [`SPREADS`] × spread + floor,
 //! where spread is the ensemble's sample standard deviation (n − 1) and floor what the
@@ -29,7 +29,7 @@
 //! The score of an observable is |method − mean| / (SPREADS × spread + floor): at most 1 is
 //! consistent.
 
-use super::observables::strain_max;
+use crate::measure::observables::strain_max;
 use crate::model::{State, System, Vec3};
 use serde::Serialize;
 use std::collections::BTreeMap;

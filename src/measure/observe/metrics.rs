@@ -8,7 +8,7 @@
 //!   solution) and E = |K₀| + |G₀| + |E₀| (or the scene's energy scale when that is 0).
 //!   Drift = least-squares slope of ε over t (1/s); oscillation = peak-to-peak of ε minus
 //!   that line; balance = ε at the last step. Both are fitted to every observed state up to
-//!   [`super::decimated::MAX_KEPT`] of them and to every 2^k-th past that, so memory is bounded
+//!   [`crate::measure::decimated::MAX_KEPT`] of them and to every 2^k-th past that, so memory is bounded
 //!   whatever the step count; the largest |ε| and the balance use every state.
 //! - Momentum drift = max over t of |P(t) − P(0) − Σ impulses so far| (kg·m/s), only for
 //!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
@@ -21,27 +21,27 @@
 //!   scene's [`energy_scale`] (the verdict's scale): the motion a method leaves in a scene that
 //!   should have come to rest (elsewhere it is merely the kinetic share at the end). Penetration
 //!   max is the contact metrics' deepest penetration
-//!   ([`super::contacts::ContactReport::penetration_max`]), carried over, not measured again.
+//!   ([`crate::measure::contacts::ContactReport::penetration_max`]), carried over, not measured again.
 //! - Period and phase, only when the tracked velocity component has one dominant mode: the
 //!   reference's zero crossings are evenly spaced
-//!   ([`super::reference::period`]), else all four period fields are absent (null). The run's
+//!   ([`crate::measure::reference::period`]), else all four period fields are absent (null). The run's
 //!   crossings (times from the cubic Hermite interpolant of each step) are matched to the
 //!   reference's by time, never by count; period = spacing of the matched run crossings per
 //!   reference interval between the first and last pair, period error relative to the
 //!   reference's mean spacing T_ref, phase error 2π·(t − t_ref)/T_ref at the last pair.
 
-use super::apexes::Apexes;
-use super::decimated::Decimated;
-use super::reference::period::match_crossings;
-use super::reference::{Reference, Tracked};
-use super::statistics::{Statistic, WindowReader};
 use crate::error::Result;
+use crate::measure::apexes::Apexes;
+use crate::measure::decimated::Decimated;
+use crate::measure::reference::period::match_crossings;
+use crate::measure::reference::{Reference, Tracked};
+use crate::measure::statistics::{Statistic, WindowReader};
 use crate::model::{State, System, Vec3};
 use crate::run::{energy_scale, EnergyRecord, Observer};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
-pub use super::observables::{bouncing, position_error, strain_max};
+pub use crate::measure::observables::{bouncing, position_error, strain_max};
 
 /// Least-squares line y = a + b t through points; returns (a, b). Fewer than two distinct
 /// t give b = 0.
@@ -146,16 +146,16 @@ pub struct Metrics {
     /// ([`Quality::strain_max`]).
     pub strain_max: f64,
     /// Deepest penetration into any obstacle over the run (m), read off the contact metrics
-    /// ([`super::contacts::ContactReport::penetration_max`]). Absent (null) for a scene
+    /// ([`crate::measure::contacts::ContactReport::penetration_max`]). Absent (null) for a scene
     /// without obstacles, and where contacts were not measured (sweeps and advice leave them
-    /// off, see [`super::case::CaseSettings::contacts`]).
+    /// off, see [`crate::measure::case::CaseSettings::contacts`]).
     pub penetration_max: Option<f64>,
     /// Kinetic energy at the last frame over the scene's energy scale
     /// ([`Quality::rest_jitter`]); meaningful for scenes that come to rest.
     pub rest_jitter: f64,
     /// Measured period of the tracked component (s), from its crossings matched to the
     /// reference's. Absent (null), like the three below, when the reference's crossings do not
-    /// show one dominant mode ([`super::reference::DOMINANT_MODE_UNCLEAR`]).
+    /// show one dominant mode ([`crate::measure::reference::DOMINANT_MODE_UNCLEAR`]).
     pub period: Option<f64>,
     /// Reference period (s): the mean spacing of its evenly spaced crossings.
     pub period_reference: Option<f64>,
@@ -172,11 +172,11 @@ pub struct Metrics {
     #[serde(default)]
     pub strain_error: f64,
     /// Past the predictability horizon, each observable of the run against the reference's
-    /// ensemble ([`super::statistics`]); null where all is predictable or there is no ensemble.
+    /// ensemble ([`crate::measure::statistics`]); null where all is predictable or there is no ensemble.
     #[serde(default)]
     pub statistics: Option<BTreeMap<String, Statistic>>,
     /// On a scene with obstacles and gravity: the largest |apex height − the reference's|
-    /// over matched bounces (m; [`super::apexes`]), which one impact's timing does not
+    /// over matched bounces (m; [`crate::measure::apexes`]), which one impact's timing does not
     /// dominate; null elsewhere.
     #[serde(default)]
     pub apex_error: Option<f64>,
@@ -307,7 +307,7 @@ pub struct MetricsObserver<'a> {
     e0: Option<f64>,
     e_scale: f64,
     /// (t, relative energy error) of the observed states, decimated past
-    /// [`super::decimated::MAX_KEPT`]: what the drift and oscillation are fitted to.
+    /// [`crate::measure::decimated::MAX_KEPT`]: what the drift and oscillation are fitted to.
     energy: Decimated<[f64; 2]>,
     /// Largest |relative energy error| over every observed state.
     eps_abs_max: f64,
@@ -324,7 +324,7 @@ pub struct MetricsObserver<'a> {
     tracked: Option<Tracked>,
     prev: Option<(f64, f64, f64)>,
     crossings: Vec<f64>,
-    /// True once the run crossed zero more than [`super::decimated::MAX_KEPT`] times: its
+    /// True once the run crossed zero more than [`crate::measure::decimated::MAX_KEPT`] times: its
     /// period and phase are then not reported (no dominant mode to match).
     crossings_overflow: bool,
     series_stride: Option<u64>,
@@ -401,7 +401,8 @@ impl<'a> MetricsObserver<'a> {
                 .as_ref()
                 .map(|e| WindowReader::new(&e.times, g.dt, g.steps)),
             apexes: bouncing(sys).then(|| {
-                let threshold = super::observables::RELATIVE_TOLERANCE * reference.motion_scale();
+                let threshold =
+                    crate::measure::observables::RELATIVE_TOLERANCE * reference.motion_scale();
                 let gravity = sys.gravity.expect("a bouncing scene has gravity");
                 let a = Apexes::new(gravity, &sys.free, threshold);
                 (a.clone(), a)
@@ -413,7 +414,7 @@ impl<'a> MetricsObserver<'a> {
     /// Ends the run (through [`Observer::seen_enough`]) once its largest position error
     /// before the predictability horizon, divided by `divisor`, exceeds `bound`: that error only
     /// grows, so a judge holding it to `bound` can no longer pass the run
-    /// ([`super::tolerance::Judge::position_stop`]).
+    /// ([`crate::measure::tolerance::Judge::position_stop`]).
     pub fn stop_past(mut self, (divisor, bound): (f64, f64)) -> Self {
         self.stop_past = Some((divisor, bound));
         self
@@ -529,7 +530,7 @@ impl Observer for MetricsObserver<'_> {
                 if v0 < 0.0 && v1 >= 0.0 {
                     let h = t - t0;
                     let sfrac = hermite_upward_root(x0, v0, x1, v1, h);
-                    if self.crossings.len() < super::decimated::MAX_KEPT {
+                    if self.crossings.len() < crate::measure::decimated::MAX_KEPT {
                         self.crossings.push(t0 + sfrac * h);
                     } else {
                         self.crossings_overflow = true;

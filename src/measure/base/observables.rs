@@ -30,7 +30,7 @@ pub fn strain_max(sys: &System, x: &[Vec3]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// True for a scene whose accuracy is judged bounce by bounce ([`super::apexes`]): it has
+/// True for a scene whose accuracy is judged bounce by bounce ([`crate::measure::apexes`]): it has
 /// obstacles and gravity.
 pub fn bouncing(sys: &System) -> bool {
     crate::collide::of(sys).is_some() && sys.gravity.is_some_and(|g| g.norm() > 0.0)

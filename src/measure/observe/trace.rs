@@ -1,6 +1,6 @@
 //! Trajectory traces for pictures: the paths of a few particles and full snapshots of the
 //! scene at a few instants, recorded from a run's accepted states. Pure recording: no metric
-//! is computed here (errors and energies are [`super::metrics`]'s).
+//! is computed here (errors and energies are [`crate::measure::metrics`]'s).
 
 use crate::error::Result;
 use crate::model::{State, Vec3};
@@ -114,7 +114,7 @@ impl Observer for TraceObserver {
 /// Up to `count` free particles with the longest reference paths on the reference's first
 /// grid (ties to the lower index), in increasing index order: the particles worth drawing.
 pub fn longest_paths(
-    reference: &super::reference::Reference,
+    reference: &crate::measure::reference::Reference,
     free: &[bool],
     count: usize,
 ) -> Vec<usize> {

@@ -46,10 +46,10 @@ mod stored;
 mod tracked;
 pub mod uncertainty;
 
-use super::grid::TimeGrid;
 use crate::collide::Response;
 use crate::error::{Error, Result};
 use crate::integrate::{Analytic, Stepper};
+use crate::measure::grid::TimeGrid;
 use crate::measure::observables::position_error;
 use crate::model::{State, System, Vec3};
 use adaptive::{length_scale, solve, SolveSpec};

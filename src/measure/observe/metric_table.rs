@@ -4,7 +4,7 @@
 //! its column in a scene page's methods table. A new metric is its field and computation in
 //! `metrics.rs` plus one entry here.
 
-use super::metrics::Metrics;
+use crate::measure::metrics::Metrics;
 use serde::de::{Deserialize, Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::ser::{Serialize, SerializeMap, Serializer};
 
@@ -153,7 +153,7 @@ pub const METRICS: [Metric; 21] = [
         value: |m| {
             m.statistics
                 .as_ref()
-                .map(|s| Value::Number(super::statistics::worst_score(s)))
+                .map(|s| Value::Number(crate::measure::statistics::worst_score(s)))
         },
         row_key: None,
         page: None,
