@@ -35,13 +35,15 @@ pub struct RateBest {
 
 /// The frame view: the frame-rate table of `names` (the verified candidates, cheapest first)
 /// over `horizon` s, judged as the advice was asked to judge, with each rate's cheapest
-/// answer. The modelled cost ranks, so the table's wall times are each run's own
+/// answer. `ensemble` is the one the advice judged by, handed on so that the table does not
+/// solve it again (the tolerance's decision sets it aside where its grid is not the scene's). The modelled cost ranks, so the table's wall times are each run's own
 /// ([`MEASURED_RUN`](crate::measure::case::MEASURED_RUN)): repeating runs to time them
-/// would decide nothing and nearly double the advice's time on the shipped cloth. `None` when no rate is asked or no candidate was verified.
+/// would decide nothing and nearly double the advice's time on the shipped cloth. `None`
+/// when no rate is asked or no candidate was verified.
 pub(super) fn frame_view(
     scene: &Scenario,
     cfg: &AdviseConfig,
-    horizon: f64,
+    (horizon, ensemble): (f64, Option<crate::measure::statistics::Ensemble>),
     names: Vec<String>,
 ) -> Result<(Option<Framerate>, Vec<RateBest>)> {
     let rates = rates_of(cfg.frame_rates, cfg.game_hz);
@@ -52,7 +54,7 @@ pub(super) fn frame_view(
         rates: rates.clone(),
         tolerance: cfg.tolerance,
         metric: cfg.metric,
-        ensemble: cfg.ensemble.clone(),
+        ensemble,
         duration: Some(horizon),
         timing: crate::measure::case::MEASURED_RUN,
         common: crate::measure::Common {

@@ -332,7 +332,9 @@ pub fn advise(scene: &Scenario, cfg: &AdviseConfig) -> Result<Advice> {
     let choices = timing::timed_choices(&ctx, &answers, &judge)?;
     let (alternatives, picked_by) = rank_choices(choices, &scene.name)?;
     let verified = alternatives.iter().map(|c| c.method.clone()).collect();
-    let (frame_rates, best_at_rates) = frame_view::frame_view(scene, cfg, horizon, verified)?;
+    let ensemble = decided.ensemble.clone().or_else(|| cfg.ensemble.clone());
+    let (frame_rates, best_at_rates) =
+        frame_view::frame_view(scene, cfg, (horizon, ensemble), verified)?;
     let pick = alternatives.first().cloned();
     let command = command_line(scene, cfg, horizon);
     Ok(Advice {

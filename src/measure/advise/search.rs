@@ -262,7 +262,8 @@ pub(super) fn candidates(
 }
 
 /// What the grid's extension found: the reference of its last grid, the predictions, the
-/// methods that cannot meet the bound, every step it tried, and the methods dropped on the way (not converging).
+/// methods that cannot meet the bound, every step it tried, and the methods dropped on the
+/// way (not converging).
 pub(super) struct Extended {
     pub(super) reference: ReferenceInfo,
     pub(super) predictions: Vec<Prediction>,

@@ -32,8 +32,9 @@ pub(super) struct Answer {
     pub predicted: f64,
 }
 
-/// Verifies `preds`: re-runs each at its predicted step against a reference of those steps; the chosen run is the verification run when it meets the
-/// bound, else the last passing grid run.
+/// Verifies `preds`: re-runs each at its predicted step against a reference of those steps;
+/// the chosen run is the verification run when it meets the bound, else the last passing
+/// grid run.
 pub(super) fn verify(
     ctx: &Ctx,
     preds: &[Prediction],

@@ -98,8 +98,9 @@ impl CommandLine {
             .filter(|(spec, _)| registry.reads_option(methods, spec.flag))
             .fold(self, |c, (spec, _)| c.flag(spec.flag, opts.value(&spec)))
     }
-    /// Adds the shared settings' flags ([`crate::measure::Common::recorded`]) for `methods`.
-    pub fn common(self, common: &crate::measure::Common, methods: &[String]) -> Self {
+    /// Adds the shared settings' flags ([`crate::measure::common::Common::recorded`]) for
+    /// `methods`.
+    pub fn common(self, common: &crate::measure::common::Common, methods: &[String]) -> Self {
         common.recorded(self, methods)
     }
     /// Adds a bare `--name`.

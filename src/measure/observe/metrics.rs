@@ -8,8 +8,9 @@
 //!   solution) and E = |K₀| + |G₀| + |E₀| (or the scene's energy scale when that is 0).
 //!   Drift = least-squares slope of ε over t (1/s); oscillation = peak-to-peak of ε minus
 //!   that line; balance = ε at the last step. Both are fitted to every observed state up to
-//!   [`crate::measure::decimated::MAX_KEPT`] of them and to every 2^k-th past that, so memory is bounded
-//!   whatever the step count; the largest |ε| and the balance use every state.
+//!   [`crate::measure::decimated::MAX_KEPT`] of them and to every 2^k-th past that, so
+//!   memory is bounded whatever the step count; the largest |ε| and the balance use every
+//!   state.
 //! - Momentum drift = max over t of |P(t) − P(0) − Σ impulses so far| (kg·m/s), only for
 //!   scenes where momentum is conserved (no fixed particles, gravity, drag or other terms).
 //! - Constraint violation: max and mean over steps of the largest |‖x_j − x_i‖ − L|.
@@ -21,14 +22,16 @@
 //!   scene's [`energy_scale`] (the verdict's scale): the motion a method leaves in a scene that
 //!   should have come to rest (elsewhere it is merely the kinetic share at the end). Penetration
 //!   max is the contact metrics' deepest penetration
-//!   ([`crate::measure::contacts::ContactReport::penetration_max`]), carried over, not measured again.
+//!   ([`crate::measure::contacts::ContactReport::penetration_max`]), carried over, not
+//!   measured again.
 //! - Period and phase, only when the tracked velocity component has one dominant mode: the
 //!   reference's zero crossings are evenly spaced
-//!   ([`crate::measure::reference::period`]), else all four period fields are absent (null). The run's
-//!   crossings (times from the cubic Hermite interpolant of each step) are matched to the
-//!   reference's by time, never by count; period = spacing of the matched run crossings per
-//!   reference interval between the first and last pair, period error relative to the
-//!   reference's mean spacing T_ref, phase error 2π·(t − t_ref)/T_ref at the last pair.
+//!   ([`crate::measure::reference::period`]), else all four period fields are absent
+//!   (null). The run's crossings (times from the cubic Hermite interpolant of each step)
+//!   are matched to the reference's by time, never by count; period = spacing of the
+//!   matched run crossings per reference interval between the first and last pair, period
+//!   error relative to the reference's mean spacing T_ref, phase error 2π·(t − t_ref)/T_ref
+//!   at the last pair.
 
 use crate::error::Result;
 use crate::measure::apexes::Apexes;
@@ -172,7 +175,8 @@ pub struct Metrics {
     #[serde(default)]
     pub strain_error: f64,
     /// Past the predictability horizon, each observable of the run against the reference's
-    /// ensemble ([`crate::measure::statistics`]); null where all is predictable or there is no ensemble.
+    /// ensemble ([`crate::measure::statistics`]); null where all is predictable or there is
+    /// no ensemble.
     #[serde(default)]
     pub statistics: Option<BTreeMap<String, Statistic>>,
     /// On a scene with obstacles and gravity: the largest |apex height − the reference's|
