@@ -21,12 +21,9 @@ impl Lcg {
     }
 }
 
-/// One implicit-Euler stage of the 8×8 benchmark cloth at 1/60 s from its rest state scaled
-/// by `squeeze` in the plane, rumpled by ±`rumple` m and thrown at up to `throw` m/s per
-/// component;
-/// returns (Newton iterations, shifted iterations, max |v' − v − h M⁻¹f| / its scale).
-fn stage(squeeze: f64, rumple: f64, throw: f64) -> (u64, u64, f64) {
-    let h = 1.0 / 60.0;
+/// The 8×8 benchmark cloth's rest state scaled by `squeeze` in the plane, rumpled by
+/// ±`rumple` m and thrown at up to `throw` m/s per component.
+fn thrown_cloth(squeeze: f64, rumple: f64, throw: f64) -> (System, springlab::model::State) {
     let scene = perf::cloth(8);
     let sys = scene.build();
     let mut s = scene.initial_state();
@@ -42,6 +39,14 @@ fn stage(squeeze: f64, rumple: f64, throw: f64) -> (u64, u64, f64) {
             s.v[p][k] = 2.0 * throw * rnd.next();
         }
     }
+    (sys, s)
+}
+
+/// One implicit-Euler stage of the 8×8 benchmark cloth at 1/60 s from [`thrown_cloth`];
+/// returns (Newton iterations, shifted iterations, max |v' − v − h M⁻¹f| / its scale).
+fn stage(squeeze: f64, rumple: f64, throw: f64) -> (u64, u64, f64) {
+    let h = 1.0 / 60.0;
+    let (sys, mut s) = thrown_cloth(squeeze, rumple, throw);
     let (x0, v0) = (s.x.clone(), s.v.clone());
     let mut stepper = springlab::integrate::ImplicitEuler::default();
     {
@@ -106,4 +111,60 @@ fn twin_stretched_cloth_stage_converges_unshifted_in_few_iterations() {
     assert_eq!(shifted, 0, "a stretched cloth needs no shift");
     assert!(newton <= 8, "{newton} Newton iterations");
     assert!(rel <= 1e-9, "residual {rel:e} of the scale");
+}
+
+/// A stage stopped by its iteration cap says how far from its root it stopped, and where.
+/// Oracle: the definition of backward Euler. With a cap of 0 the iterate is the start
+/// v' = v, whose residual is M⁻¹G = −h M⁻¹ f(x + h v, v): its mass-weighted RMS, the stage's
+/// velocity scale (the largest |v| or h|f|/m component, or h|g|), their ratio and the particle
+/// with the largest component are computed here from the model's forces and must be the ones
+/// the error names.
+#[test]
+fn a_stage_out_of_iterations_names_its_residual() {
+    use springlab::error::significant;
+    let h = 1.0 / 60.0;
+    let (sys, mut s) = thrown_cloth(0.5, 0.1, 1.0);
+    let (x0, v0) = (s.x.clone(), s.v.clone());
+    let n = sys.len();
+    let xs: Vec<Vec3> = (0..n).map(|p| x0[p] + v0[p] * h).collect();
+    let mut f = vec![Vec3::zeros(); n];
+    sys.forces(&xs, &v0, &mut f);
+    let kick = sys.gravity.map_or(0.0, |g| g.amax() * h);
+    let (mut sum, mut mass, mut scale, mut worst) = (0.0, 0.0, kick, (0.0f64, 0usize));
+    for p in (0..n).filter(|&p| sys.free[p]) {
+        let r = f[p] * (h * sys.inv_mass[p]);
+        sum += sys.mass[p] * r.norm_squared();
+        mass += sys.mass[p];
+        scale = scale.max(r.amax()).max(v0[p].amax());
+        if r.amax() > worst.0 {
+            worst = (r.amax(), p);
+        }
+    }
+    let rms = (sum / mass).sqrt();
+    let mut stepper = springlab::integrate::ImplicitEuler::default();
+    stepper.newton_mut().settings.max_newton = 0;
+    let err = stepper.step(&sys, &mut s, h).unwrap_err().to_string();
+    let want = format!(
+        "stopped at an RMS of {} m/s, {} of the stage's velocity scale of {} m/s (a root is \
+         within 1e-6 of it), largest {} m/s at particle {}",
+        significant(rms, 4),
+        significant(rms / scale, 4),
+        significant(scale, 4),
+        significant(worst.0, 4),
+        worst.1
+    );
+    assert!(err.contains(&want), "{err}\nwanted: {want}");
+    assert!(rms / scale > 1e-6, "the start must be off the root");
+}
+
+/// Twin: the same stage with room to iterate (the cap [`stage`] gives it) reaches its root,
+/// and the step succeeds.
+#[test]
+fn twin_the_same_stage_with_room_to_iterate_converges() {
+    let (sys, mut s) = thrown_cloth(0.5, 0.1, 1.0);
+    let mut stepper = springlab::integrate::ImplicitEuler::default();
+    stepper.newton_mut().settings.max_newton = 200;
+    stepper
+        .step(&sys, &mut s, 1.0 / 60.0)
+        .expect("the stage converges");
 }

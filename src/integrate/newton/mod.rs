@@ -48,7 +48,7 @@ mod shift;
 mod stage;
 mod translation;
 
-use crate::error::{Error, Result};
+use crate::error::{significant, Error, Result};
 use crate::integrate::ensure_len;
 use crate::model::{Jacobian, System, Vec3};
 use linsolve::{Indefiniteness, LinearProblem, LinearSolve};
@@ -336,7 +336,28 @@ impl Newton {
             small_update = alpha * max_abs(&self.dv)
                 <= self.settings.newton_tol * st.v_scale0.max(max_abs(&self.vn)) + st.x_floor;
         }
-        Err(Failure::NoConvergence)
+        Err(self.unreached(st, res))
+    }
+
+    /// The failure of a stage that ran out of iterations at the iterate `res` describes (its
+    /// residual in `self.r`): how far from the root it stopped, and where.
+    fn unreached(&self, st: &Stage<'_>, res: &Residual) -> Failure {
+        let sys = st.sys;
+        let size = |p: usize| (self.r[p] * sys.inv_mass[p]).amax();
+        let worst = (0..sys.len())
+            .filter(|&p| sys.free[p])
+            .fold(None, |best: Option<usize>, p| match best {
+                Some(b) if size(b) >= size(p) => Some(b),
+                _ => Some(p),
+            })
+            .unwrap_or(0);
+        Failure::NoConvergence {
+            rms: (res.merit / st.free_mass).sqrt(),
+            largest: size(worst),
+            particle: worst,
+            scale: res.scale,
+            tol: self.settings.root_tol,
+        }
     }
 
     /// The stage's first-order error estimate ½|v' − v_pred| in the mass-weighted RMS norm
@@ -445,8 +466,16 @@ impl Newton {
 enum Failure {
     /// A residual was not finite.
     NonFinite,
-    /// No stop accepted an iterate within the iteration cap.
-    NoConvergence,
+    /// No stop accepted an iterate within the iteration cap: where it stopped, the residual's
+    /// mass-weighted RMS and its largest component |M⁻¹G| (at `particle`), the stage's
+    /// velocity scale and the root tolerance (a fraction of it).
+    NoConvergence {
+        rms: f64,
+        largest: f64,
+        particle: usize,
+        scale: f64,
+        tol: f64,
+    },
     /// No shift made the Newton matrix positive definite.
     Indefinite,
 }
@@ -456,9 +485,21 @@ impl Failure {
     fn error(self, who: &str, max_newton: usize) -> Error {
         Error::Step(match self {
             Failure::NonFinite => format!("{who}: non-finite residual in Newton iteration"),
-            Failure::NoConvergence => {
-                format!("{who}: Newton did not converge in {max_newton} iterations")
-            }
+            Failure::NoConvergence {
+                rms,
+                largest,
+                particle,
+                scale,
+                tol,
+            } => format!(
+                "{who}: Newton did not converge in {max_newton} iterations: its residual \
+                 M⁻¹G stopped at an RMS of {} m/s, {} of the stage's velocity scale of {} m/s \
+                 (a root is within {tol:e} of it), largest {} m/s at particle {particle}",
+                significant(rms, 4),
+                significant(rms / scale, 4),
+                significant(scale, 4),
+                significant(largest, 4),
+            ),
             Failure::Indefinite => {
                 format!("{who}: Newton matrix is not positive definite at any shift")
             }
