@@ -118,7 +118,7 @@ fn twin_stretched_cloth_stage_converges_unshifted_in_few_iterations() {
 /// v' = v, whose residual is M⁻¹G = −h M⁻¹ f(x + h v, v): its mass-weighted RMS, the stage's
 /// velocity scale (the largest |v| or h|f|/m component, or h|g|), their ratio and the particle
 /// with the largest component are computed here from the model's forces and must be the ones
-/// the error names.
+/// the error names, followed by the Newton matrix's lowest eigenvalue there.
 #[test]
 fn a_stage_out_of_iterations_names_its_residual() {
     use springlab::error::significant;
@@ -155,6 +155,11 @@ fn a_stage_out_of_iterations_names_its_residual() {
     );
     assert!(err.contains(&want), "{err}\nwanted: {want}");
     assert!(rms / scale > 1e-6, "the start must be off the root");
+    // And the matrix there (its estimate is checked against dense eigenvalues in the library).
+    assert!(
+        err.contains("; there the Newton matrix's lowest eigenvalue is at most "),
+        "{err}"
+    );
 }
 
 /// Twin: the same stage with room to iterate (the cap [`stage`] gives it) reaches its root,

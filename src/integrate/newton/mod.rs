@@ -34,6 +34,7 @@
 //! chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured choice).
 
 mod cg;
+mod curvature;
 #[cfg(feature = "direct-solver")]
 mod direct;
 mod ic0;
@@ -336,13 +337,19 @@ impl Newton {
             small_update = alpha * max_abs(&self.dv)
                 <= self.settings.newton_tol * st.v_scale0.max(max_abs(&self.vn)) + st.x_floor;
         }
-        Err(self.unreached(st, res))
+        Err(self.unreached(st, jac, res))
     }
 
     /// The failure of a stage that ran out of iterations at the iterate `res` describes (its
-    /// residual in `self.r`): how far from the root it stopped, and where.
-    fn unreached(&self, st: &Stage<'_>, res: &Residual) -> Failure {
+    /// residual in `self.r`): how far from the root it stopped, where, and the exact Newton
+    /// matrix's lowest mass-relative eigenvalue there (`curvature.rs`; fills `jac` with it).
+    fn unreached(&self, st: &Stage<'_>, jac: &mut Jacobian, res: &Residual) -> Failure {
         let sys = st.sys;
+        jac.clamp = 0.0;
+        jac.shift = 0.0;
+        sys.jacobian(&self.xn, &self.vn, jac);
+        jac.prepare_newton(&sys.mass, &sys.free, st.h);
+        let curvature = curvature::lowest_curvature(jac, sys, &self.r);
         let size = |p: usize| (self.r[p] * sys.inv_mass[p]).amax();
         let worst = (0..sys.len())
             .filter(|&p| sys.free[p])
@@ -357,6 +364,7 @@ impl Newton {
             particle: worst,
             scale: res.scale,
             tol: self.settings.root_tol,
+            curvature,
         }
     }
 
@@ -475,6 +483,8 @@ enum Failure {
         particle: usize,
         scale: f64,
         tol: f64,
+        /// The exact Newton matrix's lowest eigenvalue there, relative to the mass term's.
+        curvature: Option<f64>,
     },
     /// No shift made the Newton matrix positive definite.
     Indefinite,
@@ -491,14 +501,21 @@ impl Failure {
                 particle,
                 scale,
                 tol,
+                curvature,
             } => format!(
                 "{who}: Newton did not converge in {max_newton} iterations: its residual \
                  M⁻¹G stopped at an RMS of {} m/s, {} of the stage's velocity scale of {} m/s \
-                 (a root is within {tol:e} of it), largest {} m/s at particle {particle}",
+                 (a root is within {tol:e} of it), largest {} m/s at particle {particle}{}",
                 significant(rms, 4),
                 significant(rms / scale, 4),
                 significant(scale, 4),
                 significant(largest, 4),
+                curvature.map_or(String::new(), |c| format!(
+                    "; there the Newton matrix's lowest eigenvalue is at most {} times the mass term's \
+                     (a Lanczos estimate: 1 is the mass term alone, 0 a singular matrix, below 0 \
+                     an indefinite one)",
+                    significant(c, 4)
+                )),
             ),
             Failure::Indefinite => {
                 format!("{who}: Newton matrix is not positive definite at any shift")
