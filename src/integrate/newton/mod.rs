@@ -11,8 +11,11 @@
 //! The rule: a stage is accepted only at a root of its equation, the mass-weighted RMS of M⁻¹G at
 //! most [`ImplicitSettings::root_tol`] (10⁻⁶) times the stage's velocity scale (the largest
 //! component of v̂, v', β f/m or β g), or with max |M⁻¹G| at [`ImplicitSettings::newton_tol`]
-//! (10⁻¹⁰) of it; otherwise the step fails ("did not converge", which the runner reports as
-//! unstable). Newton stops at `newton_tol`, or, once at the root tolerance, when an update is below
+//! (10⁻¹⁰) of it. A stage whose iteration runs out of iterations is solved again along its root
+//! path, the stages of steps β·k/16 each from the last roots (`continuation.rs`); where that
+//! path stops too, the step fails ("did not converge", which the runner reports as unstable),
+//! saying where the iteration stopped and how far the path got, with the Newton matrix's lowest
+//! eigenvalue at each (`curvature.rs`). Newton stops at `newton_tol`, or, once at the root tolerance, when an update is below
 //! the tolerance or the round-off floor, when the residual is a fraction of the stage's own error
 //! estimate (1 % for first-order methods, 0.01 % for second-order ones, see
 //! [`ImplicitSettings::kappa`]), or at the iteration cap. The error estimate alone is no stop: at
@@ -34,6 +37,7 @@
 //! chosen by [`ImplicitSettings::solver`] (see `linsolve.rs` for the measured choice).
 
 mod cg;
+mod continuation;
 mod curvature;
 #[cfg(feature = "direct-solver")]
 mod direct;
@@ -95,6 +99,9 @@ pub struct Newton {
     pot: PotentialScratch,
     r: Vec<Vec3>,
     dv: Vec<Vec3>,
+    /// The root path's previous roots and its Lanczos start (`continuation.rs`).
+    path_prev: Vec<Vec3>,
+    path_start: Vec<Vec3>,
     floor: Vec<f64>,
     lin: LinearSolve,
     /// Σm when the system is translation invariant (every iterate's momentum balance is then
@@ -161,6 +168,7 @@ impl Newton {
             &mut self.pot.f,
             &mut self.r,
             &mut self.dv,
+            &mut self.path_prev,
         ] {
             ensure_len(buf, n);
         }
@@ -243,7 +251,12 @@ impl Newton {
         let (mut res, mut evals) = self.start(&st, stop);
         let mut jac = self.take_jacobian(sys);
         jac.shift = 0.0;
-        let solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
+        let mut solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
+        if let Err(failure @ Failure::NoConvergence { .. }) = solved {
+            solved = self
+                .along_path(&st, &mut jac, &mut evals)
+                .map_err(|end| failure.with_path(end));
+        }
         self.jac = Some(jac);
         let power = solved.map_err(|failure| failure.error(who, self.settings.max_newton))?;
         Ok((power, evals))
@@ -359,12 +372,15 @@ impl Newton {
             })
             .unwrap_or(0);
         Failure::NoConvergence {
-            rms: (res.merit / st.free_mass).sqrt(),
-            largest: size(worst),
-            particle: worst,
-            scale: res.scale,
-            tol: self.settings.root_tol,
-            curvature,
+            at: Unreached {
+                rms: (res.merit / st.free_mass).sqrt(),
+                largest: size(worst),
+                particle: worst,
+                scale: res.scale,
+                tol: self.settings.root_tol,
+                curvature,
+            },
+            path: None,
         }
     }
 
@@ -474,20 +490,56 @@ impl Newton {
 enum Failure {
     /// A residual was not finite.
     NonFinite,
-    /// No stop accepted an iterate within the iteration cap: where it stopped, the residual's
-    /// mass-weighted RMS and its largest component |M⁻¹G| (at `particle`), the stage's
-    /// velocity scale and the root tolerance (a fraction of it).
+    /// No stop accepted an iterate within the iteration cap, nor along the stage's root path
+    /// (`continuation.rs`): where the direct iteration stopped, and where the path did.
     NoConvergence {
-        rms: f64,
-        largest: f64,
-        particle: usize,
-        scale: f64,
-        tol: f64,
-        /// The exact Newton matrix's lowest eigenvalue there, relative to the mass term's.
-        curvature: Option<f64>,
+        at: Unreached,
+        path: Option<continuation::PathEnd>,
     },
     /// No shift made the Newton matrix positive definite.
     Indefinite,
+}
+
+/// Where a stage's direct iteration stopped: the residual's mass-weighted RMS and its largest
+/// component |M⁻¹G| (at `particle`), the stage's velocity scale, the root tolerance (a
+/// fraction of it), and the exact Newton matrix's lowest eigenvalue there, relative to the
+/// mass term's.
+#[derive(Debug, Clone, Copy)]
+struct Unreached {
+    rms: f64,
+    largest: f64,
+    particle: usize,
+    scale: f64,
+    tol: f64,
+    curvature: Option<f64>,
+}
+
+impl Unreached {
+    /// Where the iteration stopped, in words.
+    fn describe(&self) -> String {
+        let Unreached {
+            rms,
+            largest,
+            particle,
+            scale,
+            tol,
+            curvature,
+        } = *self;
+        format!(
+            "its residual M⁻¹G stopped at an RMS of {} m/s, {} of the stage's velocity scale of \
+             {} m/s (a root is within {tol:e} of it), largest {} m/s at particle {particle}{}",
+            significant(rms, 4),
+            significant(rms / scale, 4),
+            significant(scale, 4),
+            significant(largest, 4),
+            curvature.map_or(String::new(), |c| format!(
+                "; there the Newton matrix's lowest eigenvalue is at most {} times the mass \
+                 term's (a Lanczos estimate: 1 is the mass term alone, 0 a singular matrix, \
+                 below 0 an indefinite one)",
+                significant(c, 4)
+            )),
+        )
+    }
 }
 
 impl Failure {
@@ -495,27 +547,10 @@ impl Failure {
     fn error(self, who: &str, max_newton: usize) -> Error {
         Error::Step(match self {
             Failure::NonFinite => format!("{who}: non-finite residual in Newton iteration"),
-            Failure::NoConvergence {
-                rms,
-                largest,
-                particle,
-                scale,
-                tol,
-                curvature,
-            } => format!(
-                "{who}: Newton did not converge in {max_newton} iterations: its residual \
-                 M⁻¹G stopped at an RMS of {} m/s, {} of the stage's velocity scale of {} m/s \
-                 (a root is within {tol:e} of it), largest {} m/s at particle {particle}{}",
-                significant(rms, 4),
-                significant(rms / scale, 4),
-                significant(scale, 4),
-                significant(largest, 4),
-                curvature.map_or(String::new(), |c| format!(
-                    "; there the Newton matrix's lowest eigenvalue is at most {} times the mass term's \
-                     (a Lanczos estimate: 1 is the mass term alone, 0 a singular matrix, below 0 \
-                     an indefinite one)",
-                    significant(c, 4)
-                )),
+            Failure::NoConvergence { at, path } => format!(
+                "{who}: Newton did not converge in {max_newton} iterations: {}{}",
+                at.describe(),
+                path.map_or(String::new(), |end| end.describe()),
             ),
             Failure::Indefinite => {
                 format!("{who}: Newton matrix is not positive definite at any shift")
