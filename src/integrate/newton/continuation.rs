@@ -5,7 +5,8 @@
 //! of its own equation. Where it stops, the Newton matrix's lowest eigenvalue at each root on
 //! the way says why: it falls to 0 where the stage's roots branch (a compressed cloth that
 //! buckles within the step), and past such a point the roots lie on another branch, which
-//! Newton from the path cannot be expected to find.
+//! Newton from the path cannot be expected to find. The path allocates (its Lanczos vectors):
+//! it runs only for a stage whose direct iteration failed, never in a step that converges.
 
 use super::curvature::lowest_curvature;
 use super::stage::Stage;
