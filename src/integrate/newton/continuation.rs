@@ -5,8 +5,10 @@
 //! of its own equation. Where it stops, the Newton matrix's lowest eigenvalue at each root on
 //! the way says why: it falls to 0 where the stage's roots branch (a compressed cloth that
 //! buckles within the step), and past such a point the roots lie on another branch, which
-//! Newton from the path cannot be expected to find. The path allocates (its Lanczos vectors):
-//! it runs only for a stage whose direct iteration failed, never in a step that converges.
+//! Newton from the path cannot be expected to find. The eigenvalues are estimated only once
+//! the path has failed too, so a path that succeeds costs its pieces alone. The path
+//! allocates (the roots it keeps, and Lanczos' vectors): it runs only for a stage whose direct
+//! iteration failed, never in a step that converges.
 
 use super::curvature::lowest_curvature;
 use super::stage::Stage;
@@ -41,30 +43,25 @@ fn spread(n: usize) -> impl Iterator<Item = Vec3> {
 
 impl Newton {
     /// Solves the stage `st` along its root path (module docs); `Ok` with the dissipated power
-    /// at its root, or where the path stopped.
+    /// at its root, or `Err` with the pieces solved before it stopped, their roots in
+    /// `path_roots`. Nothing is estimated here: a path that succeeds costs its pieces only.
     pub(super) fn along_path(
         &mut self,
         st: &Stage<'_>,
         jac: &mut Jacobian,
         evals: &mut u64,
-    ) -> std::result::Result<f64, PathEnd> {
+    ) -> std::result::Result<f64, usize> {
         let (sys, n) = (st.sys, st.x0.len());
-        // The stage's own error-estimate predictor, from v̂.
+        // The last piece's error estimate reads the stage's own predictor, which `start` set
+        // and no iteration changes.
         self.vn.copy_from_slice(st.v0);
-        let _ = self.residual(st);
-        *evals += 1;
-        self.predict(st);
         self.path_prev.copy_from_slice(st.v0);
-        self.path_start.clear();
-        self.path_start.extend(spread(n));
-        let mut end = PathEnd {
-            solved: 0,
-            lowest: None,
-        };
+        self.path_roots.clear();
+        let mut last = Err(0);
         for k in 1..=PIECES {
             // Pieces before the last stop at the root tolerance (an infinite κ).
             let kappa = if k == PIECES { st.kappa } else { f64::MAX };
-            let piece = Stage::new(sys, st.x0, st.v0, st.h * k as f64 / PIECES as f64, kappa);
+            let piece = Stage::new(sys, st.x0, st.v0, piece_step(st.h, k), kappa);
             if k >= 2 {
                 for p in 0..n {
                     let step = self.vn[p] - self.path_prev[p];
@@ -75,26 +72,71 @@ impl Newton {
             let mut res = self.residual(&piece);
             *evals += 1;
             jac.shift = 0.0;
-            let power = match self.iterate(&piece, jac, &mut res, evals) {
-                Ok(power) => power,
-                Err(_) => return Err(end),
-            };
-            if k == PIECES {
-                return Ok(power);
+            last = self
+                .iterate(&piece, jac, &mut res, evals)
+                .map_err(|_| k - 1);
+            match last {
+                Ok(_) if k < PIECES => self.path_roots.extend_from_slice(&self.vn),
+                Ok(_) => {}
+                Err(_) => break,
             }
-            end.solved = k;
-            jac.clamp = 0.0;
-            jac.shift = 0.0;
-            sys.jacobian(&self.xn, &self.vn, jac);
-            jac.prepare_newton(&sys.mass, &sys.free, piece.h);
+        }
+        last
+    }
+
+    /// The failure of a stage whose direct iteration (`failure`, stopped at `stop_v` with
+    /// residual `stop_r`) and root path (`solved` pieces, roots in `path_roots`) both stopped,
+    /// with the Newton matrix's lowest eigenvalue at the stop and on the path's roots.
+    pub(super) fn explain(
+        &mut self,
+        st: &Stage<'_>,
+        jac: &mut Jacobian,
+        failure: Failure,
+        solved: usize,
+    ) -> Failure {
+        let Failure::NoConvergence { mut at, .. } = failure else {
+            return failure;
+        };
+        let (sys, n) = (st.sys, st.x0.len());
+        self.vn.copy_from_slice(&self.stop_v);
+        self.exact_matrix(st, st.h, jac);
+        at.curvature = lowest_curvature(jac, sys, &self.stop_r);
+        self.path_start.clear();
+        self.path_start.extend(spread(n));
+        let mut lowest: Option<(f64, usize)> = None;
+        for k in 1..=solved {
+            self.vn
+                .copy_from_slice(&self.path_roots[(k - 1) * n..k * n]);
+            self.exact_matrix(st, piece_step(st.h, k), jac);
             if let Some(l) = lowest_curvature(jac, sys, &self.path_start) {
-                if end.lowest.is_none_or(|(m, _)| l < m) {
-                    end.lowest = Some((l, k));
+                if lowest.is_none_or(|(m, _)| l < m) {
+                    lowest = Some((l, k));
                 }
             }
         }
-        Err(end)
+        Failure::NoConvergence {
+            at,
+            path: Some(PathEnd { solved, lowest }),
+        }
     }
+
+    /// Fills `jac` with the exact, unshifted Newton matrix of step `h` at v' = `self.vn`
+    /// (x' = x̂ + h v', into `self.xn`).
+    fn exact_matrix(&mut self, st: &Stage<'_>, h: f64, jac: &mut Jacobian) {
+        let sys = st.sys;
+        for p in 0..st.x0.len() {
+            self.xn[p] = st.x0[p] + self.vn[p] * h;
+        }
+        jac.clamp = 0.0;
+        jac.shift = 0.0;
+        sys.jacobian(&self.xn, &self.vn, jac);
+        jac.prepare_newton(&sys.mass, &sys.free, h);
+    }
+}
+
+/// The step of piece `k` of a stage of step `h`.
+fn piece_step(h: f64, k: usize) -> f64 {
+    h * k as f64 / PIECES as f64
 }
 
 impl PathEnd {
@@ -113,18 +155,5 @@ impl PathEnd {
             )
         });
         format!("; followed from its base state in {PIECES} pieces of its step, {solved}{lowest}")
-    }
-}
-
-impl Failure {
-    /// Attaches where the root path stopped to a stage that ran out of iterations.
-    pub(super) fn with_path(self, end: PathEnd) -> Failure {
-        match self {
-            Failure::NoConvergence { at, .. } => Failure::NoConvergence {
-                at,
-                path: Some(end),
-            },
-            other => other,
-        }
     }
 }

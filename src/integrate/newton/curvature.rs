@@ -6,6 +6,7 @@
 //! (near 0 or below: no regular root nearby, or one at a saddle of the potential). The mass
 //! term alone gives 1 in every direction.
 
+use crate::model::parallel::dot;
 use crate::model::{Jacobian, System, Vec3};
 use nalgebra::{DMatrix, SymmetricEigen};
 
@@ -18,12 +19,13 @@ pub(super) const LANCZOS_STEPS: usize = 300;
 /// The lowest eigenvalue of M^(-1/2) A M^(-1/2) over the free particles, A the Newton matrix
 /// prepared in `jac`, from `LANCZOS_STEPS` Lanczos steps started at `start` (mass-scaled
 /// inside; the residual is a good start: it leans on the directions the stage could not
-/// settle). Allocates: it runs once, on a failure. `None` where the start is zero.
+/// settle). Allocates: it runs only to explain a failed stage. `None` where the start is zero.
 pub(super) fn lowest_curvature(jac: &Jacobian, sys: &System, start: &[Vec3]) -> Option<f64> {
     let n = sys.len();
     let free = &sys.free;
     let scale: Vec<f64> = sys.mass.iter().map(|m| 1.0 / m.sqrt()).collect();
-    let norm = |v: &[Vec3]| v.iter().map(|c| c.norm_squared()).sum::<f64>().sqrt();
+    let mut parts = Vec::new();
+    let norm = |v: &[Vec3], parts: &mut Vec<f64>| dot(v, v, parts).sqrt();
     let mut q: Vec<Vec3> = (0..n)
         .map(|p| {
             if free[p] {
@@ -33,7 +35,7 @@ pub(super) fn lowest_curvature(jac: &Jacobian, sys: &System, start: &[Vec3]) -> 
             }
         })
         .collect();
-    let q_norm = norm(&q);
+    let q_norm = norm(&q, &mut parts);
     if q_norm.is_nan() || q_norm <= 0.0 {
         return None;
     }
@@ -58,12 +60,12 @@ pub(super) fn lowest_curvature(jac: &Jacobian, sys: &System, start: &[Vec3]) -> 
                 Vec3::zeros()
             };
         }
-        let alpha: f64 = (0..n).map(|p| q[p].dot(&w[p])).sum();
+        let alpha = dot(&q, &w, &mut parts);
         for p in 0..n {
             w[p] -= q[p] * alpha;
         }
         alphas.push(alpha);
-        beta = norm(&w);
+        beta = norm(&w, &mut parts);
         if beta.is_nan() || beta <= 1e-12 * alpha.abs().max(1.0) {
             break;
         }

@@ -15,10 +15,10 @@
 //! path, the stages of steps β·k/16 each from the last roots (`continuation.rs`); where that
 //! path stops too, the step fails ("did not converge", which the runner reports as unstable),
 //! saying where the iteration stopped and how far the path got, with the Newton matrix's lowest
-//! eigenvalue at each (`curvature.rs`). Newton stops at `newton_tol`, or, once at the root tolerance, when an update is below
-//! the tolerance or the round-off floor, when the residual is a fraction of the stage's own error
-//! estimate (1 % for first-order methods, 0.01 % for second-order ones, see
-//! [`ImplicitSettings::kappa`]), or at the iteration cap. The error estimate alone is no stop: at
+//! eigenvalue at each (`curvature.rs`). Newton stops at `newton_tol`, or, once at the root
+//! tolerance, when an update is below the tolerance or the round-off floor, when the residual
+//! is a fraction of the stage's own error estimate (1 % for first-order methods, 0.01 % for
+//! second-order ones, see [`ImplicitSettings::kappa`]), or at the iteration cap. The error estimate alone is no stop: at
 //! hω ≫ 1 it exceeds the error by about hω and would accept iterates far from the root (two free
 //! particles of 1 and 2 kg at hω = 12 gained 45 % momentum). On a free system (`momentum.rs`) every
 //! iterate's momentum balance is zeroed, and CG deflates the translations, so linear momentum is
@@ -99,8 +99,13 @@ pub struct Newton {
     pot: PotentialScratch,
     r: Vec<Vec3>,
     dv: Vec<Vec3>,
-    /// The root path's previous roots and its Lanczos start (`continuation.rs`).
+    /// Where a failed stage's direct iteration stopped: its v' and residual G.
+    stop_v: Vec<Vec3>,
+    stop_r: Vec<Vec3>,
+    /// The root path's previous roots, the roots of its pieces in order, and the Lanczos
+    /// start at a root (`continuation.rs`).
     path_prev: Vec<Vec3>,
+    path_roots: Vec<Vec3>,
     path_start: Vec<Vec3>,
     floor: Vec<f64>,
     lin: LinearSolve,
@@ -169,6 +174,8 @@ impl Newton {
             &mut self.r,
             &mut self.dv,
             &mut self.path_prev,
+            &mut self.stop_v,
+            &mut self.stop_r,
         ] {
             ensure_len(buf, n);
         }
@@ -253,9 +260,13 @@ impl Newton {
         jac.shift = 0.0;
         let mut solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
         if let Err(failure @ Failure::NoConvergence { .. }) = solved {
-            solved = self
-                .along_path(&st, &mut jac, &mut evals)
-                .map_err(|end| failure.with_path(end));
+            // Where the direct iteration stopped, for the explanation should the path stop too.
+            self.stop_v.copy_from_slice(&self.vn);
+            self.stop_r.copy_from_slice(&self.r);
+            solved = match self.along_path(&st, &mut jac, &mut evals) {
+                Ok(power) => Ok(power),
+                Err(solved) => Err(self.explain(&st, &mut jac, failure, solved)),
+            };
         }
         self.jac = Some(jac);
         let power = solved.map_err(|failure| failure.error(who, self.settings.max_newton))?;
@@ -350,19 +361,14 @@ impl Newton {
             small_update = alpha * max_abs(&self.dv)
                 <= self.settings.newton_tol * st.v_scale0.max(max_abs(&self.vn)) + st.x_floor;
         }
-        Err(self.unreached(st, jac, res))
+        Err(self.unreached(st, res))
     }
 
     /// The failure of a stage that ran out of iterations at the iterate `res` describes (its
-    /// residual in `self.r`): how far from the root it stopped, where, and the exact Newton
-    /// matrix's lowest mass-relative eigenvalue there (`curvature.rs`; fills `jac` with it).
-    fn unreached(&self, st: &Stage<'_>, jac: &mut Jacobian, res: &Residual) -> Failure {
+    /// residual in `self.r`): how far from the root it stopped, and where. The matrix's
+    /// eigenvalue there is estimated only if the root path fails too (`continuation.rs`).
+    fn unreached(&self, st: &Stage<'_>, res: &Residual) -> Failure {
         let sys = st.sys;
-        jac.clamp = 0.0;
-        jac.shift = 0.0;
-        sys.jacobian(&self.xn, &self.vn, jac);
-        jac.prepare_newton(&sys.mass, &sys.free, st.h);
-        let curvature = curvature::lowest_curvature(jac, sys, &self.r);
         let size = |p: usize| (self.r[p] * sys.inv_mass[p]).amax();
         let worst = (0..sys.len())
             .filter(|&p| sys.free[p])
@@ -378,7 +384,7 @@ impl Newton {
                 particle: worst,
                 scale: res.scale,
                 tol: self.settings.root_tol,
-                curvature,
+                curvature: None,
             },
             path: None,
         }

@@ -36,7 +36,8 @@ pub struct RateBest {
 /// The frame view: the frame-rate table of `names` (the verified candidates, cheapest first)
 /// over `horizon` s, judged as the advice was asked to judge, with each rate's cheapest
 /// answer. `ensemble` is the one the advice judged by, handed on so that the table does not
-/// solve it again (the tolerance's decision sets it aside where its grid is not the scene's). The modelled cost ranks, so the table's wall times are each run's own
+/// solve it again (the tolerance's decision sets it aside where its grid is not the scene's).
+/// The modelled cost ranks, so the table's wall times are each run's own
 /// ([`MEASURED_RUN`](crate::measure::case::MEASURED_RUN)): repeating runs to time them
 /// would decide nothing and nearly double the advice's time on the shipped cloth. `None`
 /// when no rate is asked or no candidate was verified.
