@@ -12,7 +12,7 @@ mod system;
 mod term;
 
 pub use events::Events;
-pub use jacobian::Jacobian;
+pub use jacobian::{Jacobian, Sym3};
 pub use post_step::{PostStep, StageStep};
 pub use springs::Springs;
 pub use state::{State, Vec3};

@@ -81,6 +81,78 @@ pub fn each_particle2<T: Send, U: Send>(
     }
 }
 
+/// Runs `op(p, &mut a[p])` for every particle as [`each_particle`] does and returns the sum
+/// of what it returns, added as [`dot`] adds its terms (in particle order, or per fixed chunk
+/// with the chunk sums then added in order): an update and a dot product in one pass.
+#[inline(always)]
+pub fn each_particle_sum<T: Send>(
+    a: &mut [T],
+    parts: &mut Vec<f64>,
+    op: impl Fn(usize, &mut T) -> f64 + Sync,
+) -> f64 {
+    use rayon::prelude::*;
+    if a.len() < PARALLEL_MIN_PARTICLES {
+        a.iter_mut().enumerate().map(|(p, t)| op(p, t)).sum()
+    } else {
+        parts.resize(a.len().div_ceil(PARTICLE_CHUNK), 0.0);
+        parts
+            .par_iter_mut()
+            .zip(a.par_chunks_mut(PARTICLE_CHUNK))
+            .enumerate()
+            .for_each(|(c, (part, ch))| {
+                let base = c * PARTICLE_CHUNK;
+                *part = ch
+                    .iter_mut()
+                    .enumerate()
+                    .map(|(k, t)| op(base + k, t))
+                    .sum();
+            });
+        sum_partials(parts)
+    }
+}
+
+/// Like [`each_particle_sum`] over two arrays of equal length.
+#[inline(always)]
+pub fn each_particle2_sum<T: Send, U: Send>(
+    a: &mut [T],
+    b: &mut [U],
+    parts: &mut Vec<f64>,
+    op: impl Fn(usize, &mut T, &mut U) -> f64 + Sync,
+) -> f64 {
+    use rayon::prelude::*;
+    assert_eq!(
+        a.len(),
+        b.len(),
+        "each_particle2_sum: arrays of different length"
+    );
+    if a.len() < PARALLEL_MIN_PARTICLES {
+        a.iter_mut()
+            .zip(b.iter_mut())
+            .enumerate()
+            .map(|(p, (t, u))| op(p, t, u))
+            .sum()
+    } else {
+        parts.resize(a.len().div_ceil(PARTICLE_CHUNK), 0.0);
+        parts
+            .par_iter_mut()
+            .zip(
+                a.par_chunks_mut(PARTICLE_CHUNK)
+                    .zip(b.par_chunks_mut(PARTICLE_CHUNK)),
+            )
+            .enumerate()
+            .for_each(|(c, (part, (ca, cb)))| {
+                let base = c * PARTICLE_CHUNK;
+                *part = ca
+                    .iter_mut()
+                    .zip(cb.iter_mut())
+                    .enumerate()
+                    .map(|(k, (t, u))| op(base + k, t, u))
+                    .sum();
+            });
+        sum_partials(parts)
+    }
+}
+
 /// Σ a[p]·b[p]: summed in particle order for small systems, and for large ones (at least
 /// [`PARALLEL_MIN_PARTICLES`]) per fixed [`PARTICLE_CHUNK`] in parallel, the chunk sums then
 /// added in order, so the result never depends on the thread count. `parts` is scratch for
@@ -240,6 +312,34 @@ pub fn sum_partials(p: &[f64]) -> f64 {
 mod tests {
     use super::*;
     use crate::model::Vec3;
+
+    /// Oracle: [`dot`] itself. An update fused with its sum adds the same terms in the same
+    /// order, below and above the parallel size: the same bits as the update followed by
+    /// `dot`.
+    #[test]
+    fn a_fused_update_sums_as_dot_does() {
+        for n in [1000, PARALLEL_MIN_PARTICLES + 3 * PARTICLE_CHUNK / 2] {
+            let f = |p: usize| Vec3::new((p as f64 * 0.3).sin(), (p as f64).cos(), 1e-3 * p as f64);
+            let (mut a, mut b): (Vec<Vec3>, Vec<Vec3>) =
+                ((0..n).map(f).collect(), (0..n).map(|p| f(p + 7)).collect());
+            let (a0, b0) = (a.clone(), b.clone());
+            let mut parts = Vec::new();
+            let fused = each_particle_sum(&mut a, &mut parts, |p, x| {
+                *x *= 2.0;
+                x.dot(&b0[p])
+            });
+            let twice: Vec<Vec3> = a0.iter().map(|x| x * 2.0).collect();
+            assert_eq!(a, twice);
+            assert_eq!(fused.to_bits(), dot(&twice, &b0, &mut parts).to_bits());
+            let fused2 = each_particle2_sum(&mut a, &mut b, &mut parts, |_, x, y| {
+                *y -= *x;
+                x.dot(y)
+            });
+            let diff: Vec<Vec3> = b0.iter().zip(&twice).map(|(y, x)| y - x).collect();
+            assert_eq!(b, diff);
+            assert_eq!(fused2.to_bits(), dot(&twice, &diff, &mut parts).to_bits());
+        }
+    }
 
     #[test]
     fn chunk_lists_hold_each_spring_once_per_chunk_in_order() {

@@ -18,7 +18,9 @@ use super::linsolve::LinearProblem;
 use super::shift::{raised, MAX_SHIFTS};
 use super::translation::translation_invariant;
 use crate::integrate::ensure_len;
-use crate::model::parallel::{dot, each_particle, each_particle2};
+use crate::model::parallel::{
+    dot, each_particle, each_particle2, each_particle2_sum, each_particle_sum,
+};
 use crate::model::{Jacobian, System, Vec3};
 use nalgebra::Matrix3;
 
@@ -129,12 +131,14 @@ impl Cg {
         }
         for it in 0..max_it {
             jac.newton_matvec(free, &self.p, &mut self.ap);
-            each_particle(&mut self.ap, |i, a| {
+            // Fixed rows dropped and pᵀAp in one pass.
+            let p = &self.p;
+            let pap = each_particle_sum(&mut self.ap, &mut self.parts, |i, a| {
                 if !free[i] {
                     *a = Vec3::zeros();
                 }
+                p[i].dot(a)
             });
-            let pap = dot(&self.p, &self.ap, &mut self.parts);
             if !pap.is_finite() || pap <= 0.0 {
                 let (p, mass) = (&self.p, &sys.mass);
                 let pmp: f64 = (0..n)
@@ -149,22 +153,24 @@ impl Cg {
                 return CgOutcome::NegativeCurvature(it);
             }
             let alpha = rz / pap;
-            let (p, ap) = (&self.p, &self.ap);
-            each_particle2(x, &mut self.r, |i, xi, ri| {
-                *xi += p[i] * alpha;
-                *ri -= ap[i] * alpha;
-            });
+            let (p, ap, im) = (&self.p, &self.ap, &sys.inv_mass);
             if abs_tol2 > 0.0 {
-                // `ap` is free until the next product: it holds M⁻¹ r for the forcing test.
-                let (r, im) = (&self.r, &sys.inv_mass);
-                each_particle(&mut self.ap, |i, a| *a = r[i] * im[i]);
-                if dot(&self.r, &self.ap, &mut self.parts) <= abs_tol2 {
+                // The update and the forcing test's Σ |rᵢ|²/mᵢ in one pass.
+                let rmr = each_particle2_sum(x, &mut self.r, &mut self.parts, |i, xi, ri| {
+                    *xi += p[i] * alpha;
+                    *ri -= ap[i] * alpha;
+                    ri.dot(&(*ri * im[i]))
+                });
+                if rmr <= abs_tol2 {
                     return CgOutcome::Converged(it + 1);
                 }
+            } else {
+                each_particle2(x, &mut self.r, |i, xi, ri| {
+                    *xi += p[i] * alpha;
+                    *ri -= ap[i] * alpha;
+                });
             }
-            self.precondition(&mut pre, free);
-            self.deflate(deflate, &sys.mass);
-            let rz_new = dot(&self.r, &self.z, &mut self.parts);
+            let rz_new = self.precondition_dot(&mut pre, free, deflate, &sys.mass);
             if rz_new <= rel_tol * rel_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
             }
@@ -189,6 +195,27 @@ impl Cg {
             let mean = (0..self.z.len()).map(|i| self.z[i] * mass[i]).sum::<Vec3>() / total;
             each_particle(&mut self.z, |_, zi| *zi -= mean);
         }
+    }
+
+    /// z = P⁻¹ r, deflated (`total`: Σm, or `None`), and returns rᵀz; block Jacobi without
+    /// deflation in one pass.
+    fn precondition_dot(
+        &mut self,
+        pre: &mut Precond<'_>,
+        free: &[bool],
+        total: Option<f64>,
+        mass: &[f64],
+    ) -> f64 {
+        if total.is_none() && matches!(pre, Precond::BlockJacobi) {
+            let (r, d) = (&self.r, &self.diag_inv);
+            return each_particle_sum(&mut self.z, &mut self.parts, |i, zi| {
+                *zi = d[i] * r[i];
+                r[i].dot(zi)
+            });
+        }
+        self.precondition(pre, free);
+        self.deflate(total, mass);
+        dot(&self.r, &self.z, &mut self.parts)
     }
 
     /// z = P⁻¹ r.

@@ -154,7 +154,7 @@ impl Factor {
                 continue;
             }
             let (lo, k) = (lo as usize, k as usize);
-            let b = &pair_blocks[s];
+            let b = pair_blocks[s].full();
             for c in 0..3 {
                 let at = cp[3 * lo + c] + (3 - c) + 3 * k;
                 for r in 0..3 {

@@ -127,7 +127,7 @@ impl Ic0 {
         let (pair_blocks, _) = jac.newton_blocks();
         for (&slot, b) in self.pair_slot.iter().zip(pair_blocks) {
             if slot != u32::MAX {
-                self.a[slot as usize] -= b;
+                self.a[slot as usize] -= b.full();
             }
         }
         let mut alpha = 0.0;
