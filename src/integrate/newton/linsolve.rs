@@ -20,34 +20,37 @@
 //! needs ≈ 32-46 iterations per Newton iteration on 32², 100² and 316² alike; IC(0) cuts that
 //! about fourfold, to 8-11, at the price of two sequential triangular solves per iteration
 //! and a factorisation per Newton iteration. Over the first 10 frames from rest
-//! (`springlab bench-ratios --no-rapier --rounds 3 --implicit-sizes 32,100,316
-//! --implicit-solver S`, 2-core machine, two runs per solver alternated), milliseconds per
-//! step, IC(0) against block Jacobi:
+//! (`springlab bench-ratios --no-rapier --rounds 5 --implicit-sizes 32,100
+//! --implicit-solver S`, 2-core machine, two runs per solver alternated), the cost of a step
+//! in symplectic steps of the same cloth timed in the same run (the minimum over the rounds),
+//! IC(0) against block Jacobi:
 //!
-//! | method | 32² | 100² | 316² |
-//! |---|---|---|---|
-//! | implicit_euler | 3.80, 3.94 / 5.83, 5.85 | 50.2, 47.8 / 51.3, 53.1 | 963, 973 / 864, 877 |
-//! | implicit_midpoint | 3.32, 4.09 / 5.00, 5.09 | 45.6, 40.0 / 44.6, 50.0 | 596, 557 / 598, 710 |
-//! | bdf2 | 3.59, 3.82 / 5.12, 5.33 | 49.5, 49.9 / 53.4, 73.1 | 758, 883 / 827, 786 |
-//! | linear_implicit_euler | 1.84, 1.80 / 2.76, 3.08 | 24.9, 23.3 / 34.9, 45.0 | 420, 437 / 560, 568 |
+//! | method | 32² | 100² |
+//! |---|---|---|
+//! | implicit_euler | 88.3, 88.4 / 114.3, 123.8 | 118.7, 123.6 / 143.5, 149.8 |
+//! | implicit_midpoint | 92.4, 95.6 / 114.9, 121.8 | 107.6, 110.4 / 120.4, 124.9 |
+//! | bdf2 | 107.9, 107.9 / 144.1, 147.6 | 126.3, 132.2 / 160.4, 157.0 |
+//! | linear_implicit_euler | 54.7, 55.7 / 79.8, 81.5 | 65.5, 66.5 / 98.2, 101.7 |
 //!
-//! IC(0) wins on the 32² cloth (1.2-1.7×) and where one solve needs many iterations
-//! (linearly implicit Euler: 145 block-Jacobi iterations in its one solve per step, 1.4-1.9×
-//! at 100²); for the Newton methods at 100² and 316², where the cost lies, neither wins
-//! throughout: block Jacobi is a tenth ahead on implicit Euler at 316², IC(0) ahead on bdf2 at
-//! 100², and elsewhere the two runs of one solver differ as much as the solvers do. Block
-//! Jacobi is the default: no slower there, with no factor to build per Newton iteration.
+//! From rest IC(0) takes 11-34 % less time; on the 316² cloth, where block Jacobi's products
+//! run on two threads and IC(0) runs on one, the two are level (implicit Euler's 10 frames:
+//! IC(0) takes 0.94 of block Jacobi's wall time and 0.61 of its processor time), and over
+//! the 100² cloth's 3 s, where most Newton iterations are shifted, they are level too
+//! (implicit Euler: 102.9 against 100.6 ms per step; `--implicit-steps 180 --rounds 1`).
+//! Block Jacobi stays the default because the modelled cost (`run/cost.rs`), which decides
+//! what fits a budget and which advice ranks first, prices every linear iteration alike: an
+//! IC(0) iteration, its factorisation shared in, costs about three block-Jacobi ones, so
+//! IC(0) by default would read three times cheaper than it runs.
 //! Neither completes the 316² cloth's 3 s at 1/60 (`springlab bench-ratios --no-rapier
 //! --implicit-methods implicit_euler --implicit-sizes 316 --implicit-steps 180 --rounds 1`):
-//! with the shifted Newton block Jacobi stops at frame 64, a stage crawling along a fold's
-//! valley under the default cap of 50 Newton iterations; the step is then reported as
-//! failed, never accepted off its root. The sparse Cholesky lost
-//! everywhere: on 100² (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took
+//! with the shifted Newton block Jacobi stops at frame 64 and IC(0) at frame 66, stages
+//! crawling along a fold's valley under the default cap of 50 Newton iterations; the step is
+//! then reported as failed, never accepted off its root. The sparse Cholesky lost everywhere: on 100² (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took
 //! ≈ 35 ms and one triangular solve pair ≈ 7 ms, 277 ms per step against block Jacobi's
-//! 41 ms in the same run; on 32², 9.5 against 6.0 ms. Algebraic multigrid was not built: its
-//! gain is an iteration count independent of the mesh size, which block-Jacobi CG already has
-//! here, so AMG could only lower the constant, as IC(0) does, and the table shows a fourfold
-//! lower constant buying nothing on the large cloths.
+//! 41 ms in the same run; on 32², 9.5 against 6.0 ms. Block-Jacobi CG already needs about
+//! the same iterations per Newton iteration whatever the mesh size, so a multilevel method
+//! can only lower the constant; the one-level and two-level preconditioners measured against
+//! the cost target (`docs/performance.md`) lower it less than they add per iteration.
 
 use super::cg::{solve_clamped, solve_shifted, Cg, CgStop, Indefinite};
 #[cfg(feature = "direct-solver")]
