@@ -74,6 +74,7 @@ impl<R: Rule> Stepper for Implicit<R> {
             newton_iterations: n.newton_iterations,
             linear_iterations: n.cg_iterations,
             factorizations: n.factorizations(),
+            factor_solves: n.factor_solves(),
             modified_iterations: n.shifted_iterations,
         }
     }

@@ -63,6 +63,9 @@ pub struct SolverWork {
     pub linear_iterations: u64,
     /// Numeric factorisations of the Newton matrix.
     pub factorizations: u64,
+    /// Applications of a factored preconditioner (one forward and one backward substitution
+    /// each): one per preconditioned CG iteration and one per CG solve.
+    pub factor_solves: u64,
     /// Newton iterations whose matrix needed a positive-definite modification (the exact
     /// one was indefinite): how often the stages were hard.
     pub modified_iterations: u64,

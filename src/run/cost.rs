@@ -8,6 +8,16 @@
 //! work counts are deterministic, so the modelled cost is too; measured wall times are
 //! reported beside it and decide nothing.
 //!
+//! A factored preconditioner's work is priced apart from its CG iterations: a block IC(0)
+//! factorisation and each application of the factor cost their own per-spring figures (an
+//! IC(0) iteration, its factorisation shared in, costs about three block-Jacobi ones). Their
+//! figures are fitted on the 100×100 cloth's first 30 frames at 1/60 s (`springlab compare`
+//! with `--linear-solver block_ic0_cg`, then `block_jacobi_cg`): the four implicit methods'
+//! modelled cost is 0.80-1.04 of the clock with IC(0) and 1.04-1.24 with block Jacobi (two
+//! runs each); without them it read 0.35-0.42 with IC(0). The sparse Cholesky of a
+//! `direct-solver` build is counted the same way and priced at IC(0)'s figures, which it
+//! exceeds by an order of magnitude.
+//!
 //! The per-item costs are this code's single-thread figures on a 2-core x86-64 machine,
 //! fitted to the stepping wall times of the shipped scenes (`springlab compare` on each:
 //! `work` against `wall_seconds` in `summary.json`). On them the model is within a factor of
@@ -41,6 +51,12 @@ pub const LINEAR: f64 = 40e-9;
 pub const LINEAR_PER_PARTICLE: f64 = 15e-9;
 /// Seconds per spring per linear iteration: its part of the product with the Newton matrix.
 pub const LINEAR_PER_SPRING: f64 = 3.25e-9;
+/// Seconds per spring per numeric factorisation of a preconditioner: block IC(0)'s
+/// elimination with the clamped Jacobian it is built from.
+pub const FACTORIZATION_PER_SPRING: f64 = 60e-9;
+/// Seconds per spring per application of a factored preconditioner: IC(0)'s forward and
+/// backward substitutions, one lower block per spring each.
+pub const FACTOR_SOLVE_PER_SPRING: f64 = 5.5e-9;
 /// Seconds per link update (one link in one constraint sweep).
 pub const LINK_UPDATE: f64 = 26e-9;
 /// Seconds per particle per pass of the contact stage (obstacle queries and responses).
@@ -57,6 +73,12 @@ pub struct Work {
     pub newton_iterations: u64,
     /// Linear-solver iterations of implicit methods (a direct solve counts one).
     pub linear_iterations: u64,
+    /// Numeric factorisations of a preconditioner (IC(0)); not written where none were made.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub factorizations: u64,
+    /// Applications of a factored preconditioner; not written where none were made.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub factor_solves: u64,
     /// Link updates (one link in one constraint sweep).
     pub link_updates: u64,
     /// Passes of the contact stage.
@@ -72,7 +94,14 @@ pub struct CostModel {
     force_eval: f64,
     newton_iteration: f64,
     linear_iteration: f64,
+    factorization: f64,
+    factor_solve: f64,
     contact_pass: f64,
+}
+
+/// Whether a count is zero (left out of the written work).
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl CostModel {
@@ -88,6 +117,8 @@ impl CostModel {
                 + FORCE_PER_PARTICLE_TERM * n * terms,
             newton_iteration: NEWTON + NEWTON_PER_PARTICLE * n + NEWTON_PER_SPRING * springs,
             linear_iteration: LINEAR + LINEAR_PER_PARTICLE * n + LINEAR_PER_SPRING * springs,
+            factorization: FACTORIZATION_PER_SPRING * springs,
+            factor_solve: FACTOR_SOLVE_PER_SPRING * springs,
             contact_pass: CONTACT_PER_PARTICLE * n,
         }
     }
@@ -98,6 +129,8 @@ impl CostModel {
             + self.force_eval * work.force_evals as f64
             + self.newton_iteration * work.newton_iterations as f64
             + self.linear_iteration * work.linear_iterations as f64
+            + self.factorization * work.factorizations as f64
+            + self.factor_solve * work.factor_solves as f64
             + LINK_UPDATE * work.link_updates as f64
             + self.contact_pass * work.contact_passes as f64
             + work.engine_seconds
@@ -141,6 +174,19 @@ mod tests {
         let extra = 3.0 * STEP_PER_PARTICLE * 10.0
             + 3.0 * (FORCE_PER_SPRING * 10.0 + FORCE_PER_PARTICLE_TERM * 10.0);
         let grew = big.seconds(&w) - small.seconds(&w);
+        assert!(
+            (grew - extra).abs() < 1e-12 * extra,
+            "{grew:e} vs {extra:e}"
+        );
+        // A factorisation and a factor solve of IC(0) cost their per-spring figures: ten
+        // springs more, three of each.
+        let factored = Work {
+            factorizations: 3,
+            factor_solves: 3,
+            ..Work::default()
+        };
+        let grew = big.seconds(&factored) - small.seconds(&factored);
+        let extra = 3.0 * (FACTORIZATION_PER_SPRING + FACTOR_SOLVE_PER_SPRING) * 10.0;
         assert!(
             (grew - extra).abs() < 1e-12 * extra,
             "{grew:e} vs {extra:e}"

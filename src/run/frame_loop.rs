@@ -183,7 +183,7 @@ impl<'a> Loop<'a> {
     /// One step of `h` from `s` with its work counted, then the contact stage.
     fn step(&mut self, s: &mut State, h: f64) -> Result<()> {
         let t0 = Instant::now();
-        let newton_before = self.newton_counts();
+        let before = self.stepper.solver_work();
         if self.sys.post_step.is_some() {
             self.x0.clone_from(&s.x);
             self.v0.clone_from(&s.v);
@@ -192,11 +192,17 @@ impl<'a> Loop<'a> {
         // (the implicit core's counters) are counted before the error goes up; its force
         // evaluations are in the stats it never returns, so the count leaves them out.
         let stepped = self.stepper.step(self.sys, s, h);
-        let (newton, linear) = self.newton_counts();
+        let after = self.stepper.solver_work();
         let w = &mut self.work;
         w.steps += 1;
-        w.newton_iterations += newton.saturating_sub(newton_before.0);
-        w.linear_iterations += linear.saturating_sub(newton_before.1);
+        w.newton_iterations += after
+            .newton_iterations
+            .saturating_sub(before.newton_iterations);
+        w.linear_iterations += after
+            .linear_iterations
+            .saturating_sub(before.linear_iterations);
+        w.factorizations += after.factorizations.saturating_sub(before.factorizations);
+        w.factor_solves += after.factor_solves.saturating_sub(before.factor_solves);
         let stats = stepped?;
         w.force_evals += stats.force_evals;
         w.link_updates += stats.link_updates;
@@ -217,11 +223,5 @@ impl<'a> Loop<'a> {
         self.wall += t0.elapsed().as_secs_f64();
         self.dissipated += stats.dissipated;
         Ok(())
-    }
-
-    /// The implicit core's Newton and linear iteration counters so far (0 without one).
-    fn newton_counts(&self) -> (u64, u64) {
-        let w = self.stepper.solver_work();
-        (w.newton_iterations, w.linear_iterations)
     }
 }

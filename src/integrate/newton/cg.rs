@@ -34,6 +34,8 @@ pub(super) struct Cg {
     ap: Vec<Vec3>,
     /// Chunk sums of the dot products.
     parts: Vec<f64>,
+    /// Applications of a factored preconditioner (IC(0) or a Cholesky factor) so far.
+    pub(super) factor_solves: u64,
     /// The mass-relative curvature pᵀAp / pᵀMp of the direction on which the last solve met
     /// non-positive curvature (−∞ where the product was not finite).
     pub(super) curvature: f64,
@@ -226,8 +228,14 @@ impl Cg {
                 each_particle(&mut self.z, |i, zi| *zi = d[i] * r[i]);
             }
             #[cfg(feature = "direct-solver")]
-            Precond::Factor(f) => f.solve(free, &self.r, &mut self.z),
-            Precond::Ic0(f) => f.solve(free, &self.r, &mut self.z),
+            Precond::Factor(f) => {
+                self.factor_solves += 1;
+                f.solve(free, &self.r, &mut self.z)
+            }
+            Precond::Ic0(f) => {
+                self.factor_solves += 1;
+                f.solve(free, &self.r, &mut self.z)
+            }
         }
     }
 }

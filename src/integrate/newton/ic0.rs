@@ -49,6 +49,8 @@ pub(super) struct Ic0 {
     d_inv: Vec<Matrix3<f64>>,
     /// The Manteuffel shift α of the last factorisation (0: none needed).
     pub(super) shift: f64,
+    /// Numeric factorisations so far (each Manteuffel retry of one counts apart).
+    pub(super) factorizations: u64,
 }
 
 impl Ic0 {
@@ -155,6 +157,7 @@ impl Ic0 {
 
     /// IC(0) of A + α·blockdiag(A), row by row; false on a non-SPD pivot block.
     fn factor_shifted(&mut self, alpha: f64) -> bool {
+        self.factorizations += 1;
         for i in 0..self.a_diag.len() {
             let row = self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize;
             let mut d = self.a_diag[i] * (1.0 + alpha);

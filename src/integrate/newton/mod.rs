@@ -150,10 +150,14 @@ impl Newton {
     pub(crate) fn v(&self) -> &[Vec3] {
         &self.vn
     }
-    /// Numeric factorisations of the Newton matrix so far (`LinearSolver::Cholesky`, a
-    /// `direct-solver` build).
+    /// Numeric factorisations of a preconditioner so far: IC(0)'s (`LinearSolver::BlockIc0Cg`)
+    /// and the sparse Cholesky's (`LinearSolver::Cholesky`, a `direct-solver` build).
     pub fn factorizations(&self) -> u64 {
-        self.lin.factorizations
+        self.lin.factorizations()
+    }
+    /// Applications of a factored preconditioner so far (forward and backward substitutions).
+    pub fn factor_solves(&self) -> u64 {
+        self.lin.factor_solves()
     }
     /// Forgets solver state carried between steps (the reused factor), so that the next step
     /// gives the same bits as a fresh solver's.
