@@ -61,10 +61,11 @@ pub struct SolverWork {
     pub newton_iterations: u64,
     /// Linear-solver iterations (CG iterations; a direct solve counts one).
     pub linear_iterations: u64,
-    /// Numeric factorisations of the Newton matrix.
+    /// Numeric factorisations of a preconditioner: block IC(0)'s of the clamped Newton matrix
+    /// (each Manteuffel retry counted apart) or the sparse Cholesky's.
     pub factorizations: u64,
     /// Applications of a factored preconditioner (one forward and one backward substitution
-    /// each): one per preconditioned CG iteration and one per CG solve.
+    /// each): one per CG solve and at most one per CG iteration, and one per direct solve.
     pub factor_solves: u64,
     /// Newton iterations whose matrix needed a positive-definite modification (the exact
     /// one was indefinite): how often the stages were hard.

@@ -12,7 +12,8 @@ use std::sync::Arc;
 ///
 /// For pair `s` joining particles `a = pairs[s][0]`, `b = pairs[s][1]`, `kx[s]` is
 /// ∂f_a/∂x_b (= ∂f_b/∂x_a), and ∂f_a/∂x_a = ∂f_b/∂x_b = `-kx[s]`; likewise `kv` for velocities.
-/// `diag_x`/`diag_v` hold extra per-particle blocks (drag, penalty contacts).
+/// `diag_x`/`diag_v` hold extra per-particle blocks (drag, penalty contacts). Pair blocks must
+/// be symmetric (a spring's are): the Newton matrix keeps their upper triangles ([`Sym3`]).
 #[derive(Debug, Clone)]
 pub struct Jacobian {
     /// Particle pairs, one per spring, in spring order.
@@ -236,10 +237,10 @@ impl Jacobian {
         true
     }
 
-    /// The prepared Newton matrix's blocks (per pair h·kv + h²·kx, per particle
-    /// m I − h·diag_v − h²·diag_x), for assembling it into a sparse matrix: pair `s` (a, b)
-    /// adds its block to the diagonal blocks of its free ends and its negative to (a, b) and
-    /// (b, a) when both are free, as [`Jacobian::newton_matvec`] applies it.
+    /// The prepared Newton matrix's blocks (per pair h·kv + h²·kx as upper triangles, per
+    /// particle m I − h·diag_v − h²·diag_x), for assembling it into a sparse matrix: pair `s`
+    /// (a, b) adds its block to the diagonal blocks of its free ends and its negative to (a, b)
+    /// and (b, a) when both are free, as [`Jacobian::newton_matvec`] applies it.
     pub fn newton_blocks(&self) -> (&[Sym3], &[Matrix3<f64>]) {
         (&self.newton_pair, &self.newton_self)
     }
@@ -276,8 +277,12 @@ impl Jacobian {
 pub struct Sym3([f64; 6]);
 
 impl Sym3 {
-    /// The upper triangle of `m` (its lower one must mirror it).
+    /// The upper triangle of `m` (its lower one must mirror it, which debug builds check).
     pub fn upper(m: &Matrix3<f64>) -> Self {
+        debug_assert!(
+            m[(1, 0)] == m[(0, 1)] && m[(2, 0)] == m[(0, 2)] && m[(2, 1)] == m[(1, 2)],
+            "a pair block of the Newton matrix must be symmetric: {m}"
+        );
         Sym3([
             m[(0, 0)],
             m[(0, 1)],

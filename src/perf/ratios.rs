@@ -136,7 +136,8 @@ pub struct ImplicitCost {
     pub newton_per_step: f64,
     /// Linear-solver iterations per step (CG iterations; a direct solve counts one).
     pub linear_per_step: f64,
-    /// Numeric factorisations of the Newton matrix per step (0 for matrix-free CG).
+    /// Numeric factorisations of a preconditioner per step (0 for matrix-free CG; IC(0)'s
+    /// each shift attempt and Manteuffel retry counted apart).
     pub factorizations_per_step: f64,
     /// Force evaluations per step.
     pub force_evals_per_step: f64,
@@ -150,7 +151,9 @@ pub struct ImplicitCost {
 
 /// Steps the implicit method `method`, built with `opts` (its linear solver and Newton cap),
 /// `steps` times at `h` from the scene's initial state and reports its solver work; `Err`
-/// naming the step when one fails (or when `method` is not implicit).
+/// naming the step when one fails (or when `method` is not implicit), with the reason the
+/// runner gives for it (a failure after the energy balance rose past ten scales is the
+/// energy's doing, [`crate::run::verdict::Verdict::failed_step`]).
 pub fn implicit_cost(
     scene: &Scenario,
     method: &str,
@@ -166,13 +169,18 @@ pub fn implicit_cost(
     }
     let mut evals = 0;
     let mut newton_max = 0;
+    let mut dissipated = 0.0;
     let t0 = Instant::now();
     for k in 0..steps {
         let before = stepper.solver_work().newton_iterations;
-        evals += stepper
-            .step(&sys, &mut s, h)
-            .map_err(|e| format!("step {k} failed: {e}"))?
-            .force_evals;
+        let stats = stepper.step(&sys, &mut s, h).map_err(|e| {
+            format!(
+                "step {k} failed: {}",
+                failed_step_reason(scene, &sys, (&s, dissipated), h * steps as f64, &e)
+            )
+        })?;
+        evals += stats.force_evals;
+        dissipated += stats.dissipated;
         newton_max = newton_max.max(stepper.solver_work().newton_iterations - before);
     }
     let secs = t0.elapsed().as_secs_f64();
@@ -188,4 +196,30 @@ pub fn implicit_cost(
         newton_max,
         shifted_per_step: w.modified_iterations as f64 / n,
     })
+}
+
+/// Why a step from `last` (the state after the last accepted step, and the energy dissipated
+/// up to it) failed with `error`, as the runner words it for a run of `horizon` seconds: a
+/// step that did not solve is the energy's doing where the balance had risen past ten scales,
+/// else the solver's words; any other error as it reads.
+fn failed_step_reason(
+    scene: &Scenario,
+    sys: &System,
+    (last, dissipated): (&State, f64),
+    horizon: f64,
+    error: &crate::Error,
+) -> String {
+    use crate::run::{energy_scale, verdict::Verdict, EnergyRecord, DEFAULT_BLOWUP_FACTOR};
+    let s0 = scene.initial_state();
+    let e0 = EnergyRecord::new(sys.state_energy(&s0), 0.0, 0.0);
+    let verdict = Verdict::new(
+        e0.total,
+        energy_scale(sys, &s0, horizon),
+        DEFAULT_BLOWUP_FACTOR,
+    );
+    let now = EnergyRecord::new(sys.state_energy(last), dissipated, 0.0);
+    match error {
+        crate::Error::Step(why) => verdict.failed_step(&now, why),
+        other => other.to_string(),
+    }
 }

@@ -1,5 +1,6 @@
 //! The modelled cost of a run: the work it counted (steps, force evaluations, Newton and
-//! linear iterations, link updates, contact passes, an engine's modelled frames) times
+//! linear iterations, a preconditioner's factorisations and substitutions, link updates,
+//! contact passes, an engine's modelled frames) times
 //! fixed per-item costs of the scene (particles, springs, force terms).
 //!
 //! Why a model and not the clock: every decision a command takes on cost (what fits a time
@@ -52,10 +53,12 @@ pub const LINEAR_PER_PARTICLE: f64 = 15e-9;
 /// Seconds per spring per linear iteration: its part of the product with the Newton matrix.
 pub const LINEAR_PER_SPRING: f64 = 3.25e-9;
 /// Seconds per spring per numeric factorisation of a preconditioner: block IC(0)'s
-/// elimination with the clamped Jacobian it is built from.
+/// elimination with the clamped Jacobian it is built from (a Manteuffel retry is charged
+/// alike). Fitted on cloth, per spring only (see the module docs).
 pub const FACTORIZATION_PER_SPRING: f64 = 60e-9;
 /// Seconds per spring per application of a factored preconditioner: IC(0)'s forward and
-/// backward substitutions, one lower block per spring each.
+/// backward substitutions, one lower block per spring each. Fitted on cloth, per spring
+/// only.
 pub const FACTOR_SOLVE_PER_SPRING: f64 = 5.5e-9;
 /// Seconds per link update (one link in one constraint sweep).
 pub const LINK_UPDATE: f64 = 26e-9;
@@ -73,7 +76,8 @@ pub struct Work {
     pub newton_iterations: u64,
     /// Linear-solver iterations of implicit methods (a direct solve counts one).
     pub linear_iterations: u64,
-    /// Numeric factorisations of a preconditioner (IC(0)); not written where none were made.
+    /// Numeric factorisations of a preconditioner (IC(0)'s, or a `direct-solver` build's
+    /// sparse Cholesky); not written where none were made.
     #[serde(skip_serializing_if = "is_zero")]
     pub factorizations: u64,
     /// Applications of a factored preconditioner; not written where none were made.

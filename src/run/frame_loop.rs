@@ -188,8 +188,9 @@ impl<'a> Loop<'a> {
             self.x0.clone_from(&s.x);
             self.v0.clone_from(&s.v);
         }
-        // A step that fails still did its work: the step and its Newton and linear iterations
-        // (the implicit core's counters) are counted before the error goes up; its force
+        // A step that fails still did its work: the step and its Newton and linear iterations,
+        // factorisations and substitutions (the implicit core's counters) are counted before
+        // the error goes up; its force
         // evaluations are in the stats it never returns, so the count leaves them out.
         let stepped = self.stepper.step(self.sys, s, h);
         let after = self.stepper.solver_work();

@@ -131,3 +131,43 @@ fn implicit_midpoint_on_the_folding_cloth_is_unstable_by_its_energy_and_bdf2_fin
     }
     assert!(matches!(outcome("bdf2").status, Status::Ok));
 }
+
+/// A timed cost run (`bench-ratios`) that fails says why as the runner does. Oracle: the
+/// runner's own reason for the same method, scene and step (one judgment of a failed step):
+/// implicit midpoint's failure on the fold comes after its balance passed ten scales, so it
+/// is the energy's doing; its twin, implicit Euler allowed one Newton iteration, fails at the
+/// first step with the solver's words alone.
+#[test]
+fn a_timed_cost_run_that_fails_gives_the_runners_reason() {
+    use springlab::method::options::{OptionValue, MAX_NEWTON};
+    use springlab::method::MethodOptions;
+    use springlab::run::{run, NoObserver, RunPlan, Status};
+    let scene = Scenario::from_file("scenarios/cloth.toml").unwrap();
+    let sys = scene.build();
+    let (h, steps) = (1.0 / 60.0, 120);
+    for (name, cap, by_energy) in [
+        ("implicit_midpoint", 50, true),
+        ("implicit_euler", 1, false),
+    ] {
+        let opts = MethodOptions::default().with(&MAX_NEWTON, OptionValue::Count(cap));
+        let mut m = springlab::method::create(name, &opts).unwrap();
+        let plan = RunPlan::new(h, steps);
+        let runner = match run(&sys, &mut m, scene.initial_state(), &plan, &mut NoObserver)
+            .unwrap()
+            .status
+        {
+            Status::Unstable { reason, .. } => reason,
+            Status::Ok => panic!("{name} finished"),
+        };
+        let timed = springlab::perf::ratios::implicit_cost(&scene, name, &opts, h, steps as usize)
+            .expect_err("the timed run fails too");
+        let (_, reason) = timed.split_once(" failed: ").expect("names the step");
+        assert_eq!(reason, runner, "{name}");
+        assert_eq!(
+            reason.starts_with("energy balance rose by "),
+            by_energy,
+            "{reason}"
+        );
+        assert!(reason.contains("Newton did not converge"), "{reason}");
+    }
+}

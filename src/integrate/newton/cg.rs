@@ -123,10 +123,8 @@ impl Cg {
                 *ri -= c * mass[i];
             });
         }
-        self.precondition(&mut pre, free);
-        self.deflate(deflate, &sys.mass);
+        let mut rz = self.precondition_dot(&mut pre, free, deflate, &sys.mass);
         self.p.copy_from_slice(&self.z);
-        let mut rz = dot(&self.r, &self.z, &mut self.parts);
         let rz0 = rz;
         if rz0 == 0.0 {
             return CgOutcome::Converged(0);

@@ -41,13 +41,15 @@
 //! implicit run's iterates. The modelled cost (`run/cost.rs`) prices IC(0)'s factorisations
 //! and substitutions apart, so either solver's runs are priced within the model's usual
 //! distance of the clock.
+//!
 //! Neither completes the 316² cloth's 3 s at 1/60 (`springlab bench-ratios --no-rapier
 //! --implicit-methods implicit_euler --implicit-sizes 316 --implicit-steps 180 --rounds 1`):
 //! with the shifted Newton block Jacobi stops at frame 64 and IC(0) at frame 66, stages
 //! crawling along a fold's valley under the default cap of 50 Newton iterations; the step is
-//! then reported as failed, never accepted off its root. The sparse Cholesky lost everywhere: on 100² (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took
-//! ≈ 35 ms and one triangular solve pair ≈ 7 ms, 277 ms per step against block Jacobi's
-//! 41 ms in the same run; on 32², 9.5 against 6.0 ms. Block-Jacobi CG already needs about
+//! then reported as failed, never accepted off its root. The sparse Cholesky lost everywhere:
+//! on 100² (30 000 unknowns, 3.3 M nonzeros in L) one numeric factorisation took ≈ 35 ms and
+//! one triangular solve pair ≈ 7 ms, 277 ms per step against block Jacobi's 41 ms in the same
+//! run; on 32², 9.5 against 6.0 ms. Block-Jacobi CG already needs about
 //! the same iterations per Newton iteration whatever the mesh size, so a multilevel method
 //! can only lower the constant; the one-level and two-level preconditioners measured against
 //! the cost target (`docs/performance.md`) lower it less than they add per iteration.
@@ -247,6 +249,7 @@ impl LinearSolve {
                         Self::fill(jac, prob, 1.0);
                     }
                     rhs(jac, b);
+                    self.cg.factor_solves += 1;
                     self.factor.solve(&sys.free, b, dv);
                     return Ok(spent + 1);
                 }
