@@ -90,25 +90,9 @@ pub fn each_particle_sum<T: Send>(
     parts: &mut Vec<f64>,
     op: impl Fn(usize, &mut T) -> f64 + Sync,
 ) -> f64 {
-    use rayon::prelude::*;
-    if a.len() < PARALLEL_MIN_PARTICLES {
-        a.iter_mut().enumerate().map(|(p, t)| op(p, t)).sum()
-    } else {
-        parts.resize(a.len().div_ceil(PARTICLE_CHUNK), 0.0);
-        parts
-            .par_iter_mut()
-            .zip(a.par_chunks_mut(PARTICLE_CHUNK))
-            .enumerate()
-            .for_each(|(c, (part, ch))| {
-                let base = c * PARTICLE_CHUNK;
-                *part = ch
-                    .iter_mut()
-                    .enumerate()
-                    .map(|(k, t)| op(base + k, t))
-                    .sum();
-            });
-        sum_partials(parts)
-    }
+    // A second array of units: zero-sized, so it allocates nothing.
+    let mut none = vec![(); a.len()];
+    each_particle2_sum(a, &mut none, parts, |p, t, _| op(p, t))
 }
 
 /// Like [`each_particle_sum`] over two arrays of equal length.

@@ -235,6 +235,15 @@ impl System {
         Jacobian::with_owners(self.len(), pairs, self.springs.owner_lists(self.len()))
     }
 
+    /// Fills `jac` at (x, v), dropping the fraction `clamp` of compressed springs' indefinite
+    /// stiffness ([`Jacobian::clamp`]), and prepares the Newton matrix of step `h`
+    /// (M(1 + `jac.shift`) − h ∂f/∂v − h² ∂f/∂x): what every implicit solve takes its matrix from.
+    pub fn newton_matrix(&self, x: &[Vec3], v: &[Vec3], h: f64, clamp: f64, jac: &mut Jacobian) {
+        jac.clamp = clamp;
+        self.jacobian(x, v, jac);
+        jac.prepare_newton(&self.mass, &self.free, h);
+    }
+
     /// Fills `jac` with ∂f/∂x and ∂f/∂v at (x, v).
     pub fn jacobian(&self, x: &[Vec3], v: &[Vec3], jac: &mut Jacobian) {
         jac.clear();

@@ -209,14 +209,9 @@ fn failed_step_reason(
     horizon: f64,
     error: &crate::Error,
 ) -> String {
-    use crate::run::{energy_scale, verdict::Verdict, EnergyRecord, DEFAULT_BLOWUP_FACTOR};
-    let s0 = scene.initial_state();
-    let e0 = EnergyRecord::new(sys.state_energy(&s0), 0.0, 0.0);
-    let verdict = Verdict::new(
-        e0.total,
-        energy_scale(sys, &s0, horizon),
-        DEFAULT_BLOWUP_FACTOR,
-    );
+    use crate::run::{verdict::Verdict, EnergyRecord, DEFAULT_BLOWUP_FACTOR};
+    let (verdict, _) =
+        Verdict::for_run(sys, &scene.initial_state(), horizon, DEFAULT_BLOWUP_FACTOR);
     let now = EnergyRecord::new(sys.state_energy(last), dissipated, 0.0);
     match error {
         crate::Error::Step(why) => verdict.failed_step(&now, why),

@@ -190,8 +190,8 @@ impl<'a> Loop<'a> {
         }
         // A step that fails still did its work: the step and its Newton and linear iterations,
         // factorisations and substitutions (the implicit core's counters) are counted before
-        // the error goes up; its force
-        // evaluations are in the stats it never returns, so the count leaves them out.
+        // the error goes up; its force evaluations are in the stats it never returns, so the
+        // count leaves them out.
         let stepped = self.stepper.step(self.sys, s, h);
         let after = self.stepper.solver_work();
         let w = &mut self.work;

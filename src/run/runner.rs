@@ -4,7 +4,6 @@ use super::cost::{CostModel, Work};
 use super::energy::EnergyRecord;
 use super::frame_loop::Loop;
 use super::observer::Observer;
-use super::scale::energy_scale;
 use super::verdict::{Verdict, DEFAULT_BLOWUP_FACTOR};
 use crate::error::Result;
 use crate::integrate::Stepper;
@@ -29,7 +28,8 @@ pub struct RunPlan {
     /// Equal substeps per frame for native methods (≥ 1; 1: one step per frame).
     pub substeps: u64,
     /// The hard cap of [`super::verdict`]: a run whose energy balance (mechanical + dissipated
-    /// − injected) rises by more than this multiple of [`energy_scale`] is unstable and stops.
+    /// − injected) rises by more than this multiple of [`super::energy_scale`] is unstable and
+    /// stops.
     pub blowup_factor: f64,
     /// Stop at the first unstable verdict (what measuring commands want: an unstable run has
     /// no accuracy to measure), or compute on until the state diverges or passes the cap (what
@@ -187,14 +187,12 @@ pub fn run_with(
     plan: &RunPlan,
     obs: &mut dyn Observer,
 ) -> Result<RunOutcome> {
-    let scale = energy_scale(sys, &s0, plan.duration());
+    let (verdict, initial) = Verdict::for_run(sys, &s0, plan.duration(), plan.blowup_factor);
     let mut s = s0;
     let mut prev = s.clone();
-    let initial = EnergyRecord::new(sys.state_energy(&s), 0.0, 0.0);
     let mut last = initial;
     obs.observe(0, &s, &initial)?;
     stepper.reset();
-    let verdict = Verdict::new(initial.total, scale, plan.blowup_factor);
     let mut lp = Loop::new(sys, stepper, facts, plan, verdict);
     let mut done = 0;
     for frame in 0..plan.steps {

@@ -57,7 +57,8 @@
 
 use super::energy::EnergyRecord;
 use super::runaway::{Runaway, OCTAVES, OCTAVE_RATIO, RUNAWAY_LEVEL};
-use crate::model::State;
+use super::scale::energy_scale;
+use crate::model::{State, System};
 
 /// Default `--blowup-factor`: the hard cap, in scene energy scales, on the rise of the energy
 /// balance (see the module doc for why 1000 is above any bounded oscillation short of 0.998 of
@@ -179,6 +180,15 @@ fn joules(v: f64) -> String {
 }
 
 impl Verdict {
+    /// The verdict of a run of `horizon` seconds from `s0` on `sys` with the hard cap `cap`
+    /// (in scales), and the energy record the run starts from: the one judgment the runner and
+    /// a timed loop (`perf::ratios::implicit_cost`) both make.
+    pub fn for_run(sys: &System, s0: &State, horizon: f64, cap: f64) -> (Self, EnergyRecord) {
+        let initial = EnergyRecord::new(sys.state_energy(s0), 0.0, 0.0);
+        let verdict = Verdict::new(initial.total, energy_scale(sys, s0, horizon), cap);
+        (verdict, initial)
+    }
+
     /// A verdict for a run whose balance at t = 0 is `e0_total`, on a scene of energy scale
     /// `scale` (J), with the hard cap `cap` (in scales).
     pub fn new(e0_total: f64, scale: f64, cap: f64) -> Self {

@@ -154,21 +154,14 @@ impl Cg {
             }
             let alpha = rz / pap;
             let (p, ap, im) = (&self.p, &self.ap, &sys.inv_mass);
-            if abs_tol2 > 0.0 {
-                // The update and the forcing test's Σ |rᵢ|²/mᵢ in one pass.
-                let rmr = each_particle2_sum(x, &mut self.r, &mut self.parts, |i, xi, ri| {
-                    *xi += p[i] * alpha;
-                    *ri -= ap[i] * alpha;
-                    ri.dot(&(*ri * im[i]))
-                });
-                if rmr <= abs_tol2 {
-                    return CgOutcome::Converged(it + 1);
-                }
-            } else {
-                each_particle2(x, &mut self.r, |i, xi, ri| {
-                    *xi += p[i] * alpha;
-                    *ri -= ap[i] * alpha;
-                });
+            // The update and the forcing test's Σ |rᵢ|²/mᵢ in one pass.
+            let rmr = each_particle2_sum(x, &mut self.r, &mut self.parts, |i, xi, ri| {
+                *xi += p[i] * alpha;
+                *ri -= ap[i] * alpha;
+                ri.dot(&(*ri * im[i]))
+            });
+            if abs_tol2 > 0.0 && rmr <= abs_tol2 {
+                return CgOutcome::Converged(it + 1);
             }
             let rz_new = self.precondition_dot(&mut pre, free, deflate, &sys.mass);
             if rz_new <= rel_tol * rel_tol * rz0 {
@@ -267,9 +260,7 @@ pub(super) const CLAMPS: [f64; 4] = [0.0, 0.5, 0.875, 1.0];
 /// `jac`'s shift: the preconditioner of the attempts that follow. Leaves `jac` filled clamped.
 fn factor_clamped(f: &mut Ic0, jac: &mut Jacobian, prob: &LinearProblem<'_>) {
     let LinearProblem { sys, x, v, h, .. } = *prob;
-    jac.clamp = 1.0;
-    sys.jacobian(x, v, jac);
-    jac.prepare_newton(&sys.mass, &sys.free, h);
+    sys.newton_matrix(x, v, h, 1.0, jac);
     f.factor(jac, &sys.free);
 }
 
@@ -311,9 +302,7 @@ pub(super) fn solve_clamped(
         factor_clamped(f, jac, prob);
     }
     for (attempt, &clamp) in CLAMPS.iter().enumerate() {
-        jac.clamp = clamp;
-        sys.jacobian(x, v, jac);
-        jac.prepare_newton(&sys.mass, &sys.free, h);
+        sys.newton_matrix(x, v, h, clamp, jac);
         rhs(jac, b);
         let pre = precond(ic0.as_deref());
         match cg.solve(jac, sys, b, dv, pre, prob.cg_stop(prob.set.max_cg)) {
@@ -388,9 +377,7 @@ pub(super) mod tests {
         let sys = crumpled_scene().build();
         let x = crumpled_state();
         let mut jac = sys.new_jacobian();
-        jac.clamp = clamp;
-        sys.jacobian(&x, &vec![Vec3::zeros(); x.len()], &mut jac);
-        jac.prepare_newton(&sys.mass, &sys.free, h);
+        sys.newton_matrix(&x, &vec![Vec3::zeros(); x.len()], h, clamp, &mut jac);
         let dofs: Vec<usize> = (0..3 * sys.len()).filter(|&d| sys.free[d / 3]).collect();
         let dense = dense_newton(&jac, &sys.free, &dofs);
         (sys, jac, dense, dofs)

@@ -127,10 +127,8 @@ impl Newton {
         for p in 0..st.x0.len() {
             self.xn[p] = st.x0[p] + self.vn[p] * h;
         }
-        jac.clamp = 0.0;
         jac.shift = 0.0;
-        sys.jacobian(&self.xn, &self.vn, jac);
-        jac.prepare_newton(&sys.mass, &sys.free, h);
+        sys.newton_matrix(&self.xn, &self.vn, h, 0.0, jac);
     }
 }
 

@@ -133,20 +133,10 @@ impl LinearSolve {
         self.factor.invalidate();
     }
 
-    /// Fills `jac` at `prob`'s (x, v) with the given clamp and prepares the Newton matrix for
-    /// its step h.
-    #[cfg(feature = "direct-solver")]
-    fn fill(jac: &mut Jacobian, prob: &LinearProblem<'_>, clamp: f64) {
-        let LinearProblem { sys, x, v, h, .. } = *prob;
-        jac.clamp = clamp;
-        sys.jacobian(x, v, jac);
-        jac.prepare_newton(&sys.mass, &sys.free, h);
-    }
-
     /// Factors the clamped Newton matrix at `prob`'s (x, v).
     #[cfg(feature = "direct-solver")]
     fn refactor(&mut self, jac: &mut Jacobian, prob: &LinearProblem<'_>) -> Result<(), Indefinite> {
-        Self::fill(jac, prob, 1.0);
+        prob.sys.newton_matrix(prob.x, prob.v, prob.h, 1.0, jac);
         self.factorizations += 1;
         self.factor_h = prob.h;
         self.factor
@@ -225,7 +215,7 @@ impl LinearSolve {
         }
         let mut spent = 0u64;
         loop {
-            Self::fill(jac, prob, 0.0);
+            prob.sys.newton_matrix(prob.x, prob.v, prob.h, 0.0, jac);
             rhs(jac, b);
             let cap = if fresh {
                 set.max_cg
@@ -246,7 +236,7 @@ impl LinearSolve {
                             return clamped!();
                         }
                     } else {
-                        Self::fill(jac, prob, 1.0);
+                        prob.sys.newton_matrix(prob.x, prob.v, prob.h, 1.0, jac);
                     }
                     rhs(jac, b);
                     self.cg.factor_solves += 1;
