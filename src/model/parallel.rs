@@ -137,6 +137,55 @@ pub fn each_particle2_sum<T: Send, U: Send>(
     }
 }
 
+/// Runs `op(p, &mut a[p], &mut b[p], &mut c[p])` for every particle of three arrays of equal
+/// length and returns the sums of the two numbers it returns, each added as [`dot`] adds its
+/// terms: an update and two dot products in one pass. `parts` holds twice the chunk sums.
+#[inline(always)]
+pub fn each_particle3_sum2<T: Send, U: Send, V: Send>(
+    a: &mut [T],
+    b: &mut [U],
+    c: &mut [V],
+    parts: &mut Vec<f64>,
+    op: impl Fn(usize, &mut T, &mut U, &mut V) -> (f64, f64) + Sync,
+) -> (f64, f64) {
+    use rayon::prelude::*;
+    assert!(
+        a.len() == b.len() && a.len() == c.len(),
+        "each_particle3_sum2: arrays of different length"
+    );
+    // The serial fold starts where `Iterator::sum` does, so that each sum is `dot`'s.
+    let add = |(s, t): (f64, f64), (x, y): (f64, f64)| (s + x, t + y);
+    let chunk = |base: usize, ca: &mut [T], cb: &mut [U], cc: &mut [V]| {
+        ca.iter_mut()
+            .zip(cb.iter_mut())
+            .zip(cc.iter_mut())
+            .enumerate()
+            .map(|(k, ((t, u), v))| op(base + k, t, u, v))
+            .fold((-0.0, -0.0), add)
+    };
+    if a.len() < PARALLEL_MIN_PARTICLES {
+        chunk(0, a, b, c)
+    } else {
+        let chunks = a.len().div_ceil(PARTICLE_CHUNK);
+        parts.resize(2 * chunks, 0.0);
+        let (first, second) = parts.split_at_mut(chunks);
+        first
+            .par_iter_mut()
+            .zip(second.par_iter_mut())
+            .zip(
+                a.par_chunks_mut(PARTICLE_CHUNK).zip(
+                    b.par_chunks_mut(PARTICLE_CHUNK)
+                        .zip(c.par_chunks_mut(PARTICLE_CHUNK)),
+                ),
+            )
+            .enumerate()
+            .for_each(|(k, ((p1, p2), (ca, (cb, cc))))| {
+                (*p1, *p2) = chunk(k * PARTICLE_CHUNK, ca, cb, cc);
+            });
+        (sum_partials(first), sum_partials(second))
+    }
+}
+
 /// Σ a[p]·b[p]: summed in particle order for small systems, and for large ones (at least
 /// [`PARALLEL_MIN_PARTICLES`]) per fixed [`PARTICLE_CHUNK`] in parallel, the chunk sums then
 /// added in order, so the result never depends on the thread count. `parts` is scratch for
@@ -322,6 +371,17 @@ mod tests {
             let diff: Vec<Vec3> = b0.iter().zip(&twice).map(|(y, x)| y - x).collect();
             assert_eq!(b, diff);
             assert_eq!(fused2.to_bits(), dot(&twice, &diff, &mut parts).to_bits());
+            let mut c = vec![Vec3::zeros(); n];
+            let (s1, s2) = each_particle3_sum2(&mut a, &mut b, &mut c, &mut parts, |p, x, y, z| {
+                *x += b0[p];
+                *z = *y * 3.0;
+                (x.dot(y), y.dot(z))
+            });
+            let sum: Vec<Vec3> = twice.iter().zip(&b0).map(|(x, y)| x + y).collect();
+            let thrice: Vec<Vec3> = diff.iter().map(|y| y * 3.0).collect();
+            assert_eq!((&a, &c), (&sum, &thrice));
+            assert_eq!(s1.to_bits(), dot(&sum, &diff, &mut parts).to_bits());
+            assert_eq!(s2.to_bits(), dot(&diff, &thrice, &mut parts).to_bits());
         }
     }
 

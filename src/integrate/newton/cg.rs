@@ -19,7 +19,7 @@ use super::shift::{raised, MAX_SHIFTS};
 use super::translation::translation_invariant;
 use crate::integrate::ensure_len;
 use crate::model::parallel::{
-    dot, each_particle, each_particle2, each_particle2_sum, each_particle_sum,
+    dot, each_particle, each_particle2, each_particle2_sum, each_particle3_sum2, each_particle_sum,
 };
 use crate::model::{Jacobian, System, Vec3};
 use nalgebra::Matrix3;
@@ -154,16 +154,37 @@ impl Cg {
             }
             let alpha = rz / pap;
             let (p, ap, im) = (&self.p, &self.ap, &sys.inv_mass);
-            // The update and the forcing test's Σ |rᵢ|²/mᵢ in one pass.
-            let rmr = each_particle2_sum(x, &mut self.r, &mut self.parts, |i, xi, ri| {
-                *xi += p[i] * alpha;
-                *ri -= ap[i] * alpha;
-                ri.dot(&(*ri * im[i]))
-            });
-            if abs_tol2 > 0.0 && rmr <= abs_tol2 {
-                return CgOutcome::Converged(it + 1);
-            }
-            let rz_new = self.precondition_dot(&mut pre, free, deflate, &sys.mass);
+            let rz_new = if deflate.is_none() && matches!(pre, Precond::BlockJacobi) {
+                // The update, the forcing test's Σ |rᵢ|²/mᵢ, block Jacobi and rᵀz in one pass.
+                let d = &self.diag_inv;
+                let (rmr, rz_new) = each_particle3_sum2(
+                    x,
+                    &mut self.r,
+                    &mut self.z,
+                    &mut self.parts,
+                    |i, xi, ri, zi| {
+                        *xi += p[i] * alpha;
+                        *ri -= ap[i] * alpha;
+                        *zi = d[i] * *ri;
+                        (ri.dot(&(*ri * im[i])), ri.dot(zi))
+                    },
+                );
+                if abs_tol2 > 0.0 && rmr <= abs_tol2 {
+                    return CgOutcome::Converged(it + 1);
+                }
+                rz_new
+            } else {
+                // The update and the forcing test's Σ |rᵢ|²/mᵢ in one pass.
+                let rmr = each_particle2_sum(x, &mut self.r, &mut self.parts, |i, xi, ri| {
+                    *xi += p[i] * alpha;
+                    *ri -= ap[i] * alpha;
+                    ri.dot(&(*ri * im[i]))
+                });
+                if abs_tol2 > 0.0 && rmr <= abs_tol2 {
+                    return CgOutcome::Converged(it + 1);
+                }
+                self.precondition_dot(&mut pre, free, deflate, &sys.mass)
+            };
             if rz_new <= rel_tol * rel_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
             }
