@@ -79,7 +79,7 @@ fn dissipated_never_decreases_in_any_shipped_obstacle_scene_with_any_method() {
 }
 
 #[test]
-fn the_issue_incline_books_no_negative_dissipation() {
+fn the_rough_incline_books_no_negative_dissipation() {
     // A user's case: rk4 on the 30° e = 0.5 μ = 0.2 incline reached dissipated = −0.42 J.
     let scene = Scenario::from_toml_str(
         r#"

@@ -172,7 +172,7 @@ fn no_map_cell_with_a_spectral_radius_above_1_01_is_stable() {
 }
 
 #[test]
-fn the_issues_hanging_spring_map_calls_no_growing_cell_stable() {
+fn the_stretched_hanging_spring_map_calls_no_growing_cell_stable() {
     // The scene as written: a 1 m spring hanging 0.5 m stretched. Linearised at that
     // stretched start, its transverse mode is stiff (ω² = T/(mL) ≈ 3300 /s² at k×1), but the
     // tension relaxes within about 1/(ζω) = 0.1 s and the mode with it, so cells whose only
