@@ -135,15 +135,48 @@ impl Jacobian {
             for i in 0..p.len() {
                 y[i] = self.newton_self[i] * p[i];
             }
-            for (s, pr) in self.pairs.iter().enumerate() {
-                let (a, b) = (pr[0] as usize, pr[1] as usize);
-                let q = self.newton_pair[s].mul(&(p[b] - p[a]));
-                if free[a] {
-                    y[a] -= q;
-                }
-                if free[b] {
-                    y[b] += q;
-                }
+            self.newton_pairs_serial(free, p, y);
+        }
+    }
+
+    /// Applies `update(i, &mut p[i])` to every particle, then y = A p as
+    /// [`Jacobian::newton_matvec`] does; on the serial path within the product's own pass over
+    /// the particles, so that an iteration updating p just before its product (CG's
+    /// p = z + βp) makes one pass fewer. The same bits as the update followed by the product.
+    pub fn newton_matvec_updated(
+        &self,
+        free: &[bool],
+        p: &mut [Vec3],
+        y: &mut [Vec3],
+        update: impl Fn(usize, &mut Vec3) + Sync,
+    ) {
+        if self
+            .owners
+            .as_ref()
+            .is_some_and(|inc| inc.particles == y.len())
+        {
+            each_particle(p, update);
+            self.newton_matvec(free, p, y);
+            return;
+        }
+        for i in 0..p.len() {
+            update(i, &mut p[i]);
+            y[i] = self.newton_self[i] * p[i];
+        }
+        self.newton_pairs_serial(free, p, y);
+    }
+
+    /// The pairs' part of the serial Newton product: y += the pair blocks' couplings, in pair
+    /// order.
+    fn newton_pairs_serial(&self, free: &[bool], p: &[Vec3], y: &mut [Vec3]) {
+        for (s, pr) in self.pairs.iter().enumerate() {
+            let (a, b) = (pr[0] as usize, pr[1] as usize);
+            let q = self.newton_pair[s].mul(&(p[b] - p[a]));
+            if free[a] {
+                y[a] -= q;
+            }
+            if free[b] {
+                y[b] += q;
             }
         }
     }

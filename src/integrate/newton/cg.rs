@@ -129,8 +129,15 @@ impl Cg {
         if rz0 == 0.0 {
             return CgOutcome::Converged(0);
         }
+        // The last iteration's β: its p = z + βp is applied in the next product's pass.
+        let mut beta = None;
         for it in 0..max_it {
-            jac.newton_matvec(free, &self.p, &mut self.ap);
+            let z = &self.z;
+            jac.newton_matvec_updated(free, &mut self.p, &mut self.ap, |i, pi| {
+                if let Some(beta) = beta {
+                    *pi = z[i] + *pi * beta;
+                }
+            });
             // Fixed rows dropped and pᵀAp in one pass.
             let p = &self.p;
             let pap = each_particle_sum(&mut self.ap, &mut self.parts, |i, a| {
@@ -188,10 +195,8 @@ impl Cg {
             if rz_new <= rel_tol * rel_tol * rz0 {
                 return CgOutcome::Converged(it + 1);
             }
-            let beta = rz_new / rz;
+            beta = Some(rz_new / rz);
             rz = rz_new;
-            let z = &self.z;
-            each_particle(&mut self.p, |i, pi| *pi = z[i] + *pi * beta);
         }
         CgOutcome::NotConverged(max_it)
     }
