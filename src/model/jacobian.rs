@@ -150,11 +150,7 @@ impl Jacobian {
         y: &mut [Vec3],
         update: impl Fn(usize, &mut Vec3) + Sync,
     ) {
-        if self
-            .owners
-            .as_ref()
-            .is_some_and(|inc| inc.particles == y.len())
-        {
+        if self.owners_for(y.len()).is_some() {
             each_particle(p, update);
             self.newton_matvec(free, p, y);
             return;
@@ -223,17 +219,19 @@ impl Jacobian {
     /// `pair(s, a, b, oa, ob)` with `Some` for the ends the chunk owns. Every particle sees
     /// the updates the serial loop makes, in the same order, so results are bit-identical to it
     /// whatever the thread count. Returns false (doing nothing) for small systems.
+    /// The owner lists a pass over `n` particles runs in parallel by: `None` for small systems
+    /// (or lists of another size), whose passes run serially.
+    fn owners_for(&self, n: usize) -> Option<&Incidence> {
+        self.owners.as_deref().filter(|inc| inc.particles == n)
+    }
+
     fn owner_pass<T: Send>(
         &self,
         out: &mut [T],
         init: impl Fn(usize) -> T + Sync,
         pair: impl Fn(usize, usize, usize, Option<&mut T>, Option<&mut T>) + Sync,
     ) -> bool {
-        let Some(inc) = self
-            .owners
-            .as_ref()
-            .filter(|inc| inc.particles == out.len())
-        else {
+        let Some(inc) = self.owners_for(out.len()) else {
             return false;
         };
         out.par_chunks_mut(PARTICLE_CHUNK)

@@ -161,7 +161,7 @@ impl Cg {
             }
             let alpha = rz / pap;
             let (p, ap, im) = (&self.p, &self.ap, &sys.inv_mass);
-            let rz_new = if deflate.is_none() && matches!(pre, Precond::BlockJacobi) {
+            let rz_new = if pointwise(&pre, deflate) {
                 // The update, the forcing test's Σ |rᵢ|²/mᵢ, block Jacobi and rᵀz in one pass.
                 let d = &self.diag_inv;
                 let (rmr, rz_new) = each_particle3_sum2(
@@ -225,7 +225,7 @@ impl Cg {
         total: Option<f64>,
         mass: &[f64],
     ) -> f64 {
-        if total.is_none() && matches!(pre, Precond::BlockJacobi) {
+        if pointwise(pre, total) {
             let (r, d) = (&self.r, &self.diag_inv);
             return each_particle_sum(&mut self.z, &mut self.parts, |i, zi| {
                 *zi = d[i] * r[i];
@@ -255,6 +255,12 @@ impl Cg {
             }
         }
     }
+}
+
+/// Whether preconditioning acts particle by particle, so that it can share a pass with the
+/// update before it: block Jacobi without deflation (`total`: Σm, or `None`).
+fn pointwise(pre: &Precond<'_>, total: Option<f64>) -> bool {
+    total.is_none() && matches!(pre, Precond::BlockJacobi)
 }
 
 /// The inverse of a diagonal block `d` of the Newton matrix, made SPD for preconditioning: a
