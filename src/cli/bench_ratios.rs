@@ -342,7 +342,7 @@ fn ratios_csv(rows: &[Row]) -> Result<Vec<u8>> {
 }
 
 /// `implicit.csv`'s header.
-const IMPLICIT_HEADER: [&str; 22] = [
+const IMPLICIT_HEADER: [&str; 23] = [
     "method",
     "solver",
     "n",
@@ -356,6 +356,7 @@ const IMPLICIT_HEADER: [&str; 22] = [
     "linear_per_newton",
     "newton_max",
     "shifted_per_step",
+    "patch_per_step",
     "factorizations_per_step",
     "force_evals_per_step",
     "symplectic_seconds_per_step",
@@ -379,7 +380,7 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
         a.implicit_steps
     );
     println!(
-        "{:<22} {:>9} {:>11} {:>10} {:>8} {:>11} {:>11} {:>9} {:>9} {:>10} {:>9} {:>9}  status",
+        "{:<22} {:>9} {:>11} {:>10} {:>8} {:>11} {:>11} {:>9} {:>9} {:>9} {:>10} {:>9} {:>9}  status",
         "method",
         "n",
         "ms/step",
@@ -388,6 +389,7 @@ fn implicit_table(a: &Args, solver: LinearSolver) -> Result<Vec<u8>> {
         "linear/st",
         "linear/Nwt",
         "shifted/st",
+        "patch/st",
         "factor/st",
         "×sympl.",
         "median",
@@ -487,13 +489,14 @@ fn implicit_row(
             };
             let per_newton = ic.linear_per_step / ic.newton_per_step.max(f64::MIN_POSITIVE);
             println!(
-                "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>10.1} {:>9.1} {:>9}  ok {met}",
+                "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>9.2} {:>10.1} {:>9.1} {:>9}  ok {met}",
                 it.min * 1e3,
                 ic.newton_per_step,
                 ic.newton_max,
                 ic.linear_per_step,
                 per_newton,
                 ic.shifted_per_step,
+                ic.patch_per_step,
                 ic.factorizations_per_step,
                 ratio,
                 ratio_median,
@@ -508,6 +511,7 @@ fn implicit_row(
                 per_newton.to_string(),
                 ic.newton_max.to_string(),
                 ic.shifted_per_step.to_string(),
+                ic.patch_per_step.to_string(),
                 ic.factorizations_per_step.to_string(),
                 ic.force_evals_per_step.to_string(),
                 se.min.to_string(),
@@ -522,7 +526,7 @@ fn implicit_row(
         Err(why) => {
             println!("{method:<22} {size:>9}  failed: {why}");
             rec.push(a.implicit_steps.to_string());
-            rec.extend(std::iter::repeat_n(String::new(), 14));
+            rec.extend(std::iter::repeat_n(String::new(), 15));
             rec.push(target.to_string());
             rec.push(format!("failed: {why}"));
         }

@@ -76,6 +76,7 @@ impl<R: Rule> Stepper for Implicit<R> {
             factorizations: n.factorizations(),
             factor_solves: n.factor_solves(),
             modified_iterations: n.shifted_iterations,
+            patch_iterations: n.patch_iterations,
         }
     }
     fn reset(&mut self) {

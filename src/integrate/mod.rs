@@ -70,6 +70,9 @@ pub struct SolverWork {
     /// Newton iterations whose matrix needed a positive-definite modification (the exact
     /// one was indefinite): how often the stages were hard.
     pub modified_iterations: u64,
+    /// Trust-region iterations on the dense patch of a stalled stage (nonlinear elimination,
+    /// `newton/patch.rs`).
+    pub patch_iterations: u64,
 }
 
 /// Advances a [`State`] of a [`System`] by one step; owns its scratch buffers.

@@ -147,6 +147,9 @@ pub struct ImplicitCost {
     /// Newton iterations per step whose matrix carried a Levenberg–Marquardt shift (the exact
     /// one was indefinite, or the last step overshot).
     pub shifted_per_step: f64,
+    /// Trust-region iterations per step on the dense patches of stalled stages (nonlinear
+    /// elimination).
+    pub patch_per_step: f64,
 }
 
 /// Steps the implicit method `method`, built with `opts` (its linear solver and Newton cap),
@@ -195,6 +198,7 @@ pub fn implicit_cost(
         force_evals_per_step: evals as f64 / n,
         newton_max,
         shifted_per_step: w.modified_iterations as f64 / n,
+        patch_per_step: w.patch_iterations as f64 / n,
     })
 }
 

@@ -60,6 +60,11 @@ pub const FACTORIZATION_PER_SPRING: f64 = 60e-9;
 /// backward substitutions, one lower block per spring each. Fitted on cloth, per spring
 /// only.
 pub const FACTOR_SOLVE_PER_SPRING: f64 = 5.5e-9;
+/// Seconds per trust-region iteration on a stalled stage's patch, whatever the scene: the
+/// dense factorisation or eigendecomposition of its Hessian (at most 360 unknowns), fitted on
+/// the 100×100 cloth's stalled bdf2 stages (4-22 ms per iteration, the global passes a Newton
+/// iteration makes included, which are priced as one).
+pub const PATCH_DENSE: f64 = 8e-3;
 /// Seconds per link update (one link in one constraint sweep).
 pub const LINK_UPDATE: f64 = 26e-9;
 /// Seconds per particle per pass of the contact stage (obstacle queries and responses).
@@ -83,6 +88,10 @@ pub struct Work {
     /// Applications of a factored preconditioner; not written where none were made.
     #[serde(skip_serializing_if = "is_zero")]
     pub factor_solves: u64,
+    /// Trust-region iterations on the dense patch of a stalled implicit stage; not written
+    /// where none were made.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub patch_iterations: u64,
     /// Link updates (one link in one constraint sweep).
     pub link_updates: u64,
     /// Passes of the contact stage.
@@ -135,6 +144,7 @@ impl CostModel {
             + self.linear_iteration * work.linear_iterations as f64
             + self.factorization * work.factorizations as f64
             + self.factor_solve * work.factor_solves as f64
+            + (self.newton_iteration + PATCH_DENSE) * work.patch_iterations as f64
             + LINK_UPDATE * work.link_updates as f64
             + self.contact_pass * work.contact_passes as f64
             + work.engine_seconds

@@ -204,6 +204,9 @@ impl<'a> Loop<'a> {
             .saturating_sub(before.linear_iterations);
         w.factorizations += after.factorizations.saturating_sub(before.factorizations);
         w.factor_solves += after.factor_solves.saturating_sub(before.factor_solves);
+        w.patch_iterations += after
+            .patch_iterations
+            .saturating_sub(before.patch_iterations);
         let stats = stepped?;
         w.force_evals += stats.force_evals;
         w.link_updates += stats.link_updates;

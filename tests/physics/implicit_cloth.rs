@@ -103,10 +103,10 @@ fn implicit_euler_keeps_solving_the_heavy_100x100_cloth() {
 
 /// The implicit methods at the game frame on the folding 32×32 cloth for 2 s. Oracle: the
 /// verdict's own level (ten scene energy scales) and the scene's energy scale (14.2 J):
-/// implicit midpoint, A-stable but undamped, gains energy on the nonlinear fold, and its
-/// Newton solve fails only after its balance passed ten scales, so the run is unstable by the
-/// energy it produced, the solver's words after it; its twin bdf2 (L-stable) at the same frame
-/// finishes the two seconds.
+/// implicit midpoint, A-stable but undamped, gains energy on the nonlinear fold; its Newton
+/// solve reaches every step's root (stalled stages through their patches), and the run is
+/// unstable by the energy it produced, growing without bound, with no word of the solver;
+/// its twin bdf2 (L-stable) at the same frame finishes the two seconds.
 #[test]
 fn implicit_midpoint_on_the_folding_cloth_is_unstable_by_its_energy_and_bdf2_finishes() {
     use springlab::run::{run, NoObserver, RunPlan, Status};
@@ -121,9 +121,9 @@ fn implicit_midpoint_on_the_folding_cloth_is_unstable_by_its_energy_and_bdf2_fin
         Status::Unstable { time, reason, .. } => {
             assert!(time < 2.0, "{time}");
             assert!(
-                reason.starts_with("energy balance rose by ")
+                reason.starts_with("energy balance growing without bound")
                     && reason.contains("past 10 × the scene's energy scale")
-                    && reason.contains("Newton did not converge"),
+                    && !reason.contains("Newton"),
                 "{reason}"
             );
         }
@@ -134,9 +134,9 @@ fn implicit_midpoint_on_the_folding_cloth_is_unstable_by_its_energy_and_bdf2_fin
 
 /// A timed cost run (`bench-ratios`) that fails says why as the runner does. Oracle: the
 /// runner's own reason for the same method, scene and step (one judgment of a failed step):
-/// implicit midpoint's failure on the fold comes after its balance passed ten scales, so it
-/// is the energy's doing; its twin, implicit Euler allowed one Newton iteration, fails at the
-/// first step with the solver's words alone.
+/// implicit midpoint allowed 12 Newton iterations fails on the fold at 0.98 s, after its
+/// balance passed ten scales, so it is the energy's doing; its twin, implicit Euler allowed
+/// one Newton iteration, fails at the first step with the solver's words alone.
 #[test]
 fn a_timed_cost_run_that_fails_gives_the_runners_reason() {
     use springlab::method::options::{OptionValue, MAX_NEWTON};
@@ -146,7 +146,7 @@ fn a_timed_cost_run_that_fails_gives_the_runners_reason() {
     let sys = scene.build();
     let (h, steps) = (1.0 / 60.0, 120);
     for (name, cap, by_energy) in [
-        ("implicit_midpoint", 50, true),
+        ("implicit_midpoint", 12, true),
         ("implicit_euler", 1, false),
     ] {
         let opts = MethodOptions::default().with(&MAX_NEWTON, OptionValue::Count(cap));

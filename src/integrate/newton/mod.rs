@@ -46,6 +46,7 @@ mod line_search;
 mod linear;
 mod linsolve;
 mod momentum;
+mod patch;
 mod pattern;
 mod potential;
 mod settings;
@@ -90,6 +91,8 @@ pub struct Newton {
     /// Newton iterations whose matrix carried a Levenberg–Marquardt shift (the exact one was
     /// indefinite, or the last step overshot; see `shift.rs`): how often a stage was hard.
     pub shifted_iterations: u64,
+    /// Trust-region iterations of patch eliminations (`patch.rs`), each on a stalled stage.
+    pub patch_iterations: u64,
     jac: Option<Jacobian>,
     f: Vec<Vec3>,
     xn: Vec<Vec3>,
@@ -135,6 +138,10 @@ const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
 /// ([`ImplicitSettings::root_tol`]), not above: the next iterate must meet that tolerance in
 /// max norm, which a residual at the tolerance itself in RMS would often miss.
 const ROOT_FLOOR: f64 = 0.1;
+
+/// Patch eliminations a stage whose direct iteration failed may take, each followed by the
+/// iteration again (`patch.rs`).
+const ELIMINATIONS: usize = 8;
 
 /// Largest component magnitude over all particles (the max norm of a velocity or position field).
 pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
@@ -263,6 +270,19 @@ impl Newton {
         let mut jac = self.take_jacobian(sys);
         jac.shift = 0.0;
         let mut solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
+        if patch::eliminable(sys, self.shift_mass > 0.0) {
+            for _ in 0..ELIMINATIONS {
+                if !matches!(solved, Err(Failure::NoConvergence { .. }))
+                    || !self.eliminate_patch(&st, &mut jac, &mut evals)
+                {
+                    break;
+                }
+                res = self.residual(&st);
+                evals += 1;
+                jac.shift = 0.0;
+                solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
+            }
+        }
         if let Err(failure @ Failure::NoConvergence { .. }) = solved {
             // Where the direct iteration stopped, for the explanation should the path stop too.
             self.stop_v.copy_from_slice(&self.vn);
