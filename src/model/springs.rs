@@ -123,7 +123,12 @@ impl Springs {
     /// Force of spring `s` on its first particle and the power its damper dissipates
     /// ([`spring_force`]).
     #[inline(always)]
-    fn force<const DAMPED: bool>(&self, s: usize, x: &[Vec3], v: &[Vec3]) -> (Vec3, f64) {
+    pub(crate) fn force<const DAMPED: bool>(
+        &self,
+        s: usize,
+        x: &[Vec3],
+        v: &[Vec3],
+    ) -> (Vec3, f64) {
         let (a, b) = (self.i[s] as usize, self.j[s] as usize);
         spring_force::<DAMPED>(a, b, x, v, self.k[s], self.l0[s], self.c[s])
     }
@@ -207,7 +212,7 @@ impl Springs {
 
     /// Elastic energy ½ k_eff (|d| − l0)² of spring `s`.
     #[inline(always)]
-    fn energy_of(&self, s: usize, x: &[Vec3]) -> f64 {
+    pub(crate) fn energy_of(&self, s: usize, x: &[Vec3]) -> f64 {
         let len = (x[self.j[s] as usize] - x[self.i[s] as usize]).norm();
         let ext = len - self.l0[s];
         0.5 * self.k[s] * ext * ext

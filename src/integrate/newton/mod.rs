@@ -11,9 +11,12 @@
 //! The rule: a stage is accepted only at a root of its equation, the mass-weighted RMS of M⁻¹G at
 //! most [`ImplicitSettings::root_tol`] (10⁻⁶) times the stage's velocity scale (the largest
 //! component of v̂, v', β f/m or β g), or with max |M⁻¹G| at [`ImplicitSettings::newton_tol`]
-//! (10⁻¹⁰) of it. A stage whose iteration runs out of iterations is solved again along its root
-//! path, the stages of steps β·k/16 each from the last roots (`continuation.rs`); where that
-//! path stops too, the step fails ("did not converge", which the runner reports as unstable),
+//! (10⁻¹⁰) of it. A stage whose iteration runs out of iterations has the patch that holds its
+//! residual (a knot of particles whose springs turn within the step) eliminated: the stage's
+//! incremental potential over that patch, the rest held, minimised by trust-region Newton steps
+//! on its dense Hessian, and the iteration resumed, up to eight times (`patch.rs`); where that
+//! does not reach the root, it is solved again along its root path, the stages of steps β·k/16
+//! each from the last roots (`continuation.rs`); where that path stops too, the step fails ("did not converge", which the runner reports as unstable),
 //! saying where the iteration stopped and how far the path got, with the Newton matrix's lowest
 //! eigenvalue at each (`curvature.rs`). Newton stops at `newton_tol`, or, once at the root
 //! tolerance, when an update is below the tolerance or the round-off floor, when the residual

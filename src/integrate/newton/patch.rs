@@ -40,6 +40,8 @@ struct Patch {
     index: Vec<usize>,
     /// M^(−1/2) per unknown.
     scale: Vec<f64>,
+    /// Scratch: x' = x̂ + h v' at the particles the patch's springs join.
+    x: Vec<Vec3>,
 }
 
 /// Whether a patch's potential can be summed over its own terms: springs and gravity only,
@@ -107,6 +109,7 @@ impl Patch {
             springs,
             index,
             scale,
+            x: vec![Vec3::zeros(); n],
         }
     }
 
@@ -122,30 +125,28 @@ impl Patch {
     /// at v' = `v` (x' = x̂ + h v'), the dampers' directions frozen at `frozen`, and their
     /// round-off: the patch's kinetic and gravity terms, and its springs' elastic energy and
     /// half their dissipation times h (as `potential.rs` sums them for the whole system).
-    fn potential(&self, st: &Stage<'_>, v: &[Vec3], frozen: &[Vec3]) -> (f64, f64) {
+    fn potential(&mut self, st: &Stage<'_>, v: &[Vec3], frozen: &[Vec3]) -> (f64, f64) {
         let (sys, h) = (st.sys, st.h);
+        let sp = &sys.springs;
+        let joined = self
+            .springs
+            .iter()
+            .flat_map(|&s| [sp.i[s] as usize, sp.j[s] as usize]);
+        for p in self.particles.iter().copied().chain(joined) {
+            self.x[p] = st.x0[p] + v[p] * h;
+        }
         let g = sys.gravity.unwrap_or_else(Vec3::zeros);
-        let x = |p: usize| st.x0[p] + v[p] * h;
         let (mut value, mut size) = (0.0, 0.0);
         for &p in &self.particles {
             let kin = 0.5 * sys.mass[p] * (v[p] - st.v0[p]).norm_squared();
-            let lift = -sys.mass[p] * g.dot(&x(p));
+            let lift = -sys.mass[p] * g.dot(&self.x[p]);
             value += kin + lift;
             size += kin + lift.abs();
         }
-        let sp = &sys.springs;
         for &s in &self.springs {
-            let (a, b) = (sp.i[s] as usize, sp.j[s] as usize);
-            let ext = (x(b) - x(a)).norm() - sp.l0[s];
-            let elastic = 0.5 * sp.k[s] * ext * ext;
-            let d = frozen[b] - frozen[a];
-            let len = d.norm();
-            let damp = if len > 0.0 && sp.c[s] > 0.0 {
-                let vrel = (v[b] - v[a]).dot(&(d / len));
-                0.5 * h * sp.c[s] * vrel * vrel
-            } else {
-                0.0
-            };
+            let elastic = sp.energy_of(s, &self.x);
+            // The damper's power c (n·(v_b − v_a))² along its frozen direction.
+            let damp = 0.5 * h * sp.force::<true>(s, frozen, v).1;
             value += elastic + damp;
             size += elastic + damp;
         }
@@ -208,7 +209,7 @@ impl Newton {
         if jac.pairs.len() != sys.springs.len() {
             return false;
         }
-        let patch = Patch::around(sys, &self.r);
+        let mut patch = Patch::around(sys, &self.r);
         let start = patch.merit(sys, &self.r);
         let res = self.residual(st);
         *evals += 1;
