@@ -53,7 +53,7 @@ pub struct Args {
     /// cloth's run, which `implicit_euler` does not complete; see docs/performance.md).
     #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub implicit_steps: usize,
-    /// Newton iterations a step may take before it fails (`ImplicitSettings::max_newton`;
+    /// Newton iterations each solve of a step may take (`ImplicitSettings::max_newton`;
     /// default: the implicit methods' own, 50).
     #[arg(long, allow_negative_numbers = true)]
     pub implicit_max_newton: Option<usize>,

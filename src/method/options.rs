@@ -207,13 +207,14 @@ pub const LINEAR_SOLVER: OptionSpec = OptionSpec::choice(
     "Linear solver of each Newton iteration",
 );
 
-/// Newton iterations a step of an implicit Newton method may take before it fails (the
-/// shared core's [`crate::integrate::ImplicitSettings::max_newton`]).
+/// Iterations each solve of an implicit Newton method's step may take: its direct Newton
+/// iteration, each elimination of a stalled patch and each root-path piece (the shared core's
+/// [`crate::integrate::ImplicitSettings::max_newton`]).
 pub const MAX_NEWTON: OptionSpec = OptionSpec::count(
     "max-newton",
     50,
     1,
-    "Newton iterations a step may take before it fails",
+    "Newton iterations a step's solve may take (its direct iteration, each elimination of a stalled patch, each root-path piece) before the step fails",
 );
 
 /// Solver substeps per frame a physics engine takes when the run does not split frames

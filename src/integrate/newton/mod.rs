@@ -273,6 +273,7 @@ impl Newton {
         let mut jac = self.take_jacobian(sys);
         jac.shift = 0.0;
         let mut solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
+        let mut eliminated = 0;
         if patch::eliminable(sys, self.shift_mass > 0.0) {
             for _ in 0..ELIMINATIONS {
                 if !matches!(solved, Err(Failure::NoConvergence { .. }))
@@ -280,6 +281,7 @@ impl Newton {
                 {
                     break;
                 }
+                eliminated += 1;
                 res = self.residual(&st);
                 evals += 1;
                 jac.shift = 0.0;
@@ -296,7 +298,8 @@ impl Newton {
             };
         }
         self.jac = Some(jac);
-        let power = solved.map_err(|failure| failure.error(who, self.settings.max_newton))?;
+        let power =
+            solved.map_err(|failure| failure.error(who, self.settings.max_newton, eliminated))?;
         Ok((power, evals))
     }
 
@@ -576,12 +579,18 @@ impl Unreached {
 }
 
 impl Failure {
-    /// The step error for the method `who`, whose iteration cap is `max_newton`.
-    fn error(self, who: &str, max_newton: usize) -> Error {
+    /// The step error for the method `who`, whose iteration cap is `max_newton`, after
+    /// `eliminated` patch eliminations.
+    fn error(self, who: &str, max_newton: usize, eliminated: usize) -> Error {
         Error::Step(match self {
             Failure::NonFinite => format!("{who}: non-finite residual in Newton iteration"),
             Failure::NoConvergence { at, path } => format!(
-                "{who}: Newton did not converge in {max_newton} iterations: {}{}",
+                "{who}: Newton did not converge in {max_newton} iterations{}: {}{}",
+                match eliminated {
+                    0 => String::new(),
+                    1 => ", nor after eliminating its stalled patch once".into(),
+                    k => format!(", nor after eliminating its stalled patch {k} times"),
+                },
                 at.describe(),
                 path.map_or(String::new(), |end| end.describe()),
             ),

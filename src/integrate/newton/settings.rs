@@ -4,7 +4,8 @@
 /// Settings of the implicit solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImplicitSettings {
-    /// Newton iterations before giving up.
+    /// Iterations of each solve of a stage: its direct Newton iteration, each patch
+    /// elimination (trust-region iterations, `patch.rs`) and each root-path piece.
     pub max_newton: usize,
     /// The root tolerance every accepted stage meets, whichever stop ends it: the mass-weighted
     /// RMS of M⁻¹G ≤ `root_tol` × the stage's velocity scale (the largest |v̂|, |v'|, β|f_p|/m_p
