@@ -190,12 +190,9 @@ fn twin_the_same_stage_with_room_to_iterate_converges() {
         .expect("the stage converges");
 }
 
-/// A stage solved with a cap of `cap` Newton iterations at the tight stop alone, from the
-/// 8×8 cloth with air drag at rest length, rumpled by ±5 cm and thrown at up to 3 m/s: (whether the step
-/// succeeded, Newton iterations spent in all, patch iterations, max |v' − v − h M⁻¹f| / its
-/// scale).
+/// [`capped`] from the 8×8 cloth with air drag at rest length, rumpled by ±5 cm and thrown at
+/// up to 3 m/s.
 fn capped_stage(cap: usize) -> (bool, u64, u64, f64) {
-    let h = 1.0 / 60.0;
     // With air drag, whose dissipation a patch does not sum, no patch is eliminated: the
     // path is the stage's only recourse.
     let scene = springlab::scenario::Scenario::from_toml_str(
@@ -205,19 +202,27 @@ fn capped_stage(cap: usize) -> (bool, u64, u64, f64) {
         "dragged_cloth.toml",
     )
     .expect("a valid scene");
-    let (sys, mut s) = thrown(scene, 1.0, 0.1, 3.0);
+    let (sys, s) = thrown(scene, 1.0, 0.1, 3.0);
+    capped(&sys, s, cap)
+}
+
+/// One implicit-Euler stage of `sys` from `s` at 1/60 s with a cap of `cap` Newton
+/// iterations at the tight stop alone: (whether the step succeeded, Newton iterations spent
+/// in all, patch iterations, max |v' − v − h M⁻¹f| / its scale).
+fn capped(sys: &System, mut s: springlab::model::State, cap: usize) -> (bool, u64, u64, f64) {
+    let h = 1.0 / 60.0;
     let (x0, v0) = (s.x.clone(), s.v.clone());
     let mut stepper = springlab::integrate::ImplicitEuler::default();
     stepper.newton_mut().settings.kappa = 0.0;
     stepper.newton_mut().settings.max_newton = cap;
-    let ok = stepper.step(&sys, &mut s, h).is_ok();
-    let rel = backward_euler_defect(&sys, &x0, &v0, &s.x, &s.v, h);
-    let spent = stepper.newton().newton_iterations;
+    let ok = stepper.step(sys, &mut s, h).is_ok();
+    let rel = backward_euler_defect(sys, &x0, &v0, &s.x, &s.v, h);
+    let nw = stepper.newton();
     println!(
-        "cap {cap}: ok {ok}, {spent} Newton iterations in all, {} patch iterations, defect {rel:.3e}",
-        stepper.newton().patch_iterations
+        "cap {cap}: ok {ok}, {} Newton and {} patch iterations, defect {rel:.3e}",
+        nw.newton_iterations, nw.patch_iterations
     );
-    (ok, spent, stepper.newton().patch_iterations, rel)
+    (ok, nw.newton_iterations, nw.patch_iterations, rel)
 }
 
 /// A stage that its iteration cap stops is solved along its root path (the stages of steps
@@ -266,20 +271,8 @@ fn spun_knot(spin: f64) -> (System, springlab::model::State) {
 /// at the tight stop alone: (whether it succeeded, Newton iterations, patch iterations,
 /// max |v' − v − h M⁻¹f| / its scale).
 fn knot_stage(spin: f64, cap: usize) -> (bool, u64, u64, f64) {
-    let h = 1.0 / 60.0;
-    let (sys, mut s) = spun_knot(spin);
-    let (x0, v0) = (s.x.clone(), s.v.clone());
-    let mut stepper = springlab::integrate::ImplicitEuler::default();
-    stepper.newton_mut().settings.kappa = 0.0;
-    stepper.newton_mut().settings.max_newton = cap;
-    let ok = stepper.step(&sys, &mut s, h).is_ok();
-    let rel = backward_euler_defect(&sys, &x0, &v0, &s.x, &s.v, h);
-    let nw = stepper.newton();
-    println!(
-        "spin {spin} m/s, cap {cap}: ok {ok}, {} Newton and {} patch iterations, defect {rel:.3e}",
-        nw.newton_iterations, nw.patch_iterations
-    );
-    (ok, nw.newton_iterations, nw.patch_iterations, rel)
+    let (sys, s) = spun_knot(spin);
+    capped(&sys, s, cap)
 }
 
 /// A knot spun at 6 m/s (its springs turn through about a radian within the step) stops the
