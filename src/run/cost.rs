@@ -1,6 +1,6 @@
 //! The modelled cost of a run: the work it counted (steps, force evaluations, Newton and
-//! linear iterations, a preconditioner's factorisations and substitutions, link updates,
-//! contact passes, an engine's modelled frames) times
+//! linear iterations, a preconditioner's factorisations and substitutions, a stalled stage's
+//! patch iterations, link updates, contact passes, an engine's modelled frames) times
 //! fixed per-item costs of the scene (particles, springs, force terms).
 //!
 //! Why a model and not the clock: every decision a command takes on cost (what fits a time
@@ -201,6 +201,25 @@ mod tests {
         };
         let grew = big.seconds(&factored) - small.seconds(&factored);
         let extra = 3.0 * (FACTORIZATION_PER_SPRING + FACTOR_SOLVE_PER_SPRING) * 10.0;
+        assert!(
+            (grew - extra).abs() < 1e-12 * extra,
+            "{grew:e} vs {extra:e}"
+        );
+        // A patch iteration costs a Newton iteration and the dense decomposition: ten
+        // particles and springs more add a Newton iteration's share of them, twice.
+        let patched = Work {
+            patch_iterations: 2,
+            ..Work::default()
+        };
+        let newton = Work {
+            newton_iterations: 2,
+            ..Work::default()
+        };
+        assert!(
+            (small.seconds(&patched) - small.seconds(&newton) - 2.0 * PATCH_DENSE).abs() < 1e-15
+        );
+        let grew = big.seconds(&patched) - small.seconds(&patched);
+        let extra = 2.0 * (NEWTON_PER_PARTICLE + NEWTON_PER_SPRING) * 10.0;
         assert!(
             (grew - extra).abs() < 1e-12 * extra,
             "{grew:e} vs {extra:e}"
