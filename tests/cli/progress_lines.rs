@@ -113,3 +113,112 @@ fn a_long_command_in_a_pipe_prints_a_line_every_interval_until_it_ends() {
         "{lines:#?}"
     );
 }
+
+/// A 100×100 cloth of the shipped cloth's particle mass and springs, pinned at its top corners:
+/// one implicit Euler step from rest takes tens of milliseconds, so 30 of them outlast several
+/// intervals with under a step a line.
+const CLOTH100: &str = r#"
+name = "cloth100"
+[world]
+gravity = [0.0, -9.81, 0.0]
+[[cloth]]
+origin = [0.0, 0.0, 0.0]
+size = [1.0, 1.0]
+count = [100, 100]
+mass = 0.001
+stiffness = 200.0
+damping = 0.002
+plane = "xz"
+fix = ["top_left", "top_right"]
+[run]
+dt = 0.016666666666666666
+duration = 0.5
+"#;
+
+/// The counts `k` of a run's `progress: LABEL: k/TOTAL done` lines, in order.
+fn counts(lines: &[String], total: u64) -> Vec<u64> {
+    let tail = format!("/{total} done");
+    lines
+        .iter()
+        .filter_map(|l| {
+            let l = l.strip_prefix("progress: ")?;
+            let (head, _) = l.split_once(&tail)?;
+            head.rsplit(' ').next()?.parse().ok()
+        })
+        .collect()
+}
+
+/// `springlab run` of `scene` with `method` for `steps` steps, its stderr's lines.
+fn run_lines(
+    scene: &std::path::Path,
+    method: &str,
+    steps: u64,
+    out: &std::path::Path,
+) -> Vec<String> {
+    let o = bin()
+        .arg("run")
+        .arg(scene)
+        .args([
+            "--method",
+            method,
+            "--steps",
+            &steps.to_string(),
+            "--every",
+            "1000000",
+        ])
+        .arg("--out")
+        .arg(out)
+        .env("SPRINGLAB_PROGRESS_INTERVAL", INTERVAL.to_string())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{err}");
+    err.lines().map(str::to_string).collect()
+}
+
+/// Oracle: the line's definition, "DONE/TOTAL done" counts the steps done when it is printed.
+/// A run of slow steps (an implicit 100×100 cloth, tens of milliseconds each) shows its count
+/// rising between lines, not 0 until its end; its twin of a million fast steps (one spring,
+/// well under a microsecond each) does too, its bar updated every few hundred steps.
+#[test]
+fn a_run_s_lines_count_its_steps_whether_they_are_slow_or_fast() {
+    let dir = tempfile::tempdir().unwrap();
+    let cloth = dir.path().join("cloth100.toml");
+    std::fs::write(&cloth, CLOTH100).unwrap();
+    let slow = run_lines(&cloth, "implicit_euler", 30, &dir.path().join("slow"));
+    let c = counts(&slow, 30);
+    assert!(c.len() >= 2, "a few lines while it runs: {slow:#?}");
+    assert!(c.windows(2).all(|w| w[0] <= w[1]), "{c:?}");
+    assert!(
+        c.iter().any(|&k| k > 0 && k < 30),
+        "the count rises while the slow run runs: {slow:#?}"
+    );
+    let spring = dir.path().join("spring.toml");
+    std::fs::write(&spring, SPRING).unwrap();
+    let n = 3_000_000;
+    let fast = run_lines(&spring, "symplectic_euler", n, &dir.path().join("fast"));
+    let c = counts(&fast, n);
+    assert!(
+        c.iter().any(|&k| k > 0 && k < n),
+        "the count rises while the fast run runs: {fast:#?}"
+    );
+}
+
+/// One particle on a spring to a fixed one: a step of it costs well under a microsecond.
+const SPRING: &str = r#"
+name = "spring"
+[[particle]]
+position = [0.0, 0.0, 0.0]
+mass = 1.0
+fixed = true
+[[particle]]
+position = [1.5, 0.0, 0.0]
+mass = 1.0
+[[spring]]
+between = [0, 1]
+stiffness = 10.0
+rest_length = 1.0
+[run]
+dt = 0.001
+duration = 1.0
+"#;

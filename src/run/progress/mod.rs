@@ -15,10 +15,15 @@ use crate::error::Result;
 use crate::model::State;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
-/// Steps between updates of the bar (updates are cheap, but not free on million-step runs).
+/// Most steps between updates of the bar (updates are cheap, but not free on million-step
+/// runs).
 const STRIDE: u64 = 256;
+
+/// Least time between updates below which the stride between them doubles: a run of slow
+/// steps updates at every step, a run of fast ones every [`STRIDE`] steps.
+const SETTLE: Duration = Duration::from_millis(20);
 
 /// How often a bar drawn on a terminal redraws itself when nothing moves (its elapsed time
 /// and ETA keep counting while one long case runs).
@@ -28,6 +33,13 @@ const DRAWN_TICK: Duration = Duration::from_millis(500);
 #[derive(Debug)]
 pub struct ProgressObserver {
     bar: ProgressBar,
+    /// Steps between updates, 1 to [`STRIDE`]: doubled while updates come faster than
+    /// [`SETTLE`], halved while they come slower.
+    stride: u64,
+    /// The step of the next update.
+    next: u64,
+    /// When the bar was last updated.
+    last: Instant,
 }
 
 impl ProgressObserver {
@@ -35,14 +47,25 @@ impl ProgressObserver {
     pub fn new(steps: u64, msg: &str, enabled: bool) -> Self {
         ProgressObserver {
             bar: bar(steps, msg, enabled),
+            stride: 1,
+            next: 1,
+            last: Instant::now(),
         }
     }
 }
 
 impl Observer for ProgressObserver {
     fn observe(&mut self, step: u64, _s: &State, _e: &EnergyRecord) -> Result<()> {
-        if step % STRIDE == 0 {
+        if step >= self.next {
             self.bar.set_position(step);
+            let now = Instant::now();
+            if now.duration_since(self.last) < SETTLE {
+                self.stride = (self.stride * 2).min(STRIDE);
+            } else {
+                self.stride = (self.stride / 2).max(1);
+            }
+            self.last = now;
+            self.next = step + self.stride;
         }
         Ok(())
     }
