@@ -19,32 +19,24 @@ const INTERVAL: f64 = 0.3;
 /// machine shared with other jobs may hold a thread back for a while.
 const SLACK: f64 = 0.7;
 
-/// An 8×8 cloth, the shipped cloth's particle mass and springs, two top corners pinned; its 2 s
-/// take advice several seconds, many intervals.
-const CLOTH8: &str = r#"
-name = "cloth8"
-[world]
-gravity = [0.0, -9.81, 0.0]
-[[cloth]]
-origin = [0.0, 0.0, 0.0]
-size = [1.0, 1.0]
-count = [8, 8]
-mass = 0.001
-stiffness = 200.0
-damping = 0.002
-bend_stiffness = 20.0
-plane = "xz"
-fix = ["top_left", "top_right"]
-[run]
-dt = 0.001
-duration = 2.0
-"#;
+/// A cloth named `name` of `n`×`n` particles with the shipped cloth's particle mass and
+/// springs (`bend`: its bend springs too), its two top corners pinned, run `duration` s at `dt`.
+fn cloth(name: &str, n: usize, bend: bool, dt: f64, duration: f64) -> String {
+    let bend = if bend { "bend_stiffness = 20.0\n" } else { "" };
+    format!(
+        "name = \"{name}\"\n[world]\ngravity = [0.0, -9.81, 0.0]\n[[cloth]]\n\
+         origin = [0.0, 0.0, 0.0]\nsize = [1.0, 1.0]\ncount = [{n}, {n}]\nmass = 0.001\n\
+         stiffness = 200.0\ndamping = 0.002\n{bend}plane = \"xz\"\n\
+         fix = [\"top_left\", \"top_right\"]\n[run]\ndt = {dt}\nduration = {duration}\n"
+    )
+}
 
 #[test]
 fn a_long_command_in_a_pipe_prints_a_line_every_interval_until_it_ends() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("cloth8.toml");
-    std::fs::write(&scene, CLOTH8).unwrap();
+    // An 8×8 cloth with bend springs: its 2 s take advice several seconds, many intervals.
+    std::fs::write(&scene, cloth("cloth8", 8, true, 0.001, 2.0)).unwrap();
     let start = Instant::now();
     let mut child = bin()
         .arg("advise")
@@ -114,27 +106,6 @@ fn a_long_command_in_a_pipe_prints_a_line_every_interval_until_it_ends() {
     );
 }
 
-/// A 100×100 cloth of the shipped cloth's particle mass and springs, pinned at its top corners:
-/// one implicit Euler step from rest takes tens of milliseconds, so 30 of them outlast several
-/// intervals with under a step a line.
-const CLOTH100: &str = r#"
-name = "cloth100"
-[world]
-gravity = [0.0, -9.81, 0.0]
-[[cloth]]
-origin = [0.0, 0.0, 0.0]
-size = [1.0, 1.0]
-count = [100, 100]
-mass = 0.001
-stiffness = 200.0
-damping = 0.002
-plane = "xz"
-fix = ["top_left", "top_right"]
-[run]
-dt = 0.016666666666666666
-duration = 0.5
-"#;
-
 /// The counts `k` of a run's `progress: LABEL: k/TOTAL done` lines, in order.
 fn counts(lines: &[String], total: u64) -> Vec<u64> {
     let tail = format!("/{total} done");
@@ -183,9 +154,11 @@ fn run_lines(
 #[test]
 fn a_run_s_lines_count_its_steps_whether_they_are_slow_or_fast() {
     let dir = tempfile::tempdir().unwrap();
-    let cloth = dir.path().join("cloth100.toml");
-    std::fs::write(&cloth, CLOTH100).unwrap();
-    let slow = run_lines(&cloth, "implicit_euler", 30, &dir.path().join("slow"));
+    let scene = dir.path().join("cloth100.toml");
+    // A 100×100 cloth: one implicit Euler step from rest takes tens of milliseconds, so 30 of
+    // them outlast several intervals with under a step a line.
+    std::fs::write(&scene, cloth("cloth100", 100, false, 1.0 / 60.0, 0.5)).unwrap();
+    let slow = run_lines(&scene, "implicit_euler", 30, &dir.path().join("slow"));
     let c = counts(&slow, 30);
     assert!(c.len() >= 2, "a few lines while it runs: {slow:#?}");
     assert!(c.windows(2).all(|w| w[0] <= w[1]), "{c:?}");
@@ -193,8 +166,9 @@ fn a_run_s_lines_count_its_steps_whether_they_are_slow_or_fast() {
         c.iter().any(|&k| k > 0 && k < 30),
         "the count rises while the slow run runs: {slow:#?}"
     );
-    let spring = dir.path().join("spring.toml");
-    std::fs::write(&spring, SPRING).unwrap();
+    // The shipped anchored spring: one particle on a spring to a fixed one.
+    let spring =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/anchored_spring.toml");
     let n = 3_000_000;
     let fast = run_lines(&spring, "symplectic_euler", n, &dir.path().join("fast"));
     let c = counts(&fast, n);
@@ -203,22 +177,3 @@ fn a_run_s_lines_count_its_steps_whether_they_are_slow_or_fast() {
         "the count rises while the fast run runs: {fast:#?}"
     );
 }
-
-/// One particle on a spring to a fixed one: a step of it costs well under a microsecond.
-const SPRING: &str = r#"
-name = "spring"
-[[particle]]
-position = [0.0, 0.0, 0.0]
-mass = 1.0
-fixed = true
-[[particle]]
-position = [1.5, 0.0, 0.0]
-mass = 1.0
-[[spring]]
-between = [0, 1]
-stiffness = 10.0
-rest_length = 1.0
-[run]
-dt = 0.001
-duration = 1.0
-"#;
