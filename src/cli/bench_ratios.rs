@@ -480,7 +480,7 @@ fn implicit_row(
             let (ratio, ratio_median) = (it.min / se.min, it.median / se.median);
             let met = match target.split_once(' ') {
                 Some((_, v)) => {
-                    if v.parse().is_ok_and(|v: f64| ratio <= v) {
+                    if ic.status.is_ok() && v.parse().is_ok_and(|v: f64| ratio <= v) {
                         "met"
                     } else {
                         "NOT MET"
@@ -490,7 +490,7 @@ fn implicit_row(
             };
             let per_newton = ic.linear_per_step / ic.newton_per_step.max(f64::MIN_POSITIVE);
             println!(
-                "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>9.2} {:>10.1} {:>9.1} {:>9}  ok {met}",
+                "{method:<22} {size:>9} {:>11.3} {:>10.2} {:>8} {:>11.1} {:>11.1} {:>9.2} {:>9.2} {:>9.2} {:>10.1} {:>9.1} {:>9}  {} {met}",
                 it.min * 1e3,
                 ic.newton_per_step,
                 ic.newton_max,
@@ -502,6 +502,7 @@ fn implicit_row(
                 ratio,
                 ratio_median,
                 target,
+                ic.status,
             );
             rec.extend([
                 ic.steps.to_string(),
@@ -521,7 +522,7 @@ fn implicit_row(
                 se.median.to_string(),
                 ratio_median.to_string(),
                 target.to_string(),
-                "ok".into(),
+                ic.status.to_string(),
             ]);
         }
         Err(why) => {

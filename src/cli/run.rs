@@ -143,12 +143,7 @@ fn print_run(summary: &RunSummary, out: &springlab::run::RunOutcome) {
         out.wall_seconds * 1e3,
         summary.wall_seconds_per_frame
     );
-    match &out.status {
-        springlab::run::Status::Ok => println!("status: ok"),
-        springlab::run::Status::Unstable { step, time, reason } => {
-            println!("status: UNSTABLE from step {step} (t = {time} s): {reason}")
-        }
-    }
+    println!("status: {}", out.status);
     let (e0, e1) = (out.initial_energy, out.final_energy);
     let change = match summary.energy_change {
         Some(d) => format!(

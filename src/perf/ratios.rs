@@ -126,7 +126,7 @@ pub fn fresh_stepper(name: &str) -> Result<Box<dyn Stepper>> {
 }
 
 /// What an implicit method's solver did over some steps of one scene.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ImplicitCost {
     /// Steps taken.
     pub steps: usize,
@@ -150,13 +150,20 @@ pub struct ImplicitCost {
     /// Trust-region iterations per step on the dense patches of stalled stages (nonlinear
     /// elimination).
     pub patch_per_step: f64,
+    /// The runner's verdict on the run: unstable from the step where its energy balance
+    /// began to grow without bound, though every stage met its equation.
+    pub status: crate::run::Status,
 }
 
 /// Steps the implicit method `method`, built with `opts` (its linear solver and Newton cap),
-/// `steps` times at `h` from the scene's initial state and reports its solver work; `Err`
-/// naming the step when one fails (or when `method` is not implicit), with the reason the
-/// runner gives for it (a failure after the energy balance rose past ten scales is the
-/// energy's doing, [`crate::run::verdict::Verdict::failed_step`]).
+/// `steps` times at `h` from the scene's initial state and reports its solver work, judged
+/// step by step by the runner's verdict ([`crate::run::verdict::Verdict`]: a run whose
+/// energy balance grows without bound is unstable from the step the runner names, and runs
+/// on as the runner's does). `Err` naming the step when one fails (or when `method` is not
+/// implicit), with the reason the runner gives for it (a failure after the energy balance rose
+/// past ten scales is the energy's doing, [`crate::run::verdict::Verdict::failed_step`]), or
+/// the runner's words where a verdict stops the run (a diverged state, the hard cap). Only
+/// the steps are timed, not the verdict's energy accounts.
 pub fn implicit_cost(
     scene: &Scenario,
     method: &str,
@@ -164,29 +171,50 @@ pub fn implicit_cost(
     h: f64,
     steps: usize,
 ) -> std::result::Result<ImplicitCost, String> {
+    use crate::run::verdict::{Rule, Verdict};
+    use crate::run::{EnergyRecord, Status, DEFAULT_BLOWUP_FACTOR};
     let sys = scene.build();
     let mut s = scene.initial_state();
     let mut stepper = crate::method::create(method, opts).map_err(|e| e.to_string())?;
     if !stepper.info.implicit {
         return Err(format!("{method} has no implicit solver"));
     }
+    let (mut verdict, mut last) =
+        Verdict::for_run(&sys, &s, h * steps as f64, DEFAULT_BLOWUP_FACTOR);
+    let mut status = Status::Ok;
     let mut evals = 0;
     let mut newton_max = 0;
     let mut dissipated = 0.0;
-    let t0 = Instant::now();
+    let mut secs = 0.0;
     for k in 0..steps {
         let before = stepper.solver_work().newton_iterations;
-        let stats = stepper.step(&sys, &mut s, h).map_err(|e| {
-            format!(
-                "step {k} failed: {}",
-                failed_step_reason(scene, &sys, (&s, dissipated), h * steps as f64, &e)
-            )
+        let t0 = Instant::now();
+        let stepped = stepper.step(&sys, &mut s, h);
+        secs += t0.elapsed().as_secs_f64();
+        let stats = stepped.map_err(|e| match e {
+            crate::Error::Step(why) => {
+                format!("step {k} failed: {}", verdict.failed_step(&last, &why))
+            }
+            other => format!("step {k} failed: {other}"),
         })?;
         evals += stats.force_evals;
         dissipated += stats.dissipated;
         newton_max = newton_max.max(stepper.solver_work().newton_iterations - before);
+        last = EnergyRecord::new(sys.state_energy(&s), dissipated, 0.0);
+        if let Some(fired) = verdict.step(&s, &last) {
+            let unstable = Status::Unstable {
+                step: k as u64 + 1,
+                time: (k + 1) as f64 * h,
+                reason: fired.reason,
+            };
+            if matches!(fired.rule, Rule::Diverged | Rule::Cap) {
+                return Err(unstable.to_string());
+            }
+            if status.is_ok() {
+                status = unstable;
+            }
+        }
     }
-    let secs = t0.elapsed().as_secs_f64();
     let w = stepper.solver_work();
     let n = steps.max(1) as f64;
     Ok(ImplicitCost {
@@ -199,26 +227,6 @@ pub fn implicit_cost(
         newton_max,
         shifted_per_step: w.modified_iterations as f64 / n,
         patch_per_step: w.patch_iterations as f64 / n,
+        status,
     })
-}
-
-/// Why a step from `last` (the state after the last accepted step, and the energy dissipated
-/// up to it) failed with `error`, as the runner words it for a run of `horizon` seconds: a
-/// step that did not solve is the energy's doing where the balance had risen past ten scales,
-/// else the solver's words; any other error as it reads.
-fn failed_step_reason(
-    scene: &Scenario,
-    sys: &System,
-    (last, dissipated): (&State, f64),
-    horizon: f64,
-    error: &crate::Error,
-) -> String {
-    use crate::run::{verdict::Verdict, EnergyRecord, DEFAULT_BLOWUP_FACTOR};
-    let (verdict, _) =
-        Verdict::for_run(sys, &scene.initial_state(), horizon, DEFAULT_BLOWUP_FACTOR);
-    let now = EnergyRecord::new(sys.state_energy(last), dissipated, 0.0);
-    match error {
-        crate::Error::Step(why) => verdict.failed_step(&now, why),
-        other => other.to_string(),
-    }
 }

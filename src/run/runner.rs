@@ -120,6 +120,18 @@ impl std::fmt::Display for RunStatus {
     }
 }
 
+impl std::fmt::Display for Status {
+    /// `ok`, or `UNSTABLE from step N (t = T s): reason`: how `run` and `bench-ratios` say it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Status::Ok => f.write_str("ok"),
+            Status::Unstable { step, time, reason } => {
+                write!(f, "UNSTABLE from step {step} (t = {time} s): {reason}")
+            }
+        }
+    }
+}
+
 impl Status {
     /// The status without its details.
     pub fn kind(&self) -> RunStatus {

@@ -171,3 +171,41 @@ fn a_timed_cost_run_that_fails_gives_the_runners_reason() {
         assert!(reason.contains("Newton did not converge"), "{reason}");
     }
 }
+
+/// A timed cost run (`bench-ratios`) judges its steps by the runner's verdict. Oracle: the
+/// runner's own status for the same method, scene and step: implicit midpoint on the folding
+/// cloth at 1/60 s meets every stage's equation yet its balance grows without bound, so 120
+/// steps are unstable from the step and by the reason the runner gives; its twin, the same
+/// run stopped at 100 steps, before the verdict fires, reads ok in both.
+#[test]
+fn a_timed_cost_run_is_judged_unstable_where_the_runner_judges_it() {
+    use springlab::method::MethodOptions;
+    use springlab::run::{run, NoObserver, RunPlan, Status};
+    let scene = Scenario::from_file("scenarios/cloth.toml").unwrap();
+    let sys = scene.build();
+    let (h, opts) = (1.0 / 60.0, MethodOptions::default());
+    for (steps, unstable) in [(120, true), (100, false)] {
+        let mut m = springlab::method::create("implicit_midpoint", &opts).unwrap();
+        let plan = RunPlan::new(h, steps);
+        let runner = run(&sys, &mut m, scene.initial_state(), &plan, &mut NoObserver)
+            .unwrap()
+            .status;
+        let timed = springlab::perf::ratios::implicit_cost(
+            &scene,
+            "implicit_midpoint",
+            &opts,
+            h,
+            steps as usize,
+        )
+        .expect("every stage meets its equation");
+        assert_eq!(timed.status, runner, "{steps} steps");
+        assert_eq!(timed.steps, steps as usize);
+        assert_eq!(!runner.is_ok(), unstable, "{runner}");
+        if let Status::Unstable { reason, .. } = &runner {
+            assert!(
+                reason.starts_with("energy balance growing without bound"),
+                "{reason}"
+            );
+        }
+    }
+}
