@@ -155,15 +155,15 @@ pub struct ImplicitCost {
     pub status: crate::run::Status,
 }
 
-/// Steps the implicit method `method`, built with `opts` (its linear solver and Newton cap),
-/// `steps` times at `h` from the scene's initial state and reports its solver work, judged
-/// step by step by the runner's verdict ([`crate::run::verdict::Verdict`]: a run whose
-/// energy balance grows without bound is unstable from the step the runner names, and runs
-/// on as the runner's does). `Err` naming the step when one fails (or when `method` is not
-/// implicit), with the reason the runner gives for it (a failure after the energy balance rose
-/// past ten scales is the energy's doing, [`crate::run::verdict::Verdict::failed_step`]), or
-/// the runner's words where a verdict stops the run (a diverged state, the hard cap). Only
-/// the steps are timed, not the verdict's energy accounts.
+/// Runs the implicit method `method`, built with `opts` (its linear solver and Newton cap),
+/// `steps` steps at `h` from the scene's initial state through the runner, and reports its
+/// solver work and the runner's status: a run whose energy balance grows without bound is
+/// unstable from the step the runner names and runs on, as `run`'s does. `Err` naming the
+/// step when one fails (or when `method` is not implicit), with the runner's reason for it (a
+/// failure after the energy balance rose past ten scales is the energy's doing,
+/// [`crate::run::verdict::Verdict::failed_step`]), or the runner's status where a verdict
+/// stops the run (a diverged state, the hard cap). The times are the runner's, inside the
+/// steps only.
 pub fn implicit_cost(
     scene: &Scenario,
     method: &str,
@@ -171,62 +171,80 @@ pub fn implicit_cost(
     h: f64,
     steps: usize,
 ) -> std::result::Result<ImplicitCost, String> {
-    use crate::run::verdict::{Rule, Verdict};
-    use crate::run::{EnergyRecord, Status, DEFAULT_BLOWUP_FACTOR};
+    use crate::run::{run_with, NoObserver, RunPlan, Status};
     let sys = scene.build();
-    let mut s = scene.initial_state();
-    let mut stepper = crate::method::create(method, opts).map_err(|e| e.to_string())?;
-    if !stepper.info.implicit {
+    let mut m = crate::method::create(method, opts).map_err(|e| e.to_string())?;
+    if !m.info.implicit {
         return Err(format!("{method} has no implicit solver"));
     }
-    let (mut verdict, mut last) =
-        Verdict::for_run(&sys, &s, h * steps as f64, DEFAULT_BLOWUP_FACTOR);
-    let mut status = Status::Ok;
-    let mut evals = 0;
-    let mut newton_max = 0;
-    let mut dissipated = 0.0;
-    let mut secs = 0.0;
-    for k in 0..steps {
-        let before = stepper.solver_work().newton_iterations;
-        let t0 = Instant::now();
-        let stepped = stepper.step(&sys, &mut s, h);
-        secs += t0.elapsed().as_secs_f64();
-        let stats = stepped.map_err(|e| match e {
-            crate::Error::Step(why) => {
-                format!("step {k} failed: {}", verdict.failed_step(&last, &why))
-            }
-            other => format!("step {k} failed: {other}"),
-        })?;
-        evals += stats.force_evals;
-        dissipated += stats.dissipated;
-        newton_max = newton_max.max(stepper.solver_work().newton_iterations - before);
-        last = EnergyRecord::new(sys.state_energy(&s), dissipated, 0.0);
-        if let Some(fired) = verdict.step(&s, &last) {
-            let unstable = Status::Unstable {
-                step: k as u64 + 1,
-                time: (k + 1) as f64 * h,
-                reason: fired.reason,
-            };
-            if matches!(fired.rule, Rule::Diverged | Rule::Cap) {
-                return Err(unstable.to_string());
-            }
-            if status.is_ok() {
-                status = unstable;
-            }
+    let mut watched = Watched {
+        inner: m.stepper.as_mut(),
+        newton_max: 0,
+        failed: false,
+    };
+    let plan = RunPlan {
+        stop_at_verdict: false,
+        ..RunPlan::new(h, steps as u64)
+    };
+    let out = run_with(
+        &sys,
+        &mut watched,
+        &m.info,
+        scene.initial_state(),
+        &plan,
+        &mut NoObserver,
+    )
+    .map_err(|e| e.to_string())?;
+    match &out.status {
+        Status::Unstable { reason, .. } if watched.failed => {
+            return Err(format!("step {} failed: {reason}", out.steps_done))
         }
+        unstable if out.steps_done < steps as u64 => return Err(unstable.to_string()),
+        _ => {}
     }
-    let w = stepper.solver_work();
-    let n = steps.max(1) as f64;
+    let w = watched.solver_work();
+    let n = (out.steps_done as f64).max(1.0);
     Ok(ImplicitCost {
         steps,
-        seconds_per_step: secs / n,
+        seconds_per_step: out.wall_seconds / n,
         newton_per_step: w.newton_iterations as f64 / n,
         linear_per_step: w.linear_iterations as f64 / n,
         factorizations_per_step: w.factorizations as f64 / n,
-        force_evals_per_step: evals as f64 / n,
-        newton_max,
+        force_evals_per_step: out.force_evals as f64 / n,
+        newton_max: watched.newton_max,
         shifted_per_step: w.modified_iterations as f64 / n,
         patch_per_step: w.patch_iterations as f64 / n,
-        status,
+        status: out.status,
     })
+}
+
+/// A stepper that passes every call on to `inner`, noting what the runner's outcome does not
+/// keep: the most Newton iterations one step took, and whether a step failed.
+struct Watched<'a> {
+    inner: &'a mut dyn Stepper,
+    newton_max: u64,
+    failed: bool,
+}
+
+impl Stepper for Watched<'_> {
+    fn check(&self, sys: &System) -> std::result::Result<(), String> {
+        self.inner.check(sys)
+    }
+    fn modelled_frame_seconds(&self, sys: &System) -> Option<f64> {
+        self.inner.modelled_frame_seconds(sys)
+    }
+    fn reset(&mut self) {
+        self.inner.reset();
+    }
+    fn solver_work(&self) -> crate::integrate::SolverWork {
+        self.inner.solver_work()
+    }
+    fn step(&mut self, sys: &System, s: &mut State, h: f64) -> Result<crate::integrate::StepStats> {
+        let before = self.inner.solver_work().newton_iterations;
+        let stepped = self.inner.step(sys, s, h);
+        let took = self.inner.solver_work().newton_iterations - before;
+        self.newton_max = self.newton_max.max(took);
+        self.failed |= stepped.is_err();
+        stepped
+    }
 }

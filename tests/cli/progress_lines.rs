@@ -149,7 +149,7 @@ fn run_lines(
 
 /// Oracle: the line's definition, "DONE/TOTAL done" counts the steps done when it is printed.
 /// A run of slow steps (an implicit 100×100 cloth, tens of milliseconds each) shows its count
-/// rising between lines, not 0 until its end; its twin of a million fast steps (one spring,
+/// rising between lines, not 0 until its end; its twin of three million fast steps (one spring,
 /// well under a microsecond each) does too, its bar updated every few hundred steps.
 #[test]
 fn a_run_s_lines_count_its_steps_whether_they_are_slow_or_fast() {
