@@ -295,35 +295,47 @@ fn twin_the_same_knot_with_room_to_iterate_needs_no_elimination() {
     assert!(rel <= 1e-9, "residual {rel:e} of the scale");
 }
 
+/// A stage whose knot needs more eliminations than the first eight goes on eliminating while
+/// they gain: at a cap of 1 each elimination takes one trust-region iteration and the resumed
+/// iteration one Newton iteration, and the spun knot reaches its root at the ninth. Oracle: the
+/// definition of backward Euler, the step's defect measured here (the root tolerance, 10⁻⁶ of
+/// the scale, met in max norm).
+#[test]
+fn a_knot_that_needs_a_ninth_elimination_reaches_its_root() {
+    let (ok, _, patch, rel) = knot_stage(6.0, 1);
+    assert!(ok && patch > 8, "{ok} {patch}");
+    assert!(rel <= 1e-6, "residual {rel:e} of the scale");
+}
+
 /// A stage that stays off its root after its patch eliminations says so, with how many were
-/// made. Oracle: the rule stated in the error's own terms: each solve is capped alike, so at a
-/// cap of 1 the eight eliminations each take one trust-region iteration and leave the spun
-/// knot off its root.
+/// made. The knot spun at 60 m/s travels a metre within the step, the cloth's own size; at a
+/// cap of 2 its third elimination gains nothing, which ends them. Oracle: the rule stated in
+/// the error's own terms.
 #[test]
 fn a_knot_left_off_its_root_after_its_eliminations_says_so() {
-    let (sys, mut s) = spun_knot(6.0);
+    let (sys, mut s) = spun_knot(60.0);
     let mut stepper = springlab::integrate::ImplicitEuler::default();
     stepper.newton_mut().settings.kappa = 0.0;
-    stepper.newton_mut().settings.max_newton = 1;
+    stepper.newton_mut().settings.max_newton = 2;
     let err = stepper
         .step(&sys, &mut s, 1.0 / 60.0)
         .unwrap_err()
         .to_string();
     assert!(
         err.contains(
-            "Newton did not converge in 1 iterations, nor after eliminating its stalled patch 8 \
+            "Newton did not converge in 2 iterations, nor after eliminating its stalled patch 2 \
              times: its residual"
         ),
         "{err}"
     );
-    assert_eq!(stepper.newton().patch_iterations, 8);
 }
 
-/// Twin: at a cap of 2 the same eliminations reach the root, and the step succeeds there
-/// (accepted at its cap within the root tolerance, 10⁻⁶ of the scale, met here in max norm).
+/// Twin of both: at a cap of 2 the knot spun at 6 m/s reaches its root within eight
+/// eliminations, and the step succeeds there (accepted at its cap within the root tolerance,
+/// 10⁻⁶ of the scale, met here in max norm).
 #[test]
 fn twin_the_same_knot_with_two_iterations_per_solve_reaches_its_root() {
     let (ok, _, patch, rel) = knot_stage(6.0, 2);
-    assert!(ok && patch > 0, "{ok} {patch}");
+    assert!(ok && patch > 0 && patch <= 16, "{ok} {patch}");
     assert!(rel <= 1e-6, "residual {rel:e} of the scale");
 }

@@ -73,7 +73,7 @@ impl Newton {
             *evals += 1;
             jac.shift = 0.0;
             last = self
-                .iterate(&piece, jac, &mut res, evals)
+                .iterate(&piece, jac, &mut res, evals, usize::MAX)
                 .map_err(|_| k - 1);
             match last {
                 Ok(_) if k < PIECES => self.path_roots.extend_from_slice(&self.vn),

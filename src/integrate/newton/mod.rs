@@ -14,8 +14,8 @@
 //! (10⁻¹⁰) of it. A stage whose iteration runs out of iterations has the patch that holds its
 //! residual (a knot of particles whose springs turn within the step) eliminated: the stage's
 //! incremental potential over that patch, the rest held, minimised by trust-region Newton steps
-//! on its dense Hessian, and the iteration resumed, up to eight times (`patch.rs`); where that
-//! does not reach the root, it is solved again along its root path, the stages of steps β·k/16
+//! on its dense Hessian, and the iteration resumed, knot after knot while the eliminations gain
+//! (`patch.rs`); where that does not reach the root, it is solved again along its root path, the stages of steps β·k/16
 //! each from the last roots (`continuation.rs`); where that path stops too, the step fails ("did not converge", which the runner reports as unstable),
 //! saying where the iteration stopped and how far the path got, with the Newton matrix's lowest
 //! eigenvalue at each (`curvature.rs`). Newton stops at `newton_tol`, or, once at the root
@@ -141,10 +141,6 @@ const ROUNDING_FLOOR: f64 = 8.0 * f64::EPSILON;
 /// ([`ImplicitSettings::root_tol`]), not above: the next iterate must meet that tolerance in
 /// max norm, which a residual at the tolerance itself in RMS would often miss.
 const ROOT_FLOOR: f64 = 0.1;
-
-/// Patch eliminations a stage whose direct iteration failed may take, each followed by the
-/// iteration again (`patch.rs`).
-const ELIMINATIONS: usize = 8;
 
 /// Largest component magnitude over all particles (the max norm of a velocity or position field).
 pub(crate) fn max_abs(v: &[Vec3]) -> f64 {
@@ -272,21 +268,12 @@ impl Newton {
         let (mut res, mut evals) = self.start(&st, stop);
         let mut jac = self.take_jacobian(sys);
         jac.shift = 0.0;
-        let mut solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
+        let mut solved = self.iterate(&st, &mut jac, &mut res, &mut evals, usize::MAX);
         let mut eliminated = 0;
-        if patch::eliminable(sys, self.shift_mass > 0.0) {
-            for _ in 0..ELIMINATIONS {
-                if !matches!(solved, Err(Failure::NoConvergence { .. }))
-                    || !self.eliminate_patch(&st, &mut jac, &mut evals)
-                {
-                    break;
-                }
-                eliminated += 1;
-                res = self.residual(&st);
-                evals += 1;
-                jac.shift = 0.0;
-                solved = self.iterate(&st, &mut jac, &mut res, &mut evals);
-            }
+        if patch::eliminable(sys, self.shift_mass > 0.0)
+            && matches!(solved, Err(Failure::NoConvergence { .. }))
+        {
+            (solved, eliminated) = self.eliminate_patches(&st, &mut jac, &mut evals, solved);
         }
         if let Err(failure @ Failure::NoConvergence { .. }) = solved {
             // Where the direct iteration stopped, for the explanation should the path stop too.
@@ -352,18 +339,25 @@ impl Newton {
     }
 
     /// Newton's iteration from the iterate `res` describes until a stop accepts it; returns
-    /// the dissipated power there. Counts its force evaluations into `evals`.
+    /// the dissipated power there. Counts its force evaluations into `evals`. It fails at the
+    /// iteration cap, or once `patience` iterations in a row have not lowered its lowest
+    /// merit (`usize::MAX`: never).
     fn iterate(
         &mut self,
         st: &Stage<'_>,
         jac: &mut Jacobian,
         res: &mut Residual,
         evals: &mut u64,
+        patience: usize,
     ) -> std::result::Result<f64, Failure> {
         let n = st.x0.len();
         let mut small_update = false;
         let mut prev_merit = f64::INFINITY;
+        let (mut lowest, mut lowest_at) = (f64::INFINITY, 0usize);
         for iter in 0..=self.settings.max_newton {
+            if res.merit < lowest {
+                (lowest, lowest_at) = (res.merit, iter);
+            }
             if !res.max.is_finite() || !res.merit.is_finite() {
                 return Err(Failure::NonFinite);
             }
@@ -371,7 +365,7 @@ impl Newton {
             if self.accepts(st, res, lte, iter, small_update) {
                 return Ok(res.power);
             }
-            if iter == self.settings.max_newton {
+            if iter == self.settings.max_newton || iter - lowest_at >= patience {
                 break;
             }
             self.newton_iterations += 1;

@@ -15,7 +15,7 @@
 //! direct iteration failed, never in a step that converges, and it allocates.
 
 use super::stage::Stage;
-use super::Newton;
+use super::{Failure, Newton};
 use crate::model::TermKind;
 use crate::model::{Jacobian, System, Vec3};
 use nalgebra::{DMatrix, DVector, Matrix3};
@@ -28,6 +28,15 @@ const MAX_PATCH: usize = 120;
 const MAX_TRIALS: usize = 60;
 /// Share of the residual's merit the core gathers before it stops growing.
 const CORE_SHARE: f64 = 0.999;
+/// Most patch eliminations in one stage.
+const MAX_ELIMINATIONS: usize = 128;
+/// Eliminations end once this many in a row have not lowered the stage's lowest residual merit.
+const STALE_ELIMINATIONS: usize = 20;
+/// The iterations resumed after the first this many eliminations run in full.
+const FULL_RESUMES: usize = 8;
+/// Later, the iteration resumed after an elimination hands back to the next one once this
+/// many of its iterations in a row have not lowered its lowest merit.
+const RESUME_PATIENCE: usize = 5;
 /// The patch is solved to this fraction of the stage's root tolerance (RMS over the whole
 /// system), so that the rest of the stage meets it.
 const PATCH_TOL: f64 = 0.01;
@@ -195,6 +204,54 @@ impl Patch {
 }
 
 impl Newton {
+    /// Eliminates the patches of a stage whose direct iteration `solved` ran out of
+    /// iterations, each elimination followed by the iteration resumed, until the stage is
+    /// solved, an elimination gains nothing, [`STALE_ELIMINATIONS`] in a row leave the lowest
+    /// merit where it was, or [`MAX_ELIMINATIONS`] were made. A folding cloth's stage holds
+    /// many knots, each solved in turn: past the first [`FULL_RESUMES`] eliminations the
+    /// resumed iteration is cut short once it stalls ([`RESUME_PATIENCE`]), since there the
+    /// next elimination gains more than it, and it runs in full once more when the
+    /// eliminations end. A stage solved within the first eliminations is solved as it would
+    /// be with no more. Returns the outcome and the eliminations made.
+    pub(super) fn eliminate_patches(
+        &mut self,
+        st: &Stage<'_>,
+        jac: &mut Jacobian,
+        evals: &mut u64,
+        mut solved: Result<f64, Failure>,
+    ) -> (Result<f64, Failure>, usize) {
+        let (mut lowest, mut stale, mut eliminated) = (f64::INFINITY, 0, 0);
+        while eliminated < MAX_ELIMINATIONS
+            && stale < STALE_ELIMINATIONS
+            && matches!(solved, Err(Failure::NoConvergence { .. }))
+            && self.eliminate_patch(st, jac, evals)
+        {
+            eliminated += 1;
+            let mut res = self.residual(st);
+            *evals += 1;
+            jac.shift = 0.0;
+            let patience = if eliminated <= FULL_RESUMES {
+                usize::MAX
+            } else {
+                RESUME_PATIENCE
+            };
+            solved = self.iterate(st, jac, &mut res, evals, patience);
+            if res.merit < lowest {
+                (lowest, stale) = (res.merit, 0);
+            } else {
+                stale += 1;
+            }
+        }
+        if eliminated > FULL_RESUMES && matches!(solved, Err(Failure::NoConvergence { .. })) {
+            // The last resumed iteration may have been cut short: it runs once more in full.
+            let mut res = self.residual(st);
+            *evals += 1;
+            jac.shift = 0.0;
+            solved = self.iterate(st, jac, &mut res, evals, usize::MAX);
+        }
+        (solved, eliminated)
+    }
+
     /// Minimises the stage's incremental potential over the patch around its residual in
     /// `self.r` (module docs), from the iterate in `self.vn`, in at most the stage's
     /// iteration cap of trust-region iterations; returns whether the patch's residual fell.
