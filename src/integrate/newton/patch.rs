@@ -30,7 +30,8 @@ const MAX_TRIALS: usize = 60;
 const CORE_SHARE: f64 = 0.999;
 /// Most patch eliminations in one stage.
 const MAX_ELIMINATIONS: usize = 128;
-/// Eliminations end once this many in a row have not lowered the stage's lowest residual merit.
+/// Eliminations end once this many in a row past the first [`FULL_RESUMES`] have not lowered
+/// the lowest residual merit their cut-short iterations reached.
 const STALE_ELIMINATIONS: usize = 20;
 /// The iterations resumed after the first this many eliminations run in full.
 const FULL_RESUMES: usize = 8;
@@ -236,10 +237,13 @@ impl Newton {
                 RESUME_PATIENCE
             };
             solved = self.iterate(st, jac, &mut res, evals, patience);
-            if res.merit < lowest {
-                (lowest, stale) = (res.merit, 0);
-            } else {
-                stale += 1;
+            // Progress is judged among the cut-short iterations alone: a full one ends lower.
+            if eliminated > FULL_RESUMES {
+                if res.merit < lowest {
+                    (lowest, stale) = (res.merit, 0);
+                } else {
+                    stale += 1;
+                }
             }
         }
         if eliminated > FULL_RESUMES && matches!(solved, Err(Failure::NoConvergence { .. })) {
