@@ -69,11 +69,9 @@ impl Newton {
                     self.vn[p] += step;
                 }
             }
-            let mut res = self.residual(&piece);
-            *evals += 1;
-            jac.shift = 0.0;
             last = self
-                .iterate(&piece, jac, &mut res, evals, usize::MAX)
+                .iterate_from_here(&piece, jac, evals, usize::MAX)
+                .0
                 .map_err(|_| k - 1);
             match last {
                 Ok(_) if k < PIECES => self.path_roots.extend_from_slice(&self.vn),

@@ -338,6 +338,22 @@ impl Newton {
         }
     }
 
+    /// Newton's iteration resumed from the current iterate `self.vn`, the shift back at 0
+    /// ([`Newton::iterate`] with `patience`); returns its outcome and the merit it ended at.
+    fn iterate_from_here(
+        &mut self,
+        st: &Stage<'_>,
+        jac: &mut Jacobian,
+        evals: &mut u64,
+        patience: usize,
+    ) -> (std::result::Result<f64, Failure>, f64) {
+        let mut res = self.residual(st);
+        *evals += 1;
+        jac.shift = 0.0;
+        let solved = self.iterate(st, jac, &mut res, evals, patience);
+        (solved, res.merit)
+    }
+
     /// Newton's iteration from the iterate `res` describes until a stop accepts it; returns
     /// the dissipated power there. Counts its force evaluations into `evals`. It fails at the
     /// iteration cap, or once `patience` iterations in a row have not lowered its lowest

@@ -228,19 +228,17 @@ impl Newton {
             && self.eliminate_patch(st, jac, evals)
         {
             eliminated += 1;
-            let mut res = self.residual(st);
-            *evals += 1;
-            jac.shift = 0.0;
             let patience = if eliminated <= FULL_RESUMES {
                 usize::MAX
             } else {
                 RESUME_PATIENCE
             };
-            solved = self.iterate(st, jac, &mut res, evals, patience);
+            let merit;
+            (solved, merit) = self.iterate_from_here(st, jac, evals, patience);
             // Progress is judged among the cut-short iterations alone: a full one ends lower.
             if eliminated > FULL_RESUMES {
-                if res.merit < lowest {
-                    (lowest, stale) = (res.merit, 0);
+                if merit < lowest {
+                    (lowest, stale) = (merit, 0);
                 } else {
                     stale += 1;
                 }
@@ -248,10 +246,7 @@ impl Newton {
         }
         if eliminated > FULL_RESUMES && matches!(solved, Err(Failure::NoConvergence { .. })) {
             // The last resumed iteration may have been cut short: it runs once more in full.
-            let mut res = self.residual(st);
-            *evals += 1;
-            jac.shift = 0.0;
-            solved = self.iterate(st, jac, &mut res, evals, usize::MAX);
+            solved = self.iterate_from_here(st, jac, evals, usize::MAX).0;
         }
         (solved, eliminated)
     }
