@@ -50,8 +50,7 @@ pub struct Args {
     #[arg(long, default_value = "block_jacobi_cg")]
     pub implicit_solver: String,
     /// Steps per implicit method and size, from rest (180 = 3 s at 1/60: the 316×316
-    /// cloth's run, which `implicit_euler` completes and `bdf2` does not; see
-    /// docs/performance.md).
+    /// cloth's run, which `implicit_euler` and `bdf2` complete; see docs/performance.md).
     #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub implicit_steps: usize,
     /// Newton iterations each solve of a step may take (`ImplicitSettings::max_newton`;
