@@ -310,7 +310,8 @@ fn a_knot_that_needs_a_ninth_elimination_reaches_its_root() {
 /// A stage that stays off its root after its patch eliminations says so, with how many were
 /// made. The knot spun at 60 m/s travels a metre within the step, the cloth's own size; at a
 /// cap of 2 its third elimination gains nothing, which ends them. Oracle: the rule stated in
-/// the error's own terms.
+/// the error's own terms, and its count: each elimination takes at least one and at most the
+/// cap's two trust-region iterations, so the two made and the third tried took 2 to 6.
 #[test]
 fn a_knot_left_off_its_root_after_its_eliminations_says_so() {
     let (sys, mut s) = spun_knot(60.0);
@@ -328,11 +329,13 @@ fn a_knot_left_off_its_root_after_its_eliminations_says_so() {
         ),
         "{err}"
     );
+    let patch = stepper.newton().patch_iterations;
+    assert!((2..=6).contains(&patch), "{patch} patch iterations");
 }
 
 /// Twin of both: at a cap of 2 the knot spun at 6 m/s reaches its root within eight
-/// eliminations, and the step succeeds there (accepted at its cap within the root tolerance,
-/// 10⁻⁶ of the scale, met here in max norm).
+/// eliminations, at most 8 × 2 = 16 trust-region iterations, and the step succeeds there
+/// (accepted at its cap within the root tolerance, 10⁻⁶ of the scale, met here in max norm).
 #[test]
 fn twin_the_same_knot_with_two_iterations_per_solve_reaches_its_root() {
     let (ok, _, patch, rel) = knot_stage(6.0, 2);

@@ -270,9 +270,7 @@ impl Newton {
         jac.shift = 0.0;
         let mut solved = self.iterate(&st, &mut jac, &mut res, &mut evals, usize::MAX);
         let mut eliminated = 0;
-        if patch::eliminable(sys, self.shift_mass > 0.0)
-            && matches!(solved, Err(Failure::NoConvergence { .. }))
-        {
+        if patch::eliminable(sys, self.shift_mass > 0.0) {
             (solved, eliminated) = self.eliminate_patches(&st, &mut jac, &mut evals, solved);
         }
         if let Err(failure @ Failure::NoConvergence { .. }) = solved {

@@ -206,7 +206,8 @@ impl Patch {
 
 impl Newton {
     /// Eliminates the patches of a stage whose direct iteration `solved` ran out of
-    /// iterations, each elimination followed by the iteration resumed, until the stage is
+    /// iterations (any other outcome is returned as is, with no elimination), each
+    /// elimination followed by the iteration resumed, until the stage is
     /// solved, an elimination gains nothing, [`STALE_ELIMINATIONS`] in a row leave the lowest
     /// merit where it was, or [`MAX_ELIMINATIONS`] were made. A folding cloth's stage holds
     /// many knots, each solved in turn: past the first [`FULL_RESUMES`] eliminations the
